@@ -1,0 +1,31 @@
+#pragma once
+// Camera trajectories in TUM format: one line per pose, `timestamp tx ty tz qx qy qz qw`, camera-to-world,
+// metres and seconds. Lines starting with '#' are comments.
+
+#include <Eigen/Geometry>
+#include <string>
+#include <vector>
+
+namespace sb {
+
+struct TimedPose {
+  double timestamp = 0.0;                                 // seconds
+  Eigen::Isometry3d T_camera_to_world = Eigen::Isometry3d::Identity();
+
+  Eigen::Vector3d position() const { return T_camera_to_world.translation(); }
+};
+
+using Trajectory = std::vector<TimedPose>;
+
+// Reads a TUM trajectory. Throws sb::Error naming the file and line on malformed input, a non-unit
+// quaternion (|q| off by more than 1e-3; it is normalised otherwise) or non-increasing timestamps.
+Trajectory readTumTrajectory(const std::string& path);
+
+// Writes a TUM trajectory with full precision (9 decimals for positions/quaternions, 6 for timestamps).
+// Throws sb::Error if the file cannot be written.
+void writeTumTrajectory(const std::string& path, const Trajectory& trajectory, const std::string& comment = "");
+
+// One TUM line without newline, for streaming writers.
+std::string formatTumLine(const TimedPose& pose);
+
+}  // namespace sb

@@ -1,0 +1,27 @@
+#include "tests/support/test_data.h"
+
+#include <cstdlib>
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace sb::test {
+
+std::string sharedDataDir() {
+  if (const char* env = std::getenv("SB_SHARED_DATA")) return env;
+  return SB_SHARED_DATA_DIR;
+}
+
+bool hasSharedData(const std::string& sub) {
+  std::error_code ec;
+  return fs::is_directory(fs::path(sharedDataDir()) / sub, ec);
+}
+
+std::string scratchDir(const std::string& name) {
+  const fs::path dir = fs::path(SB_TEST_SCRATCH_DIR) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir.string();
+}
+
+}  // namespace sb::test

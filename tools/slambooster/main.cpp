@@ -1,0 +1,30 @@
+// slambooster: the offline tool (replay, evaluation, synthetic sequences, benchmarks).
+
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "core/error.h"
+#include "tools/slambooster/commands.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"slambooster: KinectFusion with an online approximation controller (offline tool)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(SB_VERSION));
+  sb::cli::addRunCommand(app);
+  sb::cli::addEvalCommand(app);
+  sb::cli::addSynthCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  } catch (const sb::Error& e) {
+    std::cerr << "slambooster: error: " << e.what() << "\n";
+    return 1;
+  } catch (const std::exception& e) {
+    std::cerr << "slambooster: internal error: " << e.what() << "\n";
+    return 3;
+  }
+  return 0;
+}
