@@ -3,6 +3,7 @@
 // Drivers know nothing of policy or transport; they return frames.
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -25,6 +26,10 @@ struct SequenceInfo {
   double depthScale = 1000.0;   // raw units per metre (1000 = millimetres, 5000 = TUM/ICL-NUIM)
   size_t frameCount = 0;        // 0 when unknown (live)
   std::string groundTruthPath;  // TUM trajectory of reference poses, empty when there is none
+  // Optional reconstruction-volume hints a dataset may carry (calibration.json keys `volume_size_m` and
+  // `volume_initial_position`): the cube's side in metres and the first camera position as fractions of it.
+  std::optional<double> volumeSize;
+  std::optional<std::array<double, 3>> volumeInitialPosition;
 };
 
 class FrameSource {
