@@ -1,0 +1,115 @@
+#include "drivers/calibration.h"
+
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace sb {
+
+namespace {
+
+using nlohmann::json;
+
+// Largest image side accepted from a file, pixels (guards allocations against corrupt values).
+constexpr int kMaxImageSide = 16384;
+
+[[noreturn]] void badKey(const std::string& path, const std::string& key, const std::string& expected) {
+  throw Error("calibration '" + path + "': key '" + key + "' must be " + expected + "; fix or remove it");
+}
+
+std::optional<double> readNumber(const json& j, const std::string& path, const std::string& key, double minValue,
+                                 double maxValue, const std::string& expected) {
+  if (!j.contains(key)) return std::nullopt;
+  const json& v = j.at(key);
+  if (!v.is_number()) badKey(path, key, expected);
+  const double d = v.get<double>();
+  if (!(d >= minValue && d <= maxValue)) badKey(path, key, expected + " (got " + v.dump() + ")");
+  return d;
+}
+
+std::optional<int> readSide(const json& j, const std::string& path, const std::string& key) {
+  const std::string expected = "an integer in [1, " + std::to_string(kMaxImageSide) + "] pixels";
+  if (j.contains(key) && !j.at(key).is_number_integer() && !j.at(key).is_number_unsigned())
+    badKey(path, key, expected);
+  const auto d = readNumber(j, path, key, 1, kMaxImageSide, expected);
+  if (!d) return std::nullopt;
+  return static_cast<int>(*d);
+}
+
+std::optional<float> readPixels(const json& j, const std::string& path, const std::string& key, bool positive) {
+  const double lo = positive ? std::numeric_limits<double>::min() : -1e6;
+  const auto d = readNumber(j, path, key, lo, 1e6, positive ? "a positive number of pixels" : "a number of pixels");
+  if (!d) return std::nullopt;
+  return static_cast<float>(*d);
+}
+
+}  // namespace
+
+Calibration readCalibration(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot read calibration '" + path + "': check that it exists and is readable");
+  json j;
+  try {
+    in >> j;
+  } catch (const json::exception& e) {
+    throw Error("calibration '" + path + "' is not valid JSON (" + e.what() + "); fix the file");
+  }
+  if (!j.is_object()) throw Error("calibration '" + path + "' must hold a JSON object");
+
+  Calibration c;
+  c.path = path;
+  c.width = readSide(j, path, "width");
+  c.height = readSide(j, path, "height");
+  c.fx = readPixels(j, path, "fx", true);
+  c.fy = readPixels(j, path, "fy", true);
+  c.cx = readPixels(j, path, "cx", false);
+  c.cy = readPixels(j, path, "cy", false);
+  c.depthScale = readNumber(j, path, "depth_scale", std::numeric_limits<double>::min(), 1e9,
+                            "a positive number of raw units per metre");
+  if (j.contains("invalid_depth_values")) {
+    const json& v = j.at("invalid_depth_values");
+    const std::string expected = "an array of integers in [0, 65535]";
+    if (!v.is_array()) badKey(path, "invalid_depth_values", expected);
+    for (const json& e : v) {
+      if (!e.is_number_integer() && !e.is_number_unsigned()) badKey(path, "invalid_depth_values", expected);
+      const auto value = e.get<long long>();
+      if (value < 0 || value > std::numeric_limits<uint16_t>::max()) badKey(path, "invalid_depth_values", expected);
+      c.invalidDepthValues.push_back(static_cast<uint16_t>(value));
+    }
+  }
+  c.volumeSize = readNumber(j, path, "volume_size_m", std::numeric_limits<double>::min(), 1e6,
+                            "a positive size in metres");
+  if (j.contains("volume_initial_position")) {
+    const json& v = j.at("volume_initial_position");
+    const std::string expected = "an array [x, y, z] of numbers (fractions of the volume side)";
+    if (!v.is_array() || v.size() != 3) badKey(path, "volume_initial_position", expected);
+    std::array<double, 3> p{};
+    for (size_t i = 0; i < 3; ++i) {
+      if (!v[i].is_number()) badKey(path, "volume_initial_position", expected);
+      p[i] = v[i].get<double>();
+    }
+    c.volumeInitialPosition = p;
+  }
+  return c;
+}
+
+void writeCalibration(const std::string& path, const SequenceInfo& info) {
+  json j;
+  j["width"] = info.intrinsics.width;
+  j["height"] = info.intrinsics.height;
+  j["fx"] = info.intrinsics.fx;
+  j["fy"] = info.intrinsics.fy;
+  j["cx"] = info.intrinsics.cx;
+  j["cy"] = info.intrinsics.cy;
+  j["depth_scale"] = info.depthScale;
+  if (info.volumeSize) j["volume_size_m"] = *info.volumeSize;
+  if (info.volumeInitialPosition) j["volume_initial_position"] = *info.volumeInitialPosition;
+  std::ofstream out(path);
+  out << j.dump(2) << '\n';
+  out.flush();
+  if (!out) throw Error("cannot write calibration '" + path + "': check that the directory is writable");
+}
+
+}  // namespace sb
