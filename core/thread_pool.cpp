@@ -22,14 +22,14 @@ ThreadPool::~ThreadPool() {
   for (auto& w : workers_) w.join();
 }
 
-void ThreadPool::runChunks() {
+void ThreadPool::runChunks(const Job& job) {
   for (;;) {
     const int c = next_.fetch_add(1);
-    if (c >= chunks_) break;
-    const int b = begin_ + c * chunk_;
-    const int e = std::min(end_, b + chunk_);
+    if (c >= job.chunks) break;
+    const int b = job.begin + c * job.chunk;
+    const int e = std::min(job.end, b + job.chunk);
     try {
-      (*job_)(c, b, e);
+      (*job.fn)(c, b, e);
     } catch (...) {
       std::lock_guard<std::mutex> lock(mutex_);
       if (!error_) error_ = std::current_exception();
@@ -37,20 +37,24 @@ void ThreadPool::runChunks() {
   }
 }
 
+// Every worker takes part in every generation: it copies the job under the lock, runs chunks until none
+// are left, and checks in. parallelFor returns only after all workers checked in, so no worker can still be
+// looking at a finished job when the next one is posted.
 void ThreadPool::workerLoop() {
   unsigned seen = 0;
   for (;;) {
+    Job job;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
       if (stop_) return;
       seen = generation_;
-      ++active_;
+      job = job_;
     }
-    runChunks();
+    runChunks(job);
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (--active_ == 0) done_.notify_all();
+      if (++finished_ == workers_.size()) done_.notify_all();
     }
   }
 }
@@ -63,24 +67,22 @@ void ThreadPool::parallelFor(int begin, int end, int chunk, const std::function<
     for (int c = 0; c < chunks; ++c) fn(c, begin + c * chunk, std::min(end, begin + (c + 1) * chunk));
     return;
   }
+  Job job{&fn, begin, end, chunk, chunks};
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    job_ = &fn;
-    begin_ = begin;
-    end_ = end;
-    chunk_ = chunk;
-    chunks_ = chunks;
+    job_ = job;
     next_ = 0;
+    finished_ = 0;
     error_ = nullptr;
     ++generation_;
   }
   wake_.notify_all();
-  runChunks();
+  runChunks(job);
   std::exception_ptr err;
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [&] { return active_ == 0 && next_ >= chunks_; });
-    job_ = nullptr;
+    done_.wait(lock, [&] { return finished_ == workers_.size(); });
+    job_ = Job{};
     err = error_;
     error_ = nullptr;
   }

@@ -36,17 +36,20 @@ class ThreadPool {
   static void setGlobalThreads(unsigned threads);
 
  private:
+  struct Job {
+    const std::function<void(int, int, int)>* fn = nullptr;
+    int begin = 0, end = 0, chunk = 1, chunks = 0;
+  };
   void workerLoop();
-  void runChunks();
+  void runChunks(const Job& job);
 
   std::vector<std::thread> workers_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable done_;
-  const std::function<void(int, int, int)>* job_ = nullptr;
-  int begin_ = 0, end_ = 0, chunk_ = 1, chunks_ = 0;
-  std::atomic<int> next_{0};
-  int active_ = 0;
+  Job job_;                 // guarded by mutex_; workers copy it when they wake
+  std::atomic<int> next_{0};  // next chunk to take
+  size_t finished_ = 0;       // workers done with the current generation (guarded by mutex_)
   unsigned generation_ = 0;
   bool stop_ = false;
   std::exception_ptr error_;
