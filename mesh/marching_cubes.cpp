@@ -1,0 +1,211 @@
+#include "mesh/marching_cubes.h"
+
+#include "core/error.h"
+#include "core/thread_pool.h"
+#include "mesh/tetra_cases.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <unordered_map>
+
+namespace sb {
+
+namespace {
+
+using namespace mesh_detail;
+
+// Cells along z per parallel work item. Output does not depend on it (slabs are merged in order).
+constexpr int kSlabCells = 4;
+constexpr int kAxes = 3;
+constexpr int kZAxisBit = 4;  // the z bit of a corner index / edge direction
+
+// Read-only access to the interleaved (tsdf, weight) volume.
+class VolumeSampler {
+ public:
+  VolumeSampler(const VolumeView& v, int minWeight)
+      : data_(v.data), r_(v.resolution), minWeight_(std::max(1, minWeight)) {}
+
+  int resolution() const { return r_; }
+  int64_t index(int x, int y, int z) const { return x + int64_t(r_) * (y + int64_t(r_) * z); }
+  bool valid(int64_t i) const { return data_[2 * i + 1] >= minWeight_; }
+  float tsdf(int64_t i) const { return data_[2 * i] / kTsdfScale; }
+
+  // Gradient of the tsdf at a valid voxel (per voxel): central differences, one-sided where a neighbour
+  // is outside the volume or not observed enough.
+  Eigen::Vector3f gradient(const Eigen::Vector3i& p) const {
+    Eigen::Vector3f g;
+    const float centre = tsdf(index(p.x(), p.y(), p.z()));
+    for (int a = 0; a < kAxes; ++a) {
+      Eigen::Vector3i lo = p, hi = p;
+      lo[a] -= 1;
+      hi[a] += 1;
+      const bool hasLo = lo[a] >= 0 && valid(index(lo.x(), lo.y(), lo.z()));
+      const bool hasHi = hi[a] < r_ && valid(index(hi.x(), hi.y(), hi.z()));
+      const float fLo = hasLo ? tsdf(index(lo.x(), lo.y(), lo.z())) : centre;
+      const float fHi = hasHi ? tsdf(index(hi.x(), hi.y(), hi.z())) : centre;
+      const int span = int(hasLo) + int(hasHi);
+      g[a] = span == 0 ? 0.0f : (fHi - fLo) / static_cast<float>(span);
+    }
+    return g;
+  }
+
+ private:
+  const int16_t* data_;
+  int r_;
+  int minWeight_;
+};
+
+Eigen::Vector3i cornerOffset(int corner) { return {corner & 1, (corner >> 1) & 1, (corner >> 2) & 1}; }
+
+// A global edge: its lower voxel's index times kEdgeDirections plus (direction - 1).
+uint64_t edgeKey(int64_t lowVoxel, int dir) { return uint64_t(lowVoxel) * kEdgeDirections + uint64_t(dir - 1); }
+
+struct DecodedEdge {
+  Eigen::Vector3i low;
+  int dir;
+};
+
+DecodedEdge decodeEdge(uint64_t key, int r) {
+  const uint64_t voxel = key / kEdgeDirections;
+  const int dir = int(key % kEdgeDirections) + 1;
+  const uint64_t ur = uint64_t(r);
+  return {Eigen::Vector3i(int(voxel % ur), int((voxel / ur) % ur), int(voxel / (ur * ur))), dir};
+}
+
+// Triangles of cells z in [z0, z1), with vertices indexed locally in first-use order.
+struct SlabMesh {
+  std::vector<uint64_t> keys;
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<std::array<uint32_t, 3>> triangles;
+};
+
+class SlabExtractor {
+ public:
+  SlabExtractor(const VolumeSampler& volume, float voxelSize) : volume_(volume), voxelSize_(voxelSize) {}
+
+  void run(int z0, int z1, SlabMesh& out) {
+    out_ = &out;
+    local_.clear();
+    const int cells = volume_.resolution() - 1;
+    const TetraTable& table = tetraTable();
+    for (int z = z0; z < z1; ++z)
+      for (int y = 0; y < cells; ++y)
+        for (int x = 0; x < cells; ++x) {
+          int insideMask = 0;
+          bool observed = true;
+          for (int c = 0; c < kCellCorners && observed; ++c) {
+            const Eigen::Vector3i o = cornerOffset(c);
+            const int64_t i = volume_.index(x + o.x(), y + o.y(), z + o.z());
+            observed = volume_.valid(i);
+            if (volume_.tsdf(i) < 0.0f) insideMask |= 1 << c;
+          }
+          if (!observed || insideMask == 0 || insideMask == (1 << kCellCorners) - 1) continue;
+          const Eigen::Vector3i cell(x, y, z);
+          for (int t = 0; t < kTetrahedraPerCell; ++t) {
+            int m = 0;
+            for (int k = 0; k < kTetraCorners; ++k)
+              if (insideMask & (1 << table.corners[t][k])) m |= 1 << k;
+            const TetraCase& tc = table.cases[t][m];
+            for (int n = 0; n < tc.triangleCount; ++n) {
+              std::array<uint32_t, 3> tri;
+              for (int v = 0; v < 3; ++v) tri[v] = vertexOn(cell, tc.triangles[n][v]);
+              out.triangles.push_back(tri);
+            }
+          }
+        }
+  }
+
+ private:
+  uint32_t vertexOn(const Eigen::Vector3i& cell, const CellEdge& e) {
+    const Eigen::Vector3i low = cell + cornerOffset(e.low);
+    const uint64_t key = edgeKey(volume_.index(low.x(), low.y(), low.z()), e.dir);
+    const auto found = local_.find(key);
+    if (found != local_.end()) return found->second;
+    const uint32_t id = static_cast<uint32_t>(out_->keys.size());
+    local_.emplace(key, id);
+    out_->keys.push_back(key);
+    // Interpolate from the canonical (low -> high) endpoints so every cell computes the same vertex.
+    const Eigen::Vector3i high = low + cornerOffset(e.dir);
+    const float f0 = volume_.tsdf(volume_.index(low.x(), low.y(), low.z()));
+    const float f1 = volume_.tsdf(volume_.index(high.x(), high.y(), high.z()));
+    const float t = f0 / (f0 - f1);  // endpoints have opposite signs, so f0 != f1
+    const Eigen::Vector3f pos = low.cast<float>() + t * (high - low).cast<float>();
+    out_->vertices.push_back((pos + Eigen::Vector3f::Constant(0.5f)) * voxelSize_);
+    Eigen::Vector3f n = (1.0f - t) * volume_.gradient(low) + t * volume_.gradient(high);
+    if (n.squaredNorm() <= 0.0f) n = (f1 > f0 ? 1.0f : -1.0f) * (high - low).cast<float>();
+    out_->normals.push_back(n.normalized());
+    return id;
+  }
+
+  const VolumeSampler& volume_;
+  float voxelSize_;
+  SlabMesh* out_ = nullptr;
+  std::unordered_map<uint64_t, uint32_t> local_;
+};
+
+void validate(const VolumeView& v) {
+  if (v.data == nullptr) throw Error("extractMesh: the TSDF volume data pointer is null; pass the volume buffer");
+  if (v.resolution < 2)
+    throw Error("extractMesh: volume resolution " + std::to_string(v.resolution) +
+                " is too small; it must be at least 2 voxels per side");
+  if (!std::isfinite(v.size) || v.size <= 0.0f)
+    throw Error("extractMesh: volume size " + std::to_string(v.size) + " m is invalid; it must be > 0");
+}
+
+// Concatenates slabs in z order, mapping each slab's edges on its lower plane to the vertices the previous
+// slab made there: the result equals a single serial sweep, whatever the thread count.
+Mesh mergeSlabs(std::vector<SlabMesh>& slabs, int resolution) {
+  Mesh mesh;
+  std::unordered_map<uint64_t, uint32_t> previousTop;  // edges in the plane z = start of the current slab
+  for (size_t s = 0; s < slabs.size(); ++s) {
+    SlabMesh& slab = slabs[s];
+    const int z0 = int(s) * kSlabCells;
+    const int z1 = z0 + kSlabCells;
+    std::unordered_map<uint64_t, uint32_t> top;
+    std::vector<uint32_t> remap(slab.keys.size());
+    for (size_t i = 0; i < slab.keys.size(); ++i) {
+      const DecodedEdge e = decodeEdge(slab.keys[i], resolution);
+      const bool inPlane = (e.dir & kZAxisBit) == 0;
+      const auto shared = inPlane && e.low.z() == z0 ? previousTop.find(slab.keys[i]) : previousTop.end();
+      if (shared != previousTop.end()) {
+        remap[i] = shared->second;
+      } else {
+        if (mesh.vertices.size() >= std::numeric_limits<uint32_t>::max())
+          throw Error("extractMesh: more than 2^32 vertices; use a lower volume resolution");
+        remap[i] = static_cast<uint32_t>(mesh.vertices.size());
+        mesh.vertices.push_back(slab.vertices[i]);
+        mesh.normals.push_back(slab.normals[i]);
+      }
+      if (inPlane && e.low.z() == z1) top.emplace(slab.keys[i], remap[i]);
+    }
+    for (const auto& tri : slab.triangles) mesh.triangles.push_back({remap[tri[0]], remap[tri[1]], remap[tri[2]]});
+    previousTop.swap(top);
+    slab = SlabMesh{};  // release memory early
+  }
+  return mesh;
+}
+
+}  // namespace
+
+Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool) {
+  validate(volume);
+  const VolumeSampler sampler(volume, options.minWeight);
+  const float voxelSize = volume.size / static_cast<float>(volume.resolution);
+  const int cells = volume.resolution - 1;
+  const int slabCount = ThreadPool::chunkCount(0, cells, kSlabCells);
+  std::vector<SlabMesh> slabs(static_cast<size_t>(slabCount));
+  pool.parallelFor(0, slabCount, 1, [&](int, int begin, int end) {
+    SlabExtractor extractor(sampler, voxelSize);
+    for (int s = begin; s < end; ++s) extractor.run(s * kSlabCells, std::min(cells, (s + 1) * kSlabCells), slabs[size_t(s)]);
+  });
+  return mergeSlabs(slabs, volume.resolution);
+}
+
+Mesh extractMesh(const VolumeView& volume, const MeshOptions& options) {
+  return extractMesh(volume, options, ThreadPool::global());
+}
+
+}  // namespace sb
