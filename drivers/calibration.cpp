@@ -4,6 +4,10 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
 #include "core/error.h"
 
 namespace sb {
@@ -79,6 +83,10 @@ Calibration readCalibration(const std::string& path) {
       c.invalidDepthValues.push_back(static_cast<uint16_t>(value));
     }
   }
+  if (j.contains("format")) {
+    if (!j.at("format").is_string()) badKey(path, "format", "a string such as \"tum\" or \"icl-nuim\"");
+    c.format = j.at("format").get<std::string>();
+  }
   c.volumeSize = readNumber(j, path, "volume_size_m", std::numeric_limits<double>::min(), 1e6,
                             "a positive size in metres");
   if (j.contains("volume_initial_position")) {
@@ -95,6 +103,60 @@ Calibration readCalibration(const std::string& path) {
   return c;
 }
 
+void resolveCamera(SequenceInfo& info, const Calibration* calibration, const SequenceOptions& options,
+                   const CameraDefaults& defaults) {
+  std::vector<std::string> defaulted;
+  const auto pick = [&](const char* name, const std::optional<float>& option, const std::optional<float>* fromFile,
+                        float fallback) {
+    if (option) return *option;
+    if (fromFile && *fromFile) return **fromFile;
+    defaulted.emplace_back(name);
+    return fallback;
+  };
+  const Calibration* c = calibration;
+  info.intrinsics.fx = pick("fx", options.fx, c ? &c->fx : nullptr, defaults.intrinsics.fx);
+  info.intrinsics.fy = pick("fy", options.fy, c ? &c->fy : nullptr, defaults.intrinsics.fy);
+  info.intrinsics.cx = pick("cx", options.cx, c ? &c->cx : nullptr, defaults.intrinsics.cx);
+  info.intrinsics.cy = pick("cy", options.cy, c ? &c->cy : nullptr, defaults.intrinsics.cy);
+  if (options.depthScale) {
+    info.depthScale = *options.depthScale;
+  } else if (c && c->depthScale) {
+    info.depthScale = *c->depthScale;
+  } else {
+    info.depthScale = defaults.depthScale;
+    defaulted.emplace_back("depth_scale");
+  }
+  if (!(info.depthScale > 0))
+    throw Error("sequence '" + info.path + "': depth scale must be > 0 raw units per metre");
+  if (c) {
+    info.volumeSize = c->volumeSize;
+    info.volumeInitialPosition = c->volumeInitialPosition;
+  }
+  if (!defaulted.empty()) {
+    std::string names;
+    for (const auto& n : defaulted) names += (names.empty() ? "" : ", ") + n;
+    spdlog::warn("sequence '{}': {} not given by {} or the command line; using the defaults of {}", info.path, names,
+                 c ? "'" + c->path + "'" : "a calibration.json", defaults.name);
+  }
+}
+
+std::vector<uint16_t> invalidDepthValues(const Calibration* calibration) {
+  std::vector<uint16_t> values = {0, std::numeric_limits<uint16_t>::max()};
+  if (calibration) values.insert(values.end(), calibration->invalidDepthValues.begin(),
+                                 calibration->invalidDepthValues.end());
+  std::sort(values.begin(), values.end());
+  values.erase(std::unique(values.begin(), values.end()), values.end());
+  return values;
+}
+
+void normaliseInvalidDepth(DepthRaw& depth, const std::vector<uint16_t>& invalidValues) {
+  for (const uint16_t invalid : invalidValues) {
+    if (invalid == 0) continue;
+    for (uint16_t& v : depth.pixels())
+      if (v == invalid) v = 0;
+  }
+}
+
 void writeCalibration(const std::string& path, const SequenceInfo& info) {
   json j;
   j["width"] = info.intrinsics.width;
@@ -104,6 +166,7 @@ void writeCalibration(const std::string& path, const SequenceInfo& info) {
   j["cx"] = info.intrinsics.cx;
   j["cy"] = info.intrinsics.cy;
   j["depth_scale"] = info.depthScale;
+  if (!info.format.empty()) j["format"] = info.format;
   if (info.volumeSize) j["volume_size_m"] = *info.volumeSize;
   if (info.volumeInitialPosition) j["volume_initial_position"] = *info.volumeInitialPosition;
   std::ofstream out(path);

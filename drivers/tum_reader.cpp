@@ -1,0 +1,174 @@
+#include "drivers/tum_reader.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.h"
+#include "core/png_io.h"
+#include "drivers/calibration.h"
+
+namespace fs = std::filesystem;
+
+namespace sb {
+
+namespace {
+
+const char* const kIndexName = "depth.txt";
+const char* const kCalibrationName = "calibration.json";
+const char* const kGroundTruthName = "groundtruth.txt";
+
+// TUM RGB-D (Freiburg) defaults: fx = fy = 525, centre (319.5, 239.5), 5000 units per metre.
+CameraDefaults tumDefaults() {
+  CameraDefaults d;
+  d.name = "TUM RGB-D (fx=fy=525, cx=319.5, cy=239.5, 5000 units/m)";
+  d.intrinsics.fx = 525.f;
+  d.intrinsics.fy = 525.f;
+  d.intrinsics.cx = 319.5f;
+  d.intrinsics.cy = 239.5f;
+  d.depthScale = 5000.0;
+  return d;
+}
+
+// 7-Scenes (Kinect v1 as recorded there): fx = fy = 585, centre (320, 240), millimetres.
+CameraDefaults sevenScenesDefaults() {
+  CameraDefaults d;
+  d.name = "7-Scenes (fx=fy=585, cx=320, cy=240, 1000 units/m)";
+  d.intrinsics.fx = 585.f;
+  d.intrinsics.fy = 585.f;
+  d.intrinsics.cx = 320.f;
+  d.intrinsics.cy = 240.f;
+  d.depthScale = 1000.0;
+  return d;
+}
+
+std::string trim(const std::string& s) {
+  const auto b = s.find_first_not_of(" \t\r\n");
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(" \t\r\n");
+  return s.substr(b, e - b + 1);
+}
+
+std::string where(const std::string& indexPath, size_t line) {
+  return "'" + indexPath + "' line " + std::to_string(line);
+}
+
+}  // namespace
+
+TumReader::TumReader(const std::string& directory, const SequenceOptions& options) {
+  const fs::path dir(directory);
+  indexPath_ = (dir / kIndexName).string();
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw Error("sequence directory '" + directory + "' does not exist or is not a directory");
+  if (!fs::is_regular_file(indexPath_, ec))
+    throw Error("sequence '" + directory + "' has no " + kIndexName +
+                ": a TUM-layout sequence needs `timestamp depth/file.png` lines in it");
+
+  info_.path = directory;
+  std::optional<Calibration> calibration;
+  const fs::path calibrationPath = dir / kCalibrationName;
+  if (fs::exists(calibrationPath, ec)) calibration = readCalibration(calibrationPath.string());
+  const Calibration* cal = calibration ? &*calibration : nullptr;
+  invalidValues_ = invalidDepthValues(cal);
+
+  const bool sevenScenes = cal && std::find(cal->invalidDepthValues.begin(), cal->invalidDepthValues.end(),
+                                            uint16_t{65535}) != cal->invalidDepthValues.end();
+  info_.format = (cal && !cal->format.empty()) ? cal->format : (sevenScenes ? "7scenes" : "tum");
+  resolveCamera(info_, cal, options, sevenScenes ? sevenScenesDefaults() : tumDefaults());
+
+  // The frame list.
+  std::ifstream in(indexPath_);
+  std::string raw;
+  size_t lineNo = 0;
+  std::vector<Entry> all;
+  while (std::getline(in, raw)) {
+    ++lineNo;
+    const std::string line = trim(raw);
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    std::string stamp, file, extra;
+    fields >> stamp >> file;
+    if (file.empty() || (fields >> extra))
+      throw Error(where(indexPath_, lineNo) + ": expected `timestamp filename`, found \"" + line + "\"");
+    Entry e;
+    size_t used = 0;
+    try {
+      e.timestamp = std::stod(stamp, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used != stamp.size() || !std::isfinite(e.timestamp))
+      throw Error(where(indexPath_, lineNo) + ": timestamp \"" + stamp + "\" is not a number of seconds");
+    if (!all.empty() && !(e.timestamp > all.back().timestamp))
+      throw Error(where(indexPath_, lineNo) + ": timestamp " + stamp + " does not increase (previous " +
+                  std::to_string(all.back().timestamp) + " at line " + std::to_string(all.back().line) +
+                  "); sort depth.txt by time and remove duplicates");
+    e.index = all.size();
+    e.line = lineNo;
+    e.path = fs::path(file).is_absolute() ? file : (dir / file).string();
+    all.push_back(std::move(e));
+  }
+  if (all.empty()) throw Error("'" + indexPath_ + "' lists no frames");
+
+  if (options.firstFrame >= all.size())
+    throw Error("sequence '" + directory + "': first frame " + std::to_string(options.firstFrame) +
+                " is past its end (" + std::to_string(all.size()) + " frames)");
+  const size_t available = all.size() - options.firstFrame;
+  const size_t count = options.maxFrames ? std::min(options.maxFrames, available) : available;
+  entries_.assign(std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(options.firstFrame)),
+                  std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(options.firstFrame + count)));
+  for (const Entry& e : entries_)
+    if (!fs::is_regular_file(e.path, ec))
+      fail(e, "depth image '" + e.path + "' does not exist; restore it or remove its line");
+  info_.frameCount = entries_.size();
+
+  // Image size: options > calibration > the first frame.
+  std::optional<int> width = options.width ? options.width : (cal ? cal->width : std::nullopt);
+  std::optional<int> height = options.height ? options.height : (cal ? cal->height : std::nullopt);
+  info_.intrinsics.width = 0;  // no size check while probing the first frame
+  info_.intrinsics.height = 0;
+  if (!width || !height) {
+    const DepthFrame first = load(entries_.front());
+    width = width.value_or(first.depth.width());
+    height = height.value_or(first.depth.height());
+  }
+  info_.intrinsics.width = *width;
+  info_.intrinsics.height = *height;
+
+  const fs::path groundTruth = dir / kGroundTruthName;
+  if (fs::is_regular_file(groundTruth, ec)) info_.groundTruthPath = groundTruth.string();
+}
+
+void TumReader::fail(const Entry& entry, const std::string& what) const {
+  throw Error("sequence '" + info_.path + "', frame " + std::to_string(entry.index) + " (" +
+              where(indexPath_, entry.line) + "): " + what);
+}
+
+DepthFrame TumReader::load(const Entry& entry) const {
+  DepthFrame frame;
+  frame.index = entry.index;
+  frame.timestamp = entry.timestamp;
+  try {
+    frame.depth = readPng16(entry.path);
+  } catch (const Error& e) {
+    fail(entry, e.what());
+  }
+  const int w = info_.intrinsics.width, h = info_.intrinsics.height;
+  if (w > 0 && (frame.depth.width() != w || frame.depth.height() != h))
+    fail(entry, "depth image '" + entry.path + "' is " + std::to_string(frame.depth.width()) + "x" +
+                    std::to_string(frame.depth.height()) + " but the sequence is " + std::to_string(w) + "x" +
+                    std::to_string(h) + " (calibration.json or the command line)");
+  normaliseInvalidDepth(frame.depth, invalidValues_);
+  return frame;
+}
+
+std::optional<DepthFrame> TumReader::next() {
+  if (cursor_ >= entries_.size()) return std::nullopt;
+  const Entry& entry = entries_[cursor_++];  // a bad frame is skipped if the caller goes on after the error
+  return load(entry);
+}
+
+}  // namespace sb

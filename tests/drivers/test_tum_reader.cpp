@@ -1,0 +1,217 @@
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/png_io.h"
+#include "drivers/sequence.h"
+#include "tests/drivers/fixtures.h"
+#include "tests/support/test_data.h"
+
+using namespace sb;
+namespace fs = std::filesystem;
+
+namespace {
+
+SequenceOptions direct() {
+  SequenceOptions o;
+  o.prefetch = false;
+  return o;
+}
+
+std::vector<DepthFrame> readAll(FrameSource& source) {
+  std::vector<DepthFrame> frames;
+  while (auto f = source.next()) frames.push_back(std::move(*f));
+  return frames;
+}
+
+}  // namespace
+
+TEST_CASE("TUM reader returns the written frames, timestamps and calibration", "[drivers][tum]") {
+  const std::string dir = test::writePatternSequence(test::scratchDir("tum_basic") + "/seq", 4, test::smallInfo());
+  auto source = openSequence(dir, direct());
+  const SequenceInfo& info = source->info();
+  CHECK(info.format == "tum");
+  CHECK(info.path == dir);
+  CHECK(info.frameCount == 4);
+  CHECK(info.intrinsics.width == 6);
+  CHECK(info.intrinsics.height == 4);
+  CHECK(info.intrinsics.fx == 5.5f);
+  CHECK(info.intrinsics.fy == 6.5f);
+  CHECK(info.intrinsics.cx == 2.5f);
+  CHECK(info.intrinsics.cy == 1.5f);
+  CHECK(info.depthScale == 5000.0);
+  CHECK(info.groundTruthPath.empty());
+  CHECK_FALSE(info.volumeSize);
+
+  const auto frames = readAll(*source);
+  REQUIRE(frames.size() == 4);
+  for (size_t i = 0; i < frames.size(); ++i) {
+    CHECK(frames[i].index == i);
+    CHECK(frames[i].timestamp == Approx(100.0 + 0.1 * i).margin(1e-9));
+    CHECK(frames[i].depth.pixels() == test::patternDepth(i, 6, 4).pixels());
+  }
+  CHECK_FALSE(source->next());  // stays at the end
+}
+
+TEST_CASE("TUM reader: ground truth, volume hints, comments and CRLF lines", "[drivers][tum]") {
+  const std::string dir = test::scratchDir("tum_misc") + "/seq";
+  SequenceInfo written = test::smallInfo();
+  written.volumeSize = 3.0;
+  written.volumeInitialPosition = std::array<double, 3>{0.5, 0.5, 0.0};
+  written.format = "synthetic";
+  test::writePatternSequence(dir, 2, written);
+  test::writeText(dir + "/groundtruth.txt", "# none\n");
+  test::writeText(dir + "/depth.txt",
+                  "# a comment\r\n\r\n  100.0 depth/000000.png\r\n# another\n100.5\tdepth/000001.png  \n");
+  auto source = openSequence(dir, direct());
+  CHECK(source->info().format == "synthetic");
+  CHECK(source->info().groundTruthPath == dir + "/groundtruth.txt");
+  REQUIRE(source->info().volumeSize);
+  CHECK(*source->info().volumeSize == 3.0);
+  REQUIRE(source->info().volumeInitialPosition);
+  CHECK((*source->info().volumeInitialPosition)[2] == 0.0);
+  const auto frames = readAll(*source);
+  REQUIRE(frames.size() == 2);
+  CHECK(frames[1].timestamp == 100.5);
+  CHECK(frames[1].depth.pixels() == test::patternDepth(1, 6, 4).pixels());
+}
+
+TEST_CASE("TUM reader defaults without calibration.json, and options win over the file", "[drivers][tum]") {
+  const std::string dir = test::writePatternSequence(test::scratchDir("tum_defaults") + "/seq", 2, test::smallInfo());
+  fs::remove(dir + "/calibration.json");
+  {
+    auto source = openSequence(dir, direct());
+    const SequenceInfo& info = source->info();
+    CHECK(info.format == "tum");
+    CHECK(info.intrinsics.fx == 525.f);
+    CHECK(info.intrinsics.fy == 525.f);
+    CHECK(info.intrinsics.cx == 319.5f);
+    CHECK(info.intrinsics.cy == 239.5f);
+    CHECK(info.depthScale == 5000.0);
+    CHECK(info.intrinsics.width == 6);  // from the first PNG
+    CHECK(info.intrinsics.height == 4);
+  }
+  test::writeText(dir + "/calibration.json",
+                  R"({"width": 6, "height": 4, "fx": 10, "fy": 11, "cx": 3, "cy": 2, "depth_scale": 1000})");
+  SequenceOptions o = direct();
+  o.fx = 20.f;
+  o.cy = 1.25f;
+  o.depthScale = 2000.0;
+  auto source = openSequence(dir, o);
+  const SequenceInfo& info = source->info();
+  CHECK(info.intrinsics.fx == 20.f);
+  CHECK(info.intrinsics.fy == 11.f);
+  CHECK(info.intrinsics.cx == 3.f);
+  CHECK(info.intrinsics.cy == 1.25f);
+  CHECK(info.depthScale == 2000.0);
+}
+
+TEST_CASE("TUM reader normalises invalid values to 0 and recognises 7-Scenes", "[drivers][tum]") {
+  const std::string dir = test::scratchDir("tum_invalid") + "/seq";
+  fs::create_directories(dir + "/depth");
+  DepthRaw d(3, 2);
+  d.pixels() = {0, 65535, 1234, 7, 65535, 4000};
+  writePng16(dir + "/depth/a.png", d);
+  test::writeText(dir + "/depth.txt", "0.0 depth/a.png\n");
+  test::writeText(dir + "/calibration.json",
+                  R"({"fx": 585, "fy": 585, "cx": 320, "cy": 240, "invalid_depth_values": [0, 7, 65535]})");
+  auto source = openSequence(dir, direct());
+  CHECK(source->info().format == "7scenes");
+  CHECK(source->info().depthScale == 1000.0);  // 7-Scenes default when the file gives none
+  const auto frame = source->next();
+  REQUIRE(frame);
+  CHECK(frame->depth.pixels() == std::vector<uint16_t>{0, 0, 1234, 0, 0, 4000});
+
+  // Without calibration, 65535 is still "no reading"; 7 is a valid value then.
+  fs::remove(dir + "/calibration.json");
+  auto plain = openSequence(dir, direct());
+  CHECK(plain->info().format == "tum");
+  CHECK(plain->next()->depth.pixels() == std::vector<uint16_t>{0, 0, 1234, 7, 0, 4000});
+}
+
+TEST_CASE("TUM reader: firstFrame and maxFrames select a range, keeping sequence indices", "[drivers][tum]") {
+  const std::string dir = test::writePatternSequence(test::scratchDir("tum_range") + "/seq", 6, test::smallInfo());
+  SequenceOptions o = direct();
+  o.firstFrame = 2;
+  o.maxFrames = 3;
+  auto source = openSequence(dir, o);
+  CHECK(source->info().frameCount == 3);
+  const auto frames = readAll(*source);
+  REQUIRE(frames.size() == 3);
+  CHECK(frames[0].index == 2);
+  CHECK(frames[2].index == 4);
+  CHECK(frames[0].depth.pixels() == test::patternDepth(2, 6, 4).pixels());
+
+  o.firstFrame = 5;
+  o.maxFrames = 10;
+  CHECK(openSequence(dir, o)->info().frameCount == 1);
+  o.firstFrame = 6;
+  CHECK_THROWS_WITH(openSequence(dir, o), Catch::Contains("first frame 6") && Catch::Contains("6 frames"));
+}
+
+TEST_CASE("TUM reader reports structural errors at open", "[drivers][tum][errors]") {
+  const std::string root = test::scratchDir("tum_open_errors");
+  const std::string dir = test::writePatternSequence(root + "/seq", 3, test::smallInfo());
+  const std::string index = test::readText(dir + "/depth.txt");
+
+  CHECK_THROWS_WITH(openSequence(root + "/nope", direct()), Catch::Contains("nope") && Catch::Contains("not exist"));
+  fs::create_directories(root + "/empty");
+  CHECK_THROWS_WITH(openSequence(root + "/empty", direct()), Catch::Contains("depth.txt"));
+
+  SECTION("non-monotonic timestamps name the line") {
+    test::writeText(dir + "/depth.txt", "# c\n1.0 depth/000000.png\n2.0 depth/000001.png\n2.0 depth/000002.png\n");
+    CHECK_THROWS_WITH(openSequence(dir, direct()),
+                      Catch::Contains("depth.txt' line 4") && Catch::Contains("does not increase"));
+  }
+  SECTION("malformed lines name the line") {
+    test::writeText(dir + "/depth.txt", "1.0 depth/000000.png\n2.0\n");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("line 2") && Catch::Contains("timestamp filename"));
+    test::writeText(dir + "/depth.txt", "1.0 depth/000000.png extra\n");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("line 1"));
+    test::writeText(dir + "/depth.txt", "1.0 depth/000000.png\n2.0x depth/000001.png\n");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("line 2") && Catch::Contains("2.0x"));
+    test::writeText(dir + "/depth.txt", "nan depth/000000.png\n");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("line 1"));
+  }
+  SECTION("an index without frames") {
+    test::writeText(dir + "/depth.txt", "# only a comment\n");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("no frames"));
+  }
+  SECTION("a missing PNG names the file, frame and line") {
+    fs::remove(dir + "/depth/000002.png");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("000002.png") && Catch::Contains("frame 2") &&
+                                                       Catch::Contains("line 4"));
+  }
+  SECTION("a malformed calibration.json names the key") {
+    test::writeText(dir + "/calibration.json", R"({"fx": "big"})");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("calibration.json") && Catch::Contains("'fx'"));
+    test::writeText(dir + "/calibration.json", R"({"width": 0})");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("'width'"));
+    test::writeText(dir + "/calibration.json", "{ not json");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("not valid JSON"));
+  }
+  test::writeText(dir + "/depth.txt", index);
+}
+
+TEST_CASE("TUM reader reports bad frames at the frame", "[drivers][tum][errors]") {
+  const std::string dir = test::writePatternSequence(test::scratchDir("tum_frame_errors") + "/seq", 4, test::smallInfo());
+  const std::string png1 = dir + "/depth/000001.png";
+
+  SECTION("truncated PNG") {
+    const std::string bytes = test::readText(png1);
+    test::writeText(png1, bytes.substr(0, bytes.size() / 2));
+  }
+  SECTION("8-bit PNG") {
+    writePng8(png1, Image<uint8_t>(6, 4, 9));
+  }
+  SECTION("wrong size") {
+    writePng16(png1, test::patternDepth(1, 4, 6));
+  }
+  auto source = openSequence(dir, direct());
+  REQUIRE(source->next());
+  CHECK_THROWS_WITH(source->next(), Catch::Contains("000001.png") && Catch::Contains("frame 1"));
+  // The bad frame is skipped if the caller goes on.
+  const auto after = source->next();
+  REQUIRE(after);
+  CHECK(after->index == 2);
+}
