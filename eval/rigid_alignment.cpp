@@ -12,13 +12,13 @@ namespace {
 // Throws when the centred points do not span at least a plane.
 void checkSpread(const Eigen::Matrix3Xd& centred, const char* name) {
   const Eigen::Index n = centred.cols();
-  const Eigen::Vector3d sv = Eigen::JacobiSVD<Eigen::Matrix3d>(centred * centred.transpose()).singularValues();
-  // Singular values of the 3x3 scatter matrix are squared spreads; compare spreads (square roots).
-  const double s0 = std::sqrt(std::max(sv(0), 0.0)), s1 = std::sqrt(std::max(sv(1), 0.0));
-  const double rmsSpread = s0 / std::sqrt(static_cast<double>(n));
-  if (!std::isfinite(s0)) {
+  if (!centred.allFinite()) {
     throw Error(std::string("alignment: the ") + name + " positions contain non-finite values; fix the input");
   }
+  // Singular values of the centred 3xN points are the spreads along the principal directions (m * sqrt(N)).
+  const Eigen::Vector3d sv = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();
+  const double s0 = sv(0), s1 = sv(1);
+  const double rmsSpread = s0 / std::sqrt(static_cast<double>(n));
   if (rmsSpread <= kIdenticalSpreadM) {
     throw Error(std::string("alignment undefined: all ") + std::to_string(n) + " matched " + name +
                 " positions are identical (the camera did not move); ATE needs positions spanning a plane");
