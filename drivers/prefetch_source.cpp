@@ -4,11 +4,18 @@
 
 namespace sb {
 
-PrefetchSource::PrefetchSource(std::unique_ptr<FrameSource> source, size_t depth)
+PrefetchSource::PrefetchSource(std::unique_ptr<FrameSource> source, size_t depth, size_t threads)
     : info_(source ? source->info() : SequenceInfo{}), source_(std::move(source)), depth_(depth) {
   if (!source_) throw Error("PrefetchSource needs a frame source");
   if (depth_ == 0) throw Error("prefetch depth must be at least 1 frame");
-  worker_ = std::thread([this] { run(); });
+  if (threads == 0) throw Error("prefetching needs at least 1 thread");
+  randomAccess_ = dynamic_cast<const RandomAccessSource*>(source_.get());
+  if (randomAccess_) {
+    count_ = randomAccess_->count();
+  } else {
+    threads = 1;  // next() is sequential
+  }
+  for (size_t t = 0; t < threads; ++t) workers_.emplace_back([this] { run(); });
 }
 
 PrefetchSource::~PrefetchSource() {
@@ -17,49 +24,56 @@ PrefetchSource::~PrefetchSource() {
     stop_ = true;
   }
   space_.notify_all();
-  worker_.join();
+  for (std::thread& w : workers_) w.join();
 }
 
 void PrefetchSource::run() {
   for (;;) {
+    size_t index = 0;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      space_.wait(lock, [this] { return stop_ || queue_.size() < depth_; });
-      if (stop_) return;
+      space_.wait(lock, [this] { return stop_ || failed_ || claimed_ >= count_ || claimed_ < consumed_ + depth_; });
+      if (stop_ || failed_ || claimed_ >= count_) return;
+      index = claimed_++;
+      window_.emplace_back();
     }
-    std::optional<DepthFrame> frame;
-    std::exception_ptr error;
+    Slot result;
+    result.done = true;
     try {
-      frame = source_->next();
+      result.frame = randomAccess_ ? randomAccess_->load(index) : source_->next();
     } catch (...) {
-      error = std::current_exception();
+      result.error = std::current_exception();
     }
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (frame) {
-        queue_.push_back(std::move(*frame));
+      if (!result.frame && !result.error) {  // the sequential source ended: `index` does not exist
+        count_ = index;
+        window_.pop_back();
       } else {
-        ended_ = true;
-        error_ = error;
+        if (result.error) failed_ = true;
+        window_[index - consumed_] = std::move(result);
       }
     }
-    ready_.notify_one();
-    if (!frame) return;
+    ready_.notify_all();
+    space_.notify_all();  // other workers re-check failed_ / count_
   }
 }
 
 std::optional<DepthFrame> PrefetchSource::next() {
   std::unique_lock<std::mutex> lock(mutex_);
-  ready_.wait(lock, [this] { return !queue_.empty() || ended_; });
-  if (queue_.empty()) {
-    if (error_) std::rethrow_exception(error_);
-    return std::nullopt;
+  if (error_) std::rethrow_exception(error_);
+  ready_.wait(lock, [this] { return consumed_ >= count_ || (!window_.empty() && window_.front().done); });
+  if (consumed_ >= count_) return std::nullopt;
+  Slot slot = std::move(window_.front());
+  window_.pop_front();
+  ++consumed_;
+  if (slot.error) {
+    error_ = slot.error;
+    std::rethrow_exception(error_);
   }
-  DepthFrame frame = std::move(queue_.front());
-  queue_.pop_front();
   lock.unlock();
-  space_.notify_one();
-  return frame;
+  space_.notify_all();
+  return std::move(slot.frame);
 }
 
 }  // namespace sb

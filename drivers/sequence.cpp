@@ -1,5 +1,6 @@
 #include "drivers/sequence.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/error.h"
@@ -31,7 +32,8 @@ std::unique_ptr<FrameSource> openUnbuffered(const std::string& path, const Seque
 std::unique_ptr<FrameSource> openSequence(const std::string& path, const SequenceOptions& options) {
   auto source = openUnbuffered(path, options);
   if (options.prefetch && options.prefetchDepth > 0)
-    return std::make_unique<PrefetchSource>(std::move(source), options.prefetchDepth);
+    return std::make_unique<PrefetchSource>(std::move(source), options.prefetchDepth,
+                                            std::max<size_t>(options.prefetchThreads, 1));
   return source;
 }
 

@@ -131,7 +131,7 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
   info_.intrinsics.width = 0;  // no size check while probing the first frame
   info_.intrinsics.height = 0;
   if (!width || !height) {
-    const DepthFrame first = load(entries_.front());
+    const DepthFrame first = loadEntry(entries_.front());
     width = width.value_or(first.depth.width());
     height = height.value_or(first.depth.height());
   }
@@ -147,7 +147,7 @@ void TumReader::fail(const Entry& entry, const std::string& what) const {
               where(indexPath_, entry.line) + "): " + what);
 }
 
-DepthFrame TumReader::load(const Entry& entry) const {
+DepthFrame TumReader::loadEntry(const Entry& entry) const {
   DepthFrame frame;
   frame.index = entry.index;
   frame.timestamp = entry.timestamp;
@@ -168,7 +168,7 @@ DepthFrame TumReader::load(const Entry& entry) const {
 std::optional<DepthFrame> TumReader::next() {
   if (cursor_ >= entries_.size()) return std::nullopt;
   const Entry& entry = entries_[cursor_++];  // a bad frame is skipped if the caller goes on after the error
-  return load(entry);
+  return loadEntry(entry);
 }
 
 }  // namespace sb

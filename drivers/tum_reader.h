@@ -14,17 +14,20 @@
 #include <vector>
 
 #include "drivers/frame_source.h"
+#include "drivers/random_access_source.h"
 #include "drivers/sequence.h"
 
 namespace sb {
 
-class TumReader : public FrameSource {
+class TumReader : public RandomAccessSource {
  public:
   // Reads depth.txt and checks that every selected depth file exists. Throws sb::Error.
   TumReader(const std::string& directory, const SequenceOptions& options);
 
   const SequenceInfo& info() const override { return info_; }
   std::optional<DepthFrame> next() override;
+  size_t count() const override { return entries_.size(); }
+  DepthFrame load(size_t i) const override { return loadEntry(entries_.at(i)); }
 
  private:
   struct Entry {
@@ -34,7 +37,7 @@ class TumReader : public FrameSource {
     std::string path;      // depth PNG
   };
 
-  DepthFrame load(const Entry& entry) const;
+  DepthFrame loadEntry(const Entry& entry) const;
   [[noreturn]] void fail(const Entry& entry, const std::string& what) const;
 
   SequenceInfo info_;

@@ -42,6 +42,41 @@ class CountingSource : public FrameSource {
   size_t cursor_ = 0;
 };
 
+// The same frames through RandomAccessSource::load, so that several workers decode at once.
+class CountingRandomSource : public RandomAccessSource {
+ public:
+  CountingRandomSource(size_t frames, std::optional<size_t> failAt, std::atomic<size_t>& produced)
+      : frames_(frames), failAt_(failAt), produced_(produced) {}
+  const SequenceInfo& info() const override { return info_; }
+  std::optional<DepthFrame> next() override {
+    if (cursor_ >= frames_) return std::nullopt;
+    return load(cursor_++);
+  }
+  size_t count() const override { return frames_; }
+  DepthFrame load(size_t i) const override {
+    ++produced_;
+    if (failAt_ && i == *failAt_) throw Error("random source: frame " + std::to_string(i) + " is bad");
+    DepthFrame f;
+    f.index = i;
+    f.timestamp = static_cast<double>(i);
+    f.depth = DepthRaw(1, 1, static_cast<uint16_t>(i));
+    return f;
+  }
+
+ private:
+  SequenceInfo info_;
+  size_t frames_;
+  std::optional<size_t> failAt_;
+  std::atomic<size_t>& produced_;
+  size_t cursor_ = 0;
+};
+
+std::unique_ptr<FrameSource> makeSource(bool randomAccess, size_t frames, std::optional<size_t> failAt,
+                                        std::atomic<size_t>& produced) {
+  if (randomAccess) return std::make_unique<CountingRandomSource>(frames, failAt, produced);
+  return std::make_unique<CountingSource>(frames, failAt, produced);
+}
+
 }  // namespace
 
 TEST_CASE("prefetching yields exactly the frames of direct reading", "[drivers][prefetch]") {
@@ -51,6 +86,7 @@ TEST_CASE("prefetching yields exactly the frames of direct reading", "[drivers][
   SequenceOptions ahead;
   ahead.prefetch = true;
   ahead.prefetchDepth = 3;
+  ahead.prefetchThreads = GENERATE(1, 2, 4);
   auto a = openSequence(dir, direct);
   auto b = openSequence(dir, ahead);
   CHECK(dynamic_cast<PrefetchSource*>(b.get()) != nullptr);
@@ -72,8 +108,10 @@ TEST_CASE("prefetching yields exactly the frames of direct reading", "[drivers][
 }
 
 TEST_CASE("prefetching delivers an error after the frames before it, then again", "[drivers][prefetch]") {
+  const bool randomAccess = GENERATE(false, true);
+  const size_t threads = GENERATE(1, 3);
   std::atomic<size_t> produced{0};
-  PrefetchSource source(std::make_unique<CountingSource>(10, 4, produced), 2);
+  PrefetchSource source(makeSource(randomAccess, 10, 4, produced), 2, threads);
   for (size_t i = 0; i < 4; ++i) {
     const auto f = source.next();
     REQUIRE(f);
@@ -82,6 +120,19 @@ TEST_CASE("prefetching delivers an error after the frames before it, then again"
   }
   CHECK_THROWS_WITH(source.next(), Catch::Contains("frame 4 is bad"));
   CHECK_THROWS_WITH(source.next(), Catch::Contains("frame 4 is bad"));
+}
+
+TEST_CASE("prefetching many frames on several threads keeps the order", "[drivers][prefetch]") {
+  std::atomic<size_t> produced{0};
+  const size_t frames = 500;
+  PrefetchSource source(std::make_unique<CountingRandomSource>(frames, std::nullopt, produced), 5, 4);
+  for (size_t i = 0; i < frames; ++i) {
+    const auto f = source.next();
+    REQUIRE(f);
+    REQUIRE(f->index == i);
+  }
+  CHECK_FALSE(source.next());
+  CHECK(produced.load() == frames);  // each frame decoded exactly once
 }
 
 TEST_CASE("prefetching a real sequence reports a truncated PNG at its frame", "[drivers][prefetch]") {
@@ -97,21 +148,22 @@ TEST_CASE("prefetching a real sequence reports a truncated PNG at its frame", "[
 }
 
 TEST_CASE("prefetching stays within its depth and can be destroyed mid-sequence", "[drivers][prefetch]") {
+  const bool randomAccess = GENERATE(false, true);
   std::atomic<size_t> produced{0};
   const size_t depth = 3;
   {
-    PrefetchSource source(std::make_unique<CountingSource>(1000000, std::nullopt, produced), depth);
+    PrefetchSource source(makeSource(randomAccess, 1000000, std::nullopt, produced), depth, 2);
     for (size_t consumed = 1; consumed <= 20; ++consumed) {
       REQUIRE(source.next()->index == consumed - 1);
-      // At most `depth` frames queued plus one being decoded.
-      CHECK(produced.load() <= consumed + depth + 1);
+      // Workers claim a frame only while fewer than `depth` are ahead of the caller.
+      CHECK(produced.load() <= consumed + depth);
     }
   }  // destroyed with the worker blocked on a full queue
-  CHECK(produced.load() <= 20 + depth + 1);
+  CHECK(produced.load() <= 20 + depth);
 
   // Destroyed before anything was read, and at the end.
-  { PrefetchSource idle(std::make_unique<CountingSource>(5, std::nullopt, produced), 1); }
-  PrefetchSource done(std::make_unique<CountingSource>(2, std::nullopt, produced), 8);
+  { PrefetchSource idle(makeSource(randomAccess, 5, std::nullopt, produced), 1, 2); }
+  PrefetchSource done(makeSource(randomAccess, 2, std::nullopt, produced), 8, 2);
   CHECK(done.next());
   CHECK(done.next());
   CHECK_FALSE(done.next());
@@ -121,4 +173,5 @@ TEST_CASE("prefetching stays within its depth and can be destroyed mid-sequence"
 TEST_CASE("PrefetchSource rejects a zero depth", "[drivers][prefetch]") {
   std::atomic<size_t> produced{0};
   CHECK_THROWS_AS(PrefetchSource(std::make_unique<CountingSource>(1, std::nullopt, produced), 0), Error);
+  CHECK_THROWS_AS(PrefetchSource(std::make_unique<CountingSource>(1, std::nullopt, produced), 1, 0), Error);
 }
