@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "core/error.h"
 #include "core/png_io.h"
@@ -49,6 +51,25 @@ std::string trim(const std::string& s) {
   if (b == std::string::npos) return "";
   const auto e = s.find_last_not_of(" \t\r\n");
   return s.substr(b, e - b + 1);
+}
+
+// Largest image side accepted before decoding, pixels (guards allocations against corrupt headers).
+constexpr uint32_t kMaxSide = 16384;
+constexpr size_t kPngSignatureBytes = 8;
+constexpr size_t kIhdrSizeOffset = 16;  // signature, chunk length, "IHDR"
+constexpr size_t kIhdrSizeEnd = kIhdrSizeOffset + 8;
+
+// Width and height from a PNG's IHDR chunk without decoding; nullopt when the file is not a readable PNG
+// (readPng16 then reports what is wrong).
+std::optional<std::pair<uint32_t, uint32_t>> pngSize(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char b[kIhdrSizeEnd];
+  if (!in.read(reinterpret_cast<char*>(b), sizeof b)) return std::nullopt;
+  if (std::string(reinterpret_cast<char*>(b) + kPngSignatureBytes + 4, 4) != "IHDR") return std::nullopt;
+  const auto be32 = [](const unsigned char* p) {
+    return (uint32_t{p[0]} << 24) | (uint32_t{p[1]} << 16) | (uint32_t{p[2]} << 8) | uint32_t{p[3]};
+  };
+  return std::make_pair(be32(b + kIhdrSizeOffset), be32(b + kIhdrSizeOffset + 4));
 }
 
 std::string where(const std::string& indexPath, size_t line) {
@@ -151,16 +172,26 @@ DepthFrame TumReader::loadEntry(const Entry& entry) const {
   DepthFrame frame;
   frame.index = entry.index;
   frame.timestamp = entry.timestamp;
+  const int w = info_.intrinsics.width, h = info_.intrinsics.height;
+  const auto wrongSize = [&](uint32_t fileW, uint32_t fileH) {
+    fail(entry, "depth image '" + entry.path + "' is " + std::to_string(fileW) + "x" + std::to_string(fileH) +
+                    (w > 0 ? " but the sequence is " + std::to_string(w) + "x" + std::to_string(h) +
+                                 " (calibration.json or the command line)"
+                           : " pixels, more than " + std::to_string(kMaxSide) + " per side"));
+  };
+  // Check the size before decoding, so that a corrupt header cannot ask for a huge allocation.
+  if (const auto size = pngSize(entry.path)) {
+    const bool expected = w > 0 ? (size->first == static_cast<uint32_t>(w) && size->second == static_cast<uint32_t>(h))
+                                : (size->first <= kMaxSide && size->second <= kMaxSide);
+    if (!expected) wrongSize(size->first, size->second);
+  }
   try {
     frame.depth = readPng16(entry.path);
   } catch (const Error& e) {
     fail(entry, e.what());
   }
-  const int w = info_.intrinsics.width, h = info_.intrinsics.height;
   if (w > 0 && (frame.depth.width() != w || frame.depth.height() != h))
-    fail(entry, "depth image '" + entry.path + "' is " + std::to_string(frame.depth.width()) + "x" +
-                    std::to_string(frame.depth.height()) + " but the sequence is " + std::to_string(w) + "x" +
-                    std::to_string(h) + " (calibration.json or the command line)");
+    wrongSize(static_cast<uint32_t>(frame.depth.width()), static_cast<uint32_t>(frame.depth.height()));
   normaliseInvalidDepth(frame.depth, invalidValues_);
   return frame;
 }

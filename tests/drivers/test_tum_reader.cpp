@@ -215,3 +215,19 @@ TEST_CASE("TUM reader reports bad frames at the frame", "[drivers][tum][errors]"
   REQUIRE(after);
   CHECK(after->index == 2);
 }
+
+TEST_CASE("TUM reader checks a PNG's size before decoding it", "[drivers][tum][errors]") {
+  const std::string dir = test::writePatternSequence(test::scratchDir("tum_huge") + "/seq", 2, test::smallInfo());
+  // Patch frame 0's IHDR to claim 100000 x 100000 pixels (big-endian width and height at byte 16).
+  const std::string png0 = dir + "/depth/000000.png";
+  std::string bytes = test::readText(png0);
+  const std::string huge("\x00\x01\x86\xa0\x00\x01\x86\xa0", 8);
+  bytes.replace(16, 8, huge);
+  test::writeText(png0, bytes);
+
+  auto source = openSequence(dir, direct());  // size from calibration.json: no decoding at open
+  CHECK_THROWS_WITH(source->next(), Catch::Contains("100000x100000") && Catch::Contains("6x4") &&
+                                        Catch::Contains("frame 0"));
+  fs::remove(dir + "/calibration.json");  // now the first frame is probed at open
+  CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("100000x100000") && Catch::Contains("16384"));
+}
