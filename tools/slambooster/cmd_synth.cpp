@@ -1,12 +1,104 @@
-// Placeholder: replaced by the synth work in this session.
+// `slambooster synth`: render a synthetic depth sequence of a procedural room along a TUM trajectory (or the
+// built-in one) and write it in TUM layout.
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+
 #include "core/error.h"
+#include "core/thread_pool.h"
+#include "core/trajectory.h"
+#include "synth/builtin_trajectory.h"
+#include "synth/scene_generator.h"
+#include "synth/synth_sequence.h"
 #include "tools/slambooster/commands.h"
 
 namespace sb::cli {
 
+namespace {
+
+struct SynthArgs {
+  synth::SynthOptions options;
+  std::string trajectory;
+  size_t builtinFrames = 0;
+  std::optional<int> width, height;
+  std::optional<float> fx, fy, cx, cy;
+  bool noNoise = false;
+  unsigned threads = 0;
+};
+
+void runSynth(SynthArgs& a) {
+  if (a.trajectory.empty() == (a.builtinFrames == 0)) {
+    throw Error("synth: give exactly one of --trajectory FILE (a TUM trajectory) or --builtin-frames N (N > 0)");
+  }
+  synth::SynthOptions& o = a.options;
+  Intrinsics& k = o.intrinsics;
+  if (a.width) k.width = *a.width;
+  if (a.height) k.height = *a.height;
+  k.cx = a.cx.value_or(0.5f * (k.width - 1));
+  k.cy = a.cy.value_or(0.5f * (k.height - 1));
+  if (a.fx) k.fx = *a.fx;
+  if (a.fy) k.fy = *a.fy;
+  if (k.width <= 0 || k.height <= 0 || k.fx <= 0.f || k.fy <= 0.f) {
+    throw Error("synth: --width, --height, --fx and --fy must be positive (got " + std::to_string(k.width) + ", " +
+                std::to_string(k.height) + ", " + std::to_string(k.fx) + ", " + std::to_string(k.fy) + ")");
+  }
+  if (a.noNoise) o.sensor.noise = false;
+  if (a.threads > 0) ThreadPool::setGlobalThreads(a.threads);
+
+  const Trajectory trajectory =
+      a.trajectory.empty() ? synth::builtinTrajectory(a.builtinFrames) : readTumTrajectory(a.trajectory);
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  const auto start = std::chrono::steady_clock::now();
+  auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  const synth::SynthResult r = synth::synthesizeSequence(trajectory, o, [&](size_t done, size_t total) {
+    if (tty) std::fprintf(stderr, "\rsynth: frame %zu/%zu (%.1f frames/s)", done, total, done / seconds());
+  });
+  if (tty) std::fprintf(stderr, "\n");
+  std::printf("synth: wrote %zu frames of scene '%s' (seed %llu, noise %s) to %s in %.1f s\n", r.frames,
+              o.scene.c_str(), static_cast<unsigned long long>(o.seed), o.sensor.noise ? "on" : "off",
+              o.outDir.c_str(), seconds());
+  std::printf("synth: valid pixels %.1f%%; volume hint: cube %.2f m, first camera at (%.3f, %.3f, %.3f) of it\n",
+              100.0 * r.validFraction, r.volume.sizeM, r.volume.initialPosition[0], r.volume.initialPosition[1],
+              r.volume.initialPosition[2]);
+}
+
+}  // namespace
+
 void addSynthCommand(CLI::App& app) {
-  auto* sub = app.add_subcommand("synth", "(not yet built)");
-  sub->callback([] { throw Error("'synth' is not built yet"); });
+  auto args = std::make_shared<SynthArgs>();
+  auto* sub = app.add_subcommand("synth", "Render a synthetic depth sequence of a procedural room (TUM layout)");
+  synth::SynthOptions& o = args->options;
+  sub->add_option("--out", o.outDir, "Output directory (created; must be empty unless --overwrite)")->required();
+  auto* traj = sub->add_option("--trajectory", args->trajectory,
+                               "TUM trajectory (camera-to-world), e.g. an ICL-NUIM living-room trajectory");
+  auto* builtin = sub->add_option("--builtin-frames", args->builtinFrames,
+                                  "Use the built-in handheld-like orbit with this many frames (30 fps)");
+  traj->excludes(builtin);
+  sub->add_option("--scene", o.scene, "Procedural room")
+      ->check(CLI::IsMember(synth::sceneNames()))
+      ->capture_default_str();
+  sub->add_option("--seed", o.seed, "Seed of the furniture layout and the sensor noise")->capture_default_str();
+  sub->add_option("--frames", o.maxFrames, "Render at most this many frames (0 = all)")->capture_default_str();
+  sub->add_flag("--no-noise", args->noNoise,
+                "Exact depth: no disparity noise, quantisation, or grazing/edge dropouts (range limits stay)");
+  sub->add_option("--noise-sigma", o.sensor.sigmaDisparityPx, "Disparity noise std, pixels")
+      ->check(CLI::Range(0.0, 10.0))
+      ->capture_default_str();
+  sub->add_option("--min-depth", o.sensor.minDepthM, "Nearest valid depth, metres")->capture_default_str();
+  sub->add_option("--max-depth", o.sensor.maxDepthM, "Farthest valid depth, metres")->capture_default_str();
+  sub->add_option("--width", args->width, "Image width, pixels (default 640)");
+  sub->add_option("--height", args->height, "Image height, pixels (default 480)");
+  sub->add_option("--fx", args->fx, "Focal length x, pixels (default 481.2)");
+  sub->add_option("--fy", args->fy, "Focal length y, pixels (default 480)");
+  sub->add_option("--cx", args->cx, "Principal point x, pixels (default (width-1)/2)");
+  sub->add_option("--cy", args->cy, "Principal point y, pixels (default (height-1)/2)");
+  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)");
+  sub->add_flag("--overwrite", o.overwrite, "Replace the contents of a non-empty --out directory");
+  sub->callback([args] { runSynth(*args); });
 }
 
 }  // namespace sb::cli

@@ -1,0 +1,227 @@
+#include "synth/furniture.h"
+
+namespace sb::synth {
+
+namespace {
+
+// Adds an axis-aligned box spanning x [x0, x1], heights [h0, h1] above the floor, z [z0, z1].
+void addBox(Item& item, float x0, float x1, float h0, float h1, float z0, float z1, const std::string& part) {
+  const Eigen::Vector3f center(0.5f * (x0 + x1), -0.5f * (h0 + h1), 0.5f * (z0 + z1));
+  const Eigen::Vector3f size(x1 - x0, h1 - h0, z1 - z0);
+  item.parts.push_back(makeBox(center, size, 0.f, item.kind + "." + part));
+}
+
+void addCylinder(Item& item, float x, float z, float radius, float h0, float h1, const std::string& part) {
+  item.parts.push_back(makeVerticalCylinder(Eigen::Vector3f(x, -h0, z), radius, h1 - h0, item.kind + "." + part));
+}
+
+Item begin(const std::string& kind, float width, float depth, float height) {
+  Item item;
+  item.kind = kind;
+  item.width = width;
+  item.depth = depth;
+  item.height = height;
+  return item;
+}
+
+// A seat with back and arms (sofa, armchair).
+Item makeSeat(const std::string& kind, float w, float d) {
+  constexpr float kSeatH = 0.42f, kBackH = 0.85f, kBackD = 0.2f, kArmW = 0.18f, kArmH = 0.62f;
+  Item item = begin(kind, w, d, kBackH);
+  addBox(item, -w / 2 + kArmW, w / 2 - kArmW, 0.f, kSeatH, kBackD, d, "seat");
+  addBox(item, -w / 2, w / 2, 0.f, kBackH, 0.f, kBackD, "back");
+  addBox(item, -w / 2, -w / 2 + kArmW, 0.f, kArmH, kBackD, d, "arm");
+  addBox(item, w / 2 - kArmW, w / 2, 0.f, kArmH, kBackD, d, "arm");
+  return item;
+}
+
+// Open shelving with a back panel, sides and `shelves` boards, some holding books.
+Item makeShelving(Rng& rng, const std::string& kind, float w, float d, float h, int shelves) {
+  constexpr float kBoard = 0.025f;
+  Item item = begin(kind, w, d, h);
+  addBox(item, -w / 2, w / 2, 0.f, h, 0.f, kBoard, "back");
+  addBox(item, -w / 2, -w / 2 + kBoard, 0.f, h, 0.f, d, "side");
+  addBox(item, w / 2 - kBoard, w / 2, 0.f, h, 0.f, d, "side");
+  const float gap = h / shelves;
+  for (int s = 0; s <= shelves; ++s) {
+    const float y = std::min(s * gap, h - kBoard);
+    addBox(item, -w / 2 + kBoard, w / 2 - kBoard, y, y + kBoard, 0.f, d, "board");
+    if (s == shelves) break;
+    float x = -w / 2 + kBoard;
+    while (x < w / 2 - 0.2f) {  // books and boxes of random widths, leaving gaps
+      const float bw = rng.uniform(0.05f, 0.3f);
+      if (x + bw > w / 2 - kBoard) break;
+      if (rng.chance(0.6)) {
+        addBox(item, x, x + bw, y + kBoard, y + kBoard + rng.uniform(0.4f, 0.85f) * (gap - kBoard), kBoard,
+               rng.uniform(0.5f, 0.95f) * d, "book");
+      }
+      x += bw + rng.uniform(0.f, 0.1f);
+    }
+  }
+  return item;
+}
+
+}  // namespace
+
+Item makeSofa(Rng& rng) { return makeSeat("sofa", rng.uniform(1.6f, 2.2f), rng.uniform(0.8f, 0.9f)); }
+
+Item makeArmchair(Rng& rng) { return makeSeat("armchair", rng.uniform(0.8f, 0.95f), 0.8f); }
+
+Item makeBookshelf(Rng& rng) {
+  return makeShelving(rng, "bookshelf", rng.uniform(0.8f, 1.2f), rng.uniform(0.28f, 0.3f), rng.uniform(1.6f, 2.0f),
+                      4 + rng.index(2));
+}
+
+Item makeTvStand(Rng& rng) {
+  const float w = rng.uniform(1.2f, 1.6f), d = 0.4f, h = 0.5f;
+  const float tvW = rng.uniform(0.9f, 1.2f), tvH = 0.56f * tvW;
+  Item item = begin("tv", w, d, h + 0.05f + tvH);
+  addBox(item, -w / 2, w / 2, 0.f, h, 0.f, d, "stand");
+  addBox(item, -0.15f, 0.15f, h, h + 0.02f, 0.1f, 0.3f, "foot");
+  addBox(item, -0.03f, 0.03f, h, h + 0.1f, 0.18f, 0.22f, "neck");
+  addBox(item, -tvW / 2, tvW / 2, h + 0.05f, h + 0.05f + tvH, 0.15f, 0.22f, "screen");
+  return item;
+}
+
+Item makeSideboard(Rng& rng) {
+  const float w = rng.uniform(1.0f, 1.6f), d = 0.45f, h = rng.uniform(0.75f, 0.9f);
+  Item item = begin("sideboard", w, d, h);
+  addBox(item, -w / 2, w / 2, 0.1f, h - 0.03f, 0.f, d - 0.02f, "body");
+  addBox(item, -w / 2 - 0.01f, w / 2 + 0.01f, h - 0.03f, h, 0.f, d, "top");
+  addBox(item, -w / 2, -w / 2 + 0.05f, 0.f, 0.1f, 0.05f, d - 0.07f, "foot");
+  addBox(item, w / 2 - 0.05f, w / 2, 0.f, 0.1f, 0.05f, d - 0.07f, "foot");
+  if (rng.chance(0.7)) addCylinder(item, rng.uniform(-w / 3, w / 3), d / 2, 0.08f, h, h + 0.3f, "vase");
+  return item;
+}
+
+Item makeSideTable(Rng& rng) {
+  const float r = rng.uniform(0.22f, 0.3f), h = rng.uniform(0.5f, 0.6f);
+  Item item = begin("side_table", 2 * r, 2 * r, h);
+  addCylinder(item, 0.f, r, r, h - 0.03f, h, "top");
+  addCylinder(item, 0.f, r, 0.03f, 0.02f, h - 0.03f, "leg");
+  addCylinder(item, 0.f, r, 0.6f * r, 0.f, 0.02f, "base");
+  return item;
+}
+
+Item makeFloorLamp(Rng& rng) {
+  const float h = rng.uniform(1.5f, 1.8f), shadeR = rng.uniform(0.18f, 0.25f);
+  Item item = begin("floor_lamp", 2 * shadeR, 2 * shadeR, h);
+  addCylinder(item, 0.f, shadeR, 0.15f, 0.f, 0.03f, "base");
+  addCylinder(item, 0.f, shadeR, 0.015f, 0.03f, h - 0.3f, "pole");
+  addCylinder(item, 0.f, shadeR, shadeR, h - 0.3f, h, "shade");
+  return item;
+}
+
+Item makePlant(Rng& rng) {
+  const float potR = rng.uniform(0.15f, 0.22f), potH = rng.uniform(0.3f, 0.45f);
+  const float leafR = rng.uniform(0.25f, 0.35f), leafH = rng.uniform(0.5f, 0.9f);
+  Item item = begin("plant", 2 * leafR, 2 * leafR, potH + leafH);
+  addCylinder(item, 0.f, leafR, potR, 0.f, potH, "pot");
+  addCylinder(item, 0.f, leafR, leafR, potH + 0.05f, potH + leafH, "leaves");
+  return item;
+}
+
+Item makeBoxStack(Rng& rng) {
+  Item item = begin("boxes", 0.7f, 0.6f, 0.f);
+  float h = 0.f;
+  const int count = 1 + rng.index(3);
+  for (int i = 0; i < count; ++i) {
+    const float s = rng.uniform(0.3f, 0.5f) * (1.f - 0.15f * i), bh = rng.uniform(0.2f, 0.4f);
+    const Eigen::Vector3f c(rng.uniform(-0.05f, 0.05f), -(h + bh / 2), 0.3f + rng.uniform(-0.05f, 0.05f));
+    item.parts.push_back(makeBox(c, Eigen::Vector3f(s, bh, s * 0.9f), rng.uniform(-0.4f, 0.4f), "boxes.box"));
+    h += bh;
+  }
+  item.height = h;
+  return item;
+}
+
+Item makeCoffeeTable(Rng& rng) {
+  const float w = rng.uniform(0.9f, 1.2f), d = rng.uniform(0.5f, 0.6f), h = rng.uniform(0.38f, 0.45f);
+  Item item = begin("coffee_table", w, d, h);
+  addBox(item, -w / 2, w / 2, h - 0.04f, h, 0.f, d, "top");
+  addBox(item, -w / 2 + 0.05f, w / 2 - 0.05f, 0.08f, 0.12f, 0.05f, d - 0.05f, "shelf");
+  for (float x : {-w / 2 + 0.03f, w / 2 - 0.03f}) {
+    for (float z : {0.03f, d - 0.03f}) addBox(item, x - 0.025f, x + 0.025f, 0.f, h - 0.04f, z - 0.025f, z + 0.025f, "leg");
+  }
+  return item;
+}
+
+Item makeDesk(Rng& rng) {
+  const float w = rng.uniform(1.2f, 1.6f), d = rng.uniform(0.6f, 0.7f), h = 0.74f;
+  constexpr float kChairHalf = 0.24f, kSeatH = 0.46f;
+  Item item = begin("desk", w, d + 0.25f, h + 0.5f);
+  addBox(item, -w / 2, w / 2, h - 0.03f, h, 0.f, d, "top");
+  addBox(item, -w / 2, -w / 2 + 0.03f, 0.f, h - 0.03f, 0.f, d, "panel");
+  addBox(item, w / 2 - 0.03f, w / 2, 0.f, h - 0.03f, 0.f, d, "panel");
+  addBox(item, -w / 2 + 0.03f, w / 2 - 0.03f, 0.3f, h - 0.03f, 0.f, 0.02f, "modesty");
+  const int monitors = 1 + rng.index(2);
+  for (int m = 0; m < monitors; ++m) {
+    const float mx = monitors == 1 ? rng.uniform(-0.2f, 0.2f) : (m == 0 ? -0.3f : 0.3f);
+    addBox(item, mx - 0.1f, mx + 0.1f, h, h + 0.02f, 0.1f, 0.3f, "monitor_foot");
+    addBox(item, mx - 0.02f, mx + 0.02f, h + 0.02f, h + 0.15f, 0.15f, 0.18f, "monitor_neck");
+    addBox(item, mx - 0.28f, mx + 0.28f, h + 0.12f, h + 0.45f, 0.18f, 0.21f, "monitor");
+  }
+  addBox(item, -0.22f, 0.22f, h, h + 0.02f, 0.35f, 0.5f, "keyboard");
+  const float towerX = rng.chance(0.5) ? -w / 2 + 0.2f : w / 2 - 0.2f;
+  addBox(item, towerX - 0.1f, towerX + 0.1f, 0.f, 0.45f, 0.1f, 0.55f, "tower");
+  // Office chair pulled up to the desk.
+  const float cx = rng.uniform(-0.2f, 0.2f), cz = d + 0.25f - kChairHalf;
+  addCylinder(item, cx, cz, 0.22f, 0.05f, 0.1f, "chair_base");
+  addCylinder(item, cx, cz, 0.03f, 0.1f, kSeatH - 0.06f, "chair_column");
+  addBox(item, cx - kChairHalf, cx + kChairHalf, kSeatH - 0.06f, kSeatH, cz - kChairHalf, cz + kChairHalf, "chair_seat");
+  addBox(item, cx - 0.22f, cx + 0.22f, kSeatH + 0.1f, kSeatH + 0.55f, cz + kChairHalf - 0.05f, cz + kChairHalf,
+         "chair_back");
+  addBox(item, cx - 0.02f, cx + 0.02f, kSeatH, kSeatH + 0.1f, cz + kChairHalf - 0.04f, cz + kChairHalf - 0.01f,
+         "chair_post");
+  return item;
+}
+
+Item makeFilingCabinet(Rng& rng) {
+  const int drawers = 2 + rng.index(3);
+  const float w = 0.45f, d = 0.6f, h = 0.33f * drawers;
+  Item item = begin("filing_cabinet", w, d, h);
+  addBox(item, -w / 2, w / 2, 0.f, h, 0.f, d - 0.02f, "body");
+  for (int i = 0; i < drawers; ++i) {
+    addBox(item, -w / 2 + 0.02f, w / 2 - 0.02f, i * 0.33f + 0.02f, (i + 1) * 0.33f - 0.02f, d - 0.02f, d, "front");
+  }
+  return item;
+}
+
+Item makeCupboard(Rng& rng) {
+  const float w = rng.uniform(0.8f, 1.0f), d = 0.45f, h = rng.uniform(1.8f, 2.1f);
+  Item item = begin("cupboard", w, d, h);
+  addBox(item, -w / 2, w / 2, 0.f, h, 0.f, d - 0.02f, "body");
+  addBox(item, -w / 2 + 0.01f, -0.005f, 0.05f, h - 0.05f, d - 0.02f, d, "door");
+  addBox(item, 0.005f, w / 2 - 0.01f, 0.05f, h - 0.05f, d - 0.02f, d, "door");
+  return item;
+}
+
+Item makeBin(Rng& rng) {
+  const float r = rng.uniform(0.13f, 0.18f);
+  Item item = begin("bin", 2 * r, 2 * r, 0.35f);
+  addCylinder(item, 0.f, r, r, 0.f, 0.35f, "body");
+  return item;
+}
+
+Item makeLowCabinet(Rng& rng) {
+  const float w = rng.uniform(0.8f, 1.2f), d = 0.45f, h = rng.uniform(0.4f, 0.45f);
+  Item item = begin("low_cabinet", w, d, h);
+  addBox(item, -w / 2, w / 2, 0.f, h, 0.f, d, "body");
+  if (rng.chance(0.5)) addBox(item, -0.2f, 0.2f, h, h + 0.05f, 0.05f, 0.35f, "tray");
+  return item;
+}
+
+Item makeColumn(float radius, float height) {
+  Item item = begin("column", 2 * radius, 2 * radius, height);
+  addCylinder(item, 0.f, radius, radius, 0.f, height, "shaft");
+  return item;
+}
+
+Item makeWallPanel(Rng& rng, float width, float height, float bottomM, const std::string& kind) {
+  const float thickness = rng.uniform(0.02f, 0.04f);
+  Item item = begin(kind, width, thickness, bottomM + height);
+  addBox(item, -width / 2, width / 2, bottomM, bottomM + height, 0.f, thickness, "panel");
+  return item;
+}
+
+}  // namespace sb::synth

@@ -1,0 +1,242 @@
+#include "synth/scene_generator.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "synth/furniture.h"
+
+namespace sb::synth {
+
+namespace {
+
+// Plan-view rectangle in world x (min, max) and z (min, max), metres.
+struct Rect {
+  float x0, x1, z0, z1;
+  bool overlaps(const Rect& o, float gap = 0.f) const {
+    return x0 < o.x1 + gap && o.x0 < x1 + gap && z0 < o.z1 + gap && o.z0 < z1 + gap;
+  }
+};
+
+// Where the cameras go: the ICL-NUIM trajectories' positions span x [-1.07, 1.07], z [-2.68, 2.42]; this
+// rectangle adds at least 0.33 m of clearance. Only low furniture stands inside it.
+constexpr Rect kCameraSpace{-1.55f, 1.4f, -3.0f, 2.75f};
+// Inside kCameraSpace, a spot at least 0.29 m from every ICL-NUIM camera position (livingroom3 loops around).
+constexpr Rect kIsland{-0.1f, 0.3f, 0.7f, 1.4f};
+constexpr float kLowMaxHeightM = 0.5f;     // furniture this low may stand in kCameraSpace (cameras are >= 1 m up)
+constexpr float kBlankWallM = 1.3f;        // every wall keeps a blank stretch this long
+constexpr float kWallGapM = 0.02f;         // furniture stands this far off the wall
+constexpr float kItemGapM = 0.05f;         // minimum plan-view gap between pieces of furniture
+constexpr float kMaxStripDepthM = 1.2f;    // furniture along a wall reaches at most this far into the room
+constexpr float kYawJitterRad = 0.06f;     // furniture is not perfectly square to the wall
+
+struct RoomSpec {
+  Eigen::Vector3f min, max;  // interior, world; floor at max.y()
+  std::vector<ItemBuilder> wallItems;
+  ItemBuilder eastAnchor, westAnchor;  // tried first on the long walls, so every room has its key pieces
+  std::vector<ItemBuilder> lowItems;  // placed in kCameraSpace
+  const char* panelKind;              // picture / whiteboard
+  float panelMinWidth, panelMaxWidth, panelMinHeight, panelMaxHeight;
+};
+
+RoomSpec livingRoomSpec() {
+  return {Eigen::Vector3f(-2.5f, -1.55f, -3.3f), Eigen::Vector3f(2.5f, 1.25f, 3.1f),
+          {makeSofa, makeSofa, makeArmchair, makeBookshelf, makeBookshelf, makeTvStand, makeSideboard,
+           makeSideTable, makeFloorLamp, makePlant, makeBoxStack},
+          makeSofa, makeTvStand,
+          {makeCoffeeTable},
+          "picture", 0.4f, 1.0f, 0.3f, 0.7f};
+}
+
+RoomSpec officeSpec() {
+  return {Eigen::Vector3f(-2.55f, -1.45f, -3.35f), Eigen::Vector3f(2.55f, 1.25f, 3.15f),
+          {makeDesk, makeDesk, makeDesk, makeFilingCabinet, makeCupboard, makeBookshelf, makeBin, makePlant,
+           makeBoxStack},
+          makeDesk, makeDesk,
+          {makeLowCabinet},
+          "whiteboard", 0.9f, 1.8f, 0.6f, 1.1f};
+}
+
+// FNV-1a: a string hash that is the same on every platform (std::hash is not).
+uint64_t hashName(const std::string& name) {
+  uint64_t h = 0xCBF29CE484222325ull;
+  for (unsigned char c : name) h = (h ^ c) * 0x100000001B3ull;
+  return h;
+}
+
+class Placer {
+ public:
+  Placer(Scene& scene, float floorY) : scene_(scene), floorY_(floorY) {}
+
+  enum class Mode {
+    Floor,     // must stay in the room, off other furniture and (unless low) out of the camera space
+    Anchored,  // placed as given (the column in the island); later furniture keeps off it
+    OnWall,    // placed as given, takes no floor space (pictures, whiteboards)
+  };
+
+  // Places `item` with its back-centre at plan point (x, z), its depth axis along `inward` (unit, plan).
+  // Returns false (placing nothing) when a Floor item does not fit.
+  bool place(const Item& item, float x, float z, const Eigen::Vector2f& inward, Mode mode = Mode::Floor) {
+    const Eigen::Vector3f n(inward.x(), 0.f, inward.y()), u(inward.y(), 0.f, -inward.x());
+    Eigen::Matrix3f R;
+    R << u, Eigen::Vector3f::UnitY(), n;
+    Rect fp{1e9f, -1e9f, 1e9f, -1e9f};
+    for (float sx : {-0.5f, 0.5f}) {
+      for (float sz : {0.f, 1.f}) {
+        const Eigen::Vector3f c = R * Eigen::Vector3f(sx * item.width, 0.f, sz * item.depth);
+        fp = {std::min(fp.x0, x + c.x()), std::max(fp.x1, x + c.x()), std::min(fp.z0, z + c.z()),
+              std::max(fp.z1, z + c.z())};
+      }
+    }
+    if (mode == Mode::Floor) {
+      const Eigen::Vector3f& lo = scene_.roomMin;
+      const Eigen::Vector3f& hi = scene_.roomMax;
+      if (fp.x0 < lo.x() || fp.x1 > hi.x() || fp.z0 < lo.z() || fp.z1 > hi.z()) return false;
+      if (item.height > kLowMaxHeightM && fp.overlaps(kCameraSpace)) return false;
+      for (const auto& footprint : footprints_) {
+        if (fp.overlaps(footprint.first, kItemGapM)) return false;
+      }
+    }
+    if (mode != Mode::OnWall) footprints_.push_back({fp, item.height});
+    const Eigen::Vector3f origin(x, floorY_, z);
+    for (Primitive p : item.parts) {
+      p.center = origin + R * p.center;
+      p.rotation = R * p.rotation;
+      scene_.primitives.push_back(p);
+    }
+    return true;
+  }
+
+  // Height of the tallest furniture whose footprint overlaps `r` (0 if none).
+  float heightUnder(const Rect& r) const {
+    float h = 0.f;
+    for (const auto& [fp, height] : footprints_) {
+      if (fp.overlaps(r, kItemGapM)) h = std::max(h, height);
+    }
+    return h;
+  }
+
+ private:
+  Scene& scene_;
+  float floorY_;
+  std::vector<std::pair<Rect, float>> footprints_;  // plan rectangle, height (m)
+};
+
+struct Wall {
+  Eigen::Vector2f start;   // plan corner where the wall starts (x, z)
+  Eigen::Vector2f along;   // unit plan direction along the wall
+  Eigen::Vector2f inward;  // unit plan normal into the room
+  float length;            // metres
+  float depth;             // free depth between the wall and the camera space, metres
+};
+
+std::vector<Wall> wallsOf(const RoomSpec& spec) {
+  const float x0 = spec.min.x(), x1 = spec.max.x(), z0 = spec.min.z(), z1 = spec.max.z();
+  auto strip = [](float d) { return std::min(d, kMaxStripDepthM); };
+  return {
+      {{x0, z1}, {0.f, -1.f}, {1.f, 0.f}, z1 - z0, strip(kCameraSpace.x0 - x0)},   // west
+      {{x1, z0}, {0.f, 1.f}, {-1.f, 0.f}, z1 - z0, strip(x1 - kCameraSpace.x1)},   // east
+      {{x0, z0}, {1.f, 0.f}, {0.f, 1.f}, x1 - x0, strip(kCameraSpace.z0 - z0)},    // south (-z)
+      {{x1, z1}, {-1.f, 0.f}, {0.f, -1.f}, x1 - x0, strip(z1 - kCameraSpace.z1)},  // north (+z)
+  };
+}
+
+Eigen::Vector2f rotated(const Eigen::Vector2f& v, float angle) {
+  const float c = std::cos(angle), s = std::sin(angle);
+  return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
+}
+
+void furnishWall(const Wall& wall, const RoomSpec& spec, ItemBuilder anchor, Rng& rng, Placer& placer) {
+  const float blankStart = rng.uniform(0.f, wall.length - kBlankWallM);
+  const float blankEnd = blankStart + kBlankWallM;
+  float pos = rng.uniform(0.f, 0.4f);
+  constexpr int kTriesPerSlot = 4;
+  while (pos < wall.length) {
+    bool placed = false;
+    for (int attempt = 0; attempt < kTriesPerSlot && !placed; ++attempt) {
+      const Item item = anchor ? anchor(rng) : spec.wallItems[rng.index(static_cast<int>(spec.wallItems.size()))](rng);
+      if (item.depth + kWallGapM > wall.depth) continue;
+      const float end = pos + item.width;
+      if (end > wall.length || (pos < blankEnd && end > blankStart)) continue;
+      const Eigen::Vector2f p = wall.start + (pos + item.width / 2) * wall.along + kWallGapM * wall.inward;
+      placed = placer.place(item, p.x(), p.y(), rotated(wall.inward, rng.uniform(-kYawJitterRad, kYawJitterRad)));
+      if (placed) pos = end;
+    }
+    if (placed) anchor = nullptr;
+    pos += placed ? rng.uniform(0.1f, 0.6f) : rng.uniform(0.3f, 0.8f);
+  }
+  // Panels on the wall above low furniture, away from the blank stretch.
+  const int panels = 1 + rng.index(2);
+  for (int i = 0; i < panels; ++i) {
+    const float w = rng.uniform(spec.panelMinWidth, spec.panelMaxWidth);
+    const float h = rng.uniform(spec.panelMinHeight, spec.panelMaxHeight);
+    const float bottom = rng.uniform(1.0f, 1.3f);
+    const float at = rng.uniform(0.1f, wall.length - w - 0.1f);
+    if (at < blankEnd && at + w > blankStart) continue;
+    const Eigen::Vector2f a = wall.start + at * wall.along, b = wall.start + (at + w) * wall.along;
+    const Eigen::Vector2f c = a + 0.1f * wall.inward;
+    const Rect r{std::min({a.x(), b.x(), c.x()}), std::max({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}),
+                 std::max({a.y(), b.y(), c.y()})};
+    if (placer.heightUnder(r) > bottom) continue;
+    const Item panel = makeWallPanel(rng, w, h, bottom, spec.panelKind);
+    const Eigen::Vector2f p = wall.start + (at + w / 2) * wall.along;
+    placer.place(panel, p.x(), p.y(), wall.inward, Placer::Mode::OnWall);
+  }
+}
+
+}  // namespace
+
+const std::vector<std::string>& sceneNames() {
+  static const std::vector<std::string> names{"livingroom", "office"};
+  return names;
+}
+
+Scene generateScene(const std::string& name, uint64_t seed) {
+  RoomSpec spec;
+  if (name == "livingroom") {
+    spec = livingRoomSpec();
+  } else if (name == "office") {
+    spec = officeSpec();
+  } else {
+    throw Error("synth: unknown scene '" + name + "'; use one of: livingroom, office");
+  }
+  Scene scene;
+  scene.name = name;
+  scene.seed = seed;
+  scene.hasRoom = true;
+  scene.roomMin = spec.min;
+  scene.roomMax = spec.max;
+  Primitive room;
+  room.shape = Shape::RoomBox;
+  room.center = 0.5f * (spec.min + spec.max);
+  room.halfExtents = 0.5f * (spec.max - spec.min);
+  room.label = "room";
+  scene.primitives.push_back(room);
+
+  Rng rng(seed * 0x2545F4914F6CDD1Dull + hashName(name));
+  const float floorY = spec.max.y();
+  const float roomHeight = spec.max.y() - spec.min.y();
+  Placer placer(scene, floorY);
+  // The column first: it anchors the layout the livingroom3 loop walks around.
+  const float columnR = 0.5f * std::min(kIsland.x1 - kIsland.x0, kIsland.z1 - kIsland.z0) - 0.01f;
+  const float columnX = 0.5f * (kIsland.x0 + kIsland.x1), columnZ = 0.5f * (kIsland.z0 + kIsland.z1);
+  placer.place(makeColumn(columnR, roomHeight), columnX, columnZ - columnR, {0.f, 1.f}, Placer::Mode::Anchored);
+
+  std::vector<Wall> walls = wallsOf(spec);
+  const ItemBuilder anchors[] = {spec.westAnchor, spec.eastAnchor, nullptr, nullptr};  // in wallsOf order
+  for (size_t w = 0; w < walls.size(); ++w) furnishWall(walls[w], spec, anchors[w], rng, placer);
+
+  // One or two low pieces in the camera space, south of the column.
+  const int lowCount = 1 + rng.index(2);
+  constexpr int kLowTries = 20;
+  for (int i = 0, tries = 0; i < lowCount && tries < kLowTries; ++tries) {
+    const Item item = spec.lowItems[rng.index(static_cast<int>(spec.lowItems.size()))](rng);
+    const float x = rng.uniform(kCameraSpace.x0 + 0.5f, kCameraSpace.x1 - 0.5f);
+    const float z = rng.uniform(kCameraSpace.z0 + 0.8f, kIsland.z0 - 1.0f);
+    if (placer.place(item, x, z, rotated({0.f, 1.f}, rng.uniform(-0.5f, 0.5f)))) ++i;
+  }
+  return scene;
+}
+
+}  // namespace sb::synth
