@@ -1,16 +1,15 @@
 #include "drivers/tum_reader.h"
 
 #include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <utility>
 
 #include "core/error.h"
 #include "core/png_io.h"
 #include "drivers/calibration.h"
+#include "drivers/tum_index.h"
 
 namespace fs = std::filesystem;
 
@@ -19,6 +18,8 @@ namespace sb {
 namespace {
 
 const char* const kIndexName = "depth.txt";
+const char* const kAssociationsName = "associations.txt";
+const char* const kIclGroundTruthExtension = ".freiburg";  // ICL-NUIM: livingRoom0n.gt.freiburg
 const char* const kCalibrationName = "calibration.json";
 const char* const kGroundTruthName = "groundtruth.txt";
 
@@ -46,13 +47,6 @@ CameraDefaults sevenScenesDefaults() {
   return d;
 }
 
-std::string trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(" \t\r\n");
-  return s.substr(b, e - b + 1);
-}
-
 // Largest image side accepted before decoding, pixels (guards allocations against corrupt headers).
 constexpr uint32_t kMaxSide = 16384;
 constexpr size_t kPngSignatureBytes = 8;
@@ -72,6 +66,19 @@ std::optional<std::pair<uint32_t, uint32_t>> pngSize(const std::string& path) {
   return std::make_pair(be32(b + kIhdrSizeOffset), be32(b + kIhdrSizeOffset + 4));
 }
 
+// ICL-NUIM (living room / office, as SLAMBench uses it): fx = 481.2, fy = 480, centre (319.5, 239.5), 5000
+// units per metre.
+CameraDefaults iclNuimDefaults() {
+  CameraDefaults d;
+  d.name = "ICL-NUIM (fx=481.2, fy=480, cx=319.5, cy=239.5, 5000 units/m)";
+  d.intrinsics.fx = 481.2f;
+  d.intrinsics.fy = 480.f;
+  d.intrinsics.cx = 319.5f;
+  d.intrinsics.cy = 239.5f;
+  d.depthScale = 5000.0;
+  return d;
+}
+
 std::string where(const std::string& indexPath, size_t line) {
   return "'" + indexPath + "' line " + std::to_string(line);
 }
@@ -80,13 +87,27 @@ std::string where(const std::string& indexPath, size_t line) {
 
 TumReader::TumReader(const std::string& directory, const SequenceOptions& options) {
   const fs::path dir(directory);
-  indexPath_ = (dir / kIndexName).string();
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw Error("sequence directory '" + directory + "' does not exist or is not a directory");
+  indexPath_ = (dir / kIndexName).string();
+  const bool associations = !fs::is_regular_file(indexPath_, ec) && fs::is_regular_file(dir / kAssociationsName, ec);
+  if (associations) indexPath_ = (dir / kAssociationsName).string();
   if (!fs::is_regular_file(indexPath_, ec))
-    throw Error("sequence '" + directory + "' has no " + kIndexName +
-                ": a TUM-layout sequence needs `timestamp depth/file.png` lines in it");
+    throw Error("sequence '" + directory + "' has no " + kIndexName + " (nor " + kAssociationsName +
+                "): a TUM-layout sequence needs `timestamp depth/file.png` lines in depth.txt");
+
+  // Ground truth: groundtruth.txt, else ICL-NUIM's single *.freiburg file (which also marks the format).
+  if (fs::is_regular_file(dir / kGroundTruthName, ec)) {
+    info_.groundTruthPath = (dir / kGroundTruthName).string();
+  } else {
+    std::vector<fs::path> freiburg;
+    for (const auto& f : fs::directory_iterator(dir, ec))
+      if (f.path().extension() == kIclGroundTruthExtension) freiburg.push_back(f.path());
+    if (freiburg.size() == 1) info_.groundTruthPath = freiburg.front().string();
+  }
+  const bool iclNuim = !info_.groundTruthPath.empty() &&
+                       fs::path(info_.groundTruthPath).extension() == kIclGroundTruthExtension;
 
   info_.path = directory;
   std::optional<Calibration> calibration;
@@ -97,42 +118,20 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
 
   const bool sevenScenes = cal && std::find(cal->invalidDepthValues.begin(), cal->invalidDepthValues.end(),
                                             uint16_t{65535}) != cal->invalidDepthValues.end();
-  info_.format = (cal && !cal->format.empty()) ? cal->format : (sevenScenes ? "7scenes" : "tum");
-  resolveCamera(info_, cal, options, sevenScenes ? sevenScenesDefaults() : tumDefaults());
+  const char* detected = sevenScenes ? "7scenes" : (iclNuim ? "icl-nuim" : "tum");
+  info_.format = (cal && !cal->format.empty()) ? cal->format : detected;
+  resolveCamera(info_, cal, options,
+                sevenScenes ? sevenScenesDefaults() : (iclNuim ? iclNuimDefaults() : tumDefaults()));
 
-  // The frame list.
-  std::ifstream in(indexPath_);
-  std::string raw;
-  size_t lineNo = 0;
   std::vector<Entry> all;
-  while (std::getline(in, raw)) {
-    ++lineNo;
-    const std::string line = trim(raw);
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    std::string stamp, file, extra;
-    fields >> stamp >> file;
-    if (file.empty() || (fields >> extra))
-      throw Error(where(indexPath_, lineNo) + ": expected `timestamp filename`, found \"" + line + "\"");
+  for (const TumIndexEntry& line : readTumIndex(indexPath_, associations)) {
     Entry e;
-    size_t used = 0;
-    try {
-      e.timestamp = std::stod(stamp, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != stamp.size() || !std::isfinite(e.timestamp))
-      throw Error(where(indexPath_, lineNo) + ": timestamp \"" + stamp + "\" is not a number of seconds");
-    if (!all.empty() && !(e.timestamp > all.back().timestamp))
-      throw Error(where(indexPath_, lineNo) + ": timestamp " + stamp + " does not increase (previous " +
-                  std::to_string(all.back().timestamp) + " at line " + std::to_string(all.back().line) +
-                  "); sort depth.txt by time and remove duplicates");
     e.index = all.size();
-    e.line = lineNo;
-    e.path = fs::path(file).is_absolute() ? file : (dir / file).string();
+    e.line = line.line;
+    e.timestamp = line.timestamp;
+    e.path = fs::path(line.file).is_absolute() ? line.file : (dir / line.file).string();
     all.push_back(std::move(e));
   }
-  if (all.empty()) throw Error("'" + indexPath_ + "' lists no frames");
 
   if (options.firstFrame >= all.size())
     throw Error("sequence '" + directory + "': first frame " + std::to_string(options.firstFrame) +
@@ -158,9 +157,6 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
   }
   info_.intrinsics.width = *width;
   info_.intrinsics.height = *height;
-
-  const fs::path groundTruth = dir / kGroundTruthName;
-  if (fs::is_regular_file(groundTruth, ec)) info_.groundTruthPath = groundTruth.string();
 }
 
 void TumReader::fail(const Entry& entry, const std::string& what) const {

@@ -1,13 +1,18 @@
 #pragma once
-// Replays a sequence in TUM RGB-D layout: `depth.txt` (`timestamp filename` per line, '#' comments),
-// 16-bit grayscale depth PNGs, optional `groundtruth.txt` and `calibration.json`. Also reads ICL-NUIM and
-// 7-Scenes sequences converted to this layout, and the project's synthetic sequences.
+// Replays a sequence in TUM RGB-D layout: a frame index (drivers/tum_index.h: `depth.txt`, else
+// `associations.txt`), 16-bit grayscale depth PNGs, optional ground truth and `calibration.json`. Reads TUM,
+// ICL-NUIM (TUM-compatible archives) and 7-Scenes sequences in this layout, and the project's synthetic ones.
 //
+// Ground truth: `groundtruth.txt`, else the directory's only `*.freiburg` file (ICL-NUIM's naming).
 // SequenceInfo::format: calibration.json's `format` key when present; otherwise "7scenes" when its
-// `invalid_depth_values` include 65535 (7-Scenes marks missing depth so); otherwise "tum".
-// Defaults when neither calibration.json nor the options give them: TUM's fx = fy = 525, cx = 319.5,
-// cy = 239.5, and depth scale 5000 (1000 for "7scenes"), with a warning.
-// Image size: options > calibration.json > the first frame's PNG; every frame must have that size.
+// `invalid_depth_values` include 65535 (7-Scenes marks missing depth so); otherwise "icl-nuim" when the ground
+// truth is a `*.freiburg` file; otherwise "tum".
+// Defaults for values neither calibration.json nor the options give (with a warning): "tum": fx = fy = 525,
+// cx = 319.5, cy = 239.5, 5000 units/m; "icl-nuim": fx = 481.2, fy = 480, cx = 319.5, cy = 239.5, 5000
+// units/m; "7scenes": fx = fy = 585, cx = 320, cy = 240, 1000 units/m.
+// Image size: options > calibration.json > the first frame's PNG; every frame must have that size (checked
+// from the PNG header before decoding).
+// Missing depth files of the selected frames are reported at open; unreadable ones at their frame.
 
 #include <optional>
 #include <string>

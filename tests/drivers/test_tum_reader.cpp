@@ -231,3 +231,34 @@ TEST_CASE("TUM reader checks a PNG's size before decoding it", "[drivers][tum][e
   fs::remove(dir + "/calibration.json");  // now the first frame is probed at open
   CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("100000x100000") && Catch::Contains("16384"));
 }
+
+TEST_CASE("TUM reader: ICL-NUIM archives with associations.txt and a .freiburg ground truth", "[drivers][tum]") {
+  const std::string dir = test::scratchDir("tum_iclnuim");
+  fs::create_directories(dir + "/depth");
+  for (size_t i = 0; i < 3; ++i) writePng16(dir + "/depth/" + std::to_string(i) + ".png", test::patternDepth(i, 4, 3));
+  test::writeText(dir + "/livingRoom0n.gt.freiburg", "0 0 0 0 0 0 0 1\n");
+  SECTION("depth pair first") {
+    test::writeText(dir + "/associations.txt", "0 depth/0.png 0 rgb/0.png\n1 depth/1.png 1 rgb/1.png\n"
+                                               "2 depth/2.png 2 rgb/2.png\n");
+  }
+  SECTION("rgb pair first") {
+    test::writeText(dir + "/associations.txt", "0 rgb/0.png 0 depth/0.png\n1 rgb/1.png 1 depth/1.png\n"
+                                               "2 rgb/2.png 2 depth/2.png\n");
+  }
+  auto source = openSequence(dir, direct());
+  const SequenceInfo& info = source->info();
+  CHECK(info.format == "icl-nuim");
+  CHECK(info.groundTruthPath == dir + "/livingRoom0n.gt.freiburg");
+  CHECK(info.intrinsics.fx == 481.2f);
+  CHECK(info.intrinsics.fy == 480.f);
+  CHECK(info.depthScale == 5000.0);
+  CHECK(info.frameCount == 3);
+  const auto frames = readAll(*source);
+  REQUIRE(frames.size() == 3);
+  CHECK(frames[2].timestamp == 2.0);
+  CHECK(frames[2].depth.pixels() == test::patternDepth(2, 4, 3).pixels());
+
+  test::writeText(dir + "/associations.txt", "0 rgb/0.png 0 other/0.png\n");
+  CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("associations.txt' line 1") &&
+                                                     Catch::Contains("depth/"));
+}
