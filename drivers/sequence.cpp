@@ -1,6 +1,7 @@
 #include "drivers/sequence.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "core/error.h"
@@ -13,6 +14,22 @@ namespace fs = std::filesystem;
 namespace sb {
 
 namespace {
+
+// Largest image side accepted from the command line, pixels.
+constexpr int kMaxSide = 16384;
+
+void checkOptions(const std::string& path, const SequenceOptions& o) {
+  const auto bad = [&](const std::string& what) {
+    throw Error("opening '" + path + "': " + what + "; fix the command-line value");
+  };
+  if (o.depthScale && !(*o.depthScale > 0)) bad("depth scale must be > 0 raw units per metre");
+  for (const auto* f : {&o.fx, &o.fy})
+    if (*f && !(**f > 0)) bad("focal lengths must be > 0 pixels");
+  for (const auto* c : {&o.cx, &o.cy})
+    if (*c && !std::isfinite(**c)) bad("the principal point must be finite");
+  for (const auto* s : {&o.width, &o.height})
+    if (*s && (**s <= 0 || **s > kMaxSide)) bad("image sides must be in [1, " + std::to_string(kMaxSide) + "] pixels");
+}
 
 std::unique_ptr<FrameSource> openUnbuffered(const std::string& path, const SequenceOptions& options) {
   std::error_code ec;
@@ -30,6 +47,7 @@ std::unique_ptr<FrameSource> openUnbuffered(const std::string& path, const Seque
 }  // namespace
 
 std::unique_ptr<FrameSource> openSequence(const std::string& path, const SequenceOptions& options) {
+  checkOptions(path, options);
   auto source = openUnbuffered(path, options);
   if (options.prefetch && options.prefetchDepth > 0)
     return std::make_unique<PrefetchSource>(std::move(source), options.prefetchDepth,

@@ -262,3 +262,20 @@ TEST_CASE("TUM reader: ICL-NUIM archives with associations.txt and a .freiburg g
   CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("associations.txt' line 1") &&
                                                      Catch::Contains("depth/"));
 }
+
+TEST_CASE("openSequence rejects impossible command-line values", "[drivers][errors]") {
+  const std::string dir = test::writePatternSequence(test::scratchDir("bad_options") + "/seq", 1, test::smallInfo());
+  SequenceOptions o = direct();
+  o.depthScale = 0.0;
+  CHECK_THROWS_WITH(openSequence(dir, o), Catch::Contains("depth scale"));
+  o = direct();
+  o.fx = -1.f;
+  CHECK_THROWS_WITH(openSequence(dir, o), Catch::Contains("focal"));
+  o = direct();
+  o.height = 0;
+  CHECK_THROWS_WITH(openSequence(dir, o), Catch::Contains("image sides"));
+  o = direct();
+  o.width = 8;  // the frames are 6 wide
+  auto source = openSequence(dir, o);
+  CHECK_THROWS_WITH(source->next(), Catch::Contains("6x4") && Catch::Contains("8x4"));
+}
