@@ -148,3 +148,17 @@ TEST_CASE(".raw structural errors", "[drivers][raw][errors]") {
     CHECK_THROWS_WITH(openSequence(dir + "/seq.bin", direct()), Catch::Contains("seq.bin") && Catch::Contains(".raw"));
   }
 }
+
+TEST_CASE(".raw through the prefetching worker gives the same frames", "[drivers][raw][prefetch]") {
+  const std::string path = writeRaw(test::scratchDir("raw_prefetch") + "/seq.raw", 7, 4, 2);
+  SequenceOptions ahead;
+  ahead.prefetchDepth = 2;
+  auto source = openSequence(path, ahead);
+  for (size_t i = 0; i < 7; ++i) {
+    const auto frame = source->next();
+    REQUIRE(frame);
+    CHECK(frame->index == i);
+    CHECK(frame->depth.pixels() == test::patternDepth(i, 4, 2).pixels());
+  }
+  CHECK_FALSE(source->next());
+}
