@@ -1,0 +1,47 @@
+#pragma once
+// The compute backend: runs the stages on one device and owns the device-side state (the TSDF volume, the
+// input pyramid, the reference maps). The Pipeline drives it; the CPU backend is the reference and the
+// oracle in tests, an OpenCL backend implements the same interface with the same kernels/.
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+
+#include "core/image.h"
+#include "pipeline/stages.h"
+
+namespace sb {
+
+constexpr int kPyramidLevels = 3;
+
+// The reduced ICP normal equations of one track + reduce pass (see kernels/track.h, SB_REDUCE_SIZE layout):
+// [0] sum e^2 (m^2), [1..6] J^T e, [7..27] upper triangle of J^T J, [28] inliers, [29..31] rejection counts.
+using TrackSums = std::array<double, 32>;
+
+class ComputeBackend {
+ public:
+  virtual ~ComputeBackend() = default;
+
+  // mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal for a raw frame (full sensor
+  // size, `metresPerUnit` metres per raw unit) at the compute size (full size / csr), 3 pyramid levels.
+  virtual void preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) = 0;
+
+  // track + reduce: the input of pyramid `level` moved by cameraToWorld against the reference maps raycast
+  // from referencePose (volume frame). The reference must have the current compute size.
+  virtual TrackSums track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
+                          StageTimes& times) = 0;
+
+  // integrate: fuses the last preprocessed frame's depth (compute size, unfiltered) seen from cameraToWorld.
+  virtual void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) = 0;
+
+  // raycast: replaces the reference maps by the model seen from cameraToWorld at full size / csr.
+  virtual void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) = 0;
+
+  // render: shades the current reference maps (light at `lightPosition`, volume frame, metres).
+  virtual Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) = 0;
+
+  // The volume on the host (2 * R^3 int16, layout in kernels/volume.h); valid until the next call.
+  virtual const int16_t* volumeData() = 0;
+};
+
+}  // namespace sb

@@ -1,0 +1,67 @@
+#pragma once
+// Every constant of the KinectFusion pipeline (DESIGN section 2) as a named field with its unit and the
+// reference (SLAMBench KinectFusion) default. Fixed for a run; the per-frame knobs are in knobs.h.
+
+#include <array>
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "pipeline/knobs.h"
+
+namespace sb {
+
+struct PipelineConfig {
+  // --- preprocessing ---
+  int bilateralRadius = 2;              // pixels: the filter window is (2r+1)^2 = 5x5
+  float bilateralSpatialSigma = 4.0f;   // pixels
+  float bilateralRangeSigma = 0.1f;     // metres
+  float halfSampleMaxDifference = 0.3f; // metres: pyramid half-sampling keeps pixels this close to the centre
+
+  // --- tracking (ICP) ---
+  float icpDistanceThreshold = 0.1f;    // metres: pairs farther apart are rejected
+  float icpNormalThreshold = 0.8f;      // cosine: pairs whose normals' dot product is lower are rejected
+  float trackedMaxResidual = 0.02f;     // metres: RMS point-to-plane residual of a tracked frame
+  float trackedMinInliers = 0.15f;      // fraction of the compute-size pixels that must be inliers
+  int bootstrapFrames = 4;              // frames integrated at the initial pose before tracking starts
+
+  // --- volume (fixed per run) ---
+  int volumeResolution = 256;                           // voxels per side (multiple of 8)
+  float volumeSize = 5.0f;                              // metres, side of the cube
+  std::array<float, 3> initialPosition{0.5f, 0.5f, 0.3f};  // first camera position, fractions of the side
+  float mu = 0.1f;                                      // metres: TSDF truncation distance
+  int maxWeight = 100;                                  // maximum TSDF weight (frames)
+
+  // --- raycast ---
+  float nearPlane = 0.4f;               // metres (camera depth)
+  float farPlane = 4.0f;                // metres (camera depth)
+  float raycastLargeStep = 0.75f;       // in units of mu: step through free space
+  float raycastSmallStep = 1.0f;        // in voxels: step near the surface
+  float raycastSmallStepBelow = 0.8f;   // tsdf value under which the small step is used
+  bool emptySpaceSkipping = true;       // jump over blocks that hold no surface (same surface, fewer samples)
+
+  // --- render (output only) ---
+  float renderAmbient = 0.1f;           // shade added to every lit pixel, [0, 1]
+
+  // --- initial knobs of a run ---
+  Knobs knobs;
+
+  float voxelSize() const { return volumeSize / static_cast<float>(volumeResolution); }  // metres
+};
+
+// Throws sb::Error naming the field, its value and the allowed range when a field is out of range.
+void validateConfig(const PipelineConfig& config);
+
+// Reads the JSON object `j` on top of `base`: keys are the snake_case field names with their unit, e.g.
+// {"bilateral_range_sigma_m": 0.1, "volume_resolution": 256, "initial_position": [0.5, 0.5, 0.3],
+//  "knobs": "csr=2,ir=1"}. Unknown keys, wrong types and out-of-range values throw sb::Error naming the key,
+// the value and the allowed range. `where` (e.g. the file name) prefixes the messages.
+PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base = {}, const std::string& where = "config");
+
+// Reads a JSON file (see parseConfig). Throws sb::Error naming the file on I/O and syntax errors.
+PipelineConfig loadConfigFile(const std::string& path, const PipelineConfig& base = {});
+
+// The whole config as JSON (the same keys parseConfig reads).
+nlohmann::json configToJson(const PipelineConfig& config);
+
+}  // namespace sb

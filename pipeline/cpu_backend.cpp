@@ -1,0 +1,273 @@
+#include "pipeline/cpu_backend.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "kernels/preprocess.h"
+#include "kernels/raycast.h"
+#include "kernels/track.h"
+#include "pipeline/kernel_args.h"
+
+namespace sb {
+
+namespace {
+
+constexpr int kRowsPerChunk = 8;   // image rows per parallel chunk (fixed: determinism)
+constexpr int kBlock = 1 << SB_BLOCK_SHIFT;
+
+class StageTimer {
+ public:
+  StageTimer(StageTimes& times, Stage stage) : times_(times), stage_(stage), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() {
+    times_[stage_] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  StageTimes& times_;
+  Stage stage_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Runs fn(x, y) over a width x height image, rows split in fixed chunks.
+template <typename Fn>
+void forEachPixel(ThreadPool& pool, int width, int height, const Fn& fn) {
+  pool.parallelFor(0, height, kRowsPerChunk, [&](int, int y0, int y1) {
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < width; ++x) fn(x, y);
+  });
+}
+
+// The interval of real x where a + b*x >= 0, intersected into [lo, hi].
+void clipLinear(double a, double b, double& lo, double& hi) {
+  if (b > 0) {
+    lo = std::max(lo, -a / b);
+  } else if (b < 0) {
+    hi = std::min(hi, -a / b);
+  } else if (a < 0) {
+    hi = lo - 1;  // empty
+  }
+}
+
+}  // namespace
+
+CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool)
+    : config_(config), full_(fullSize), pool_(pool) {
+  validateConfig(config_);
+  const int r = config_.bilateralRadius;
+  for (int i = -r; i <= r; ++i)
+    gaussian_.push_back(std::exp(-static_cast<float>(i * i) /
+                                 (2.0f * config_.bilateralSpatialSigma * config_.bilateralSpatialSigma)));
+  const size_t voxels = static_cast<size_t>(config_.volumeResolution) * config_.volumeResolution * config_.volumeResolution;
+  volume_.resize(2 * voxels);
+  for (size_t i = 0; i < voxels; ++i) {
+    volume_[2 * i] = static_cast<int16_t>(SB_TSDF_SCALE);
+    volume_[2 * i + 1] = 0;
+  }
+  const int blocks = config_.volumeResolution / kBlock;
+  blockNearSurface_.assign(static_cast<size_t>(blocks) * blocks * blocks, 0);
+  skip_.assign(blockNearSurface_.size(), 1);
+}
+
+void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) {
+  computeK_ = full_.scaled(csr);
+  const int w = computeK_.width, h = computeK_.height;
+  const size_t n = static_cast<size_t>(w) * h;
+  depth_.resize(n);
+  {
+    StageTimer t(times, Stage::mm2meters);
+    const uint16_t* in = raw.data();
+    const int inWidth = raw.width();
+    float* out = depth_.data();
+    forEachPixel(pool_, w, h, [&](int x, int y) { mm2meters(out, w, in, inWidth, csr, metresPerUnit, x, y); });
+  }
+  for (int l = 0; l < kPyramidLevels; ++l) {
+    Level& level = levels_[l];
+    level.k = full_.scaled(csr << l);
+    const size_t ln = static_cast<size_t>(level.k.width) * level.k.height;
+    level.depth.resize(ln);
+    level.vertex.resize(3 * ln);
+    level.normal.resize(3 * ln);
+  }
+  {
+    StageTimer t(times, Stage::bilateralFilter);
+    const float* in = depth_.data();
+    float* out = levels_[0].depth.data();
+    const float* g = gaussian_.data();
+    const int r = config_.bilateralRadius;
+    const float sigma = config_.bilateralRangeSigma;
+    forEachPixel(pool_, w, h, [&](int x, int y) { bilateralFilter(out, in, w, h, g, r, sigma, x, y); });
+  }
+  {
+    StageTimer t(times, Stage::halfSampleRobust);
+    for (int l = 1; l < kPyramidLevels; ++l) {
+      const Level& fine = levels_[l - 1];
+      Level& coarse = levels_[l];
+      const float* in = fine.depth.data();
+      float* out = coarse.depth.data();
+      const int cw = coarse.k.width, fw = fine.k.width, fh = fine.k.height;
+      const float maxDiff = config_.halfSampleMaxDifference;
+      forEachPixel(pool_, cw, coarse.k.height,
+                   [&](int x, int y) { halfSampleRobust(out, cw, in, fw, fh, maxDiff, x, y); });
+    }
+  }
+  {
+    StageTimer t(times, Stage::depth2vertex);
+    for (Level& level : levels_) {
+      const SbCamera k = toCamera(level.k);
+      float* out = level.vertex.data();
+      const float* in = level.depth.data();
+      const int lw = level.k.width;
+      forEachPixel(pool_, lw, level.k.height, [&](int x, int y) { depth2vertex(out, in, lw, k, x, y); });
+    }
+  }
+  {
+    StageTimer t(times, Stage::vertex2normal);
+    for (Level& level : levels_) {
+      float* out = level.normal.data();
+      const float* in = level.vertex.data();
+      const int lw = level.k.width, lh = level.k.height;
+      forEachPixel(pool_, lw, lh, [&](int x, int y) { vertex2normal(out, in, lw, lh, x, y); });
+    }
+  }
+}
+
+TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
+                            StageTimes& times) {
+  const Level& in = levels_[level];
+  const int w = in.k.width, h = in.k.height;
+  trackOut_.resize(static_cast<size_t>(SB_TRACK_STRIDE) * w * h);
+  {
+    StageTimer t(times, Stage::track);
+    const SbMat34 toWorld = toMat34(cameraToWorld.matrix());
+    Eigen::Matrix<float, 3, 4> projection = cameraMatrix(referenceK_) * referencePose.inverse().matrix().topRows<3>();
+    const SbMat34 toReference = toMat34(projection);
+    float* out = trackOut_.data();
+    const float* v = in.vertex.data();
+    const float* n = in.normal.data();
+    const float* rv = referenceVertex_.data();
+    const float* rn = referenceNormal_.data();
+    const int rw = referenceK_.width, rh = referenceK_.height;
+    const float dist = config_.icpDistanceThreshold, dot = config_.icpNormalThreshold;
+    forEachPixel(pool_, w, h, [&](int x, int y) { ::track(out, v, n, w, rv, rn, rw, rh, toWorld, toReference, dist, dot, x, y); });
+  }
+  StageTimer t(times, Stage::reduce);
+  const int chunks = ThreadPool::chunkCount(0, h, kRowsPerChunk);
+  std::vector<TrackSums> partial(chunks);
+  const float* data = trackOut_.data();
+  pool_.parallelFor(0, h, kRowsPerChunk, [&](int chunk, int y0, int y1) {
+    TrackSums& sums = partial[chunk];
+    sums.fill(0.0);
+    for (int y = y0; y < y1; ++y) {
+      float row[SB_REDUCE_SIZE] = {};
+      for (int x = 0; x < w; ++x) ::reduce(row, data, y * w + x);
+      for (int i = 0; i < SB_REDUCE_SIZE; ++i) sums[i] += row[i];
+    }
+  });
+  TrackSums total{};
+  for (const TrackSums& p : partial)
+    for (int i = 0; i < SB_REDUCE_SIZE; ++i) total[i] += p[i];
+  return total;
+}
+
+void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) {
+  StageTimer t(times, Stage::integrate);
+  const int res = config_.volumeResolution;
+  const float voxel = config_.voxelSize();
+  const Eigen::Isometry3f worldToCamera = cameraToWorld.inverse();
+  const SbMat34 w2c = toMat34(worldToCamera.matrix());
+  const SbCamera k = toCamera(computeK_);
+  const int w = computeK_.width, h = computeK_.height;
+  const float maxDepth = depth_.empty() ? 0.0f : *std::max_element(depth_.begin(), depth_.end());
+  const double zLimit = maxDepth + config_.mu;  // farther voxels cannot be within the truncation band
+  const float3 step = sbRotate(w2c, sbMakeFloat3(voxel, 0.0f, 0.0f));
+  const int blocks = res / kBlock;
+  const float mu = config_.mu;
+  const int maxWeight = config_.maxWeight;
+  int16_t* vol = volume_.data();
+  const float* depth = depth_.data();
+  // One chunk per z-slab of blocks, so each block's flag is written by one thread only.
+  pool_.parallelFor(0, blocks, 1, [&](int, int bz0, int bz1) {
+    for (int z = bz0 * kBlock; z < bz1 * kBlock; ++z) {
+      for (int y = 0; y < res; ++y) {
+        const float3 base = sbTransform(w2c, sbMakeFloat3(0.5f * voxel, (y + 0.5f) * voxel, (z + 0.5f) * voxel));
+        // Conservative x-range of the row inside the view frustum and in front of zLimit; the per-voxel
+        // checks in integrateVoxel stay exact.
+        double lo = 0, hi = res - 1;
+        clipLinear(base.z - SB_MIN_PROJECTION_DEPTH, step.z, lo, hi);
+        clipLinear(zLimit - base.z, -step.z, lo, hi);
+        clipLinear(k.fx * base.x + (k.cx + 0.5) * base.z, k.fx * step.x + (k.cx + 0.5) * step.z, lo, hi);
+        clipLinear(-(k.fx * base.x + (k.cx + 0.5 - w) * base.z), -(k.fx * step.x + (k.cx + 0.5 - w) * step.z), lo, hi);
+        clipLinear(k.fy * base.y + (k.cy + 0.5) * base.z, k.fy * step.y + (k.cy + 0.5) * step.z, lo, hi);
+        clipLinear(-(k.fy * base.y + (k.cy + 0.5 - h) * base.z), -(k.fy * step.y + (k.cy + 0.5 - h) * step.z), lo, hi);
+        if (hi < lo) continue;
+        const int x0 = std::max(0, static_cast<int>(std::floor(lo)) - 1);
+        const int x1 = std::min(res, static_cast<int>(std::ceil(hi)) + 2);
+        const size_t rowIndex = static_cast<size_t>(y) * res + static_cast<size_t>(z) * res * res;
+        uint8_t* flags = &blockNearSurface_[static_cast<size_t>(y / kBlock) * blocks + static_cast<size_t>(z / kBlock) * blocks * blocks];
+        for (int x = x0; x < x1; ++x) {
+          const float3 pos = base + step * static_cast<float>(x);
+          if (integrateVoxel(vol, static_cast<int>(rowIndex) + x, pos, depth, w, h, k, mu, maxWeight))
+            flags[x / kBlock] = 1;
+        }
+      }
+    }
+  });
+  buildSkipGrid();
+}
+
+void CpuBackend::buildSkipGrid() {
+  const int b = config_.volumeResolution / kBlock;
+  auto at = [&](int x, int y, int z) { return static_cast<size_t>(x) + static_cast<size_t>(y) * b + static_cast<size_t>(z) * b * b; };
+  for (int z = 0; z < b; ++z)
+    for (int y = 0; y < b; ++y)
+      for (int x = 0; x < b; ++x) {
+        uint8_t empty = 1;
+        for (int dz = std::max(0, z - 1); dz <= std::min(b - 1, z + 1) && empty; ++dz)
+          for (int dy = std::max(0, y - 1); dy <= std::min(b - 1, y + 1) && empty; ++dy)
+            for (int dx = std::max(0, x - 1); dx <= std::min(b - 1, x + 1); ++dx)
+              if (blockNearSurface_[at(dx, dy, dz)]) {
+                empty = 0;
+                break;
+              }
+        skip_[at(x, y, z)] = empty;
+      }
+}
+
+void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) {
+  StageTimer t(times, Stage::raycast);
+  referenceK_ = full_.scaled(csr);
+  const int w = referenceK_.width, h = referenceK_.height;
+  referenceVertex_.resize(3 * static_cast<size_t>(w) * h);
+  referenceNormal_.resize(3 * static_cast<size_t>(w) * h);
+  const SbMat34 pose = toMat34(cameraToWorld.matrix());
+  const SbCamera k = toCamera(referenceK_);
+  const int res = config_.volumeResolution;
+  const float size = config_.volumeSize;
+  const int16_t* vol = volume_.data();
+  const uint8_t* skip = config_.emptySpaceSkipping ? skip_.data() : nullptr;
+  const float nearPlane = config_.nearPlane, farPlane = config_.farPlane;
+  const float largeStep = config_.raycastLargeStep * config_.mu;
+  const float smallStep = config_.raycastSmallStep * config_.voxelSize();
+  const float below = config_.raycastSmallStepBelow;
+  float* outV = referenceVertex_.data();
+  float* outN = referenceNormal_.data();
+  forEachPixel(pool_, w, h, [&](int x, int y) {
+    ::raycast(outV, outN, w, vol, res, size, skip, pose, k, nearPlane, farPlane, largeStep, smallStep, below, x, y);
+  });
+}
+
+Image<uint8_t> CpuBackend::render(const Eigen::Vector3f& lightPosition, StageTimes& times) {
+  StageTimer t(times, Stage::render);
+  const int w = referenceK_.width, h = referenceK_.height;
+  Image<uint8_t> image(w, h);
+  uint8_t* out = image.data();
+  const float3 light = sbMakeFloat3(lightPosition.x(), lightPosition.y(), lightPosition.z());
+  const float ambient = config_.renderAmbient;
+  const float* v = referenceVertex_.data();
+  const float* n = referenceNormal_.data();
+  forEachPixel(pool_, w, h, [&](int x, int y) { ::render(out, v, n, w, light, ambient, x, y); });
+  return image;
+}
+
+}  // namespace sb

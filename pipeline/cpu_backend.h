@@ -1,0 +1,63 @@
+#pragma once
+// The CPU backend: runs the kernels/ functions over images and the volume with a ThreadPool. Deterministic:
+// work is split into chunks whose boundaries do not depend on the thread count, and reductions sum one
+// partial per chunk in chunk order (in double), so results are bit-identical for any number of threads.
+
+#include <vector>
+
+#include "core/intrinsics.h"
+#include "core/thread_pool.h"
+#include "pipeline/backend.h"
+#include "pipeline/config.h"
+
+namespace sb {
+
+class CpuBackend : public ComputeBackend {
+ public:
+  // `fullSize`: intrinsics of the sensor image. `pool` is borrowed and must outlive the backend.
+  CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool);
+
+  void preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) override;
+  TrackSums track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
+                  StageTimes& times) override;
+  void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) override;
+  void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
+  Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
+  const int16_t* volumeData() override { return volume_.data(); }
+
+  // Host views for tests and tools: 3 floats per pixel (vertex, normal), 1 per pixel (depth), row-major.
+  const Intrinsics& levelIntrinsics(int level) const { return levels_[level].k; }
+  const std::vector<float>& levelDepth(int level) const { return levels_[level].depth; }
+  const std::vector<float>& levelVertices(int level) const { return levels_[level].vertex; }
+  const std::vector<float>& levelNormals(int level) const { return levels_[level].normal; }
+  const std::vector<float>& rawMetres() const { return depth_; }
+  const Intrinsics& referenceIntrinsics() const { return referenceK_; }
+  const std::vector<float>& referenceVertices() const { return referenceVertex_; }
+  const std::vector<float>& referenceNormals() const { return referenceNormal_; }
+
+ private:
+  struct Level {
+    Intrinsics k;
+    std::vector<float> depth, vertex, normal;
+  };
+  void buildSkipGrid();
+
+  PipelineConfig config_;
+  Intrinsics full_;
+  ThreadPool& pool_;
+  std::vector<float> gaussian_;  // bilateral spatial weights, 2r+1
+
+  Intrinsics computeK_;          // of the last preprocessed frame
+  std::vector<float> depth_;     // mm2meters output (compute size, metres), used by integrate
+  std::array<Level, kPyramidLevels> levels_;
+  std::vector<float> trackOut_;  // SB_TRACK_STRIDE floats per pixel of the tracked level
+
+  Intrinsics referenceK_;
+  std::vector<float> referenceVertex_, referenceNormal_;
+
+  std::vector<int16_t> volume_;            // 2 * R^3: (tsdf, weight) pairs
+  std::vector<uint8_t> blockNearSurface_;  // per block: some voxel holds tsdf < +1
+  std::vector<uint8_t> skip_;              // per block: it and its 26 neighbours hold no surface
+};
+
+}  // namespace sb

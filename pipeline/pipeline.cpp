@@ -1,0 +1,132 @@
+#include "pipeline/pipeline.h"
+
+#include <cmath>
+
+#include "core/error.h"
+#include "pipeline/cpu_backend.h"
+#include "pipeline/icp_solve.h"
+
+namespace sb {
+
+Pipeline::Pipeline(const PipelineConfig& config, const Intrinsics& intrinsics, std::unique_ptr<ComputeBackend> backend)
+    : config_(config), intrinsics_(intrinsics), backend_(std::move(backend)) {
+  validateConfig(config_);
+  if (!backend_) throw Error("Pipeline: no compute backend given");
+  initialPose_ = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 3; ++i) initialPose_.translation()(i) = double(config_.initialPosition[i]) * config_.volumeSize;
+  pose_ = initialPose_;
+  referencePose_ = initialPose_;
+  lastFinalPose_ = initialPose_;
+}
+
+std::unique_ptr<Pipeline> Pipeline::createCpu(const PipelineConfig& config, const Intrinsics& intrinsics, ThreadPool& pool) {
+  return std::make_unique<Pipeline>(config, intrinsics, std::make_unique<CpuBackend>(config, intrinsics, pool));
+}
+
+FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs) {
+  if (awaitingFinish_)
+    throw Error("Pipeline::trackFrame called twice without finishFrame (frame " + std::to_string(frameCount_) + ")");
+  validateKnobs(knobs);
+  if (frame.depth.width() != intrinsics_.width || frame.depth.height() != intrinsics_.height)
+    throw Error("frame " + std::to_string(frame.index) + " is " + std::to_string(frame.depth.width()) + "x" +
+                std::to_string(frame.depth.height()) + " but the intrinsics say " + std::to_string(intrinsics_.width) +
+                "x" + std::to_string(intrinsics_.height));
+  if (!(depthScale > 0)) throw Error("depth scale must be positive (raw units per metre), got " + std::to_string(depthScale));
+  const int minSide = std::min(intrinsics_.width, intrinsics_.height) / knobs.csr;
+  if ((minSide >> (kPyramidLevels - 1)) < 2)
+    throw Error("knob csr=" + std::to_string(knobs.csr) + " leaves a " + std::to_string(intrinsics_.width / knobs.csr) +
+                "x" + std::to_string(intrinsics_.height / knobs.csr) + " image, too small for a 3-level pyramid");
+
+  FrameResult r;
+  r.frame = frameCount_;
+  r.timestamp = frame.timestamp;
+  r.knobs = knobs;
+  backend_->preprocess(frame.depth, static_cast<float>(1.0 / depthScale), knobs.csr, r.times);
+
+  const bool bootstrap = frameCount_ < static_cast<size_t>(config_.bootstrapFrames);
+  if (!bootstrap && frameCount_ % knobs.trackingRate == 0 && referenceCsr_ != 0) {
+    if (referenceCsr_ != knobs.csr || referenceStale_) {
+      // The reference maps must have the compute size: raycast them again from the same pose.
+      backend_->raycast(referencePose_.cast<float>(), knobs.csr, r.times);
+      referenceCsr_ = knobs.csr;
+      referenceStale_ = false;
+    }
+    r.trackingAttempted = true;
+    r.tracked = runIcp(knobs, r);
+  }
+  r.T_camera_to_world = pose_;
+  awaitingFinish_ = true;
+  return r;
+}
+
+bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
+  const Eigen::Isometry3d previous = pose_;
+  Eigen::Isometry3d estimate = pose_;
+  const Eigen::Isometry3f reference = referencePose_.cast<float>();
+  TrackSums last{};
+  int lastLevel = -1;
+  for (int level = kPyramidLevels - 1; level >= 0; --level) {
+    for (int i = 0; i < knobs.pyramidIterations[level]; ++i) {
+      last = backend_->track(level, estimate.cast<float>(), reference, r.times);
+      lastLevel = level;
+      ++r.icpIterations;
+      Twist x;
+      if (!solveIcpUpdate(last, x)) break;
+      estimate = twistToTransform(x) * estimate;
+      if (x.norm() < knobs.icpThreshold) break;
+    }
+  }
+  const int width = (intrinsics_.width / knobs.csr) >> std::max(lastLevel, 0);
+  const int height = (intrinsics_.height / knobs.csr) >> std::max(lastLevel, 0);
+  const double inliers = last[28];
+  r.inlierFraction = inliers / (double(width) * height);
+  r.residual = inliers > 0 ? std::sqrt(last[0] / inliers) : 0.0;
+  const bool ok = inliers > 0 && r.residual <= config_.trackedMaxResidual &&
+                  r.inlierFraction >= config_.trackedMinInliers && estimate.matrix().allFinite();
+  pose_ = ok ? estimate : previous;
+  return ok;
+}
+
+void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d>& correctedPose) {
+  if (!awaitingFinish_) throw Error("Pipeline::finishFrame called without a preceding trackFrame");
+  awaitingFinish_ = false;
+  const Eigen::Isometry3d previous = lastFinalPose_;
+  if (correctedPose) {
+    pose_ = *correctedPose;
+    r.poseOverridden = true;
+  }
+  r.T_camera_to_world = pose_;
+  const bool bootstrap = r.frame < static_cast<size_t>(config_.bootstrapFrames);
+  if (bootstrap || (r.tracked && r.frame % r.knobs.integrationRate == 0)) {
+    backend_->integrate(pose_.cast<float>(), r.times);
+    r.integrated = true;
+    referenceStale_ = true;
+  }
+  const bool poseMoved = pose_.matrix() != referencePose_.matrix();
+  if (referenceStale_ || poseMoved || referenceCsr_ != r.knobs.csr) {
+    backend_->raycast(pose_.cast<float>(), r.knobs.csr, r.times);
+    referencePose_ = pose_;
+    referenceCsr_ = r.knobs.csr;
+    referenceStale_ = false;
+  }
+  r.velocity = (pose_.translation() - previous.translation()).norm();
+  lastFinalPose_ = pose_;
+  ++frameCount_;
+}
+
+FrameResult Pipeline::processFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs) {
+  FrameResult r = trackFrame(frame, depthScale, knobs);
+  finishFrame(r);
+  return r;
+}
+
+Image<uint8_t> Pipeline::renderModel(int csr) {
+  StageTimes times;
+  backend_->raycast(pose_.cast<float>(), csr, times);
+  referencePose_ = pose_;
+  referenceCsr_ = csr;
+  referenceStale_ = false;
+  return backend_->render(pose_.translation().cast<float>(), times);
+}
+
+}  // namespace sb

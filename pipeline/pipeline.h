@@ -1,0 +1,85 @@
+#pragma once
+// The KinectFusion frame loop: preprocess -> track (coarse-to-fine ICP over 3 levels) -> integrate ->
+// raycast, with knobs that may change between any two frames.
+//
+// A frame is processed in two calls so that a controller can look at the tracking result and replace the
+// pose before the model is updated:
+//   FrameResult r = pipeline.trackFrame(frame, depthScale, knobs);   // preprocess + track
+//   ... controller looks at r, may decide on a corrected pose ...
+//   pipeline.finishFrame(r, correctedPose);                          // integrate + raycast with that pose
+// processFrame() does both without a correction. Poses are T_camera_to_world in the volume frame (the
+// cube [0, size]^3, metres); the first camera sits at initialPosition * size looking along +z.
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <optional>
+
+#include "core/intrinsics.h"
+#include "core/thread_pool.h"
+#include "drivers/frame_source.h"
+#include "pipeline/backend.h"
+#include "pipeline/config.h"
+#include "pipeline/knobs.h"
+
+namespace sb {
+
+struct FrameResult {
+  size_t frame = 0;          // 0-based count of frames given to this pipeline
+  double timestamp = 0.0;    // seconds, from the DepthFrame
+  Knobs knobs;               // the knobs this frame ran with
+  Eigen::Isometry3d T_camera_to_world = Eigen::Isometry3d::Identity();  // volume frame (after finishFrame: final)
+  bool trackingAttempted = false;  // false in the bootstrap frames and on frames skipped by the tracking rate
+  bool tracked = false;      // ICP converged to an acceptable pose (residual and inlier tests passed)
+  bool poseOverridden = false;     // finishFrame was given a corrected pose
+  bool integrated = false;   // the frame was fused into the volume
+  double residual = 0.0;     // metres: RMS point-to-plane residual of the last ICP pass (0 when not tracked)
+  double inlierFraction = 0.0;  // inliers of the last ICP pass / pixels at the compute size
+  int icpIterations = 0;     // ICP iterations run, all levels
+  double velocity = 0.0;     // metres/frame: |translation - previous frame's translation| (after finishFrame)
+  StageTimes times;          // ms per stage
+};
+
+class Pipeline {
+ public:
+  // `intrinsics`: of the full-size depth image. Throws sb::Error on an invalid config.
+  Pipeline(const PipelineConfig& config, const Intrinsics& intrinsics, std::unique_ptr<ComputeBackend> backend);
+  // A pipeline on the CPU backend running on `pool` (borrowed; must outlive the pipeline).
+  static std::unique_ptr<Pipeline> createCpu(const PipelineConfig& config, const Intrinsics& intrinsics,
+                                             ThreadPool& pool = ThreadPool::global());
+
+  // Preprocessing and tracking of one frame. `depthScale`: raw units per metre. Throws sb::Error on invalid
+  // knobs or a frame whose size differs from the intrinsics, and when the previous frame was not finished.
+  FrameResult trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs);
+  // Integration (when due) and raycast with the tracked pose, or `correctedPose` when given. Completes `result`.
+  void finishFrame(FrameResult& result, const std::optional<Eigen::Isometry3d>& correctedPose = std::nullopt);
+  // trackFrame + finishFrame.
+  FrameResult processFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs);
+
+  const Eigen::Isometry3d& pose() const { return pose_; }
+  const Eigen::Isometry3d& initialPose() const { return initialPose_; }
+  const PipelineConfig& config() const { return config_; }
+  size_t framesProcessed() const { return frameCount_; }
+
+  // A shaded image of the model seen from the current pose at full size / csr (raycast + render).
+  Image<uint8_t> renderModel(int csr = 1);
+  // The volume (2 * R^3 int16 pairs, layout in kernels/volume.h), valid until the next call.
+  const int16_t* volumeData() { return backend_->volumeData(); }
+  ComputeBackend& backend() { return *backend_; }
+
+ private:
+  bool runIcp(const Knobs& knobs, FrameResult& result);
+
+  PipelineConfig config_;
+  Intrinsics intrinsics_;
+  std::unique_ptr<ComputeBackend> backend_;
+  Eigen::Isometry3d initialPose_;
+  Eigen::Isometry3d pose_;          // latest camera pose (volume frame)
+  Eigen::Isometry3d referencePose_;  // pose of the last raycast
+  Eigen::Isometry3d lastFinalPose_;  // pose at the end of the previous frame
+  int referenceCsr_ = 0;            // csr of the last raycast (0 = none yet)
+  bool referenceStale_ = false;     // the volume changed since the last raycast
+  size_t frameCount_ = 0;
+  bool awaitingFinish_ = false;
+};
+
+}  // namespace sb

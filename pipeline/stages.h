@@ -1,0 +1,44 @@
+#pragma once
+// The classic KinectFusion stage names, used identically in the API, the kernels, the tests, the timing
+// labels and the log columns.
+
+#include <array>
+
+namespace sb {
+
+enum class Stage {
+  mm2meters,
+  bilateralFilter,
+  halfSampleRobust,
+  depth2vertex,
+  vertex2normal,
+  track,
+  reduce,
+  integrate,
+  raycast,
+  render,
+};
+constexpr int kStageCount = 10;
+
+constexpr const char* stageName(Stage s) {
+  constexpr const char* names[kStageCount] = {"mm2meters",     "bilateralFilter", "halfSampleRobust", "depth2vertex",
+                                              "vertex2normal", "track",           "reduce",           "integrate",
+                                              "raycast",       "render"};
+  return names[static_cast<int>(s)];
+}
+
+// Milliseconds spent per stage (host clock), indexed by Stage.
+struct StageTimes {
+  std::array<double, kStageCount> ms{};
+  double& operator[](Stage s) { return ms[static_cast<int>(s)]; }
+  double operator[](Stage s) const { return ms[static_cast<int>(s)]; }
+  // Preprocessing + tracking + integration + raycast: everything except render (the paper's computation time).
+  double computationMs() const {
+    double sum = 0;
+    for (int i = 0; i < kStageCount; ++i)
+      if (i != static_cast<int>(Stage::render)) sum += ms[i];
+    return sum;
+  }
+};
+
+}  // namespace sb
