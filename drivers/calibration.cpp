@@ -1,12 +1,11 @@
 #include "drivers/calibration.h"
 
-#include <fstream>
-#include <limits>
-#include <nlohmann/json.hpp>
-
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 
@@ -23,8 +22,8 @@ constexpr int kMaxImageSide = 16384;
   throw Error("calibration '" + path + "': key '" + key + "' must be " + expected + "; fix or remove it");
 }
 
-std::optional<double> readNumber(const json& j, const std::string& path, const std::string& key, double minValue,
-                                 double maxValue, const std::string& expected) {
+std::optional<double> readNumber(const json& j, const std::string& path, const std::string& key,
+                                 double minValue, double maxValue, const std::string& expected) {
   if (!j.contains(key)) return std::nullopt;
   const json& v = j.at(key);
   if (!v.is_number()) badKey(path, key, expected);
@@ -42,9 +41,11 @@ std::optional<int> readSide(const json& j, const std::string& path, const std::s
   return static_cast<int>(*d);
 }
 
-std::optional<float> readPixels(const json& j, const std::string& path, const std::string& key, bool positive) {
+std::optional<float> readPixels(const json& j, const std::string& path, const std::string& key,
+                                bool positive) {
   const double lo = positive ? std::numeric_limits<double>::min() : -1e6;
-  const auto d = readNumber(j, path, key, lo, 1e6, positive ? "a positive number of pixels" : "a number of pixels");
+  const auto d =
+      readNumber(j, path, key, lo, 1e6, positive ? "a positive number of pixels" : "a number of pixels");
   if (!d) return std::nullopt;
   return static_cast<float>(*d);
 }
@@ -79,7 +80,8 @@ Calibration readCalibration(const std::string& path) {
     for (const json& e : v) {
       if (!e.is_number_integer() && !e.is_number_unsigned()) badKey(path, "invalid_depth_values", expected);
       const auto value = e.get<long long>();
-      if (value < 0 || value > std::numeric_limits<uint16_t>::max()) badKey(path, "invalid_depth_values", expected);
+      if (value < 0 || value > std::numeric_limits<uint16_t>::max())
+        badKey(path, "invalid_depth_values", expected);
       c.invalidDepthValues.push_back(static_cast<uint16_t>(value));
     }
   }
@@ -106,8 +108,8 @@ Calibration readCalibration(const std::string& path) {
 void resolveCamera(SequenceInfo& info, const Calibration* calibration, const SequenceOptions& options,
                    const CameraDefaults& defaults) {
   std::vector<std::string> defaulted;
-  const auto pick = [&](const char* name, const std::optional<float>& option, const std::optional<float>* fromFile,
-                        float fallback) {
+  const auto pick = [&](const char* name, const std::optional<float>& option,
+                        const std::optional<float>* fromFile, float fallback) {
     if (option) return *option;
     if (fromFile && *fromFile) return **fromFile;
     defaulted.emplace_back(name);
@@ -135,15 +137,16 @@ void resolveCamera(SequenceInfo& info, const Calibration* calibration, const Seq
   if (!defaulted.empty()) {
     std::string names;
     for (const auto& n : defaulted) names += (names.empty() ? "" : ", ") + n;
-    spdlog::warn("sequence '{}': {} not given by {} or the command line; using the defaults of {}", info.path, names,
-                 c ? "'" + c->path + "'" : "a calibration.json", defaults.name);
+    spdlog::warn("sequence '{}': {} not given by {} or the command line; using the defaults of {}", info.path,
+                 names, c ? "'" + c->path + "'" : "a calibration.json", defaults.name);
   }
 }
 
 std::vector<uint16_t> invalidDepthValues(const Calibration* calibration) {
   std::vector<uint16_t> values = {0, std::numeric_limits<uint16_t>::max()};
-  if (calibration) values.insert(values.end(), calibration->invalidDepthValues.begin(),
-                                 calibration->invalidDepthValues.end());
+  if (calibration)
+    values.insert(values.end(), calibration->invalidDepthValues.begin(),
+                  calibration->invalidDepthValues.end());
   std::sort(values.begin(), values.end());
   values.erase(std::unique(values.begin(), values.end()), values.end());
   return values;

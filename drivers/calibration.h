@@ -31,7 +31,7 @@ struct Calibration {
 
 // What a format assumes when neither calibration.json nor the command line says otherwise.
 struct CameraDefaults {
-  std::string name;    // e.g. "TUM RGB-D (fx=fy=525, cx=319.5, cy=239.5, 5000 units/m)", for the warning
+  std::string name;       // e.g. "TUM RGB-D (fx=fy=525, cx=319.5, cy=239.5, 5000 units/m)", for the warning
   Intrinsics intrinsics;  // width/height are ignored (the image size is resolved separately)
   double depthScale = 1000.0;  // raw units per metre
 };

@@ -32,7 +32,8 @@ void PrefetchSource::run() {
     size_t index = 0;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      space_.wait(lock, [this] { return stop_ || failed_ || claimed_ >= count_ || claimed_ < consumed_ + depth_; });
+      space_.wait(lock,
+                  [this] { return stop_ || failed_ || claimed_ >= count_ || claimed_ < consumed_ + depth_; });
       if (stop_ || failed_ || claimed_ >= count_) return;
       index = claimed_++;
       window_.emplace_back();

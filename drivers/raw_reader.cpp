@@ -20,8 +20,8 @@ constexpr uint64_t kHeaderBytes = 8;  // uint32 width + uint32 height
 constexpr uint64_t kRgbChannels = 3;
 
 uint32_t readLe32(const std::uint8_t* p) {
-  return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) | (static_cast<uint32_t>(p[2]) << 16) |
-         (static_cast<uint32_t>(p[3]) << 24);
+  return static_cast<uint32_t>(p[0]) | (static_cast<uint32_t>(p[1]) << 8) |
+         (static_cast<uint32_t>(p[2]) << 16) | (static_cast<uint32_t>(p[3]) << 24);
 }
 
 void writeLe32(std::ostream& out, uint32_t v) {
@@ -90,10 +90,10 @@ RawReader::RawReader(const std::string& path, const SequenceOptions& options) {
                 " pixels; the file is corrupt");
   frameBytes_ = rgbHeaderAt + kHeaderBytes + uint64_t{rgbWidth_} * rgbHeight_ * kRgbChannels;
   if (fileBytes % frameBytes_ != 0)
-    throw Error(".raw file '" + path + "' is " + std::to_string(fileBytes) + " bytes, not a whole number of " +
-                std::to_string(frameBytes_) + "-byte frames (" + std::to_string(width_) + "x" +
-                std::to_string(height_) + " depth): frame " + std::to_string(fileBytes / frameBytes_) +
-                " is truncated; re-copy or re-convert the file");
+    throw Error(".raw file '" + path + "' is " + std::to_string(fileBytes) +
+                " bytes, not a whole number of " + std::to_string(frameBytes_) + "-byte frames (" +
+                std::to_string(width_) + "x" + std::to_string(height_) + " depth): frame " +
+                std::to_string(fileBytes / frameBytes_) + " is truncated; re-copy or re-convert the file");
   const auto total = static_cast<size_t>(fileBytes / frameBytes_);
 
   if (options.width && static_cast<uint32_t>(*options.width) != width_)
@@ -135,7 +135,8 @@ void RawReader::fail(size_t frame, const std::string& what) const {
   throw Error(".raw file '" + info_.path + "', frame " + std::to_string(frame) + ": " + what);
 }
 
-void RawReader::readHeader(size_t frame, uint64_t offset, const char* what, uint32_t expectW, uint32_t expectH) {
+void RawReader::readHeader(size_t frame, uint64_t offset, const char* what, uint32_t expectW,
+                           uint32_t expectH) {
   std::uint8_t header[kHeaderBytes];
   file_.seekg(static_cast<std::streamoff>(offset));
   if (!file_.read(reinterpret_cast<char*>(header), kHeaderBytes))
@@ -151,8 +152,8 @@ std::optional<DepthFrame> RawReader::next() {
   if (cursor_ >= end_) return std::nullopt;
   const size_t index = cursor_++;  // a bad frame is skipped if the caller goes on after the error
   const uint64_t offset = frameBytes_ * index;
-  readHeader(index, offset + frameBytes_ - uint64_t{rgbWidth_} * rgbHeight_ * kRgbChannels - kHeaderBytes, "RGB",
-             rgbWidth_, rgbHeight_);
+  readHeader(index, offset + frameBytes_ - uint64_t{rgbWidth_} * rgbHeight_ * kRgbChannels - kHeaderBytes,
+             "RGB", rgbWidth_, rgbHeight_);
   readHeader(index, offset, "depth", width_, height_);
   if (!file_.read(reinterpret_cast<char*>(buffer_.data()), static_cast<std::streamsize>(buffer_.size())))
     fail(index, "cannot read the depth pixels (file truncated since it was opened?)");

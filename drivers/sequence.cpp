@@ -28,7 +28,8 @@ void checkOptions(const std::string& path, const SequenceOptions& o) {
   for (const auto* c : {&o.cx, &o.cy})
     if (*c && !std::isfinite(**c)) bad("the principal point must be finite");
   for (const auto* s : {&o.width, &o.height})
-    if (*s && (**s <= 0 || **s > kMaxSide)) bad("image sides must be in [1, " + std::to_string(kMaxSide) + "] pixels");
+    if (*s && (**s <= 0 || **s > kMaxSide))
+      bad("image sides must be in [1, " + std::to_string(kMaxSide) + "] pixels");
 }
 
 std::unique_ptr<FrameSource> openUnbuffered(const std::string& path, const SequenceOptions& options) {

@@ -26,9 +26,10 @@ struct SequenceOptions {
 // Opens `path`: a directory in TUM layout (depth.txt; or the path of its depth.txt) or a `.raw` file; see
 // drivers/tum_reader.h and drivers/raw_reader.h for each format's calibration and defaults. Precedence for
 // intrinsics and depth scale: options > calibration.json > format defaults (a warning lists the defaulted
-// values). Every invalid depth value (0, 65535, calibration.json's `invalid_depth_values`) is returned as 0. Reads the sequence index eagerly
-// so that structural problems (missing files, non-monotonic timestamps, a .raw whose size is not a whole
-// number of frames) are reported here, before any frame is processed. Throws sb::Error.
+// values). Every invalid depth value (0, 65535, calibration.json's `invalid_depth_values`) is returned as 0.
+// Reads the sequence index eagerly so that structural problems (missing files, non-monotonic timestamps, a
+// .raw whose size is not a whole number of frames) are reported here, before any frame is processed. Throws
+// sb::Error.
 std::unique_ptr<FrameSource> openSequence(const std::string& path, const SequenceOptions& options = {});
 
 }  // namespace sb

@@ -20,7 +20,9 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
-std::string where(const std::string& path, size_t line) { return "'" + path + "' line " + std::to_string(line); }
+std::string where(const std::string& path, size_t line) {
+  return "'" + path + "' line " + std::to_string(line);
+}
 
 double parseTimestamp(const std::string& path, size_t line, const std::string& stamp) {
   double t = 0;
@@ -57,7 +59,8 @@ std::vector<TumIndexEntry> readTumIndex(const std::string& path, bool associatio
     if (associations) {
       if (tokens[1].rfind(kDepthDir, 0) != 0) pair = 2;
       if (tokens[pair + 1].rfind(kDepthDir, 0) != 0)
-        throw Error(where(path, lineNo) + ": neither file lies under " + kDepthDir + ", found \"" + line + "\"");
+        throw Error(where(path, lineNo) + ": neither file lies under " + kDepthDir + ", found \"" + line +
+                    "\"");
     }
     TumIndexEntry e;
     e.line = lineNo;
@@ -65,8 +68,8 @@ std::vector<TumIndexEntry> readTumIndex(const std::string& path, bool associatio
     e.file = tokens[pair + 1];
     if (!entries.empty() && !(e.timestamp > entries.back().timestamp))
       throw Error(where(path, lineNo) + ": timestamp " + tokens[pair] + " does not increase (previous " +
-                  std::to_string(entries.back().timestamp) + " at line " + std::to_string(entries.back().line) +
-                  "); sort the index by time and remove duplicates");
+                  std::to_string(entries.back().timestamp) + " at line " +
+                  std::to_string(entries.back().line) + "); sort the index by time and remove duplicates");
     entries.push_back(std::move(e));
   }
   if (entries.empty()) throw Error("'" + path + "' lists no frames");

@@ -91,7 +91,8 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
   if (!fs::is_directory(dir, ec))
     throw Error("sequence directory '" + directory + "' does not exist or is not a directory");
   indexPath_ = (dir / kIndexName).string();
-  const bool associations = !fs::is_regular_file(indexPath_, ec) && fs::is_regular_file(dir / kAssociationsName, ec);
+  const bool associations =
+      !fs::is_regular_file(indexPath_, ec) && fs::is_regular_file(dir / kAssociationsName, ec);
   if (associations) indexPath_ = (dir / kAssociationsName).string();
   if (!fs::is_regular_file(indexPath_, ec))
     throw Error("sequence '" + directory + "' has no " + kIndexName + " (nor " + kAssociationsName +
@@ -138,8 +139,9 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
                 " is past its end (" + std::to_string(all.size()) + " frames)");
   const size_t available = all.size() - options.firstFrame;
   const size_t count = options.maxFrames ? std::min(options.maxFrames, available) : available;
-  entries_.assign(std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(options.firstFrame)),
-                  std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(options.firstFrame + count)));
+  entries_.assign(
+      std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(options.firstFrame)),
+      std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(options.firstFrame + count)));
   for (const Entry& e : entries_)
     if (!fs::is_regular_file(e.path, ec))
       fail(e, "depth image '" + e.path + "' does not exist; restore it or remove its line");
@@ -177,8 +179,9 @@ DepthFrame TumReader::loadEntry(const Entry& entry) const {
   };
   // Check the size before decoding, so that a corrupt header cannot ask for a huge allocation.
   if (const auto size = pngSize(entry.path)) {
-    const bool expected = w > 0 ? (size->first == static_cast<uint32_t>(w) && size->second == static_cast<uint32_t>(h))
-                                : (size->first <= kMaxSide && size->second <= kMaxSide);
+    const bool expected =
+        w > 0 ? (size->first == static_cast<uint32_t>(w) && size->second == static_cast<uint32_t>(h))
+              : (size->first <= kMaxSide && size->second <= kMaxSide);
     if (!expected) wrongSize(size->first, size->second);
   }
   try {

@@ -5,14 +5,13 @@
 //
 // Ground truth: `groundtruth.txt`, else the directory's only `*.freiburg` file (ICL-NUIM's naming).
 // SequenceInfo::format: calibration.json's `format` key when present; otherwise "7scenes" when its
-// `invalid_depth_values` include 65535 (7-Scenes marks missing depth so); otherwise "icl-nuim" when the ground
-// truth is a `*.freiburg` file; otherwise "tum".
-// Defaults for values neither calibration.json nor the options give (with a warning): "tum": fx = fy = 525,
-// cx = 319.5, cy = 239.5, 5000 units/m; "icl-nuim": fx = 481.2, fy = 480, cx = 319.5, cy = 239.5, 5000
-// units/m; "7scenes": fx = fy = 585, cx = 320, cy = 240, 1000 units/m.
-// Image size: options > calibration.json > the first frame's PNG; every frame must have that size (checked
-// from the PNG header before decoding).
-// Missing depth files of the selected frames are reported at open; unreadable ones at their frame.
+// `invalid_depth_values` include 65535 (7-Scenes marks missing depth so); otherwise "icl-nuim" when the
+// ground truth is a `*.freiburg` file; otherwise "tum". Defaults for values neither calibration.json nor the
+// options give (with a warning): "tum": fx = fy = 525, cx = 319.5, cy = 239.5, 5000 units/m; "icl-nuim": fx =
+// 481.2, fy = 480, cx = 319.5, cy = 239.5, 5000 units/m; "7scenes": fx = fy = 585, cx = 320, cy = 240, 1000
+// units/m. Image size: options > calibration.json > the first frame's PNG; every frame must have that size
+// (checked from the PNG header before decoding). Missing depth files of the selected frames are reported at
+// open; unreadable ones at their frame.
 
 #include <optional>
 #include <string>

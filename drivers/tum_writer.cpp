@@ -55,7 +55,8 @@ TumSequenceWriter::TumSequenceWriter(const std::string& directory, const Sequenc
   if (ec) throw Error("cannot create '" + (dir / kDepthDirName).string() + "': " + ec.message());
   if (info.intrinsics.width <= 0 || info.intrinsics.height <= 0)
     throw Error("cannot write sequence to '" + directory + "': intrinsics give an empty image size");
-  if (!(info.depthScale > 0)) throw Error("cannot write sequence to '" + directory + "': depth scale must be > 0");
+  if (!(info.depthScale > 0))
+    throw Error("cannot write sequence to '" + directory + "': depth scale must be > 0");
 
   const std::string indexPath = (dir / kIndexName).string();
   index_.open(indexPath);

@@ -1,5 +1,5 @@
-#include <catch2/catch.hpp>
 #include <atomic>
+#include <catch2/catch.hpp>
 #include <filesystem>
 
 #include "core/error.h"
@@ -80,7 +80,8 @@ std::unique_ptr<FrameSource> makeSource(bool randomAccess, size_t frames, std::o
 }  // namespace
 
 TEST_CASE("prefetching yields exactly the frames of direct reading", "[drivers][prefetch]") {
-  const std::string dir = test::writePatternSequence(test::scratchDir("prefetch_same") + "/seq", 12, test::smallInfo());
+  const std::string dir =
+      test::writePatternSequence(test::scratchDir("prefetch_same") + "/seq", 12, test::smallInfo());
   SequenceOptions direct;
   direct.prefetch = false;
   SequenceOptions ahead;
@@ -136,7 +137,8 @@ TEST_CASE("prefetching many frames on several threads keeps the order", "[driver
 }
 
 TEST_CASE("prefetching a real sequence reports a truncated PNG at its frame", "[drivers][prefetch]") {
-  const std::string dir = test::writePatternSequence(test::scratchDir("prefetch_error") + "/seq", 6, test::smallInfo());
+  const std::string dir =
+      test::writePatternSequence(test::scratchDir("prefetch_error") + "/seq", 6, test::smallInfo());
   const std::string png = dir + "/depth/000003.png";
   const std::string bytes = test::readText(png);
   test::writeText(png, bytes.substr(0, bytes.size() / 2));

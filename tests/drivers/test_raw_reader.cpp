@@ -33,7 +33,8 @@ std::string le32(uint32_t v) {
 
 }  // namespace
 
-TEST_CASE(".raw round trip: pixels, 30 Hz timestamps, millimetres, ICL-NUIM default camera", "[drivers][raw]") {
+TEST_CASE(".raw round trip: pixels, 30 Hz timestamps, millimetres, ICL-NUIM default camera",
+          "[drivers][raw]") {
   const std::string path = writeRaw(test::scratchDir("raw_basic") + "/seq.raw", 3, 5, 3);
   auto source = openSequence(path, direct());
   const SequenceInfo& info = source->info();
@@ -70,7 +71,8 @@ TEST_CASE(".raw: the byte layout is little-endian with an RGB block after the de
 TEST_CASE(".raw: calibration precedence options > <file>.json > calibration.json", "[drivers][raw]") {
   const std::string dir = test::scratchDir("raw_calibration");
   const std::string path = writeRaw(dir + "/seq.raw", 2, 5, 3);
-  test::writeText(dir + "/calibration.json", R"({"fx": 100, "fy": 101, "cx": 2, "cy": 1, "depth_scale": 5000})");
+  test::writeText(dir + "/calibration.json",
+                  R"({"fx": 100, "fy": 101, "cx": 2, "cy": 1, "depth_scale": 5000})");
   {
     auto source = openSequence(path, direct());
     CHECK(source->info().intrinsics.fx == 100.f);
@@ -112,7 +114,8 @@ TEST_CASE(".raw structural errors", "[drivers][raw][errors]") {
 
   SECTION("truncated file is reported at open with the frame") {
     test::writeText(path, whole.substr(0, whole.size() - 10));
-    CHECK_THROWS_WITH(openSequence(path, direct()), Catch::Contains("seq.raw") && Catch::Contains("frame 2") &&
+    CHECK_THROWS_WITH(openSequence(path, direct()), Catch::Contains("seq.raw") &&
+                                                        Catch::Contains("frame 2") &&
                                                         Catch::Contains("not a whole number"));
   }
   SECTION("empty file") {
@@ -145,7 +148,8 @@ TEST_CASE(".raw structural errors", "[drivers][raw][errors]") {
   }
   SECTION("unknown file type") {
     test::writeText(dir + "/seq.bin", whole);
-    CHECK_THROWS_WITH(openSequence(dir + "/seq.bin", direct()), Catch::Contains("seq.bin") && Catch::Contains(".raw"));
+    CHECK_THROWS_WITH(openSequence(dir + "/seq.bin", direct()),
+                      Catch::Contains("seq.bin") && Catch::Contains(".raw"));
   }
 }
 

@@ -27,7 +27,8 @@ std::vector<DepthFrame> readAll(FrameSource& source) {
 }  // namespace
 
 TEST_CASE("TUM reader returns the written frames, timestamps and calibration", "[drivers][tum]") {
-  const std::string dir = test::writePatternSequence(test::scratchDir("tum_basic") + "/seq", 4, test::smallInfo());
+  const std::string dir =
+      test::writePatternSequence(test::scratchDir("tum_basic") + "/seq", 4, test::smallInfo());
   auto source = openSequence(dir, direct());
   const SequenceInfo& info = source->info();
   CHECK(info.format == "tum");
@@ -77,7 +78,8 @@ TEST_CASE("TUM reader: ground truth, volume hints, comments and CRLF lines", "[d
 }
 
 TEST_CASE("TUM reader defaults without calibration.json, and options win over the file", "[drivers][tum]") {
-  const std::string dir = test::writePatternSequence(test::scratchDir("tum_defaults") + "/seq", 2, test::smallInfo());
+  const std::string dir =
+      test::writePatternSequence(test::scratchDir("tum_defaults") + "/seq", 2, test::smallInfo());
   fs::remove(dir + "/calibration.json");
   {
     auto source = openSequence(dir, direct());
@@ -130,7 +132,8 @@ TEST_CASE("TUM reader normalises invalid values to 0 and recognises 7-Scenes", "
 }
 
 TEST_CASE("TUM reader: firstFrame and maxFrames select a range, keeping sequence indices", "[drivers][tum]") {
-  const std::string dir = test::writePatternSequence(test::scratchDir("tum_range") + "/seq", 6, test::smallInfo());
+  const std::string dir =
+      test::writePatternSequence(test::scratchDir("tum_range") + "/seq", 6, test::smallInfo());
   SequenceOptions o = direct();
   o.firstFrame = 2;
   o.maxFrames = 3;
@@ -154,18 +157,21 @@ TEST_CASE("TUM reader reports structural errors at open", "[drivers][tum][errors
   const std::string dir = test::writePatternSequence(root + "/seq", 3, test::smallInfo());
   const std::string index = test::readText(dir + "/depth.txt");
 
-  CHECK_THROWS_WITH(openSequence(root + "/nope", direct()), Catch::Contains("nope") && Catch::Contains("not exist"));
+  CHECK_THROWS_WITH(openSequence(root + "/nope", direct()),
+                    Catch::Contains("nope") && Catch::Contains("not exist"));
   fs::create_directories(root + "/empty");
   CHECK_THROWS_WITH(openSequence(root + "/empty", direct()), Catch::Contains("depth.txt"));
 
   SECTION("non-monotonic timestamps name the line") {
-    test::writeText(dir + "/depth.txt", "# c\n1.0 depth/000000.png\n2.0 depth/000001.png\n2.0 depth/000002.png\n");
+    test::writeText(dir + "/depth.txt",
+                    "# c\n1.0 depth/000000.png\n2.0 depth/000001.png\n2.0 depth/000002.png\n");
     CHECK_THROWS_WITH(openSequence(dir, direct()),
                       Catch::Contains("depth.txt' line 4") && Catch::Contains("does not increase"));
   }
   SECTION("malformed lines name the line") {
     test::writeText(dir + "/depth.txt", "1.0 depth/000000.png\n2.0\n");
-    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("line 2") && Catch::Contains("timestamp filename"));
+    CHECK_THROWS_WITH(openSequence(dir, direct()),
+                      Catch::Contains("line 2") && Catch::Contains("timestamp filename"));
     test::writeText(dir + "/depth.txt", "1.0 depth/000000.png extra\n");
     CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("line 1"));
     test::writeText(dir + "/depth.txt", "1.0 depth/000000.png\n2.0x depth/000001.png\n");
@@ -179,12 +185,14 @@ TEST_CASE("TUM reader reports structural errors at open", "[drivers][tum][errors
   }
   SECTION("a missing PNG names the file, frame and line") {
     fs::remove(dir + "/depth/000002.png");
-    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("000002.png") && Catch::Contains("frame 2") &&
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("000002.png") &&
+                                                       Catch::Contains("frame 2") &&
                                                        Catch::Contains("line 4"));
   }
   SECTION("a malformed calibration.json names the key") {
     test::writeText(dir + "/calibration.json", R"({"fx": "big"})");
-    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("calibration.json") && Catch::Contains("'fx'"));
+    CHECK_THROWS_WITH(openSequence(dir, direct()),
+                      Catch::Contains("calibration.json") && Catch::Contains("'fx'"));
     test::writeText(dir + "/calibration.json", R"({"width": 0})");
     CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("'width'"));
     test::writeText(dir + "/calibration.json", "{ not json");
@@ -194,7 +202,8 @@ TEST_CASE("TUM reader reports structural errors at open", "[drivers][tum][errors
 }
 
 TEST_CASE("TUM reader reports bad frames at the frame", "[drivers][tum][errors]") {
-  const std::string dir = test::writePatternSequence(test::scratchDir("tum_frame_errors") + "/seq", 4, test::smallInfo());
+  const std::string dir =
+      test::writePatternSequence(test::scratchDir("tum_frame_errors") + "/seq", 4, test::smallInfo());
   const std::string png1 = dir + "/depth/000001.png";
 
   SECTION("truncated PNG") {
@@ -217,7 +226,8 @@ TEST_CASE("TUM reader reports bad frames at the frame", "[drivers][tum][errors]"
 }
 
 TEST_CASE("TUM reader checks a PNG's size before decoding it", "[drivers][tum][errors]") {
-  const std::string dir = test::writePatternSequence(test::scratchDir("tum_huge") + "/seq", 2, test::smallInfo());
+  const std::string dir =
+      test::writePatternSequence(test::scratchDir("tum_huge") + "/seq", 2, test::smallInfo());
   // Patch frame 0's IHDR to claim 100000 x 100000 pixels (big-endian width and height at byte 16).
   const std::string png0 = dir + "/depth/000000.png";
   std::string bytes = test::readText(png0);
@@ -226,24 +236,29 @@ TEST_CASE("TUM reader checks a PNG's size before decoding it", "[drivers][tum][e
   test::writeText(png0, bytes);
 
   auto source = openSequence(dir, direct());  // size from calibration.json: no decoding at open
-  CHECK_THROWS_WITH(source->next(), Catch::Contains("100000x100000") && Catch::Contains("6x4") &&
-                                        Catch::Contains("frame 0"));
+  CHECK_THROWS_WITH(source->next(),
+                    Catch::Contains("100000x100000") && Catch::Contains("6x4") && Catch::Contains("frame 0"));
   fs::remove(dir + "/calibration.json");  // now the first frame is probed at open
-  CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("100000x100000") && Catch::Contains("16384"));
+  CHECK_THROWS_WITH(openSequence(dir, direct()),
+                    Catch::Contains("100000x100000") && Catch::Contains("16384"));
 }
 
-TEST_CASE("TUM reader: ICL-NUIM archives with associations.txt and a .freiburg ground truth", "[drivers][tum]") {
+TEST_CASE("TUM reader: ICL-NUIM archives with associations.txt and a .freiburg ground truth",
+          "[drivers][tum]") {
   const std::string dir = test::scratchDir("tum_iclnuim");
   fs::create_directories(dir + "/depth");
-  for (size_t i = 0; i < 3; ++i) writePng16(dir + "/depth/" + std::to_string(i) + ".png", test::patternDepth(i, 4, 3));
+  for (size_t i = 0; i < 3; ++i)
+    writePng16(dir + "/depth/" + std::to_string(i) + ".png", test::patternDepth(i, 4, 3));
   test::writeText(dir + "/livingRoom0n.gt.freiburg", "0 0 0 0 0 0 0 1\n");
   SECTION("depth pair first") {
-    test::writeText(dir + "/associations.txt", "0 depth/0.png 0 rgb/0.png\n1 depth/1.png 1 rgb/1.png\n"
-                                               "2 depth/2.png 2 rgb/2.png\n");
+    test::writeText(dir + "/associations.txt",
+                    "0 depth/0.png 0 rgb/0.png\n1 depth/1.png 1 rgb/1.png\n"
+                    "2 depth/2.png 2 rgb/2.png\n");
   }
   SECTION("rgb pair first") {
-    test::writeText(dir + "/associations.txt", "0 rgb/0.png 0 depth/0.png\n1 rgb/1.png 1 depth/1.png\n"
-                                               "2 rgb/2.png 2 depth/2.png\n");
+    test::writeText(dir + "/associations.txt",
+                    "0 rgb/0.png 0 depth/0.png\n1 rgb/1.png 1 depth/1.png\n"
+                    "2 rgb/2.png 2 depth/2.png\n");
   }
   auto source = openSequence(dir, direct());
   const SequenceInfo& info = source->info();
@@ -259,12 +274,13 @@ TEST_CASE("TUM reader: ICL-NUIM archives with associations.txt and a .freiburg g
   CHECK(frames[2].depth.pixels() == test::patternDepth(2, 4, 3).pixels());
 
   test::writeText(dir + "/associations.txt", "0 rgb/0.png 0 other/0.png\n");
-  CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("associations.txt' line 1") &&
-                                                     Catch::Contains("depth/"));
+  CHECK_THROWS_WITH(openSequence(dir, direct()),
+                    Catch::Contains("associations.txt' line 1") && Catch::Contains("depth/"));
 }
 
 TEST_CASE("openSequence rejects impossible command-line values", "[drivers][errors]") {
-  const std::string dir = test::writePatternSequence(test::scratchDir("bad_options") + "/seq", 1, test::smallInfo());
+  const std::string dir =
+      test::writePatternSequence(test::scratchDir("bad_options") + "/seq", 1, test::smallInfo());
   SequenceOptions o = direct();
   o.depthScale = 0.0;
   CHECK_THROWS_WITH(openSequence(dir, o), Catch::Contains("depth scale"));

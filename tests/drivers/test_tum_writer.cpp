@@ -75,7 +75,8 @@ TEST_CASE("TumSequenceWriter writes depth PNGs, depth.txt and calibration.json",
   CHECK(cal.at("cy").get<float>() == 1.5f);
   CHECK(cal.at("depth_scale").get<double>() == 5000.0);
   CHECK(cal.at("volume_size_m").get<double>() == 4.5);
-  CHECK(cal.at("volume_initial_position").get<std::vector<double>>() == std::vector<double>{0.5, 0.25, 0.125});
+  CHECK(cal.at("volume_initial_position").get<std::vector<double>>() ==
+        std::vector<double>{0.5, 0.25, 0.125});
 
   const auto gtLines = dataLines(dir + "/groundtruth.txt");
   REQUIRE(gtLines.size() == 2);
@@ -103,7 +104,8 @@ TEST_CASE("TumSequenceWriter rejects bad input", "[drivers][writer]") {
   const std::string dir = root + "/seq";
   TumSequenceWriter writer(dir, smallInfo());
   writer.write(makeFrame(0, 1.0, 6, 4));
-  CHECK_THROWS_WITH(writer.write(makeFrame(1, 1.0, 6, 4)), Catch::Contains("frame 1") && Catch::Contains("increase"));
+  CHECK_THROWS_WITH(writer.write(makeFrame(1, 1.0, 6, 4)),
+                    Catch::Contains("frame 1") && Catch::Contains("increase"));
   CHECK_THROWS_WITH(writer.write(makeFrame(1, 1.0000001, 6, 4)), Catch::Contains("increase"));
   CHECK_THROWS_WITH(writer.write(makeFrame(1, 2.0, 5, 4)), Catch::Contains("5x4") && Catch::Contains("6x4"));
   writer.write(makeFrame(1, 2.0, 6, 4));
@@ -111,7 +113,8 @@ TEST_CASE("TumSequenceWriter rejects bad input", "[drivers][writer]") {
   CHECK(dataLines(dir + "/depth.txt").size() == 2);
 
   // A non-empty directory is refused unless overwriting, which replaces the previous sequence only.
-  CHECK_THROWS_WITH(TumSequenceWriter(dir, smallInfo()), Catch::Contains("not empty") && Catch::Contains(dir));
+  CHECK_THROWS_WITH(TumSequenceWriter(dir, smallInfo()),
+                    Catch::Contains("not empty") && Catch::Contains(dir));
   std::ofstream(dir + "/notes.txt") << "keep me\n";
   {
     TumSequenceWriter again(dir, smallInfo(), true);
