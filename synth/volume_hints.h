@@ -20,7 +20,7 @@ struct VolumeHintParams {
   double lowPercentile = 0.02, highPercentile = 0.98;
   double paddingM = 0.2;      // added on every side, metres
   double roundingM = 0.25;    // cube side rounded up to a multiple of this, metres
-  double minSizeM = 2.0, maxSizeM = 8.0;
+  double minSizeM = 4.0, maxSizeM = 8.0;  // metres
 };
 
 struct VolumeHints {

@@ -33,7 +33,7 @@ TEST_CASE("a synthetic sequence round-trips through openSequence", "[synth][sequ
   REQUIRE(result.frames == 10);
   REQUIRE(lastProgress == 10);
   REQUIRE(result.validFraction > 0.3);
-  REQUIRE(result.volume.sizeM >= 2.0);
+  REQUIRE(result.volume.sizeM >= 4.0);
   REQUIRE(result.volume.sizeM <= 8.0);
 
   auto source = openSequence(dir);
