@@ -63,11 +63,31 @@ inline float3 operator/(float3 a, float s) { return float3{a.x / s, a.y / s, a.z
 
 SB_INLINE float3 sbMakeFloat3(float x, float y, float z) { return float3{x, y, z}; }
 SB_INLINE float sbSqrt(float v) { return sqrtf(v); }
-SB_INLINE float sbExp(float v) { return expf(v); }
+// exp for the kernels' weights: 2^n * p(f) with a degree-6 polynomial (relative error < 2e-7 on [-87, 88]),
+// inlineable unlike the libm call. OpenCL uses the builtin.
+SB_INLINE float sbExp(float v) {
+  v = v < -87.0f ? -87.0f : (v > 88.0f ? 88.0f : v);
+  const float t = v * 1.44269504f;  // log2(e)
+  const float n = floorf(t + 0.5f);
+  const float f = (v - n * 0.693145752f) - n * 1.42860677e-6f;  // v - n ln2, in two parts
+  float p = 1.0f / 720.0f;
+  p = p * f + 1.0f / 120.0f;
+  p = p * f + 1.0f / 24.0f;
+  p = p * f + 1.0f / 6.0f;
+  p = p * f + 0.5f;
+  p = p * f + 1.0f;
+  p = p * f + 1.0f;
+  union {
+    float f;
+    int i;
+  } scale;
+  scale.i = ((int)n + 127) << 23;
+  return p * scale.f;
+}
 SB_INLINE float sbFloor(float v) { return floorf(v); }
 SB_INLINE float sbFabs(float v) { return fabsf(v); }
-SB_INLINE float sbFmin(float a, float b) { return fminf(a, b); }
-SB_INLINE float sbFmax(float a, float b) { return fmaxf(a, b); }
+SB_INLINE float sbFmin(float a, float b) { return a < b ? a : b; }
+SB_INLINE float sbFmax(float a, float b) { return a > b ? a : b; }
 SB_INLINE float sbDot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 SB_INLINE float3 sbCross(float3 a, float3 b) {
   return float3{a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};

@@ -4,26 +4,34 @@
 
 #include "kernels/volume.h"
 
-// Empty-space skipping grid: one byte per block of (1 << SB_BLOCK_SHIFT)^3 voxels, non-zero when the block
-// and its 26 neighbours hold no tsdf below +1, so that every interpolation inside it returns exactly +1 and
-// the ray may jump to the block's exit. `skip` may be 0 (no skipping).
-SB_INLINE int sbSkippable(SB_GLOBAL const unsigned char* skip, int blocksPerSide, float blockSize, float3 pos) {
-  const int bx = (int)sbFloor(pos.x / blockSize);
-  const int by = (int)sbFloor(pos.y / blockSize);
-  const int bz = (int)sbFloor(pos.z / blockSize);
-  if (bx < 0 || by < 0 || bz < 0 || bx >= blocksPerSide || by >= blocksPerSide || bz >= blocksPerSide) return 0;
-  return skip[bx + by * blocksPerSide + bz * blocksPerSide * blocksPerSide];
-}
-
-// Ray parameter where the ray leaves the block that contains `pos`.
-SB_INLINE float sbBlockExit(float3 origin, float3 direction, float blockSize, float3 pos) {
-  float exitT = 1e30f;
-  const float b[3] = {sbFloor(pos.x / blockSize), sbFloor(pos.y / blockSize), sbFloor(pos.z / blockSize)};
+// Empty-space skipping. `blockFlags` holds one byte per block of (1 << SB_BLOCK_SHIFT)^3 voxels, non-zero when
+// some voxel of the block stores a tsdf below +1. When every voxel that the trilinear interpolation at `pos`
+// reads lies in blocks without surface, the interpolation is exactly +1 there and stays so while the ray
+// remains in the box whose interpolation cells use only those blocks: returns the ray parameter where the ray
+// leaves that box. Returns -1 when a block with surface is involved.
+SB_INLINE float sbSkipTo(SB_GLOBAL const unsigned char* blockFlags, int resolution, float size, float3 origin,
+                         float3 direction, float3 pos) {
+  const float scale = (float)resolution / size;
+  const float p[3] = {pos.x, pos.y, pos.z};
   const float o[3] = {origin.x, origin.y, origin.z};
   const float d[3] = {direction.x, direction.y, direction.z};
+  const int blocksPerSide = resolution >> SB_BLOCK_SHIFT;
+  int lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
-    if (d[a] > 0.0f) exitT = sbFmin(exitT, ((b[a] + 1.0f) * blockSize - o[a]) / d[a]);
-    if (d[a] < 0.0f) exitT = sbFmin(exitT, (b[a] * blockSize - o[a]) / d[a]);
+    const int base = (int)sbFloor(p[a] * scale - 0.5f);
+    lo[a] = sbClampInt(base, 0, resolution - 1) >> SB_BLOCK_SHIFT;
+    hi[a] = sbClampInt(base + 1, 0, resolution - 1) >> SB_BLOCK_SHIFT;
+  }
+  for (int bz = lo[2]; bz <= hi[2]; ++bz)
+    for (int by = lo[1]; by <= hi[1]; ++by)
+      for (int bx = lo[0]; bx <= hi[0]; ++bx)
+        if (blockFlags[bx + by * blocksPerSide + bz * blocksPerSide * blocksPerSide]) return -1.0f;
+  // Interpolation cells stay inside blocks lo..hi while p*scale - 0.5 is in [lo*B, hi*B + B - 1).
+  const float blockVoxels = (float)(1 << SB_BLOCK_SHIFT);
+  float exitT = 1e30f;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] > 0.0f) exitT = sbFmin(exitT, ((((float)hi[a] + 1.0f) * blockVoxels - 0.5f) / scale - o[a]) / d[a]);
+    if (d[a] < 0.0f) exitT = sbFmin(exitT, (((float)lo[a] * blockVoxels + 0.5f) / scale - o[a]) / d[a]);
   }
   return exitT;
 }
@@ -31,17 +39,15 @@ SB_INLINE float sbBlockExit(float3 origin, float3 direction, float blockSize, fl
 // raycast: pixel (x, y) of an image with intrinsics k seen from `cameraToWorld`. The ray parameter t is the
 // depth along the camera's z axis (metres), marched from nearPlane to farPlane (clipped to the volume) with
 // `largeStep` until the tsdf falls below `smallStepBelow`, then with `smallStep`; the zero crossing is
-// interpolated linearly. Writes the surface point and unit normal (volume frame) or vertex 0 and an invalid
+// interpolated linearly. `blockFlags` (see sbSkipTo) may be 0: no empty-space skipping. Writes the surface point and unit normal (volume frame) or vertex 0 and an invalid
 // normal.
 SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
                        SB_GLOBAL const short* volume, int resolution, float size,
-                       SB_GLOBAL const unsigned char* skip, SbMat34 cameraToWorld, SbCamera k, float nearPlane,
+                       SB_GLOBAL const unsigned char* blockFlags, SbMat34 cameraToWorld, SbCamera k, float nearPlane,
                        float farPlane, float largeStep, float smallStep, float smallStepBelow, int x, int y) {
   const int index = y * width + x;
   const float3 origin = sbMakeFloat3(cameraToWorld.m[3], cameraToWorld.m[7], cameraToWorld.m[11]);
   const float3 direction = sbRotate(cameraToWorld, sbMakeFloat3(((float)x - k.cx) / k.fx, ((float)y - k.cy) / k.fy, 1.0f));
-  const int blocksPerSide = resolution >> SB_BLOCK_SHIFT;
-  const float blockSize = size / (float)blocksPerSide;
   // Entry and exit of the volume's box.
   float tEnter = nearPlane;
   float tExit = farPlane;
@@ -67,13 +73,15 @@ SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNor
     if (fPrevious > 0.0f) {
       for (; t < tExit; t += step) {
         const float3 pos = origin + direction * t;
-        if (skip != 0 && sbSkippable(skip, blocksPerSide, blockSize, pos)) {
-          // Everything interpolated in this block is +1: continue just past its exit.
-          const float jump = sbBlockExit(origin, direction, blockSize, pos) + 1e-4f * smallStep;
-          t = sbFmax(t, jump - step);
-          fPrevious = 1.0f;
-          fCurrent = 1.0f;
-          continue;
+        if (blockFlags != 0) {
+          const float skipTo = sbSkipTo(blockFlags, resolution, size, origin, direction, pos);
+          if (skipTo > t) {
+            // The tsdf is +1 up to skipTo: continue just past it.
+            t = sbFmax(t, skipTo + 1e-3f * smallStep - step);
+            fPrevious = 1.0f;
+            fCurrent = 1.0f;
+            continue;
+          }
         }
         fCurrent = sbInterpolateTsdf(volume, resolution, size, pos);
         if (fCurrent < 0.0f) break;

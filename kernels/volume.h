@@ -14,7 +14,7 @@
 #define SB_BLOCK_SHIFT 3
 
 SB_INLINE float sbVoxelTsdf(SB_GLOBAL const short* volume, int resolution, int x, int y, int z) {
-  return (float)volume[2 * (x + y * resolution + z * resolution * resolution)] / SB_TSDF_SCALE;
+  return (float)volume[2 * (x + y * resolution + z * resolution * resolution)] * (1.0f / SB_TSDF_SCALE);
 }
 
 // Updates voxel `index` whose centre is `pos` in the camera frame (metres) with the depth image (metres,
@@ -29,11 +29,17 @@ SB_INLINE int integrateVoxel(SB_GLOBAL short* volume, int index, float3 pos, SB_
   if (u < 0.0f || v < 0.0f || u > (float)(width - 1) || v > (float)(height - 1)) return 0;
   const float d = SB_LOAD_MAP(depth, (int)v * width + (int)u);
   if (d <= 0.0f) return 0;
-  const float qx = pos.x * invZ;
-  const float qy = pos.y * invZ;
-  const float diff = (d - pos.z) * sbSqrt(1.0f + qx * qx + qy * qy);
-  if (diff <= -mu) return 0;
-  const float sdf = sbFmin(1.0f, diff / mu);
+  // Signed distance along the ray; the ray-length factor is >= 1, so a depth difference >= mu is free space
+  // (sdf = +1) without computing it.
+  const float alongZ = d - pos.z;
+  float sdf = 1.0f;
+  if (alongZ < mu) {
+    const float qx = pos.x * invZ;
+    const float qy = pos.y * invZ;
+    const float diff = alongZ * sbSqrt(1.0f + qx * qx + qy * qy);
+    if (diff <= -mu) return 0;
+    sdf = sbFmin(1.0f, diff / mu);
+  }
   const float oldTsdf = (float)volume[2 * index] / SB_TSDF_SCALE;
   const int oldWeight = volume[2 * index + 1];
   const float tsdf = sbClampFloat(((float)oldWeight * oldTsdf + sdf) / (float)(oldWeight + 1), -1.0f, 1.0f);
@@ -67,19 +73,24 @@ SB_INLINE float sbInterpolateTsdf(SB_GLOBAL const short* volume, int resolution,
   const float fy = sy - by;
   const float fz = sz - bz;
   const int last = resolution - 1;
-  const int x0 = sbClampInt((int)bx, 0, last);
-  const int y0 = sbClampInt((int)by, 0, last);
-  const int z0 = sbClampInt((int)bz, 0, last);
-  const int x1 = sbClampInt((int)bx + 1, 0, last);
-  const int y1 = sbClampInt((int)by + 1, 0, last);
-  const int z1 = sbClampInt((int)bz + 1, 0, last);
-  const float c00 = sbVoxelTsdf(volume, resolution, x0, y0, z0) * (1.0f - fx) + sbVoxelTsdf(volume, resolution, x1, y0, z0) * fx;
-  const float c10 = sbVoxelTsdf(volume, resolution, x0, y1, z0) * (1.0f - fx) + sbVoxelTsdf(volume, resolution, x1, y1, z0) * fx;
-  const float c01 = sbVoxelTsdf(volume, resolution, x0, y0, z1) * (1.0f - fx) + sbVoxelTsdf(volume, resolution, x1, y0, z1) * fx;
-  const float c11 = sbVoxelTsdf(volume, resolution, x0, y1, z1) * (1.0f - fx) + sbVoxelTsdf(volume, resolution, x1, y1, z1) * fx;
+  const int ix = (int)bx;
+  const int iy = (int)by;
+  const int iz = (int)bz;
+  // Lower corner clamped into the volume; the step to the upper corner is 0 where it would leave it.
+  const int x0 = sbClampInt(ix, 0, last);
+  const int y0 = sbClampInt(iy, 0, last);
+  const int z0 = sbClampInt(iz, 0, last);
+  const int dx = (ix >= 0 && ix < last) ? 2 : 0;
+  const int dy = (iy >= 0 && iy < last) ? 2 * resolution : 0;
+  const int dz = (iz >= 0 && iz < last) ? 2 * resolution * resolution : 0;
+  SB_GLOBAL const short* p = volume + 2 * (x0 + y0 * resolution + z0 * resolution * resolution);
+  const float c00 = (float)p[0] * (1.0f - fx) + (float)p[dx] * fx;
+  const float c10 = (float)p[dy] * (1.0f - fx) + (float)p[dy + dx] * fx;
+  const float c01 = (float)p[dz] * (1.0f - fx) + (float)p[dz + dx] * fx;
+  const float c11 = (float)p[dz + dy] * (1.0f - fx) + (float)p[dz + dy + dx] * fx;
   const float c0 = c00 * (1.0f - fy) + c10 * fy;
   const float c1 = c01 * (1.0f - fy) + c11 * fy;
-  return c0 * (1.0f - fz) + c1 * fz;
+  return (c0 * (1.0f - fz) + c1 * fz) * (1.0f / SB_TSDF_SCALE);
 }
 
 // Gradient of the interpolated tsdf at `pos` by central differences one voxel apart (unnormalised).

@@ -15,6 +15,7 @@ namespace {
 
 constexpr int kRowsPerChunk = 8;   // image rows per parallel chunk (fixed: determinism)
 constexpr int kBlock = 1 << SB_BLOCK_SHIFT;
+constexpr int kTile = 8;          // raycast tile side, pixels
 
 class StageTimer {
  public:
@@ -66,7 +67,6 @@ CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize,
   }
   const int blocks = config_.volumeResolution / kBlock;
   blockNearSurface_.assign(static_cast<size_t>(blocks) * blocks * blocks, 0);
-  skip_.assign(blockNearSurface_.size(), 1);
 }
 
 void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) {
@@ -136,37 +136,52 @@ TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, c
                             StageTimes& times) {
   const Level& in = levels_[level];
   const int w = in.k.width, h = in.k.height;
+  // track and reduce run fused per chunk of rows (the chunk's track output stays in cache); each chunk
+  // reduces into its own partial sums (double), summed in chunk order: deterministic for any thread count.
   trackOut_.resize(static_cast<size_t>(SB_TRACK_STRIDE) * w * h);
-  {
-    StageTimer t(times, Stage::track);
-    const SbMat34 toWorld = toMat34(cameraToWorld.matrix());
-    Eigen::Matrix<float, 3, 4> projection = cameraMatrix(referenceK_) * referencePose.inverse().matrix().topRows<3>();
-    const SbMat34 toReference = toMat34(projection);
-    float* out = trackOut_.data();
-    const float* v = in.vertex.data();
-    const float* n = in.normal.data();
-    const float* rv = referenceVertex_.data();
-    const float* rn = referenceNormal_.data();
-    const int rw = referenceK_.width, rh = referenceK_.height;
-    const float dist = config_.icpDistanceThreshold, dot = config_.icpNormalThreshold;
-    forEachPixel(pool_, w, h, [&](int x, int y) { ::track(out, v, n, w, rv, rn, rw, rh, toWorld, toReference, dist, dot, x, y); });
-  }
-  StageTimer t(times, Stage::reduce);
+  const SbMat34 toWorld = toMat34(cameraToWorld.matrix());
+  const Eigen::Matrix<float, 3, 4> projection =
+      cameraMatrix(referenceK_) * referencePose.inverse().matrix().topRows<3>();
+  const SbMat34 toReference = toMat34(projection);
+  float* out = trackOut_.data();
+  const float* v = in.vertex.data();
+  const float* n = in.normal.data();
+  const float* rv = referenceVertex_.data();
+  const float* rn = referenceNormal_.data();
+  const int rw = referenceK_.width, rh = referenceK_.height;
+  const float dist = config_.icpDistanceThreshold, dot = config_.icpNormalThreshold;
   const int chunks = ThreadPool::chunkCount(0, h, kRowsPerChunk);
   std::vector<TrackSums> partial(chunks);
-  const float* data = trackOut_.data();
+  std::vector<double> trackMs(chunks), reduceMs(chunks);
+  const auto start = std::chrono::steady_clock::now();
   pool_.parallelFor(0, h, kRowsPerChunk, [&](int chunk, int y0, int y1) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < w; ++x) ::track(out, v, n, w, rv, rn, rw, rh, toWorld, toReference, dist, dot, x, y);
+    const auto t1 = std::chrono::steady_clock::now();
     TrackSums& sums = partial[chunk];
     sums.fill(0.0);
     for (int y = y0; y < y1; ++y) {
       float row[SB_REDUCE_SIZE] = {};
-      for (int x = 0; x < w; ++x) ::reduce(row, data, y * w + x);
+      for (int x = 0; x < w; ++x) ::reduce(row, out, y * w + x);
       for (int i = 0; i < SB_REDUCE_SIZE; ++i) sums[i] += row[i];
     }
+    trackMs[chunk] = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    reduceMs[chunk] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   });
   TrackSums total{};
   for (const TrackSums& p : partial)
     for (int i = 0; i < SB_REDUCE_SIZE; ++i) total[i] += p[i];
+  // Wall time of the fused loop, split between the stages by their share of the per-chunk work.
+  double trackSum = 0, reduceSum = 0;
+  for (int c = 0; c < chunks; ++c) {
+    trackSum += trackMs[c];
+    reduceSum += reduceMs[c];
+  }
+  const double wall = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  const double share = trackSum + reduceSum > 0 ? trackSum / (trackSum + reduceSum) : 0.5;
+  times[Stage::track] += wall * share;
+  times[Stage::reduce] += wall * (1.0 - share);
   return total;
 }
 
@@ -213,25 +228,6 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
       }
     }
   });
-  buildSkipGrid();
-}
-
-void CpuBackend::buildSkipGrid() {
-  const int b = config_.volumeResolution / kBlock;
-  auto at = [&](int x, int y, int z) { return static_cast<size_t>(x) + static_cast<size_t>(y) * b + static_cast<size_t>(z) * b * b; };
-  for (int z = 0; z < b; ++z)
-    for (int y = 0; y < b; ++y)
-      for (int x = 0; x < b; ++x) {
-        uint8_t empty = 1;
-        for (int dz = std::max(0, z - 1); dz <= std::min(b - 1, z + 1) && empty; ++dz)
-          for (int dy = std::max(0, y - 1); dy <= std::min(b - 1, y + 1) && empty; ++dy)
-            for (int dx = std::max(0, x - 1); dx <= std::min(b - 1, x + 1); ++dx)
-              if (blockNearSurface_[at(dx, dy, dz)]) {
-                empty = 0;
-                break;
-              }
-        skip_[at(x, y, z)] = empty;
-      }
 }
 
 void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) {
@@ -245,15 +241,19 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   const int res = config_.volumeResolution;
   const float size = config_.volumeSize;
   const int16_t* vol = volume_.data();
-  const uint8_t* skip = config_.emptySpaceSkipping ? skip_.data() : nullptr;
+  const uint8_t* flags = config_.emptySpaceSkipping ? blockNearSurface_.data() : nullptr;
   const float nearPlane = config_.nearPlane, farPlane = config_.farPlane;
   const float largeStep = config_.raycastLargeStep * config_.mu;
   const float smallStep = config_.raycastSmallStep * config_.voxelSize();
   const float below = config_.raycastSmallStepBelow;
   float* outV = referenceVertex_.data();
   float* outN = referenceNormal_.data();
-  forEachPixel(pool_, w, h, [&](int x, int y) {
-    ::raycast(outV, outN, w, vol, res, size, skip, pose, k, nearPlane, farPlane, largeStep, smallStep, below, x, y);
+  // Square tiles: neighbouring rays read neighbouring voxels.
+  pool_.parallelFor(0, h, kTile, [&](int, int y0, int y1) {
+    for (int tx = 0; tx < w; tx += kTile)
+      for (int y = y0; y < y1; ++y)
+        for (int x = tx; x < std::min(w, tx + kTile); ++x)
+          ::raycast(outV, outN, w, vol, res, size, flags, pose, k, nearPlane, farPlane, largeStep, smallStep, below, x, y);
   });
 }
 

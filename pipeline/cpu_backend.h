@@ -40,7 +40,6 @@ class CpuBackend : public ComputeBackend {
     Intrinsics k;
     std::vector<float> depth, vertex, normal;
   };
-  void buildSkipGrid();
 
   PipelineConfig config_;
   Intrinsics full_;
@@ -56,8 +55,7 @@ class CpuBackend : public ComputeBackend {
   std::vector<float> referenceVertex_, referenceNormal_;
 
   std::vector<int16_t> volume_;            // 2 * R^3: (tsdf, weight) pairs
-  std::vector<uint8_t> blockNearSurface_;  // per block: some voxel holds tsdf < +1
-  std::vector<uint8_t> skip_;              // per block: it and its 26 neighbours hold no surface
+  std::vector<uint8_t> blockNearSurface_;  // per block: some voxel holds tsdf < +1 (empty-space skipping)
 };
 
 }  // namespace sb
