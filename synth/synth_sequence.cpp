@@ -1,6 +1,8 @@
 #include "synth/synth_sequence.h"
 
 #include <algorithm>
+#include <array>
+#include <future>
 #include <sstream>
 
 #include "core/error.h"
@@ -61,32 +63,39 @@ SynthResult synthesizeSequence(const Trajectory& full, const SynthOptions& optio
   const Renderer renderer(scene, options.intrinsics);
   ThreadPool& pool = ThreadPool::global();
   const int batch = kFramesPerThreadPerBatch * static_cast<int>(pool.threadCount());
-  std::vector<DepthFrame> frames(static_cast<size_t>(batch));
-  std::vector<size_t> validCounts(static_cast<size_t>(batch));
+  // Two batches of frames: the pool renders one while a writer thread encodes and writes the other.
+  std::array<std::vector<DepthFrame>, 2> frames;
+  for (auto& b : frames) b.resize(static_cast<size_t>(batch));
+  std::future<void> writing;
   size_t valid = 0;
   const int total = static_cast<int>(trajectory.size());
-  for (int first = 0; first < total; first += batch) {
+  for (int first = 0, b = 0; first < total; first += batch, b ^= 1) {
     const int count = std::min(batch, total - first);
+    std::vector<DepthFrame>& current = frames[static_cast<size_t>(b)];
     pool.parallelFor(0, count, 1, [&](int, int begin, int end) {
       DepthMeters meters;
       for (int j = begin; j < end; ++j) {
         const size_t index = static_cast<size_t>(first + j);
         renderer.render(trajectory[index].T_camera_to_world, options.sensor, frameSeed(options.seed, index), meters,
                         /*parallel=*/false);
-        DepthFrame& frame = frames[static_cast<size_t>(j)];
+        DepthFrame& frame = current[static_cast<size_t>(j)];
         frame.index = index;
         frame.timestamp = trajectory[index].timestamp;
         toRaw(meters, options.depthScale, frame.depth);
-        validCounts[static_cast<size_t>(j)] = static_cast<size_t>(
-            std::count_if(frame.depth.pixels().begin(), frame.depth.pixels().end(), [](uint16_t v) { return v != 0; }));
       }
     });
     for (int j = 0; j < count; ++j) {
-      writer.write(frames[static_cast<size_t>(j)]);
-      valid += validCounts[static_cast<size_t>(j)];
+      const auto& px = current[static_cast<size_t>(j)].depth.pixels();
+      valid += static_cast<size_t>(std::count_if(px.begin(), px.end(), [](uint16_t v) { return v != 0; }));
     }
-    if (progress) progress(static_cast<size_t>(first + count), trajectory.size());
+    if (writing.valid()) writing.get();  // the previous batch is written (rethrows its error)
+    if (progress && first > 0) progress(static_cast<size_t>(first), trajectory.size());
+    writing = std::async(std::launch::async, [&writer, &current, count] {
+      for (int j = 0; j < count; ++j) writer.write(current[static_cast<size_t>(j)]);
+    });
   }
+  if (writing.valid()) writing.get();
+  if (progress) progress(trajectory.size(), trajectory.size());
   writer.finish();
   result.frames = trajectory.size();
   result.validFraction = static_cast<double>(valid) /
