@@ -89,20 +89,31 @@ class SlabExtractor {
   void run(int z0, int z1, SlabMesh& out) {
     out_ = &out;
     local_.clear();
-    const int cells = volume_.resolution() - 1;
+    const int r = volume_.resolution();
     const TetraTable& table = tetraTable();
-    for (int z = z0; z < z1; ++z)
-      for (int y = 0; y < cells; ++y)
-        for (int x = 0; x < cells; ++x) {
-          int insideMask = 0;
-          bool observed = true;
-          for (int c = 0; c < kCellCorners && observed; ++c) {
-            const Eigen::Vector3i o = cornerOffset(c);
-            const int64_t i = volume_.index(x + o.x(), y + o.y(), z + o.z());
-            observed = volume_.valid(i);
-            if (volume_.tsdf(i) < 0.0f) insideMask |= 1 << c;
+    std::vector<uint8_t> lower(size_t(r) * size_t(r)), upper(lower.size());
+    classifyPlane(z0, upper);
+    for (int z = z0; z < z1; ++z) {
+      lower.swap(upper);
+      classifyPlane(z + 1, upper);
+      for (int y = 0; y + 1 < r; ++y) {
+        // Corner c of cell (x, y) is rows[c >> 1][x + (c & 1)]: rows ordered (y, z), (y+1, z), (y, z+1), (y+1, z+1).
+        const size_t row = size_t(r) * size_t(y);
+        const std::array<const uint8_t*, 4> rows = {&lower[row], &lower[row + size_t(r)], &upper[row],
+                                                    &upper[row + size_t(r)]};
+        for (int x = 0; x + 1 < r; ++x) {
+          std::array<uint8_t, kCellCorners> f;
+          for (int c = 0; c < kCellCorners; ++c) f[size_t(c)] = rows[size_t(c >> 1)][x + (c & 1)];
+          uint8_t all = f[0], any = f[0];
+          for (int c = 1; c < kCellCorners; ++c) {
+            all &= f[size_t(c)];
+            any |= f[size_t(c)];
           }
-          if (!observed || insideMask == 0 || insideMask == (1 << kCellCorners) - 1) continue;
+          // Skip cells not fully observed, and cells entirely inside or entirely outside.
+          if (!(all & kObservedFlag) || (all & kInsideFlag) || !(any & kInsideFlag)) continue;
+          int insideMask = 0;
+          for (int c = 0; c < kCellCorners; ++c)
+            if (f[size_t(c)] & kInsideFlag) insideMask |= 1 << c;
           const Eigen::Vector3i cell(x, y, z);
           for (int t = 0; t < kTetrahedraPerCell; ++t) {
             int m = 0;
@@ -116,9 +127,25 @@ class SlabExtractor {
             }
           }
         }
+      }
+    }
   }
 
  private:
+  static constexpr uint8_t kObservedFlag = 1;
+  static constexpr uint8_t kInsideFlag = 2;
+
+  // Per voxel of plane z: observed enough (weight >= minimum) and inside (tsdf < 0).
+  void classifyPlane(int z, std::vector<uint8_t>& flags) const {
+    const int r = volume_.resolution();
+    for (int y = 0; y < r; ++y)
+      for (int x = 0; x < r; ++x) {
+        const int64_t i = volume_.index(x, y, z);
+        flags[size_t(x) + size_t(r) * size_t(y)] =
+            uint8_t((volume_.valid(i) ? kObservedFlag : 0) | (volume_.tsdf(i) < 0.0f ? kInsideFlag : 0));
+      }
+  }
+
   uint32_t vertexOn(const Eigen::Vector3i& cell, const CellEdge& e) {
     const Eigen::Vector3i low = cell + cornerOffset(e.low);
     const uint64_t key = edgeKey(volume_.index(low.x(), low.y(), low.z()), e.dir);
