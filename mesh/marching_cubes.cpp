@@ -235,4 +235,10 @@ Mesh extractMesh(const VolumeView& volume, const MeshOptions& options) {
   return extractMesh(volume, options, ThreadPool::global());
 }
 
+void transformMesh(Mesh& mesh, const Eigen::Isometry3f& T_volume_to_target) {
+  for (auto& v : mesh.vertices) v = T_volume_to_target * v;
+  const Eigen::Matrix3f rotation = T_volume_to_target.linear();
+  for (auto& n : mesh.normals) n = rotation * n;
+}
+
 }  // namespace sb

@@ -18,6 +18,7 @@
 // triangles.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <array>
 #include <cstdint>
@@ -57,5 +58,9 @@ struct Mesh {
 Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool);
 // Same, on ThreadPool::global().
 Mesh extractMesh(const VolumeView& volume, const MeshOptions& options = {});
+
+// Moves the mesh from the volume frame to another frame (e.g. world): rotates and translates vertices,
+// rotates normals. Triangles are unchanged.
+void transformMesh(Mesh& mesh, const Eigen::Isometry3f& T_volume_to_target);
 
 }  // namespace sb

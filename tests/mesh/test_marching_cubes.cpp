@@ -180,3 +180,19 @@ TEST_CASE("invalid volume views are rejected with sb::Error", "[mesh]") {
   v.size = 0.0f;
   CHECK_THROWS_AS(sb::extractMesh(v), sb::Error);
 }
+
+TEST_CASE("transformMesh moves vertices and rotates normals", "[mesh]") {
+  sb::Mesh mesh;
+  mesh.vertices = {{1.0f, 0.0f, 0.0f}, {0.0f, 2.0f, 0.0f}};
+  mesh.normals = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  mesh.triangles = {{{0, 1, 0}}};
+  // 90 degrees about z, then +(10, 20, 30): (x, y, z) -> (-y + 10, x + 20, z + 30).
+  const Eigen::Isometry3f T = Eigen::Translation3f(10.0f, 20.0f, 30.0f) *
+                              Eigen::AngleAxisf(float(kPi / 2.0), Eigen::Vector3f::UnitZ());
+  sb::transformMesh(mesh, T);
+  CHECK((mesh.vertices[0] - Eigen::Vector3f(10.0f, 21.0f, 30.0f)).norm() < 1e-5f);
+  CHECK((mesh.vertices[1] - Eigen::Vector3f(8.0f, 20.0f, 30.0f)).norm() < 1e-5f);
+  CHECK((mesh.normals[0] - Eigen::Vector3f(0.0f, 1.0f, 0.0f)).norm() < 1e-6f);
+  CHECK((mesh.normals[1] - Eigen::Vector3f(-1.0f, 0.0f, 0.0f)).norm() < 1e-6f);
+  CHECK(mesh.triangles[0] == std::array<uint32_t, 3>{0, 1, 0});
+}
