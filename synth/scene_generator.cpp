@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "core/error.h"
 #include "synth/furniture.h"
@@ -41,7 +42,7 @@ struct RoomSpec {
 };
 
 RoomSpec livingRoomSpec() {
-  return {Eigen::Vector3f(-2.5f, -1.55f, -3.3f), Eigen::Vector3f(2.5f, 1.25f, 3.1f),
+  return {Eigen::Vector3f(-2.5f, -1.55f, -3.5f), Eigen::Vector3f(2.5f, 1.25f, 3.3f),
           {makeSofa, makeSofa, makeArmchair, makeBookshelf, makeBookshelf, makeTvStand, makeSideboard,
            makeSideTable, makeFloorLamp, makePlant, makeBoxStack},
           makeSofa, makeTvStand,
@@ -50,7 +51,7 @@ RoomSpec livingRoomSpec() {
 }
 
 RoomSpec officeSpec() {
-  return {Eigen::Vector3f(-2.55f, -1.45f, -3.35f), Eigen::Vector3f(2.55f, 1.25f, 3.15f),
+  return {Eigen::Vector3f(-2.55f, -1.45f, -3.55f), Eigen::Vector3f(2.55f, 1.25f, 3.35f),
           {makeDesk, makeDesk, makeDesk, makeFilingCabinet, makeCupboard, makeBookshelf, makeBin, makePlant,
            makeBoxStack},
           makeDesk, makeDesk,
@@ -108,6 +109,9 @@ class Placer {
     return true;
   }
 
+  // Keeps floor furniture (and panels, see heightUnder) out of `r`.
+  void reserve(const Rect& r) { footprints_.push_back({r, std::numeric_limits<float>::infinity()}); }
+
   // Height of the tallest furniture whose footprint overlaps `r` (0 if none).
   float heightUnder(const Rect& r) const {
     float h = 0.f;
@@ -129,16 +133,17 @@ struct Wall {
   Eigen::Vector2f inward;  // unit plan normal into the room
   float length;            // metres
   float depth;             // free depth between the wall and the camera space, metres
+  bool blankAtEnd;         // keep the blank stretch at a corner: cameras face the middle of this wall closely
 };
 
 std::vector<Wall> wallsOf(const RoomSpec& spec) {
   const float x0 = spec.min.x(), x1 = spec.max.x(), z0 = spec.min.z(), z1 = spec.max.z();
   auto strip = [](float d) { return std::min(d, kMaxStripDepthM); };
   return {
-      {{x0, z1}, {0.f, -1.f}, {1.f, 0.f}, z1 - z0, strip(kCameraSpace.x0 - x0)},   // west
-      {{x1, z0}, {0.f, 1.f}, {-1.f, 0.f}, z1 - z0, strip(x1 - kCameraSpace.x1)},   // east
-      {{x0, z0}, {1.f, 0.f}, {0.f, 1.f}, x1 - x0, strip(kCameraSpace.z0 - z0)},    // south (-z)
-      {{x1, z1}, {-1.f, 0.f}, {0.f, -1.f}, x1 - x0, strip(z1 - kCameraSpace.z1)},  // north (+z)
+      {{x0, z1}, {0.f, -1.f}, {1.f, 0.f}, z1 - z0, strip(kCameraSpace.x0 - x0), false},   // west
+      {{x1, z0}, {0.f, 1.f}, {-1.f, 0.f}, z1 - z0, strip(x1 - kCameraSpace.x1), false},   // east
+      {{x0, z0}, {1.f, 0.f}, {0.f, 1.f}, x1 - x0, strip(kCameraSpace.z0 - z0), true},     // south (-z)
+      {{x1, z1}, {-1.f, 0.f}, {0.f, -1.f}, x1 - x0, strip(z1 - kCameraSpace.z1), true},   // north (+z)
   };
 }
 
@@ -147,11 +152,25 @@ Eigen::Vector2f rotated(const Eigen::Vector2f& v, float angle) {
   return {c * v.x() - s * v.y(), s * v.x() + c * v.y()};
 }
 
-void furnishWall(const Wall& wall, const RoomSpec& spec, ItemBuilder anchor, Rng& rng, Placer& placer) {
-  const float blankStart = rng.uniform(0.f, wall.length - kBlankWallM);
+Rect planRect(const Wall& wall, float from, float to, float depth) {
+  const Eigen::Vector2f a = wall.start + from * wall.along, b = wall.start + to * wall.along;
+  const Eigen::Vector2f c = a + depth * wall.inward;
+  return {std::min({a.x(), b.x(), c.x()}), std::max({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}),
+          std::max({a.y(), b.y(), c.y()})};
+}
+
+// Where along the wall its blank stretch starts, metres.
+float blankStartOf(const Wall& wall, Rng& rng) {
+  constexpr float kCornerSlackM = 0.2f;
+  if (!wall.blankAtEnd) return rng.uniform(0.f, wall.length - kBlankWallM);
+  return rng.chance(0.5) ? rng.uniform(0.f, kCornerSlackM) : wall.length - kBlankWallM - rng.uniform(0.f, kCornerSlackM);
+}
+
+void furnishWall(const Wall& wall, float blankStart, const RoomSpec& spec, ItemBuilder anchor, Rng& rng,
+                 Placer& placer) {
   const float blankEnd = blankStart + kBlankWallM;
   float pos = rng.uniform(0.f, 0.4f);
-  constexpr int kTriesPerSlot = 4;
+  constexpr int kTriesPerSlot = 8;
   while (pos < wall.length) {
     bool placed = false;
     for (int attempt = 0; attempt < kTriesPerSlot && !placed; ++attempt) {
@@ -174,11 +193,8 @@ void furnishWall(const Wall& wall, const RoomSpec& spec, ItemBuilder anchor, Rng
     const float bottom = rng.uniform(1.0f, 1.3f);
     const float at = rng.uniform(0.1f, wall.length - w - 0.1f);
     if (at < blankEnd && at + w > blankStart) continue;
-    const Eigen::Vector2f a = wall.start + at * wall.along, b = wall.start + (at + w) * wall.along;
-    const Eigen::Vector2f c = a + 0.1f * wall.inward;
-    const Rect r{std::min({a.x(), b.x(), c.x()}), std::max({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}),
-                 std::max({a.y(), b.y(), c.y()})};
-    if (placer.heightUnder(r) > bottom) continue;
+    constexpr float kPanelClearanceM = 0.1f;
+    if (placer.heightUnder(planRect(wall, at, at + w, kPanelClearanceM)) > bottom) continue;
     const Item panel = makeWallPanel(rng, w, h, bottom, spec.panelKind);
     const Eigen::Vector2f p = wall.start + (at + w / 2) * wall.along;
     placer.place(panel, p.x(), p.y(), wall.inward, Placer::Mode::OnWall);
@@ -225,7 +241,12 @@ Scene generateScene(const std::string& name, uint64_t seed) {
 
   std::vector<Wall> walls = wallsOf(spec);
   const ItemBuilder anchors[] = {spec.westAnchor, spec.eastAnchor, nullptr, nullptr};  // in wallsOf order
-  for (size_t w = 0; w < walls.size(); ++w) furnishWall(walls[w], spec, anchors[w], rng, placer);
+  std::vector<float> blankStarts;
+  for (const Wall& wall : walls) {  // reserve every blank stretch first: furniture of the side walls reaches corners
+    blankStarts.push_back(blankStartOf(wall, rng));
+    placer.reserve(planRect(wall, blankStarts.back(), blankStarts.back() + kBlankWallM, wall.depth));
+  }
+  for (size_t w = 0; w < walls.size(); ++w) furnishWall(walls[w], blankStarts[w], spec, anchors[w], rng, placer);
 
   // One or two low pieces in the camera space, south of the column.
   const int lowCount = 1 + rng.index(2);

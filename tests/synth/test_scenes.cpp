@@ -86,6 +86,39 @@ TEST_CASE("scenes hold the furniture their names promise", "[synth][scene]") {
   }
 }
 
+TEST_CASE("every wall keeps a stretch of blank wall", "[synth][scene]") {
+  constexpr float kStepM = 0.02f, kOffM = 0.03f, kMinBlankM = 1.0f;
+  for (const std::string& name : sceneNames()) {
+    for (uint64_t seed = 0; seed < 12; ++seed) {
+      const Scene scene = generateScene(name, seed);
+      const Eigen::Vector3f lo = scene.roomMin, hi = scene.roomMax;
+      // Walls as (start, direction, length) just inside the room; a spot is blank when nothing stands in
+      // front of it at any height from the floor to the ceiling.
+      const std::vector<std::tuple<Eigen::Vector3f, Eigen::Vector3f, float>> walls{
+          {{lo.x() + kOffM, 0.f, lo.z()}, Eigen::Vector3f::UnitZ(), hi.z() - lo.z()},
+          {{hi.x() - kOffM, 0.f, lo.z()}, Eigen::Vector3f::UnitZ(), hi.z() - lo.z()},
+          {{lo.x(), 0.f, lo.z() + kOffM}, Eigen::Vector3f::UnitX(), hi.x() - lo.x()},
+          {{lo.x(), 0.f, hi.z() - kOffM}, Eigen::Vector3f::UnitX(), hi.x() - lo.x()}};
+      for (const auto& [start, along, length] : walls) {
+        float run = 0.f, longest = 0.f;
+        for (float s = 0.f; s <= length; s += kStepM) {
+          bool blank = true;
+          for (float y = lo.y() + 0.05f; y < hi.y() && blank; y += 0.1f) {
+            Eigen::Vector3f p = start + s * along;
+            p.y() = y;
+            blank = scene.objectContaining(p, 0.01f) < 0;
+          }
+          run = blank ? run + kStepM : 0.f;
+          longest = std::max(longest, run);
+        }
+        INFO(name << " seed " << seed << " wall from " << start.transpose() << ": longest blank " << longest << " m");
+        CHECK(longest >= kMinBlankM);
+        CHECK(longest < length);  // and the wall is not all blank
+      }
+    }
+  }
+}
+
 TEST_CASE("the built-in trajectory stays in the free space and sees the room", "[synth][scene]") {
   const Trajectory trajectory = builtinTrajectory(1200);
   REQUIRE(trajectory.size() == 1200);
