@@ -37,7 +37,13 @@ Item makeSeat(const std::string& kind, float w, float d) {
 
 // Open shelving with a back panel, sides and `shelves` boards, some holding books.
 Item makeShelving(Rng& rng, const std::string& kind, float w, float d, float h, int shelves) {
-  constexpr float kBoard = 0.025f;
+  constexpr float kBoard = 0.025f;                          // board thickness, metres
+  constexpr float kBookMinW = 0.05f, kBookMaxW = 0.3f;      // width of a book or box, metres
+  constexpr float kBookMaxGapM = 0.1f;                      // gap after it, metres
+  constexpr float kShelfEndSlackM = 0.2f;                   // no new book starts this near the side, metres
+  constexpr double kFilledShare = 0.6;                      // share of slots holding something
+  constexpr float kMinFill = 0.4f, kMaxFill = 0.85f;        // height as a share of the shelf gap
+  constexpr float kMinDepthShare = 0.5f, kMaxDepthShare = 0.95f;
   Item item = begin(kind, w, d, h);
   addBox(item, -w / 2, w / 2, 0.f, h, 0.f, kBoard, "back");
   addBox(item, -w / 2, -w / 2 + kBoard, 0.f, h, 0.f, d, "side");
@@ -48,14 +54,14 @@ Item makeShelving(Rng& rng, const std::string& kind, float w, float d, float h, 
     addBox(item, -w / 2 + kBoard, w / 2 - kBoard, y, y + kBoard, 0.f, d, "board");
     if (s == shelves) break;
     float x = -w / 2 + kBoard;
-    while (x < w / 2 - 0.2f) {  // books and boxes of random widths, leaving gaps
-      const float bw = rng.uniform(0.05f, 0.3f);
+    while (x < w / 2 - kShelfEndSlackM) {  // books and boxes of random widths, leaving gaps
+      const float bw = rng.uniform(kBookMinW, kBookMaxW);
       if (x + bw > w / 2 - kBoard) break;
-      if (rng.chance(0.6)) {
-        addBox(item, x, x + bw, y + kBoard, y + kBoard + rng.uniform(0.4f, 0.85f) * (gap - kBoard), kBoard,
-               rng.uniform(0.5f, 0.95f) * d, "book");
+      if (rng.chance(kFilledShare)) {
+        addBox(item, x, x + bw, y + kBoard, y + kBoard + rng.uniform(kMinFill, kMaxFill) * (gap - kBoard), kBoard,
+               rng.uniform(kMinDepthShare, kMaxDepthShare) * d, "book");
       }
-      x += bw + rng.uniform(0.f, 0.1f);
+      x += bw + rng.uniform(0.f, kBookMaxGapM);
     }
   }
   return item;
