@@ -13,7 +13,8 @@ namespace {
 void checkSpread(const Eigen::Matrix3Xd& centred, const char* name) {
   const Eigen::Index n = centred.cols();
   if (!centred.allFinite()) {
-    throw Error(std::string("alignment: the ") + name + " positions contain non-finite values; fix the input");
+    throw Error(std::string("alignment: the ") + name +
+                " positions contain non-finite values; fix the input");
   }
   // Singular values of the centred 3xN points are the spreads along the principal directions (m * sqrt(N)).
   const Eigen::Vector3d sv = Eigen::JacobiSVD<Eigen::Matrix3Xd>(centred).singularValues();

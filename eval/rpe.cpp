@@ -11,8 +11,8 @@
 namespace sb {
 namespace {
 
-constexpr size_t kMinRpeMatches = 2;        // one pair needs two matched poses
-constexpr double kTimeToleranceS = 1e-6;    // TUM files print timestamps with 6 decimals
+constexpr size_t kMinRpeMatches = 2;      // one pair needs two matched poses
+constexpr double kTimeToleranceS = 1e-6;  // TUM files print timestamps with 6 decimals
 constexpr double kRadToDeg = 180.0 / EIGEN_PI;
 
 // Index of the pose `delta` after i: `delta` frames later, or the first pose at least `delta` s later.
@@ -55,7 +55,8 @@ RpeResult computeRpe(const Trajectory& estimate, const Trajectory& groundTruth, 
     if (j >= n) break;  // partners only move later with i
     const Eigen::Isometry3d gtRel =
         m.groundTruth[i].T_camera_to_world.inverse() * m.groundTruth[j].T_camera_to_world;
-    const Eigen::Isometry3d estRel = m.estimate[i].T_camera_to_world.inverse() * m.estimate[j].T_camera_to_world;
+    const Eigen::Isometry3d estRel =
+        m.estimate[i].T_camera_to_world.inverse() * m.estimate[j].T_camera_to_world;
     const Eigen::Isometry3d err = gtRel.inverse() * estRel;
     const double t = err.translation().norm();
     const double rotDeg = Eigen::AngleAxisd(err.rotation()).angle() * kRadToDeg;
@@ -68,7 +69,8 @@ RpeResult computeRpe(const Trajectory& estimate, const Trajectory& groundTruth, 
   if (r.pairs == 0) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "RPE: no matched poses are %g %s apart: the %zu matched poses span %.6f s",
-                  delta, perSecond ? "s" : "frames", n, m.estimate.back().timestamp - m.estimate.front().timestamp);
+                  delta, perSecond ? "s" : "frames", n,
+                  m.estimate.back().timestamp - m.estimate.front().timestamp);
     throw Error(std::string(buf) + "; use a smaller delta");
   }
   const double count = static_cast<double>(r.pairs);

@@ -27,8 +27,8 @@ struct AteResult {
                              // their first matched pose (the SLAMBooster paper's measure)
   Eigen::Isometry3d alignment = Eigen::Isometry3d::Identity();  // maps estimate positions onto ground truth
   std::vector<double> timestamps;                               // estimate timestamps of the matches
-  std::vector<double> errors;                                   // aligned per-frame translation error (ITE), m
-  std::vector<double> unalignedErrors;                          // per-frame error of the unaligned measure, m
+  std::vector<double> errors;           // aligned per-frame translation error (ITE), m
+  std::vector<double> unalignedErrors;  // per-frame error of the unaligned measure, m
 };
 
 // Throws sb::Error when fewer than 3 poses associate or the positions are degenerate (collinear/identical).

@@ -21,10 +21,11 @@ Trajectory helixTrajectory(size_t n, double rateHz) {
   Trajectory t;
   for (size_t i = 0; i < n; ++i) {
     const double a = kRadPerFrame * static_cast<double>(i);
-    const Eigen::Vector3d p = tilt * Eigen::Vector3d(kRadiusM * std::cos(a), kRadiusM * std::sin(a), kClimbMPerRad * a);
+    const Eigen::Vector3d p =
+        tilt * Eigen::Vector3d(kRadiusM * std::cos(a), kRadiusM * std::sin(a), kClimbMPerRad * a);
     TimedPose pose = makePose(static_cast<double>(i) / rateHz, p, Eigen::Vector3d(0.2, 1.0, 0.3), 0.5 * a);
-    pose.T_camera_to_world.linear() =
-        pose.T_camera_to_world.linear() * Eigen::AngleAxisd(0.1 * std::sin(a), Eigen::Vector3d::UnitX()).matrix();
+    pose.T_camera_to_world.linear() = pose.T_camera_to_world.linear() *
+                                      Eigen::AngleAxisd(0.1 * std::sin(a), Eigen::Vector3d::UnitX()).matrix();
     t.push_back(pose);
   }
   return t;
@@ -36,7 +37,8 @@ Trajectory transformed(const Trajectory& t, const Eigen::Isometry3d& T) {
   return out;
 }
 
-double hornQuaternionRmse(const Trajectory& estimate, const Trajectory& groundTruth, Eigen::Isometry3d* alignment) {
+double hornQuaternionRmse(const Trajectory& estimate, const Trajectory& groundTruth,
+                          Eigen::Isometry3d* alignment) {
   if (estimate.size() != groundTruth.size() || estimate.empty()) throw std::invalid_argument("size mismatch");
   const double n = static_cast<double>(estimate.size());
   Eigen::Vector3d ce = Eigen::Vector3d::Zero(), cg = Eigen::Vector3d::Zero();

@@ -20,7 +20,8 @@ sb::Trajectory atTimes(const std::vector<double>& times) {
 
 }  // namespace
 
-TEST_CASE("association keeps jittered pairs and rejects those beyond the maximum difference", "[eval][associate]") {
+TEST_CASE("association keeps jittered pairs and rejects those beyond the maximum difference",
+          "[eval][associate]") {
   constexpr double kRateHz = 10.0;  // 0.1 s apart, so a rejected pose has no other candidate within 0.02 s
   constexpr size_t kPoses = 40;
   // Jitters (s) cycling over the poses; |j| > 0.02 must be rejected.

@@ -24,8 +24,8 @@ Eigen::Isometry3d knownTransform() {
 // Corners of cubes of half-size 1, 2, 3 (m) around `centre`; corner c of cube k is displaced by
 // magnitude[k] * sign(x y z) along `dir`. The displacements have zero mean and no correlation with the
 // positions, so the optimal alignment is the identity and every per-frame error equals its magnitude.
-void cubePattern(const std::vector<double>& magnitudes, const Eigen::Vector3d& centre, const Eigen::Vector3d& dir,
-                 sb::Trajectory* gt, sb::Trajectory* est) {
+void cubePattern(const std::vector<double>& magnitudes, const Eigen::Vector3d& centre,
+                 const Eigen::Vector3d& dir, sb::Trajectory* gt, sb::Trajectory* est) {
   double t = 0.0;
   for (size_t k = 0; k < magnitudes.size(); ++k) {
     const double h = static_cast<double>(k + 1);
@@ -58,7 +58,8 @@ TEST_CASE("ATE of a trajectory under a known rigid transform is zero and the tra
   CHECK((horn.matrix() - T.inverse().matrix()).cwiseAbs().maxCoeff() < 1e-9);
 }
 
-TEST_CASE("ATE statistics of a zero-mean uncorrelated perturbation equal its known magnitudes", "[eval][ate]") {
+TEST_CASE("ATE statistics of a zero-mean uncorrelated perturbation equal its known magnitudes",
+          "[eval][ate]") {
   const std::vector<double> magnitudes = {0.01, 0.02, 0.06};  // m
   sb::Trajectory gt, est;
   cubePattern(magnitudes, Eigen::Vector3d(0.5, -1.0, 2.0), Eigen::Vector3d(1, 2, -1), &gt, &est);
@@ -72,7 +73,8 @@ TEST_CASE("ATE statistics of a zero-mean uncorrelated perturbation equal its kno
     CHECK(r.median == Approx(0.02).margin(1e-12));
     CHECK(r.max == Approx(0.06).margin(1e-12));
     CHECK((r.alignment.matrix() - Eigen::Matrix4d::Identity()).cwiseAbs().maxCoeff() < 1e-12);
-    for (size_t i = 0; i < r.errors.size(); ++i) CHECK(r.errors[i] == Approx(magnitudes[i / 8]).margin(1e-12));
+    for (size_t i = 0; i < r.errors.size(); ++i)
+      CHECK(r.errors[i] == Approx(magnitudes[i / 8]).margin(1e-12));
   }
   SECTION("with the estimate in another world frame") {
     const Eigen::Isometry3d T = knownTransform();
@@ -105,7 +107,8 @@ TEST_CASE("the unaligned error compares poses relative to the first matched pose
     // Rotating every gt pose's orientation by the same camera-side rotation leaves the first-relative
     // translations of gt rotated by R0^T; the estimate keeps identity orientations, so errors change.
     sb::Trajectory rotated = gt;
-    for (auto& p : rotated) p.T_camera_to_world.linear() = Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitZ()).matrix();
+    for (auto& p : rotated)
+      p.T_camera_to_world.linear() = Eigen::AngleAxisd(EIGEN_PI / 2, Eigen::Vector3d::UnitZ()).matrix();
     const auto r2 = sb::computeAte(gt, rotated);
     // gt relative translation of pose 1 in the rotated frame: R^T (1,0,0) = (0,-1,0); estimate: (1,0,0).
     CHECK(r2.unalignedErrors[1] == Approx(std::sqrt(2.0)).margin(1e-12));
@@ -121,7 +124,8 @@ TEST_CASE("ATE reports each degenerate input as an error", "[eval][ate][errors]"
     const auto gt = sb::test::helixTrajectory(31);  // 0 .. 1 s
     sb::Trajectory est = gt;
     for (auto& p : est) p.timestamp += 10.0;
-    CHECK_THROWS_WITH(sb::computeAte(est, gt), Contains("no overlap in time") && Contains("10.000000 .. 11.000000") &&
+    CHECK_THROWS_WITH(sb::computeAte(est, gt), Contains("no overlap in time") &&
+                                                   Contains("10.000000 .. 11.000000") &&
                                                    Contains("0.000000 .. 1.000000"));
   }
   SECTION("empty trajectories") {

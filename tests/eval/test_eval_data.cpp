@@ -28,7 +28,8 @@ TEST_CASE("7-Scenes ground truth against itself under a known rigid transform ha
   CHECK((r.alignment.matrix() - T.inverse().matrix()).cwiseAbs().maxCoeff() < 1e-9);
 }
 
-TEST_CASE("7-Scenes ground truth shifted by one frame matches an independent Horn alignment", "[eval][data]") {
+TEST_CASE("7-Scenes ground truth shifted by one frame matches an independent Horn alignment",
+          "[eval][data]") {
   const auto gt = redkitchenGroundTruth();
   REQUIRE(gt.size() > 100);
   // Estimate pose i = ground-truth pose i+1 stamped with the time of pose i.

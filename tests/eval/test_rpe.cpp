@@ -14,7 +14,8 @@ namespace {
 // Estimate = ground truth with the position drifting by `drift` (world frame, m) per frame.
 sb::Trajectory withTranslationDrift(const sb::Trajectory& gt, const Eigen::Vector3d& drift) {
   sb::Trajectory est = gt;
-  for (size_t i = 0; i < est.size(); ++i) est[i].T_camera_to_world.translation() += static_cast<double>(i) * drift;
+  for (size_t i = 0; i < est.size(); ++i)
+    est[i].T_camera_to_world.translation() += static_cast<double>(i) * drift;
   return est;
 }
 
@@ -61,7 +62,8 @@ TEST_CASE("RPE of a constant rotation drift is the drift angle times the delta",
   for (int i = 0; i < 50; ++i) {
     const Eigen::Vector3d p(0.01 * i, 0.02 * std::sin(0.1 * i), 0.0);
     gt.push_back(sb::test::makePose(i / 30.0, p));
-    est.push_back(sb::test::makePose(i / 30.0, p, Eigen::Vector3d::UnitZ(), kDegPerFrame * i * EIGEN_PI / 180.0));
+    est.push_back(
+        sb::test::makePose(i / 30.0, p, Eigen::Vector3d::UnitZ(), kDegPerFrame * i * EIGEN_PI / 180.0));
   }
   const auto r = sb::computeRpe(est, gt, 3, false);
   CHECK(r.pairs == 47);
