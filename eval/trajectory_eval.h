@@ -42,6 +42,9 @@ struct RpeResult {
 };
 
 // RPE over a fixed delta: `delta` frames (perSecond = false) or `delta` seconds (perSecond = true).
+// Frames count matched poses: pose i pairs with matched pose i + delta. In seconds, pose i pairs with the
+// first matched pose whose estimate timestamp is at least `delta` s later. Throws sb::Error for a delta that
+// is not positive (or not whole in frames), fewer than 2 matches, or no pair `delta` apart.
 RpeResult computeRpe(const Trajectory& estimate, const Trajectory& groundTruth, double delta, bool perSecond,
                      const AssociationOptions& options = {});
 
