@@ -9,25 +9,26 @@
 // reads lies in blocks without surface, the interpolation is exactly +1 there and stays so while the ray
 // remains in the box whose interpolation cells use only those blocks: returns the ray parameter where the ray
 // leaves that box. Returns -1 when a block with surface is involved.
-SB_INLINE float sbSkipTo(SB_GLOBAL const unsigned char* blockFlags, int resolution, float size, float3 origin,
-                         float3 direction, float3 pos) {
+// `shift`: log2 of the block side in voxels (SB_BLOCK_SHIFT, or SB_SUPER_SHIFT for the coarse grid).
+SB_INLINE float sbSkipTo(SB_GLOBAL const unsigned char* blockFlags, int shift, int resolution, float size,
+                         float3 origin, float3 direction, float3 pos) {
   const float scale = (float)resolution / size;
   const float p[3] = {pos.x, pos.y, pos.z};
   const float o[3] = {origin.x, origin.y, origin.z};
   const float d[3] = {direction.x, direction.y, direction.z};
-  const int blocksPerSide = resolution >> SB_BLOCK_SHIFT;
+  const int blocksPerSide = resolution >> shift;
   int lo[3], hi[3];
   for (int a = 0; a < 3; ++a) {
     const int base = (int)sbFloor(p[a] * scale - 0.5f);
-    lo[a] = sbClampInt(base, 0, resolution - 1) >> SB_BLOCK_SHIFT;
-    hi[a] = sbClampInt(base + 1, 0, resolution - 1) >> SB_BLOCK_SHIFT;
+    lo[a] = sbClampInt(base, 0, resolution - 1) >> shift;
+    hi[a] = sbClampInt(base + 1, 0, resolution - 1) >> shift;
   }
   for (int bz = lo[2]; bz <= hi[2]; ++bz)
     for (int by = lo[1]; by <= hi[1]; ++by)
       for (int bx = lo[0]; bx <= hi[0]; ++bx)
         if (blockFlags[bx + by * blocksPerSide + bz * blocksPerSide * blocksPerSide]) return -1.0f;
   // Interpolation cells stay inside blocks lo..hi while p*scale - 0.5 is in [lo*B, hi*B + B - 1).
-  const float blockVoxels = (float)(1 << SB_BLOCK_SHIFT);
+  const float blockVoxels = (float)(1 << shift);
   float exitT = 1e30f;
   for (int a = 0; a < 3; ++a) {
     if (d[a] > 0.0f) exitT = sbFmin(exitT, ((((float)hi[a] + 1.0f) * blockVoxels - 0.5f) / scale - o[a]) / d[a]);
@@ -39,11 +40,13 @@ SB_INLINE float sbSkipTo(SB_GLOBAL const unsigned char* blockFlags, int resoluti
 // raycast: pixel (x, y) of an image with intrinsics k seen from `cameraToWorld`. The ray parameter t is the
 // depth along the camera's z axis (metres), marched from nearPlane to farPlane (clipped to the volume) with
 // `largeStep` until the tsdf falls below `smallStepBelow`, then with `smallStep`; the zero crossing is
-// interpolated linearly. `blockFlags` (see sbSkipTo) may be 0: no empty-space skipping. Writes the surface point and unit normal (volume frame) or vertex 0 and an invalid
+// interpolated linearly. `blockFlags` and `superFlags` (see sbSkipTo; blocks of SB_BLOCK_SHIFT and
+// SB_SUPER_SHIFT) may be 0: no empty-space skipping at that level. Writes the surface point and unit normal (volume frame) or vertex 0 and an invalid
 // normal.
 SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
                        SB_GLOBAL const short* volume, int resolution, float size,
-                       SB_GLOBAL const unsigned char* blockFlags, SbMat34 cameraToWorld, SbCamera k, float nearPlane,
+                       SB_GLOBAL const unsigned char* blockFlags, SB_GLOBAL const unsigned char* superFlags,
+                       SbMat34 cameraToWorld, SbCamera k, float nearPlane,
                        float farPlane, float largeStep, float smallStep, float smallStepBelow, int x, int y) {
   const int index = y * width + x;
   const float3 origin = sbMakeFloat3(cameraToWorld.m[3], cameraToWorld.m[7], cameraToWorld.m[11]);
@@ -74,7 +77,9 @@ SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNor
       for (; t < tExit; t += step) {
         const float3 pos = origin + direction * t;
         if (blockFlags != 0) {
-          const float skipTo = sbSkipTo(blockFlags, resolution, size, origin, direction, pos);
+          float skipTo = -1.0f;
+          if (superFlags != 0) skipTo = sbSkipTo(superFlags, SB_SUPER_SHIFT, resolution, size, origin, direction, pos);
+          if (skipTo <= t) skipTo = sbSkipTo(blockFlags, SB_BLOCK_SHIFT, resolution, size, origin, direction, pos);
           if (skipTo > t) {
             // The tsdf is +1 up to skipTo: continue just past it.
             t = sbFmax(t, skipTo + 1e-3f * smallStep - step);

@@ -12,6 +12,8 @@
 #define SB_MIN_PROJECTION_DEPTH 0.0001f
 // Blocks of the empty-space skipping grid are (1 << SB_BLOCK_SHIFT)^3 voxels.
 #define SB_BLOCK_SHIFT 3
+// Coarse skipping grid: (1 << SB_SUPER_SHIFT)^3 voxels per cell, used when the resolution is a multiple of it.
+#define SB_SUPER_SHIFT 5
 
 SB_INLINE float sbVoxelTsdf(SB_GLOBAL const short* volume, int resolution, int x, int y, int z) {
   return (float)volume[2 * (x + y * resolution + z * resolution * resolution)] * (1.0f / SB_TSDF_SCALE);

@@ -15,6 +15,7 @@ namespace {
 
 constexpr int kRowsPerChunk = 8;   // image rows per parallel chunk (fixed: determinism)
 constexpr int kBlock = 1 << SB_BLOCK_SHIFT;
+constexpr int kSuper = 1 << SB_SUPER_SHIFT;
 constexpr int kTile = 8;          // raycast tile side, pixels
 
 class StageTimer {
@@ -67,6 +68,10 @@ CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize,
   }
   const int blocks = config_.volumeResolution / kBlock;
   blockNearSurface_.assign(static_cast<size_t>(blocks) * blocks * blocks, 0);
+  if (config_.volumeResolution % kSuper == 0) {
+    const int supers = config_.volumeResolution / kSuper;
+    superNearSurface_.assign(static_cast<size_t>(supers) * supers * supers, 0);
+  }
 }
 
 void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) {
@@ -228,6 +233,17 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
       }
     }
   });
+  // The coarse grid: a cell has surface when one of its blocks has.
+  if (!superNearSurface_.empty()) {
+    const int ratio = kSuper / kBlock;
+    const int supers = res / kSuper;
+    for (int z = 0; z < blocks; ++z)
+      for (int y = 0; y < blocks; ++y)
+        for (int x = 0; x < blocks; ++x)
+          if (blockNearSurface_[x + static_cast<size_t>(y) * blocks + static_cast<size_t>(z) * blocks * blocks])
+            superNearSurface_[x / ratio + static_cast<size_t>(y / ratio) * supers +
+                              static_cast<size_t>(z / ratio) * supers * supers] = 1;
+  }
 }
 
 void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) {
@@ -242,6 +258,7 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   const float size = config_.volumeSize;
   const int16_t* vol = volume_.data();
   const uint8_t* flags = config_.emptySpaceSkipping ? blockNearSurface_.data() : nullptr;
+  const uint8_t* superFlags = config_.emptySpaceSkipping && !superNearSurface_.empty() ? superNearSurface_.data() : nullptr;
   const float nearPlane = config_.nearPlane, farPlane = config_.farPlane;
   const float largeStep = config_.raycastLargeStep * config_.mu;
   const float smallStep = config_.raycastSmallStep * config_.voxelSize();
@@ -253,7 +270,7 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
     for (int tx = 0; tx < w; tx += kTile)
       for (int y = y0; y < y1; ++y)
         for (int x = tx; x < std::min(w, tx + kTile); ++x)
-          ::raycast(outV, outN, w, vol, res, size, flags, pose, k, nearPlane, farPlane, largeStep, smallStep, below, x, y);
+          ::raycast(outV, outN, w, vol, res, size, flags, superFlags, pose, k, nearPlane, farPlane, largeStep, smallStep, below, x, y);
   });
 }
 

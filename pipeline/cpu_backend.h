@@ -56,6 +56,7 @@ class CpuBackend : public ComputeBackend {
 
   std::vector<int16_t> volume_;            // 2 * R^3: (tsdf, weight) pairs
   std::vector<uint8_t> blockNearSurface_;  // per block: some voxel holds tsdf < +1 (empty-space skipping)
+  std::vector<uint8_t> superNearSurface_;  // the same per coarse cell (empty when R is not a multiple of it)
 };
 
 }  // namespace sb

@@ -2,6 +2,7 @@
 // trajectory, a per-frame log, a summary (with ATE when the sequence has ground truth), a rendered model and,
 // on request, a mesh.
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -105,6 +106,13 @@ nlohmann::json frameJson(const FrameResult& r) {
           {"velocity_m_per_frame", r.velocity}};
 }
 
+// CPU time (user + system) of the process so far, milliseconds.
+double processCpuMs() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return (usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) * 1e3 + (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec) / 1e3;
+}
+
 void printProgress(size_t done, size_t total, double msPerFrame) {
   const int width = 40;
   const double fraction = total > 0 ? std::min(1.0, double(done) / total) : 0.0;
@@ -135,6 +143,7 @@ void runCommand(const RunOptions& o) {
 
   Trajectory trajectory;
   StageTimes sum;
+  const double cpuStartMs = processCpuMs();
   size_t count = 0, attempted = 0, tracked = 0, integrated = 0;
   while (auto frame = source->next()) {
     FrameResult r = pipeline->processFrame(*frame, info.depthScale, config.knobs);
@@ -147,6 +156,7 @@ void runCommand(const RunOptions& o) {
     integrated += r.integrated;
     if (progress) printProgress(count, total, sum.computationMs() / count);
   }
+  const double cpuMs = processCpuMs() - cpuStartMs;
   if (progress) std::cerr << "\n";
   if (count == 0) throw Error("sequence '" + o.sequence + "' has no frames");
   frames.close();
@@ -164,6 +174,9 @@ void runCommand(const RunOptions& o) {
   summary["config"] = configToJson(config);
   summary["threads"] = pool.threadCount();
   summary["computation_ms_per_frame"] = sum.computationMs() / count;
+  // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
+  // times to other load on the machine.
+  summary["cpu_ms_per_frame"] = cpuMs / count;
   nlohmann::json stages = nlohmann::json::object();
   for (int s = 0; s < kStageCount; ++s) stages[stageName(static_cast<Stage>(s))] = sum.ms[s] / count;
   summary["stage_ms_per_frame"] = stages;
@@ -197,7 +210,8 @@ void runCommand(const RunOptions& o) {
     if (static_cast<Stage>(s) == Stage::render) continue;
     std::cout << (s ? ", " : "") << stageName(static_cast<Stage>(s)) << " " << std::setprecision(2) << sum.ms[s] / count;
   }
-  std::cout << ")\n" << std::setprecision(2);
+  std::cout << "), process CPU " << std::setprecision(1) << cpuMs / count << " ms/frame over " << pool.threadCount()
+            << " threads\n" << std::setprecision(2);
   if (ate)
     std::cout << "ATE rmse " << ate->rmse * 100 << " cm, mean " << ate->mean * 100 << " cm, max " << ate->max * 100
               << " cm, unaligned mean " << ate->unalignedMean * 100 << " cm (" << ate->matches << " matches)\n";
