@@ -46,6 +46,10 @@ void runSynth(SynthArgs& a) {
     throw Error("synth: --width, --height, --fx and --fy must be positive (got " + std::to_string(k.width) + ", " +
                 std::to_string(k.height) + ", " + std::to_string(k.fx) + ", " + std::to_string(k.fy) + ")");
   }
+  if (!(o.sensor.minDepthM > 0.0 && o.sensor.minDepthM < o.sensor.maxDepthM)) {
+    throw Error("synth: need 0 < --min-depth < --max-depth (got " + std::to_string(o.sensor.minDepthM) + ", " +
+                std::to_string(o.sensor.maxDepthM) + " m)");
+  }
   if (a.noNoise) o.sensor.noise = false;
   if (a.threads > 0) ThreadPool::setGlobalThreads(a.threads);
 
