@@ -56,9 +56,8 @@ std::string formatTumLine(const TimedPose& pose) {
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory, const std::string& comment) {
   std::ofstream out(path);
   if (!out) throw Error("cannot write trajectory '" + path + "': check that the directory exists");
-  out << "# timestamp tx ty tz qx qy qz qw (camera-to-world, metres)";
-  if (!comment.empty()) out << " " << comment;
-  out << "\n";
+  out << "# timestamp tx ty tz qx qy qz qw (camera-to-world, metres)\n";
+  if (!comment.empty()) out << "# " << comment << "\n";
   for (const auto& p : trajectory) out << formatTumLine(p) << "\n";
   if (!out) throw Error("writing trajectory '" + path + "' failed (disk full?)");
 }

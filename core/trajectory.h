@@ -21,7 +21,8 @@ using Trajectory = std::vector<TimedPose>;
 // quaternion (|q| off by more than 1e-3; it is normalised otherwise) or non-increasing timestamps.
 Trajectory readTumTrajectory(const std::string& path);
 
-// Writes a TUM trajectory with full precision (9 decimals for positions/quaternions, 6 for timestamps).
+// Writes a TUM trajectory with full precision (9 decimals for positions/quaternions, 6 for timestamps),
+// after the column header line and, when given, one more comment line `# <comment>`.
 // Throws sb::Error if the file cannot be written.
 void writeTumTrajectory(const std::string& path, const Trajectory& trajectory, const std::string& comment = "");
 

@@ -97,7 +97,7 @@ void TumSequenceWriter::write(const DepthFrame& frame) {
 
 void TumSequenceWriter::writeGroundTruth(const Trajectory& trajectory) {
   writeTumTrajectory((fs::path(directory_) / kGroundTruthName).string(), trajectory,
-                     "timestamp tx ty tz qx qy qz qw (camera-to-world, metres)");
+                     "reference poses of this sequence");
 }
 
 void TumSequenceWriter::finish() {

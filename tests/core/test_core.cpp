@@ -43,7 +43,15 @@ TEST_CASE("TUM trajectories round-trip and bad lines are named", "[core][traject
     p.T_camera_to_world = Eigen::Translation3d(0.1 * i, -0.2, 1.5) * Eigen::AngleAxisd(0.1 * i, Eigen::Vector3d::UnitY());
     t.push_back(p);
   }
-  writeTumTrajectory(dir + "/t.txt", t);
+  writeTumTrajectory(dir + "/t.txt", t, "made by a test");
+  {
+    std::ifstream in(dir + "/t.txt");
+    std::string l1, l2;
+    std::getline(in, l1);
+    std::getline(in, l2);
+    CHECK(l1 == "# timestamp tx ty tz qx qy qz qw (camera-to-world, metres)");
+    CHECK(l2 == "# made by a test");
+  }
   const auto back = readTumTrajectory(dir + "/t.txt");
   REQUIRE(back.size() == t.size());
   for (size_t i = 0; i < t.size(); ++i) {
