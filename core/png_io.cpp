@@ -13,6 +13,9 @@ namespace sb {
 
 namespace {
 
+// Largest image side accepted when reading: a corrupt header must not make us allocate gigabytes.
+constexpr int kMaxPngSide = 16384;
+
 struct FileCloser {
   void operator()(FILE* f) const {
     if (f) std::fclose(f);
@@ -105,6 +108,11 @@ Image<uint16_t> readPng16(const std::string& path) {
   const int height = static_cast<int>(png_get_image_height(png, info));
   const int bitDepth = png_get_bit_depth(png, info);
   const int colourType = png_get_color_type(png, info);
+  if (width > kMaxPngSide || height > kMaxPngSide) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    throw Error("depth image '" + path + "' claims " + std::to_string(width) + "x" + std::to_string(height) +
+                " pixels; more than " + std::to_string(kMaxPngSide) + " per side is refused (corrupt header?)");
+  }
   if (bitDepth != 16 || colourType != PNG_COLOR_TYPE_GRAY) {
     png_destroy_read_struct(&png, &info, nullptr);
     throw Error("depth image '" + path + "' is " + std::to_string(bitDepth) + "-bit " + colourTypeName(colourType) +

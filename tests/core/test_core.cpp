@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <zlib.h>
 
 #include "core/error.h"
 #include "core/png_io.h"
@@ -32,6 +33,20 @@ TEST_CASE("png16 round-trips every value and rejects wrong formats", "[core][png
     out.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
   }
   CHECK_THROWS_WITH(readPng16(dir + "/t.png"), Catch::Contains("t.png"));
+}
+
+TEST_CASE("png16 refuses a header that claims a huge image before allocating", "[core][png]") {
+  const std::string dir = test::scratchDir("png16_huge");
+  writePng16(dir + "/a.png", Image<uint16_t>(6, 4, 100));
+  std::ifstream in(dir + "/a.png", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  // IHDR data starts at byte 16 (width, height big-endian); its CRC covers type + 13 data bytes (12..28).
+  const std::string huge("\x00\x01\x86\xa0\x00\x01\x86\xa0", 8);  // 100000 x 100000
+  bytes.replace(16, 8, huge);
+  const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(bytes.data() + 12), 17);
+  for (int i = 0; i < 4; ++i) bytes[29 + i] = static_cast<char>((crc >> (24 - 8 * i)) & 0xff);
+  std::ofstream(dir + "/huge.png", std::ios::binary) << bytes;
+  CHECK_THROWS_WITH(readPng16(dir + "/huge.png"), Catch::Contains("100000x100000") && Catch::Contains("huge.png"));
 }
 
 TEST_CASE("TUM trajectories round-trip and bad lines are named", "[core][trajectory]") {
