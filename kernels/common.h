@@ -47,6 +47,7 @@ typedef float sb_map_t;
 #else  // C++
 
 #include <math.h>
+#include <string.h>
 
 #define SB_GLOBAL
 #define SB_INLINE static inline
@@ -64,11 +65,11 @@ inline float3 operator/(float3 a, float s) { return float3{a.x / s, a.y / s, a.z
 SB_INLINE float3 sbMakeFloat3(float x, float y, float z) { return float3{x, y, z}; }
 SB_INLINE float sbSqrt(float v) { return sqrtf(v); }
 // exp for the kernels' weights: 2^n * p(f) with a degree-6 polynomial (relative error < 2e-7 on [-87, 88]),
-// inlineable unlike the libm call. OpenCL uses the builtin.
+// inlineable and auto-vectorisable unlike the libm call. OpenCL uses the builtin.
 SB_INLINE float sbExp(float v) {
   v = v < -87.0f ? -87.0f : (v > 88.0f ? 88.0f : v);
-  const float t = v * 1.44269504f;  // log2(e)
-  const float n = floorf(t + 0.5f);
+  const float t = v * 1.44269504f;                    // log2(e)
+  const float n = (t + 12582912.0f) - 12582912.0f;   // round to nearest (1.5 * 2^23 trick)
   const float f = (v - n * 0.693145752f) - n * 1.42860677e-6f;  // v - n ln2, in two parts
   float p = 1.0f / 720.0f;
   p = p * f + 1.0f / 120.0f;
@@ -77,12 +78,10 @@ SB_INLINE float sbExp(float v) {
   p = p * f + 0.5f;
   p = p * f + 1.0f;
   p = p * f + 1.0f;
-  union {
-    float f;
-    int i;
-  } scale;
-  scale.i = ((int)n + 127) << 23;
-  return p * scale.f;
+  const int bits = ((int)n + 127) << 23;
+  float scale;
+  memcpy(&scale, &bits, sizeof scale);
+  return p * scale;
 }
 SB_INLINE float sbFloor(float v) { return floorf(v); }
 SB_INLINE float sbFabs(float v) { return fabsf(v); }

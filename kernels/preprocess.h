@@ -12,6 +12,13 @@ SB_INLINE void mm2meters(SB_GLOBAL sb_map_t* out, int outWidth, SB_GLOBAL const 
   SB_STORE_MAP((float)raw * metresPerUnit, out, y * outWidth + x);
 }
 
+// The weight of one bilateralFilter tap: value v (0 = no reading: weight 0), spatial weight `spatial`,
+// rangeFactor = -1 / (2 rangeSigma^2).
+SB_INLINE float bilateralWeight(float v, float centre, float spatial, float rangeFactor) {
+  const float d = v - centre;
+  return v > 0.0f ? spatial * sbExp(d * d * rangeFactor) : 0.0f;
+}
+
 // bilateralFilter: edge-preserving smoothing. `gaussian` holds the 2*radius+1 spatial weights
 // exp(-d^2 / (2 sigma_px^2)); the range weight is exp(-(v - centre)^2 / (2 rangeSigma^2)), rangeSigma in
 // metres. Pixels without a reading neither contribute nor get a value.
@@ -31,12 +38,9 @@ SB_INLINE void bilateralFilter(SB_GLOBAL sb_map_t* out, SB_GLOBAL const sb_map_t
     for (int dx = -radius; dx <= radius; ++dx) {
       const int xx = sbClampInt(x + dx, 0, width - 1);
       const float v = SB_LOAD_MAP(in, yy * width + xx);
-      if (v > 0.0f) {
-        const float d = v - centre;
-        const float w = gaussian[dx + radius] * gaussian[dy + radius] * sbExp(d * d * rangeFactor);
-        weightSum += w;
-        valueSum += w * v;
-      }
+      const float w = bilateralWeight(v, centre, gaussian[dx + radius] * gaussian[dy + radius], rangeFactor);
+      weightSum += w;
+      valueSum += w * v;
     }
   }
   SB_STORE_MAP(valueSum / weightSum, out, index);

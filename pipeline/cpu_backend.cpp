@@ -101,7 +101,40 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
     const float* g = gaussian_.data();
     const int r = config_.bilateralRadius;
     const float sigma = config_.bilateralRangeSigma;
-    forEachPixel(pool_, w, h, [&](int x, int y) { bilateralFilter(out, in, w, h, g, r, sigma, x, y); });
+    const float rangeFactor = -1.0f / (2.0f * sigma * sigma);
+    // Interior pixels of a row are filtered together, tap by tap (a vectorisable loop over x) with the
+    // kernel's bilateralWeight and the kernel's summation order, so the result is bit-identical to
+    // bilateralFilter(); the border (clamped taps) runs the per-pixel kernel.
+    pool_.parallelFor(0, h, kRowsPerChunk, [&](int, int y0, int y1) {
+      std::vector<float> weightSum(w), valueSum(w);
+      for (int y = y0; y < y1; ++y) {
+        if (y < r || y >= h - r || w <= 2 * r) {
+          for (int x = 0; x < w; ++x) bilateralFilter(out, in, w, h, g, r, sigma, x, y);
+          continue;
+        }
+        for (int x = 0; x < r; ++x) bilateralFilter(out, in, w, h, g, r, sigma, x, y);
+        for (int x = w - r; x < w; ++x) bilateralFilter(out, in, w, h, g, r, sigma, x, y);
+        std::fill(weightSum.begin(), weightSum.end(), 0.0f);
+        std::fill(valueSum.begin(), valueSum.end(), 0.0f);
+        const float* centre = in + static_cast<size_t>(y) * w;
+        float* ws = weightSum.data();
+        float* vs = valueSum.data();
+        for (int dy = -r; dy <= r; ++dy) {
+          for (int dx = -r; dx <= r; ++dx) {
+            const float spatial = g[dx + r] * g[dy + r];
+            const float* tap = in + static_cast<size_t>(y + dy) * w + dx;
+            for (int x = r; x < w - r; ++x) {
+              const float v = tap[x];
+              const float weight = bilateralWeight(v, centre[x], spatial, rangeFactor);
+              ws[x] += weight;
+              vs[x] += weight * v;
+            }
+          }
+        }
+        float* row = out + static_cast<size_t>(y) * w;
+        for (int x = r; x < w - r; ++x) row[x] = centre[x] > 0.0f ? vs[x] / ws[x] : 0.0f;
+      }
+    });
   }
   {
     StageTimer t(times, Stage::halfSampleRobust);

@@ -6,6 +6,7 @@
 
 #include "kernels/preprocess.h"
 #include "kernels/volume.h"
+#include "pipeline/cpu_backend.h"
 
 namespace {
 
@@ -119,4 +120,34 @@ TEST_CASE("vertex2normal marks pixels next to a hole invalid", "[pipeline][kerne
 
 TEST_CASE("sbExp matches exp over the range the kernels use", "[pipeline][kernels]") {
   for (float x = -60.0f; x <= 10.0f; x += 0.37f) CHECK(sbExp(x) == Approx(std::exp(double(x))).epsilon(5e-7));
+}
+
+TEST_CASE("the CPU backend's row-wise bilateralFilter is bit-identical to the per-pixel kernel", "[pipeline][kernels]") {
+  sb::Intrinsics k;
+  k.width = 37;
+  k.height = 23;
+  k.fx = k.fy = 30.0f;
+  k.cx = 18.0f;
+  k.cy = 11.0f;
+  sb::DepthRaw raw(k.width, k.height);
+  uint32_t seed = 12345;
+  for (auto& v : raw.pixels()) {
+    seed = seed * 1664525u + 1013904223u;
+    v = (seed >> 28) == 0 ? 0 : static_cast<uint16_t>(800 + (seed >> 20) % 400);  // holes and 0.8-1.2 m
+  }
+  sb::PipelineConfig config;
+  config.volumeResolution = 8;
+  sb::ThreadPool pool(2);
+  sb::CpuBackend backend(config, k, pool);
+  sb::StageTimes times;
+  backend.preprocess(raw, 1e-3f, 1, times);
+  const auto g = gaussian(config.bilateralRadius, config.bilateralSpatialSigma);
+  const std::vector<float>& metres = backend.rawMetres();
+  std::vector<float> expected(metres.size());
+  for (int y = 0; y < k.height; ++y)
+    for (int x = 0; x < k.width; ++x)
+      bilateralFilter(expected.data(), metres.data(), k.width, k.height, g.data(), config.bilateralRadius,
+                      config.bilateralRangeSigma, x, y);
+  const std::vector<float>& filtered = backend.levelDepth(0);
+  for (size_t i = 0; i < expected.size(); ++i) CHECK(filtered[i] == expected[i]);
 }
