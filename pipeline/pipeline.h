@@ -32,7 +32,7 @@ struct FrameResult {
   bool tracked = false;      // ICP converged to an acceptable pose (residual and inlier tests passed)
   bool poseOverridden = false;     // finishFrame was given a corrected pose
   bool integrated = false;   // the frame was fused into the volume
-  double residual = 0.0;     // metres: RMS point-to-plane residual of the last ICP pass (0 when not tracked)
+  double residual = 0.0;     // metres: RMS point-to-plane residual of the last ICP pass (0 when not attempted)
   double inlierFraction = 0.0;  // inliers of the last ICP pass / pixels at the compute size
   int icpIterations = 0;     // ICP iterations run, all levels
   double velocity = 0.0;     // metres/frame: |translation - previous frame's translation| (after finishFrame)
