@@ -1,11 +1,7 @@
 // `slambooster eval` end to end: the JSON output agrees with the library on the same files, the table is
 // printed by default, and user errors exit with 1 and say what is wrong.
 
-#include <sys/wait.h>
-
-#include <array>
 #include <catch2/catch.hpp>
-#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -13,26 +9,13 @@
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
 #include "tests/eval/eval_test_util.h"
+#include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
 
 namespace {
 
-struct RunResult {
-  int exitCode = -1;
-  std::string output;  // stdout and stderr together
-};
-
-RunResult runEval(const std::string& args) {
-  const std::string cmd = std::string(SB_SLAMBOOSTER_BIN) + " eval " + args + " 2>&1";
-  RunResult r;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+sb::test::CommandResult runEval(const std::string& args) {
+  return sb::test::runCommand(std::string(SB_SLAMBOOSTER_BIN) + " eval " + args);
 }
 
 // Ground truth and an estimate with a per-frame drift, written as TUM files in a scratch directory.
@@ -62,7 +45,7 @@ Files writeFiles(const std::string& name, double estimateTimeShiftS) {
 TEST_CASE("slambooster eval --json agrees with the library on the same files", "[eval][cli]") {
   const Files f = writeFiles("eval_cli_json", 0.0);
   const std::string csv = f.dir + "/ite.csv";
-  const RunResult r = runEval("--json --ite-csv " + csv + " " + f.estimate + " " + f.groundTruth);
+  const sb::test::CommandResult r = runEval("--json --ite-csv " + csv + " " + f.estimate + " " + f.groundTruth);
   INFO(r.output);
   REQUIRE(r.exitCode == 0);
   const auto j = nlohmann::json::parse(r.output);
@@ -85,11 +68,11 @@ TEST_CASE("slambooster eval --json agrees with the library on the same files", "
 
 TEST_CASE("slambooster eval prints a table by default and honours --offset", "[eval][cli]") {
   const Files f = writeFiles("eval_cli_table", 50.0);
-  const RunResult shifted = runEval(f.estimate + " " + f.groundTruth);
+  const sb::test::CommandResult shifted = runEval(f.estimate + " " + f.groundTruth);
   CHECK(shifted.exitCode == 1);
   CHECK_THAT(shifted.output, Catch::Contains("no overlap in time") && Catch::Contains("gt.txt") &&
                                  Catch::Contains("50.000000 .. "));
-  const RunResult r = runEval("--offset -50 " + f.estimate + " " + f.groundTruth);
+  const sb::test::CommandResult r = runEval("--offset -50 " + f.estimate + " " + f.groundTruth);
   INFO(r.output);
   CHECK(r.exitCode == 0);
   CHECK_THAT(r.output, Catch::Contains("matches       120") && Catch::Contains("ATE (aligned) rmse") &&
@@ -98,12 +81,12 @@ TEST_CASE("slambooster eval prints a table by default and honours --offset", "[e
 
 TEST_CASE("slambooster eval exits 1 with a message on bad input", "[eval][cli][errors]") {
   const Files f = writeFiles("eval_cli_errors", 0.0);
-  const RunResult missing = runEval(f.dir + "/absent.txt " + f.groundTruth);
+  const sb::test::CommandResult missing = runEval(f.dir + "/absent.txt " + f.groundTruth);
   CHECK(missing.exitCode == 1);
   CHECK_THAT(missing.output, Catch::Contains("cannot open trajectory"));
-  const RunResult badDelta = runEval("--rpe-delta 1.5 " + f.estimate + " " + f.groundTruth);
+  const sb::test::CommandResult badDelta = runEval("--rpe-delta 1.5 " + f.estimate + " " + f.groundTruth);
   CHECK(badDelta.exitCode == 1);
   CHECK_THAT(badDelta.output, Catch::Contains("whole number"));
-  const RunResult badDt = runEval("--max-dt -1 " + f.estimate + " " + f.groundTruth);
+  const sb::test::CommandResult badDt = runEval("--max-dt -1 " + f.estimate + " " + f.groundTruth);
   CHECK(badDt.exitCode == 1);
 }

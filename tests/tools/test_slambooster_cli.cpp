@@ -1,0 +1,92 @@
+// `slambooster` end to end, as a user would run it: render a synthetic sequence, reconstruct it, evaluate
+// the trajectory, and get clear errors with exit code 1 for bad input.
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "tests/support/run_command.h"
+#include "tests/support/test_data.h"
+
+namespace fs = std::filesystem;
+using sb::test::runCommand;
+
+namespace {
+
+const std::string kTool = SB_SLAMBOOSTER_BIN;
+
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream in(path);
+  REQUIRE(in.good());
+  return nlohmann::json::parse(in);
+}
+
+size_t countLines(const std::string& path) {
+  std::ifstream in(path);
+  size_t n = 0;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#') ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("synth, run and eval agree end to end on a short synthetic sequence", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_e2e");
+  const std::string seq = dir + "/seq";
+  const std::string out = dir + "/run";
+  constexpr int kFrames = 40;
+
+  const auto synth = runCommand(kTool + " synth --out " + seq + " --scene office --builtin-frames " +
+                                std::to_string(kFrames) + " --no-noise");
+  INFO(synth.output);
+  REQUIRE(synth.exitCode == 0);
+  REQUIRE(countLines(seq + "/depth.txt") == kFrames);
+  REQUIRE(countLines(seq + "/groundtruth.txt") == kFrames);
+
+  const auto run = runCommand(kTool + " run " + seq + " --out " + out + " --preset default --mesh --quiet");
+  INFO(run.output);
+  REQUIRE(run.exitCode == 0);
+  for (const char* f : {"trajectory.tum", "frames.jsonl", "summary.json", "model.png", "mesh.ply"}) {
+    INFO(f);
+    CHECK(fs::file_size(fs::path(out) / f) > 0);
+  }
+  CHECK(countLines(out + "/trajectory.tum") == kFrames);
+  CHECK(countLines(out + "/frames.jsonl") == kFrames);
+
+  const auto summary = readJson(out + "/summary.json");
+  CHECK(summary.at("frames").get<int>() == kFrames);
+  const double summaryAte = summary.at("ate").at("rmse_m").get<double>();
+  // Noise-free synthetic depth and a slow camera: KinectFusion must stay within a couple of centimetres.
+  CHECK(summaryAte < 0.02);
+
+  // The trajectory on disk, evaluated by `slambooster eval`, gives the ATE the summary reports.
+  const auto eval = runCommand(kTool + " eval --json " + out + "/trajectory.tum " + seq + "/groundtruth.txt");
+  INFO(eval.output);
+  REQUIRE(eval.exitCode == 0);
+  const auto evalJson = nlohmann::json::parse(eval.output);
+  CHECK(evalJson.at("ate").at("rmse_m").get<double>() == Approx(summaryAte).margin(1e-6));
+}
+
+TEST_CASE("slambooster reports bad input with exit code 1 and says what is wrong", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_errors");
+
+  const auto missing = runCommand(kTool + " run " + dir + "/no-such-seq --out " + dir + "/o --quiet");
+  CHECK(missing.exitCode == 1);
+  CHECK_THAT(missing.output, Catch::Contains("no-such-seq"));
+
+  const std::string seq = dir + "/seq";
+  REQUIRE(runCommand(kTool + " synth --out " + seq + " --builtin-frames 3 --no-noise").exitCode == 0);
+  const auto badKnob = runCommand(kTool + " run " + seq + " --out " + dir + "/o --knobs csr=3 --quiet");
+  CHECK(badKnob.exitCode == 1);
+  CHECK_THAT(badKnob.output, Catch::Contains("csr"));
+
+  const auto badScene = runCommand(kTool + " synth --out " + dir + "/s2 --builtin-frames 3 --scene castle");
+  CHECK(badScene.exitCode != 0);
+  CHECK_THAT(badScene.output, Catch::Contains("castle") || Catch::Contains("scene"));
+
+  const auto noCommand = runCommand(kTool);
+  CHECK(noCommand.exitCode == 2);
+}
