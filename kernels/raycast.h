@@ -73,6 +73,7 @@ SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNor
     float step = largeStep;
     float fPrevious = sbInterpolateTsdf(volume, resolution, size, origin + direction * t);
     float fCurrent = fPrevious;
+    int first = 1;  // the first sample is at tEnter, already interpolated
     if (fPrevious > 0.0f) {
       for (; t < tExit; t += step) {
         const float3 pos = origin + direction * t;
@@ -85,10 +86,12 @@ SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNor
             t = sbFmax(t, skipTo + 1e-3f * smallStep - step);
             fPrevious = 1.0f;
             fCurrent = 1.0f;
+            first = 0;
             continue;
           }
         }
-        fCurrent = sbInterpolateTsdf(volume, resolution, size, pos);
+        fCurrent = first ? fPrevious : sbInterpolateTsdf(volume, resolution, size, pos);
+        first = 0;
         if (fCurrent < 0.0f) break;
         if (fCurrent < smallStepBelow) step = smallStep;
         fPrevious = fCurrent;
