@@ -9,6 +9,10 @@ packages=(
   libspdlog-dev libfmt-dev libcli11-dev          # logging, formatting, command-line parsing
   catch2                                         # unit tests (v2)
   ocl-icd-opencl-dev opencl-headers pocl-opencl-icd  # OpenCL: ICD loader, headers, PoCL CPU device for tests
+  clang                                          # OpenCL C syntax check of kernels/, fuzz targets
+  libsystemd-dev systemd                         # daemon: sd_notify, socket activation; systemd-analyze verify
+  libusb-1.0-0-dev                               # SmartPower (v1) HID meter
+  libopenni2-dev                                 # live depth cameras
 )
 
 missing=()
