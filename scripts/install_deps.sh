@@ -13,6 +13,7 @@ packages=(
   libsystemd-dev systemd                         # daemon: sd_notify, socket activation; systemd-analyze verify
   libusb-1.0-0-dev                               # SmartPower (v1) HID meter
   libopenni2-dev                                 # live depth cameras
+  chromium                                       # report tests: render the HTML run report headless
 )
 
 missing=()
