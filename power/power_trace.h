@@ -1,0 +1,55 @@
+#pragma once
+// The raw power trace of a profiling run, written beside the per-frame log so that the run can be
+// re-accounted later (`slambooster energy --trace T --frames F`) or replayed (meter "file").
+//
+// Format (CSV, one event per line, times CLOCK_MONOTONIC ns of the recording machine):
+//   # {"format":"slambooster-power-trace","version":1,"meter":"smartpower2","device":"/dev/ttyUSB0",
+//   #  "kind":"instantaneous","nominal_period_ns":1000000000,"clock":"CLOCK_MONOTONIC"}   (one line)
+//   t_ns,watts,volts,amps,event
+//   12345678901,4.321,5.102,0.847,
+//   12346678901,4.298,,,gap        <- a sample after a meter gap (volts/amps empty when unknown)
+//   12347000000,,,,lost            <- the meter stopped delivering data at this time
+// Numbers are written in their shortest exact form, so re-accounting reproduces the live numbers.
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "power/meter.h"
+
+namespace sb::power {
+
+struct TraceEvent {
+  PowerSample sample;  // for a lost event only sample.tNs is set
+  bool lost = false;
+};
+
+struct PowerTrace {
+  MeterInfo meter;                // name, device, kind, nominal period of the recording
+  std::vector<TraceEvent> events;
+};
+
+class PowerTraceWriter {
+ public:
+  // Creates (truncates) `path` and writes the header. Throws sb::Error naming the file.
+  PowerTraceWriter(const std::string& path, const MeterInfo& meter);
+  ~PowerTraceWriter();
+  PowerTraceWriter(const PowerTraceWriter&) = delete;
+  PowerTraceWriter& operator=(const PowerTraceWriter&) = delete;
+
+  void sample(const PowerSample& s);
+  void lost(int64_t tNs);
+  void flush();  // the sampler flushes after every batch: a crash loses at most one poll's samples
+
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  std::FILE* file_ = nullptr;
+};
+
+// Reads a trace. Throws sb::Error naming the file and line for anything malformed.
+PowerTrace readPowerTrace(const std::string& path);
+
+}  // namespace sb::power

@@ -1,0 +1,22 @@
+#pragma once
+// The first Hardkernel SmartPower: USB HID 04d8:003f, read through libusb. Each poll sends the data request
+// (report 0x37) and parses the ASCII reply (smartpower1_reply.h). The device needs write access: without it
+// opening fails with an error that names the udev rule to install.
+
+#include <memory>
+
+#include "power/clock.h"
+#include "power/meter.h"
+#include "power/power_config.h"
+
+namespace sb::power {
+
+constexpr uint16_t kSmartPower1Vendor = 0x04d8;
+constexpr uint16_t kSmartPower1Product = 0x003f;
+
+// The udev rule that gives the plugdev group access (quoted in the access-denied error and power/README.md).
+const char* smartPower1UdevRule();
+
+std::unique_ptr<Meter> openSmartPower1(const PowerConfig& config, const Clock& clock);
+
+}  // namespace sb::power
