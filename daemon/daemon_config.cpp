@@ -1,0 +1,170 @@
+#include "daemon/daemon_config.h"
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "daemon/cpu_affinity.h"
+#include "daemon/json_reader.h"
+#include "daemon/source_registry.h"
+
+namespace sb::daemon {
+
+namespace {
+
+unsigned parseMode(const std::string& where, const std::string& text) {
+  const std::string allowed = "an octal permission string like \"0660\" (at most 0777)";
+  if (text.empty() || text.size() > 4 || text.find_first_not_of("01234567") != std::string::npos)
+    throw Error(where + ": 'mode' = \"" + text + "\" is not allowed; expected " + allowed);
+  const unsigned mode = static_cast<unsigned>(std::stoul(text, nullptr, 8));
+  if (mode > 0777) throw Error(where + ": 'mode' = \"" + text + "\" is not allowed; expected " + allowed);
+  return mode;
+}
+
+std::string formatMode(unsigned mode) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "%04o", mode);
+  return buf;
+}
+
+void readSource(const nlohmann::json& j, const std::string& where, SourceConfig& s) {
+  JsonObjectReader r(j, where + ": source");
+  r.string("type", s.type);
+  r.string("path", s.path);
+  r.choice("pacing", s.pacing, {"recorded", "fast"});
+  r.number("speed", s.speed, 0.01, 100.0);
+  r.choice("at_end", s.atEnd, {"stop", "loop", "exit"});
+  r.integer("max_frames", s.maxFrames, 0, 100000000);
+  r.number("depth_scale", s.depthScale, 0.0, 1e6);
+  r.integer("queue_frames", s.queueFrames, 1, 256);
+  r.finish();
+  const auto types = sourceTypes();
+  if (std::find(types.begin(), types.end(), s.type) == types.end()) {
+    std::string known;
+    for (const auto& t : types) known += (known.empty() ? "\"" : ", \"") + t + "\"";
+    throw Error(r.where() + ": 'type' = \"" + s.type + "\" is not allowed; expected one of " + known);
+  }
+}
+
+void readSlam(const nlohmann::json& j, const std::string& where, SlamConfig& s) {
+  JsonObjectReader r(j, where + ": slam");
+  r.string("cpus", s.cpus);
+  r.integer("threads", s.threads, 0, 1024);
+  r.string("pipeline_config", s.pipelineConfig);
+  r.string("controller", s.controller);
+  r.string("controller_config", s.controllerConfig);
+  r.finish();
+  try {
+    validateCpuSpec(s.cpus);
+  } catch (const Error& e) {
+    throw Error(r.where() + ": 'cpus': " + e.what());
+  }
+  if (s.controller.empty()) throw Error(where + ": slam: 'controller' must name a controller, e.g. \"default\"");
+}
+
+void readOutput(const nlohmann::json& j, const std::string& where, OutputConfig& o) {
+  JsonObjectReader r(j, where + ": output");
+  r.string("dir", o.dir);
+  r.boolean("mesh", o.mesh);
+  r.finish();
+  if (o.dir.empty()) throw Error(where + ": output: 'dir' must not be empty (where trajectory.tum is written)");
+}
+
+void readSocket(const nlohmann::json& j, const std::string& where, SocketConfig& s) {
+  JsonObjectReader r(j, where + ": socket");
+  r.string("path", s.path);
+  std::string mode = formatMode(s.mode);
+  r.string("mode", mode);
+  s.mode = parseMode(r.where(), mode);
+  r.string("control_group", s.controlGroup);
+  r.integer("max_clients", s.maxClients, 1, 4096);
+  r.integer("max_request_bytes", s.maxRequestBytes, 64, 1 << 20);
+  size_t kib = s.clientBufferBytes / 1024;
+  r.integer("client_buffer_kib", kib, 4, 65536);
+  s.clientBufferBytes = kib * 1024;
+  r.number("client_stall_s", s.clientStallSeconds, 0.1, 3600.0);
+  r.finish();
+  if (s.path.empty()) throw Error(where + ": socket: 'path' must not be empty");
+  // sockaddr_un::sun_path holds 108 bytes including the terminating NUL.
+  if (s.path.size() > 107)
+    throw Error(where + ": socket: 'path' = \"" + s.path + "\" is longer than 107 bytes (the Unix socket limit)");
+}
+
+}  // namespace
+
+DaemonConfig parseDaemonConfig(const nlohmann::json& j, const std::string& where) {
+  DaemonConfig c;
+  JsonObjectReader r(j, where);
+  if (const auto* s = r.object("source")) readSource(*s, where, c.source);
+  if (const auto* s = r.object("slam")) readSlam(*s, where, c.slam);
+  if (const auto* s = r.object("output")) readOutput(*s, where, c.output);
+  if (const auto* s = r.object("socket")) readSocket(*s, where, c.socket);
+  r.number("status_interval_s", c.statusIntervalSeconds, 0.05, 3600.0);
+  r.choice("log_level", c.logLevel, {"trace", "debug", "info", "warn", "error"});
+  r.finish();
+  return c;
+}
+
+void applyOverride(nlohmann::json& j, const std::string& assignment) {
+  const auto eq = assignment.find('=');
+  const std::string usage = "'" + assignment + "': an override is section.key=value, e.g. source.pacing=fast";
+  if (eq == std::string::npos || eq == 0) throw Error(usage);
+  const std::string path = assignment.substr(0, eq);
+  const std::string text = assignment.substr(eq + 1);
+  nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+  if (value.is_discarded()) value = text;  // a plain string needs no quotes on the command line
+  nlohmann::json* node = &j;
+  size_t start = 0;
+  while (true) {
+    const auto dot = path.find('.', start);
+    const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (key.empty()) throw Error(usage);
+    if (!node->is_object()) *node = nlohmann::json::object();
+    if (dot == std::string::npos) {
+      (*node)[key] = value;
+      return;
+    }
+    node = &(*node)[key];
+    start = dot + 1;
+  }
+}
+
+nlohmann::json readJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot open config file '" + path + "' (check the path and its permissions)");
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded()) throw Error("config file '" + path + "' is not valid JSON");
+  return j;
+}
+
+nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
+  return {{"source",
+           {{"type", c.source.type},
+            {"path", c.source.path},
+            {"pacing", c.source.pacing},
+            {"speed", c.source.speed},
+            {"at_end", c.source.atEnd},
+            {"max_frames", c.source.maxFrames},
+            {"depth_scale", c.source.depthScale},
+            {"queue_frames", c.source.queueFrames}}},
+          {"slam",
+           {{"cpus", c.slam.cpus},
+            {"threads", c.slam.threads},
+            {"pipeline_config", c.slam.pipelineConfig},
+            {"controller", c.slam.controller},
+            {"controller_config", c.slam.controllerConfig}}},
+          {"output", {{"dir", c.output.dir}, {"mesh", c.output.mesh}}},
+          {"socket",
+           {{"path", c.socket.path},
+            {"mode", formatMode(c.socket.mode)},
+            {"control_group", c.socket.controlGroup},
+            {"max_clients", c.socket.maxClients},
+            {"max_request_bytes", c.socket.maxRequestBytes},
+            {"client_buffer_kib", c.socket.clientBufferBytes / 1024},
+            {"client_stall_s", c.socket.clientStallSeconds}}},
+          {"status_interval_s", c.statusIntervalSeconds},
+          {"log_level", c.logLevel}};
+}
+
+}  // namespace sb::daemon

@@ -1,0 +1,88 @@
+#pragma once
+// The socket protocol (DESIGN section 7; reference: docs/protocol.md): newline-delimited JSON, gpsd-style.
+// Requests are single lines "?NAME;" or "?NAME={json object}" (a trailing ';' after the object is allowed);
+// every reply and report is one JSON object with a "class" on one line.
+//
+// This file holds the pure parts: the request parser and the message encoders. No I/O.
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "pipeline/knobs.h"
+
+namespace sb::daemon {
+
+constexpr int kProtoMajor = 1;
+constexpr int kProtoMinor = 0;
+
+enum class Command { watch, poll, status, control, version };
+
+struct WatchRequest {  // fields absent from the request stay unset (the client's current choice is kept)
+  std::optional<bool> enable, pose, knobs, energy;
+};
+
+struct ControlRequest {
+  std::optional<std::string> controller;   // switch to this controller
+  std::map<std::string, double> pin;       // knob name -> value; pd0/pd1/pd2 for the ICP iterations
+  std::vector<std::string> unpin;          // knob names, or {"all"}
+};
+
+struct Request {
+  Command command = Command::poll;
+  WatchRequest watch;      // command == watch
+  ControlRequest control;  // command == control
+};
+
+struct ParseResult {
+  std::optional<Request> request;
+  std::string error;  // when !request: what was wrong, for the ERROR reply
+};
+
+// Parses one request line (without the '\n'; a trailing '\r' is ignored). Never throws.
+ParseResult parseRequest(std::string_view line);
+
+// The knob names ?CONTROL may pin, in KNOBS order.
+const std::vector<std::string>& pinnableKnobs();
+
+// One processed frame as the SLAM thread publishes it: immutable once made.
+struct FrameReport {
+  uint64_t frame = 0;                       // 0-based frame count of this run
+  double timestamp = 0.0;                   // seconds, the frame's own timestamp
+  std::array<double, 3> position{};         // metres, T_camera_to_world translation (volume frame)
+  std::array<double, 4> quaternion{0, 0, 0, 1};  // qx, qy, qz, qw (TUM order)
+  bool tracked = false;
+  bool corrected = false;                   // the controller replaced the tracked pose
+  double velocity = 0.0;                    // metres/frame
+  double computationMs = 0.0;               // preprocessing + tracking + integration + raycast
+  Knobs knobs;                              // the knobs this frame ran with
+  std::string controller;                   // the controller that chose them
+  std::vector<std::string> pinned;          // knobs pinned over the controller's choice
+};
+
+// Energy of one frame (DESIGN section 5; produced by the power meter ledger, which may lag POSE).
+struct EnergyReport {
+  uint64_t frame = 0;
+  double joules = 0.0;
+  double meanWatts = 0.0;
+  std::string meter;
+};
+
+nlohmann::json versionMessage(const std::string& release);
+nlohmann::json poseMessage(const FrameReport& r);
+nlohmann::json knobsMessage(const FrameReport& r);
+nlohmann::json energyMessage(const EnergyReport& e);
+nlohmann::json watchMessage(bool enable, bool pose, bool knobs, bool energy);
+// `status`: fields of the STATUS object (source, controller, meter, fps, drops, uptime ...).
+nlohmann::json statusMessage(nlohmann::json status);
+nlohmann::json errorMessage(const std::string& message);
+
+// One line on the wire: compact JSON + '\n'. Invalid UTF-8 in strings is replaced, never thrown.
+std::string toLine(const nlohmann::json& message);
+
+}  // namespace sb::daemon

@@ -1,0 +1,187 @@
+#include "daemon/socket_server.h"
+
+#include <spdlog/spdlog.h>
+#include <sys/socket.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace sb::daemon {
+
+namespace {
+
+Line makeLine(const nlohmann::json& message) { return std::make_shared<const std::string>(toLine(message)); }
+
+}  // namespace
+
+SocketServer::SocketServer(EventLoop& loop, int listener, const SocketConfig& config, ControlPolicy policy,
+                           ServiceState& state, std::string release)
+    : loop_(loop), listener_(listener), config_(config), policy_(std::move(policy)), state_(state),
+      release_(std::move(release)) {
+  loop_.add(listener_, EPOLLIN, [this](uint32_t) { accept(); });
+}
+
+SocketServer::~SocketServer() {
+  for (auto& [fd, client] : clients_) {
+    client->flush();  // best effort: the last messages to clients that read
+    loop_.remove(fd);
+  }
+  loop_.remove(listener_);
+}
+
+void SocketServer::accept() {
+  while (true) {
+    UniqueFd fd(accept4(listener_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
+    if (!fd.valid()) {
+      if (errno == EINTR || errno == ECONNABORTED) continue;
+      if (errno != EAGAIN && errno != EWOULDBLOCK) spdlog::warn("socket: accept failed: {}", std::strerror(errno));
+      return;
+    }
+    if (clients_.size() >= config_.maxClients) {
+      const std::string line = toLine(errorMessage("too many clients (limit " + std::to_string(config_.maxClients) +
+                                                   ", socket.max_clients); try again later"));
+      (void)!::send(fd.get(), line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+      ++clientsDisconnected_;
+      continue;  // fd closes here
+    }
+    PeerCredentials peer;
+    try {
+      peer = peerCredentials(fd.get());
+    } catch (const Error& e) {
+      spdlog::warn("socket: {}; connection refused", e.what());
+      continue;
+    }
+    const int raw = fd.get();
+    auto client = std::make_unique<Client>(std::move(fd), std::move(peer), config_.maxRequestBytes,
+                                           config_.clientBufferBytes);
+    Client& c = *client;
+    clients_.emplace(raw, std::move(client));
+    loop_.add(raw, EPOLLIN, [this, raw](uint32_t events) { onClientEvent(raw, events); });
+    spdlog::debug("socket: client fd {} connected (pid {}, uid {})", raw, c.peer().pid, c.peer().uid);
+    reply(c, versionMessage(release_));
+  }
+}
+
+void SocketServer::onClientEvent(int fd, uint32_t events) {
+  auto it = clients_.find(fd);
+  if (it == clients_.end()) return;
+  Client& client = *it->second;
+  if (events & EPOLLOUT) {
+    if (!client.flush()) return close(fd, "write failed", false);
+  }
+  if (events & (EPOLLIN | EPOLLHUP | EPOLLERR)) {
+    const auto result = client.read([&](std::string_view line) { handleLine(client, line); },
+        [&] {
+          reply(client, errorMessage("request longer than " + std::to_string(config_.maxRequestBytes) +
+                                     " bytes (socket.max_request_bytes); ignored"));
+        });
+    if (result == Client::ReadResult::closed) return close(fd, "peer closed", false);
+  }
+  updateInterest(client);
+}
+
+void SocketServer::handleLine(Client& client, std::string_view line) {
+  if (line.empty() || line == "\r") return;  // blank lines are harmless keep-alives
+  ParseResult parsed = parseRequest(line);
+  if (!parsed.request) return reply(client, errorMessage(parsed.error));
+  const Request& r = *parsed.request;
+  switch (r.command) {
+    case Command::version:
+      return reply(client, versionMessage(release_));
+    case Command::watch: {
+      const WatchRequest& w = r.watch;
+      if (w.enable) client.watching = *w.enable;
+      if (w.pose) client.watchPose = *w.pose;
+      if (w.knobs) client.watchKnobs = *w.knobs;
+      if (w.energy) client.watchEnergy = *w.energy;
+      return reply(client, watchMessage(client.watching, client.watchPose, client.watchKnobs, client.watchEnergy));
+    }
+    case Command::poll:
+      return reply(client, pollMessage());
+    case Command::status: {
+      nlohmann::json s = state_.status();
+      s["clients"] = clients_.size();
+      s["client_messages_dropped"] = messagesDropped_;
+      s["clients_disconnected"] = clientsDisconnected_;
+      return reply(client, statusMessage(std::move(s)));
+    }
+    case Command::control: {
+      if (!policy_.allowed(client.peer()))
+        return reply(client, errorMessage("?CONTROL: permission denied for uid " + std::to_string(client.peer().uid) +
+                                          "; allowed: " + policy_.describe() + " (socket.control_group)"));
+      try {
+        nlohmann::json result = state_.control(r.control);
+        result["class"] = "CONTROL";
+        spdlog::info("socket: ?CONTROL from pid {} uid {}: {}", client.peer().pid, client.peer().uid,
+                     std::string(line.substr(0, 200)));
+        return reply(client, result);
+      } catch (const Error& e) {
+        return reply(client, errorMessage(e.what()));
+      }
+    }
+  }
+}
+
+nlohmann::json SocketServer::pollMessage() const {
+  return {{"class", "POLL"},
+          {"frames", framesPublished_},
+          {"pose", lastPose_ ? *lastPose_ : nlohmann::json()},
+          {"knobs", lastKnobs_ ? *lastKnobs_ : nlohmann::json()},
+          {"energy", lastEnergy_ ? *lastEnergy_ : nlohmann::json()}};
+}
+
+void SocketServer::reply(Client& client, const nlohmann::json& message) { deliver(client, makeLine(message)); }
+
+void SocketServer::deliver(Client& client, const Line& line) {
+  if (!client.send(line)) ++messagesDropped_;
+  if (!client.flush()) return;  // the read path or the next event closes it
+  updateInterest(client);
+}
+
+void SocketServer::updateInterest(Client& client) {
+  loop_.modify(client.fd(), client.hasPendingOutput() ? (EPOLLIN | EPOLLOUT) : EPOLLIN);
+}
+
+void SocketServer::publishFrame(const FrameReport& report) {
+  ++framesPublished_;
+  lastPose_ = poseMessage(report);
+  lastKnobs_ = knobsMessage(report);
+  const Line pose = makeLine(*lastPose_);
+  const Line knobs = makeLine(*lastKnobs_);
+  for (auto& [fd, client] : clients_) {
+    if (!client->watching) continue;
+    if (client->watchPose) deliver(*client, pose);
+    if (client->watchKnobs) deliver(*client, knobs);
+  }
+  dropStalledClients();
+}
+
+void SocketServer::publishEnergy(const EnergyReport& report) {
+  lastEnergy_ = energyMessage(report);
+  const Line energy = makeLine(*lastEnergy_);
+  for (auto& [fd, client] : clients_)
+    if (client->watching && client->watchEnergy) deliver(*client, energy);
+}
+
+void SocketServer::dropStalledClients() {
+  const auto now = SteadyClock::now();
+  const auto limit = std::chrono::duration<double>(config_.clientStallSeconds);
+  std::vector<int> stalled;
+  for (auto& [fd, client] : clients_)
+    if (client->stalledSince() && now - *client->stalledSince() > limit) stalled.push_back(fd);
+  for (int fd : stalled) close(fd, "not reading (output queue full; socket.client_stall_s)", true);
+}
+
+void SocketServer::close(int fd, const char* why, bool byServer) {
+  auto it = clients_.find(fd);
+  if (it == clients_.end()) return;
+  spdlog::debug("socket: client fd {} (pid {}) disconnected: {}; {} messages dropped", fd, it->second->peer().pid,
+                why, it->second->dropped());
+  if (byServer) ++clientsDisconnected_;
+  loop_.remove(fd);
+  clients_.erase(it);  // closes the fd
+}
+
+}  // namespace sb::daemon

@@ -1,0 +1,92 @@
+// The daemon's typed config: defaults, the documented default file, and one clear error per bad value.
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "daemon/daemon_config.h"
+
+using namespace sb::daemon;
+using nlohmann::json;
+
+namespace {
+
+std::string errorOf(const json& j) {
+  try {
+    parseDaemonConfig(j, "test.json");
+  } catch (const sb::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("daemon config: defaults and a full round trip", "[daemon][config]") {
+  const DaemonConfig d = parseDaemonConfig(json::object());
+  CHECK(d.socket.path == "/run/slambooster/slambooster.sock");
+  CHECK(d.socket.mode == 0660);
+  CHECK(d.source.pacing == "recorded");
+  CHECK(d.slam.cpus == "auto");
+  const json j = daemonConfigToJson(d);
+  CHECK(daemonConfigToJson(parseDaemonConfig(j)) == j);
+}
+
+TEST_CASE("the documented default config equals the built-in defaults", "[daemon][config]") {
+  const json file = readJsonFile(SB_DAEMON_DEFAULT_CONFIG);
+  CHECK(file == daemonConfigToJson(DaemonConfig{}));
+}
+
+TEST_CASE("daemon config: values are read", "[daemon][config]") {
+  const DaemonConfig c = parseDaemonConfig(json::parse(R"({
+    "source": {"path": "/data/seq", "pacing": "fast", "at_end": "loop", "queue_frames": 2},
+    "slam": {"cpus": "4-7", "controller": "slambooster"},
+    "socket": {"mode": "0600", "control_group": "video", "client_buffer_kib": 64},
+    "output": {"dir": "/tmp/x", "mesh": true}})"));
+  CHECK(c.source.path == "/data/seq");
+  CHECK(c.source.pacing == "fast");
+  CHECK(c.source.atEnd == "loop");
+  CHECK(c.source.queueFrames == 2);
+  CHECK(c.slam.cpus == "4-7");
+  CHECK(c.socket.mode == 0600);
+  CHECK(c.socket.clientBufferBytes == 64 * 1024);
+  CHECK(c.output.mesh);
+}
+
+TEST_CASE("daemon config: errors name the key, the value and what is allowed", "[daemon][config]") {
+  using Catch::Matchers::Contains;
+  CHECK_THAT(errorOf({{"sokcet", json::object()}}), Contains("unknown key 'sokcet'") && Contains("socket"));
+  CHECK_THAT(errorOf({{"socket", {{"max_clients", 0}}}}),
+             Contains("test.json: socket") && Contains("'max_clients' = 0") && Contains("[1, 4096]"));
+  CHECK_THAT(errorOf({{"socket", {{"max_clients", "8"}}}}), Contains("'max_clients' = \"8\"") && Contains("integer"));
+  CHECK_THAT(errorOf({{"socket", {{"mode", "999"}}}}), Contains("'mode' = \"999\"") && Contains("octal"));
+  CHECK_THAT(errorOf({{"socket", {{"mode", 660}}}}), Contains("'mode' = 660") && Contains("string"));
+  CHECK_THAT(errorOf({{"source", {{"pacing", "slow"}}}}),
+             Contains("'pacing' = \"slow\"") && Contains("\"recorded\", \"fast\""));
+  CHECK_THAT(errorOf({{"source", {{"type", "kinect"}}}}), Contains("'type' = \"kinect\"") && Contains("\"replay\""));
+  CHECK_THAT(errorOf({{"source", {{"speed", -1}}}}), Contains("'speed' = -1"));
+  CHECK_THAT(errorOf({{"slam", {{"cpus", "7-4"}}}}), Contains("slam") && Contains("'7-4'"));
+  CHECK_THAT(errorOf({{"slam", {{"threads", 1.5}}}}), Contains("'threads' = 1.5"));
+  CHECK_THAT(errorOf({{"output", {{"dir", ""}}}}), Contains("'dir'"));
+  CHECK_THAT(errorOf({{"socket", {{"path", std::string(120, 'a')}}}}), Contains("107"));
+  CHECK_THAT(errorOf({{"log_level", "loud"}}), Contains("'log_level' = \"loud\""));
+  CHECK_THAT(errorOf(json::array()), Contains("must be a JSON object"));
+  CHECK_THAT(errorOf({{"source", 3}}), Contains("'source' = 3"));
+}
+
+TEST_CASE("daemon config: command-line overrides", "[daemon][config]") {
+  json j = json::object();
+  applyOverride(j, "source.pacing=fast");
+  applyOverride(j, "socket.max_clients=8");
+  applyOverride(j, "output.mesh=true");
+  applyOverride(j, "source.path=/a b/c");
+  const DaemonConfig c = parseDaemonConfig(j);
+  CHECK(c.source.pacing == "fast");
+  CHECK(c.socket.maxClients == 8);
+  CHECK(c.output.mesh);
+  CHECK(c.source.path == "/a b/c");
+  CHECK_THROWS_AS(applyOverride(j, "novalue"), sb::Error);
+  CHECK_THROWS_AS(applyOverride(j, "a..b=1"), sb::Error);
+  applyOverride(j, "socket.max_clients=\"8\"");
+  CHECK_THROWS_AS(parseDaemonConfig(j), sb::Error);  // a quoted number stays a string: refused by type
+}

@@ -1,0 +1,87 @@
+// The request parser and the message encoders of the socket protocol (docs/protocol.md).
+
+#include <catch2/catch.hpp>
+
+#include "daemon/protocol.h"
+
+using namespace sb::daemon;
+using Catch::Matchers::Contains;
+
+namespace {
+
+std::string errorOf(std::string_view line) {
+  const ParseResult r = parseRequest(line);
+  REQUIRE_FALSE(r.request);
+  REQUIRE_FALSE(r.error.empty());
+  return r.error;
+}
+
+}  // namespace
+
+TEST_CASE("requests parse", "[daemon][protocol]") {
+  CHECK(parseRequest("?POLL;").request->command == Command::poll);
+  CHECK(parseRequest("?POLL").request->command == Command::poll);
+  CHECK(parseRequest("?STATUS;\r").request->command == Command::status);
+  CHECK(parseRequest("?VERSION;").request->command == Command::version);
+  const auto w = parseRequest(R"(?WATCH={"enable":true,"knobs":false,"future":1};)").request;
+  REQUIRE(w);
+  CHECK(w->command == Command::watch);
+  CHECK(*w->watch.enable);
+  CHECK_FALSE(*w->watch.knobs);
+  CHECK_FALSE(w->watch.pose);
+  CHECK(parseRequest("?WATCH;").request->command == Command::watch);
+  const auto c = parseRequest(R"(?CONTROL={"controller":"slambooster","pin":{"csr":2,"pd0":6},"unpin":["ir"]})").request;
+  REQUIRE(c);
+  CHECK(*c->control.controller == "slambooster");
+  CHECK(c->control.pin.at("csr") == 2);
+  CHECK(c->control.pin.at("pd0") == 6);
+  CHECK(c->control.unpin == std::vector<std::string>{"ir"});
+  CHECK(parseRequest(R"(?CONTROL={"unpin":"all"})").request->control.unpin == std::vector<std::string>{"all"});
+}
+
+TEST_CASE("malformed requests are refused with a reason", "[daemon][protocol]") {
+  CHECK_THAT(errorOf(""), Contains("start with '?'"));
+  CHECK_THAT(errorOf("WATCH;"), Contains("start with '?'"));
+  CHECK_THAT(errorOf("?FLY;"), Contains("unknown request '?FLY'") && Contains("?WATCH"));
+  CHECK_THAT(errorOf("?watch;"), Contains("unknown request"));
+  CHECK_THAT(errorOf("?POLL={}"), Contains("?POLL must be followed by ';'"));
+  CHECK_THAT(errorOf("?WATCH={"), Contains("one JSON object"));
+  CHECK_THAT(errorOf("?WATCH=[1]"), Contains("one JSON object"));
+  CHECK_THAT(errorOf("?WATCH={\"enable\":1}"), Contains("'enable' must be true or false"));
+  CHECK_THAT(errorOf("?WATCH;;"), Contains("must be followed by"));
+  CHECK_THAT(errorOf("?CONTROL;"), Contains("needs an argument object"));
+  CHECK_THAT(errorOf("?CONTROL={}"), Contains("nothing to do"));
+  CHECK_THAT(errorOf(R"(?CONTROL={"pin":{"speed":2}})"), Contains("unknown knob 'speed'") && Contains("csr"));
+  CHECK_THAT(errorOf(R"(?CONTROL={"pin":{"csr":"2"}})"), Contains("must be a number"));
+  CHECK_THAT(errorOf(R"(?CONTROL={"unpin":[3]})"), Contains("cannot unpin 3"));
+  CHECK_THAT(errorOf(R"(?CONTROL={"controller":""})"), Contains("controller name"));
+  CHECK_THAT(errorOf(std::string("?POLL;\0\xff", 8)), Contains("must be followed by ';'"));
+  CHECK_THAT(errorOf("\x01\x02\xfe\xff"), Contains("start with '?'"));
+}
+
+TEST_CASE("every message carries its class; encodings are stable", "[daemon][protocol]") {
+  FrameReport r;
+  r.frame = 7;
+  r.timestamp = 1.5;
+  r.position = {1, 2, 3};
+  r.quaternion = {0, 0, 0, 1};
+  r.tracked = true;
+  r.velocity = 0.01;
+  r.controller = "fixed";
+  r.pinned = {"csr"};
+  CHECK(toLine(poseMessage(r)) ==
+        R"({"class":"POSE","corrected":false,"frame":7,"position":[1.0,2.0,3.0],"quaternion":[0.0,0.0,0.0,1.0],)"
+        R"("timestamp":1.5,"tracked":true,"velocity":0.01})"
+        "\n");
+  CHECK(toLine(knobsMessage(r)) ==
+        R"({"class":"KNOBS","computation_ms":0.0,"controller":"fixed","csr":1,"frame":7,"icp":1e-05,"ir":2,)"
+        R"("pd":[10,5,4],"pinned":["csr"],"tr":1})"
+        "\n");
+  CHECK(versionMessage("0.1.0")["class"] == "VERSION");
+  CHECK(energyMessage(EnergyReport{})["class"] == "ENERGY");
+  CHECK(statusMessage({{"fps", 1}})["class"] == "STATUS");
+  CHECK(errorMessage("x")["class"] == "ERROR");
+  CHECK(watchMessage(true, true, false, true)["class"] == "WATCH");
+  // Invalid UTF-8 in a string never throws on the wire.
+  CHECK(toLine(errorMessage("bad \xff byte")).find("ERROR") != std::string::npos);
+}
