@@ -8,6 +8,7 @@ namespace sb::cli {
 
 void addRunCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
+void addEnergyCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 
 }  // namespace sb::cli

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(SB_VERSION));
   sb::cli::addRunCommand(app);
   sb::cli::addEvalCommand(app);
+  sb::cli::addEnergyCommand(app);
   sb::cli::addSynthCommand(app);
   try {
     app.parse(argc, argv);
