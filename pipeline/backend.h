@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 
+#include "core/error.h"
 #include "core/image.h"
 #include "pipeline/stages.h"
 
@@ -42,6 +43,15 @@ class ComputeBackend {
 
   // The volume on the host (2 * R^3 int16, layout in kernels/volume.h); valid until the next call.
   virtual const int16_t* volumeData() = 0;
+
+  // Reduced precision (DESIGN section 3, the paper's "+half"): the preprocessed maps (mm2meters output and the
+  // pyramid's depth, vertex and normal maps) and the raycast maps stored as half, arithmetic in float. May be
+  // switched between any two frames. Backends without it report false and refuse to enable it.
+  virtual bool supportsHalfPrecision() const { return false; }
+  virtual void setHalfPrecision(bool enabled) {
+    if (enabled) throw Error("this compute backend stores float only: half precision needs backend opencl");
+  }
+  virtual bool halfPrecision() const { return false; }
 };
 
 }  // namespace sb

@@ -70,7 +70,24 @@ void checkRange(const std::string& where, const char* key, double value, double 
   }
 }
 
+// "opencl_platform" / "opencl_device": a non-negative index or a name substring, stored as text.
+std::string parseSelector(const std::string& where, const std::string& key, const nlohmann::json& v) {
+  if (v.is_number_integer() && v.get<long long>() >= 0) return std::to_string(v.get<long long>());
+  if (v.is_string()) return v.get<std::string>();
+  throw Error(where + ": '" + key + "' must be an index (0, 1, ...) or a name substring like \"NVIDIA\" (\"\" = " +
+              "automatic choice), got " + v.dump());
+}
+
 }  // namespace
+
+const char* backendKindName(BackendKind kind) {
+  switch (kind) {
+    case BackendKind::cpu: return "cpu";
+    case BackendKind::opencl: return "opencl";
+    case BackendKind::automatic: break;
+  }
+  return "auto";
+}
 
 void validateConfig(const PipelineConfig& c) {
   const std::string where = "pipeline config";
@@ -83,6 +100,9 @@ void validateConfig(const PipelineConfig& c) {
   if (c.farPlane <= c.nearPlane)
     throw Error(where + ": 'far_plane_m' must be larger than 'near_plane_m' (" + std::to_string(c.farPlane) +
                 " <= " + std::to_string(c.nearPlane) + ")");
+  if (c.openclHalfStorage && c.backend == BackendKind::cpu)
+    throw Error(where + ": 'opencl_half_storage' = true needs 'backend' opencl or auto (the cpu backend stores " +
+                "float only)");
   validateKnobs(c.knobs);
 }
 
@@ -119,6 +139,23 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
     } else if (key == "empty_space_skipping") {
       if (!v.is_boolean()) throw Error(where + ": 'empty_space_skipping' must be true or false, got " + v.dump());
       c.emptySpaceSkipping = v.get<bool>();
+      known = true;
+    } else if (key == "backend") {
+      const std::string name = v.is_string() ? v.get<std::string>() : "";
+      if (name == "auto") c.backend = BackendKind::automatic;
+      else if (name == "cpu") c.backend = BackendKind::cpu;
+      else if (name == "opencl") c.backend = BackendKind::opencl;
+      else throw Error(where + ": 'backend' must be \"auto\", \"cpu\" or \"opencl\", got " + v.dump());
+      known = true;
+    } else if (key == "opencl_platform") {
+      c.openclPlatform = parseSelector(where, key, v);
+      known = true;
+    } else if (key == "opencl_device") {
+      c.openclDevice = parseSelector(where, key, v);
+      known = true;
+    } else if (key == "opencl_half_storage") {
+      if (!v.is_boolean()) throw Error(where + ": 'opencl_half_storage' must be true or false, got " + v.dump());
+      c.openclHalfStorage = v.get<bool>();
       known = true;
     } else if (key == "knobs") {
       if (!v.is_string())
@@ -164,6 +201,10 @@ nlohmann::json configToJson(const PipelineConfig& c) {
   for (const auto& f : intFields()) j[f.key] = c.*(f.member);
   j["initial_position"] = {c.initialPosition[0], c.initialPosition[1], c.initialPosition[2]};
   j["empty_space_skipping"] = c.emptySpaceSkipping;
+  j["backend"] = backendKindName(c.backend);
+  j["opencl_platform"] = c.openclPlatform;
+  j["opencl_device"] = c.openclDevice;
+  j["opencl_half_storage"] = c.openclHalfStorage;
   j["knobs"] = formatKnobs(c.knobs);
   return j;
 }

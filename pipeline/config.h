@@ -11,6 +11,11 @@
 
 namespace sb {
 
+// Which compute backend runs the stages (DESIGN section 3). `automatic`: OpenCL on a GPU or accelerator
+// device when one is found (or the device opencl_platform / opencl_device name), else the cpu backend.
+enum class BackendKind { automatic, cpu, opencl };
+const char* backendKindName(BackendKind kind);  // "auto", "cpu", "opencl"
+
 struct PipelineConfig {
   // --- preprocessing ---
   int bilateralRadius = 2;              // pixels: the filter window is (2r+1)^2 = 5x5
@@ -42,6 +47,12 @@ struct PipelineConfig {
 
   // --- render (output only) ---
   float renderAmbient = 0.1f;           // shade added to every lit pixel, [0, 1]
+
+  // --- compute backend ---
+  BackendKind backend = BackendKind::automatic;
+  std::string openclPlatform;       // platform index ("0") or a name substring; empty: the first with a GPU
+  std::string openclDevice;         // device index within the platform or a name substring; empty: first GPU
+  bool openclHalfStorage = false;   // preprocessed and raycast maps stored as half (OpenCL only)
 
   // --- initial knobs of a run ---
   Knobs knobs;

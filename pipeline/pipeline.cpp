@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "pipeline/backend_factory.h"
 #include "pipeline/cpu_backend.h"
 #include "pipeline/icp_solve.h"
 
@@ -17,6 +18,10 @@ Pipeline::Pipeline(const PipelineConfig& config, const Intrinsics& intrinsics, s
   pose_ = initialPose_;
   referencePose_ = initialPose_;
   lastFinalPose_ = initialPose_;
+}
+
+std::unique_ptr<Pipeline> Pipeline::create(const PipelineConfig& config, const Intrinsics& intrinsics, ThreadPool& pool) {
+  return std::make_unique<Pipeline>(config, intrinsics, makeBackend(config, intrinsics, pool));
 }
 
 std::unique_ptr<Pipeline> Pipeline::createCpu(const PipelineConfig& config, const Intrinsics& intrinsics, ThreadPool& pool) {

@@ -43,6 +43,10 @@ class Pipeline {
  public:
   // `intrinsics`: of the full-size depth image. Throws sb::Error on an invalid config.
   Pipeline(const PipelineConfig& config, const Intrinsics& intrinsics, std::unique_ptr<ComputeBackend> backend);
+  // A pipeline on the backend the config names (backend_factory.h: cpu, opencl or auto; the cpu backend runs
+  // on `pool`, borrowed).
+  static std::unique_ptr<Pipeline> create(const PipelineConfig& config, const Intrinsics& intrinsics,
+                                          ThreadPool& pool = ThreadPool::global());
   // A pipeline on the CPU backend running on `pool` (borrowed; must outlive the pipeline).
   static std::unique_ptr<Pipeline> createCpu(const PipelineConfig& config, const Intrinsics& intrinsics,
                                              ThreadPool& pool = ThreadPool::global());

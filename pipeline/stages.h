@@ -30,6 +30,9 @@ constexpr const char* stageName(Stage s) {
 // Milliseconds spent per stage (host clock), indexed by Stage.
 struct StageTimes {
   std::array<double, kStageCount> ms{};
+  // Milliseconds per stage measured on the device (OpenCL profiling events: kernel start to end); 0 for the
+  // stages of backends without a device clock (cpu).
+  std::array<double, kStageCount> deviceMs{};
   double& operator[](Stage s) { return ms[static_cast<int>(s)]; }
   double operator[](Stage s) const { return ms[static_cast<int>(s)]; }
   // Preprocessing + tracking + integration + raycast: everything except render (the paper's computation time).

@@ -1,0 +1,79 @@
+#pragma once
+// What the OpenCL backend keeps on the device: the program variants (float and half map storage, built from
+// the embedded sources with -D options), the buffers (allocated once for the full sensor size) and the
+// transfers. Internal to pipeline/opencl/.
+
+#include <array>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "pipeline/opencl/launcher.h"
+#include "pipeline/opencl/opencl_backend.h"
+
+namespace sb {
+
+namespace opencl {
+
+constexpr size_t kReduceGroup = 64;          // work-items per reduce group (SB_REDUCE_GROUP in track.cl)
+constexpr size_t kPixelsPerReduceItem = 32;  // pixels each reduce work-item sums (fewer groups for small images)
+constexpr size_t kMaxReduceGroups = 1024;
+
+// One build of the program and its kernels.
+struct Kernels {
+  Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfStorage);
+
+  Program program;
+  Kernel mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal;
+  Kernel track, reduce, reduceFinal;
+  Kernel initVolume, integrate, superFlags;
+  Kernel raycast, render;
+  Kernel halfToFloat, floatToHalf;
+};
+
+}  // namespace opencl
+
+struct OpenClBackend::State {
+  struct Level {
+    Intrinsics k;
+    opencl::Buffer depth, vertex, normal;
+  };
+
+  State(const PipelineConfig& config, const Intrinsics& fullSize, const opencl::DeviceInfo& device);
+
+  const opencl::Kernels& kernels() { return variant(half); }
+  const opencl::Kernels& variant(bool halfStorage);  // built on first use
+
+  void upload(const DepthRaw& raw);  // into `raw` through a mapping
+  void read(const opencl::Buffer& buffer, void* out, size_t bytes);
+  TrackSums readSums();
+  std::vector<float> readMap(const opencl::Buffer& buffer, size_t count);  // count values of the current storage
+  void convert(opencl::Buffer& buffer, size_t count, bool toHalf);
+  // Every map buffer with the number of values it currently holds.
+  std::vector<std::pair<opencl::Buffer*, size_t>> maps();
+  static size_t pixels(const Intrinsics& k, bool valid) { return valid ? size_t(k.width) * k.height : 0; }
+
+  PipelineConfig config;
+  Intrinsics full;
+  opencl::DeviceInfo device;
+  opencl::Launcher launcher;
+  std::array<std::unique_ptr<opencl::Kernels>, 2> variants;  // [0] float storage, [1] half storage
+  bool half = false;
+
+  opencl::Buffer raw;       // the sensor frame, CL_MEM_ALLOC_HOST_PTR
+  opencl::Buffer gaussian;  // bilateralFilter spatial weights
+  opencl::Buffer depth;     // mm2meters output (compute size), read by integrate
+  std::array<Level, kPyramidLevels> levels;
+  opencl::Buffer trackOut, partial, sums;
+  opencl::Buffer referenceVertex, referenceNormal;
+  opencl::Buffer volume, blockFlags, superFlags;  // superFlags only when the resolution is a multiple of 32
+  opencl::Buffer image;                           // render output
+  opencl::Buffer scratch;                         // precision conversions, 3 floats per full-size pixel
+
+  Intrinsics computeK, referenceK;
+  bool hasFrame = false, hasReference = false;
+  std::vector<int16_t> volumeHost;
+  bool volumeOnHost = false;
+};
+
+}  // namespace sb

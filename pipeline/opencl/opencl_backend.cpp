@@ -1,0 +1,178 @@
+#include "pipeline/opencl/opencl_backend.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "kernels/raycast.h"
+#include "kernels/track.h"
+#include "pipeline/kernel_args.h"
+#include "pipeline/opencl/device_state.h"
+
+namespace sb {
+
+using opencl::Launcher;
+using Clock = Launcher::Clock;
+
+namespace {
+
+const Launcher::Size3 kImageGroup{16, 8, 1};   // 128 work-items: <= 256 and a multiple of 4 (Mali-T6xx)
+const Launcher::Size3 kVolumeGroup{16, 4, 2};  // 128 work-items, x fastest (neighbouring voxels)
+const Launcher::Size3 kLinearGroup{128, 1, 1};
+
+Launcher::Size3 imageSize(const Intrinsics& k) { return {size_t(k.width), size_t(k.height), 1}; }
+
+}  // namespace
+
+OpenClBackend::OpenClBackend(const PipelineConfig& config, const Intrinsics& fullSize, const opencl::DeviceInfo& device)
+    : s_(std::make_unique<State>(config, fullSize, device)) {
+  if (config.openclHalfStorage) setHalfPrecision(true);
+}
+
+OpenClBackend::~OpenClBackend() = default;
+
+const opencl::DeviceInfo& OpenClBackend::device() const { return s_->device; }
+bool OpenClBackend::halfPrecision() const { return s_->half; }
+const Intrinsics& OpenClBackend::levelIntrinsics(int level) const { return s_->levels.at(level).k; }
+const Intrinsics& OpenClBackend::referenceIntrinsics() const { return s_->referenceK; }
+
+void OpenClBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) {
+  State& s = *s_;
+  const auto start = Clock::now();
+  s.upload(raw);
+  s.computeK = s.full.scaled(csr);
+  for (int l = 0; l < kPyramidLevels; ++l) s.levels[l].k = s.full.scaled(csr << l);
+  s.hasFrame = true;
+  const opencl::Kernels& k = s.kernels();
+  Launcher& q = s.launcher;
+  const PipelineConfig& c = s.config;
+  const int w = s.computeK.width, h = s.computeK.height;
+  q.run(Stage::mm2meters, k.mm2meters, imageSize(s.computeK), kImageGroup, s.depth, w, h, s.raw, raw.width(), csr,
+        metresPerUnit);
+  q.run(Stage::bilateralFilter, k.bilateralFilter, imageSize(s.computeK), kImageGroup, s.levels[0].depth, s.depth, w,
+        h, s.gaussian, c.bilateralRadius, c.bilateralRangeSigma);
+  for (int l = 1; l < kPyramidLevels; ++l) {
+    const State::Level& fine = s.levels[l - 1];
+    const State::Level& coarse = s.levels[l];
+    q.run(Stage::halfSampleRobust, k.halfSampleRobust, imageSize(coarse.k), kImageGroup, coarse.depth, coarse.k.width,
+          coarse.k.height, fine.depth, fine.k.width, fine.k.height, c.halfSampleMaxDifference);
+  }
+  for (const State::Level& level : s.levels)
+    q.run(Stage::depth2vertex, k.depth2vertex, imageSize(level.k), kImageGroup, level.vertex, level.depth,
+          level.k.width, level.k.height, toCamera(level.k));
+  for (const State::Level& level : s.levels)
+    q.run(Stage::vertex2normal, k.vertex2normal, imageSize(level.k), kImageGroup, level.normal, level.vertex,
+          level.k.width, level.k.height);
+  q.finish(times, start);
+}
+
+TrackSums OpenClBackend::track(int level, const Eigen::Isometry3f& cameraToWorld,
+                               const Eigen::Isometry3f& referencePose, StageTimes& times) {
+  State& s = *s_;
+  const auto start = Clock::now();
+  const State::Level& in = s.levels.at(level);
+  const Eigen::Matrix<float, 3, 4> projection =
+      cameraMatrix(s.referenceK) * referencePose.inverse().matrix().topRows<3>();
+  const opencl::Kernels& k = s.kernels();
+  Launcher& q = s.launcher;
+  q.run(Stage::track, k.track, imageSize(in.k), kImageGroup, s.trackOut, in.vertex, in.normal, in.k.width,
+        in.k.height, s.referenceVertex, s.referenceNormal, s.referenceK.width, s.referenceK.height,
+        toMat34(cameraToWorld.matrix()), toMat34(projection), s.config.icpDistanceThreshold,
+        s.config.icpNormalThreshold);
+  const int pixels = in.k.width * in.k.height;
+  const size_t perGroup = opencl::kReduceGroup * opencl::kPixelsPerReduceItem;
+  const int groups = static_cast<int>(std::clamp<size_t>((pixels + perGroup - 1) / perGroup, 1, opencl::kMaxReduceGroups));
+  q.run(Stage::reduce, k.reduce, {groups * opencl::kReduceGroup, 1, 1}, {opencl::kReduceGroup, 1, 1}, s.partial,
+        s.trackOut, pixels);
+  q.run(Stage::reduce, k.reduceFinal, {SB_REDUCE_SIZE, 1, 1}, {SB_REDUCE_SIZE, 1, 1}, s.sums, s.partial, groups);
+  const TrackSums sums = s.readSums();
+  q.finish(times, start);
+  return sums;
+}
+
+void OpenClBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) {
+  State& s = *s_;
+  if (!s.hasFrame) throw Error("OpenClBackend::integrate called before any preprocess");
+  const auto start = Clock::now();
+  const opencl::Kernels& k = s.kernels();
+  const PipelineConfig& c = s.config;
+  const size_t r = size_t(c.volumeResolution);
+  s.launcher.run(Stage::integrate, k.integrate, {r, r, r}, kVolumeGroup, s.volume, c.volumeResolution, c.volumeSize,
+                 toMat34(cameraToWorld.inverse().matrix()), s.depth, s.computeK.width, s.computeK.height,
+                 toCamera(s.computeK), c.mu, c.maxWeight, s.blockFlags);
+  if (s.superFlags) {
+    const size_t supers = r >> SB_SUPER_SHIFT;
+    s.launcher.run(Stage::integrate, k.superFlags, {supers, supers, supers}, {4, 4, 4}, s.superFlags, s.blockFlags,
+                   c.volumeResolution >> SB_BLOCK_SHIFT);
+  }
+  s.volumeOnHost = false;
+  s.launcher.finish(times, start);
+}
+
+void OpenClBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) {
+  State& s = *s_;
+  const auto start = Clock::now();
+  s.referenceK = s.full.scaled(csr);
+  s.hasReference = true;
+  const PipelineConfig& c = s.config;
+  const opencl::Buffer* blockFlags = c.emptySpaceSkipping ? &s.blockFlags : nullptr;
+  const opencl::Buffer* superFlags = c.emptySpaceSkipping && s.superFlags ? &s.superFlags : nullptr;
+  s.launcher.run(Stage::raycast, s.kernels().raycast, imageSize(s.referenceK), kImageGroup, s.referenceVertex,
+                 s.referenceNormal, s.referenceK.width, s.referenceK.height, s.volume, c.volumeResolution,
+                 c.volumeSize, blockFlags, superFlags, toMat34(cameraToWorld.matrix()),
+                 toCamera(s.referenceK), c.nearPlane, c.farPlane, c.raycastLargeStep * c.mu,
+                 c.raycastSmallStep * c.voxelSize(), c.raycastSmallStepBelow);
+  s.launcher.finish(times, start);
+}
+
+Image<uint8_t> OpenClBackend::render(const Eigen::Vector3f& lightPosition, StageTimes& times) {
+  State& s = *s_;
+  const auto start = Clock::now();
+  const int w = s.referenceK.width, h = s.referenceK.height;
+  cl_float4 light{};
+  light.s[0] = lightPosition.x();
+  light.s[1] = lightPosition.y();
+  light.s[2] = lightPosition.z();
+  s.launcher.run(Stage::render, s.kernels().render, imageSize(s.referenceK), kImageGroup, s.image, s.referenceVertex,
+                 s.referenceNormal, w, h, light, s.config.renderAmbient);
+  Image<uint8_t> image(w, h);
+  s.read(s.image, image.data(), image.size());
+  s.launcher.finish(times, start);
+  return image;
+}
+
+const int16_t* OpenClBackend::volumeData() {
+  State& s = *s_;
+  if (!s.volumeOnHost) {
+    s.read(s.volume, s.volumeHost.data(), s.volumeHost.size() * sizeof(int16_t));
+    s.volumeOnHost = true;
+  }
+  return s.volumeHost.data();
+}
+
+void OpenClBackend::setHalfPrecision(bool enabled) {
+  State& s = *s_;
+  if (enabled == s.half) return;
+  s.variant(enabled);  // build it first: a failed build leaves the float state untouched
+  for (auto& [buffer, count] : s.maps()) s.convert(*buffer, count, enabled);
+  s.half = enabled;
+}
+
+std::vector<float> OpenClBackend::levelDepth(int level) {
+  return s_->readMap(s_->levels.at(level).depth, s_->pixels(s_->levels.at(level).k, s_->hasFrame));
+}
+std::vector<float> OpenClBackend::levelVertices(int level) {
+  return s_->readMap(s_->levels.at(level).vertex, 3 * s_->pixels(s_->levels.at(level).k, s_->hasFrame));
+}
+std::vector<float> OpenClBackend::levelNormals(int level) {
+  return s_->readMap(s_->levels.at(level).normal, 3 * s_->pixels(s_->levels.at(level).k, s_->hasFrame));
+}
+std::vector<float> OpenClBackend::rawMetres() { return s_->readMap(s_->depth, s_->pixels(s_->computeK, s_->hasFrame)); }
+std::vector<float> OpenClBackend::referenceVertices() {
+  return s_->readMap(s_->referenceVertex, 3 * s_->pixels(s_->referenceK, s_->hasReference));
+}
+std::vector<float> OpenClBackend::referenceNormals() {
+  return s_->readMap(s_->referenceNormal, 3 * s_->pixels(s_->referenceK, s_->hasReference));
+}
+
+}  // namespace sb
