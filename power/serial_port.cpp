@@ -62,7 +62,9 @@ SerialOpenResult openSerialPort(const std::string& path, int baud) {
   tio.c_cflag &= ~static_cast<tcflag_t>(CSTOPB | CRTSCTS | HUPCL);  // 1 stop bit, no flow control
   tio.c_cflag |= CLOCAL | CREAD;
   tio.c_iflag &= ~static_cast<tcflag_t>(IXON | IXOFF | IXANY);
-  tio.c_cc[VMIN] = 0;
+  // VMIN 1 with O_NONBLOCK: read() fails with EAGAIN when there is nothing to read, so that 0 means hang-up
+  // (with VMIN 0 and VTIME 0 an empty read would also return 0 and look like an unplugged device).
+  tio.c_cc[VMIN] = 1;
   tio.c_cc[VTIME] = 0;
   if (cfsetispeed(&tio, speed) != 0 || cfsetospeed(&tio, speed) != 0) return failure(path, "cfsetspeed", errno);
   if (tcsetattr(fd.get(), TCSANOW, &tio) != 0) return failure(path, "tcsetattr", errno);

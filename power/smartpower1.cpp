@@ -20,6 +20,16 @@ const char* smartPower1UdevRule() {
   return "SUBSYSTEM==\"usb\", ATTRS{idVendor}==\"04d8\", ATTRS{idProduct}==\"003f\", MODE=\"0660\", GROUP=\"plugdev\"";
 }
 
+std::string smartPower1OpenError(const std::string& error, bool accessDenied) {
+  std::string message = "smartpower1 meter (USB 04d8:003f): " + error;
+  if (accessDenied)
+    message += ". The user needs write access to the device: install the udev rule\n  " +
+               std::string(smartPower1UdevRule()) +
+               "\nas /etc/udev/rules.d/99-slambooster-smartpower.rules, add the user to the 'plugdev' group, run "
+               "'sudo udevadm control --reload' and replug the meter";
+  return message;
+}
+
 #if SB_HAVE_LIBUSB
 
 namespace {
@@ -33,7 +43,7 @@ struct UsbContext {
   libusb_context* ctx = nullptr;
   UsbContext() {
     const int rc = libusb_init(&ctx);
-    if (rc != 0) throw Error("smartpower1 meter: libusb_init failed: " + usbError(rc));
+    if (rc != 0) throw Error(smartPower1OpenError("libusb_init failed: " + usbError(rc), false));
   }
   ~UsbContext() { libusb_exit(ctx); }
   UsbContext(const UsbContext&) = delete;
@@ -116,14 +126,7 @@ class SmartPower1Meter final : public Meter {
     std::string error;
     bool denied = false;
     device_ = openDevice(usb_.ctx, error, denied);
-    if (!device_) {
-      if (denied)
-        error += ". The user needs write access to the device: install the udev rule\n  " +
-                 std::string(smartPower1UdevRule()) +
-                 "\nas /etc/udev/rules.d/99-slambooster-smartpower.rules, add the user to 'plugdev', then "
-                 "'sudo udevadm control --reload' and replug the meter";
-      throw Error("smartpower1 meter: " + error);
-    }
+    if (!device_) throw Error(smartPower1OpenError(error, denied));
     status_.sinceNs = clock_.nowNs();
   }
 
@@ -212,7 +215,7 @@ std::unique_ptr<Meter> openSmartPower1(const PowerConfig& config, const Clock& c
 #else  // built without libusb-1.0
 
 std::unique_ptr<Meter> openSmartPower1(const PowerConfig&, const Clock&) {
-  throw Error("smartpower1 meter: this build has no libusb-1.0 support; install libusb-1.0-0-dev and rebuild");
+  throw Error(smartPower1OpenError("this build has no libusb-1.0 support; install libusb-1.0-0-dev and rebuild", false));
 }
 
 #endif

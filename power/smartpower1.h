@@ -4,6 +4,7 @@
 // opening fails with an error that names the udev rule to install.
 
 #include <memory>
+#include <string>
 
 #include "power/clock.h"
 #include "power/meter.h"
@@ -16,6 +17,9 @@ constexpr uint16_t kSmartPower1Product = 0x003f;
 
 // The udev rule that gives the plugdev group access (quoted in the access-denied error and power/README.md).
 const char* smartPower1UdevRule();
+
+// The message for a failed open: `error` plus, when access was denied, how to install the udev rule.
+std::string smartPower1OpenError(const std::string& error, bool accessDenied);
 
 std::unique_ptr<Meter> openSmartPower1(const PowerConfig& config, const Clock& clock);
 
