@@ -91,9 +91,23 @@ void readSocket(const nlohmann::json& j, const std::string& where, SocketConfig&
     throw Error(where + ": socket: 'path' = \"" + s.path + "\" is longer than 107 bytes (the Unix socket limit)");
 }
 
+DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string& where);
+
 }  // namespace
 
 DaemonConfig parseDaemonConfig(const nlohmann::json& j, const std::string& where) {
+  try {
+    return parseDaemonConfigOrThrow(j, where);
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const Error& e) {
+    throw ConfigError(e.what());
+  }
+}
+
+namespace {
+
+DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string& where) {
   DaemonConfig c;
   JsonObjectReader r(j, where);
   if (const auto* s = r.object("source")) readSource(*s, where, c.source);
@@ -106,10 +120,12 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& j, const std::string& where
   return c;
 }
 
+}  // namespace
+
 void applyOverride(nlohmann::json& j, const std::string& assignment) {
   const auto eq = assignment.find('=');
   const std::string usage = "'" + assignment + "': an override is section.key=value, e.g. source.pacing=fast";
-  if (eq == std::string::npos || eq == 0) throw Error(usage);
+  if (eq == std::string::npos || eq == 0) throw ConfigError(usage);
   const std::string path = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
   nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
@@ -119,7 +135,7 @@ void applyOverride(nlohmann::json& j, const std::string& assignment) {
   while (true) {
     const auto dot = path.find('.', start);
     const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-    if (key.empty()) throw Error(usage);
+    if (key.empty()) throw ConfigError(usage);
     if (!node->is_object()) *node = nlohmann::json::object();
     if (dot == std::string::npos) {
       (*node)[key] = value;
@@ -132,9 +148,9 @@ void applyOverride(nlohmann::json& j, const std::string& assignment) {
 
 nlohmann::json readJsonFile(const std::string& path) {
   std::ifstream in(path);
-  if (!in) throw Error("cannot open config file '" + path + "' (check the path and its permissions)");
+  if (!in) throw ConfigError("cannot open config file '" + path + "' (check the path and its permissions)");
   nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded()) throw Error("config file '" + path + "' is not valid JSON");
+  if (j.is_discarded()) throw ConfigError("config file '" + path + "' is not valid JSON");
   return j;
 }
 

@@ -7,7 +7,15 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace sb::daemon {
+
+// A configuration problem (bad key, type, value, or a config file that cannot be read): slamboosterd exits 2.
+class ConfigError : public Error {
+ public:
+  using Error::Error;
+};
 
 struct SourceConfig {
   std::string type = "replay";     // a registered source (daemon/source_registry.cpp)
@@ -52,14 +60,14 @@ struct DaemonConfig {
   std::string logLevel = "info";       // trace, debug, info, warn, error
 };
 
-// Reads `j` on top of the defaults. Unknown keys, wrong types and out-of-range values throw sb::Error naming
+// Reads `j` on top of the defaults. Unknown keys, wrong types and out-of-range values throw ConfigError naming
 // `where`, the key, the value and what is allowed.
 DaemonConfig parseDaemonConfig(const nlohmann::json& j, const std::string& where = "config");
 
-// Applies one override "section.key=value" (value: JSON, or a plain string) to `j`. Throws sb::Error.
+// Applies one override "section.key=value" (value: JSON, or a plain string) to `j`. Throws ConfigError.
 void applyOverride(nlohmann::json& j, const std::string& assignment);
 
-// Reads a JSON file (missing file, bad JSON -> sb::Error naming the file).
+// Reads a JSON file (missing file, bad JSON -> ConfigError naming the file).
 nlohmann::json readJsonFile(const std::string& path);
 
 // The whole config as JSON (the keys parseDaemonConfig reads).

@@ -1,0 +1,302 @@
+#include "daemon/daemon.h"
+
+#include <signal.h>
+#include <spdlog/spdlog.h>
+#include <sys/signalfd.h>
+#include <sys/timerfd.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <mutex>
+#include <thread>
+
+#include "core/error.h"
+#include "daemon/event_loop.h"
+#include "daemon/fd.h"
+#include "daemon/frame_queue.h"
+#include "daemon/mailbox.h"
+#include "daemon/slam_worker.h"
+#include "daemon/socket_server.h"
+#include "daemon/source_registry.h"
+#include "daemon/systemd_notify.h"
+#include "daemon/unix_socket.h"
+
+namespace sb::daemon {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr auto kTick = std::chrono::milliseconds(250);  // housekeeping period (stalled clients, STATUS=)
+constexpr size_t kMailboxCapacity = 4096;               // reports in flight to the event loop
+
+sigset_t handledSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGTERM);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGHUP);
+  return set;
+}
+
+UniqueFd makeTimer(std::chrono::nanoseconds period) {
+  UniqueFd fd(timerfd_create(CLOCK_MONOTONIC, TFD_NONBLOCK | TFD_CLOEXEC));
+  if (!fd.valid()) throw Error(std::string("timerfd_create failed: ") + std::strerror(errno));
+  itimerspec spec{};
+  spec.it_interval.tv_sec = static_cast<time_t>(period.count() / 1000000000);
+  spec.it_interval.tv_nsec = static_cast<long>(period.count() % 1000000000);
+  spec.it_value = spec.it_interval;
+  timerfd_settime(fd.get(), 0, &spec, nullptr);
+  return fd;
+}
+
+}  // namespace
+
+struct Daemon::Parts {
+  SystemdNotifier notifier;
+  std::unique_ptr<CaptureSource> source;
+  std::unique_ptr<FrameQueue> queue;
+  EventLoop loop;
+  std::unique_ptr<Mailbox> mailbox;
+  ListeningSocket listener;
+  std::unique_ptr<SocketServer> server;
+  std::unique_ptr<SlamWorker> worker;
+  ControllerSettings controllerSettings;
+  std::thread capture;
+  UniqueFd signals, timer;
+  std::mutex captureMutex;
+  std::string captureError;
+  Clock::time_point lastStatus = Clock::now();
+  bool watchdogWarned = false;
+};
+
+Daemon::Daemon(DaemonConfig config, std::function<DaemonConfig()> reload, std::string release)
+    : config_(std::move(config)), reload_(std::move(reload)), release_(std::move(release)),
+      started_(Clock::now()) {}
+
+Daemon::~Daemon() = default;
+
+std::unique_ptr<SlamWorker> Daemon::makeWorker(const SequenceInfo& info, Mailbox& mailbox) {
+  return std::make_unique<SlamWorker>(
+      config_, info, *parts_->queue,
+      [this, &mailbox](FrameReport report) {
+        mailbox.post([this, r = std::move(report)] { parts_->server->publishFrame(r); });
+      },
+      [this, &mailbox] {
+        mailbox.post([this] {
+          workerDone_ = true;
+          const WorkerStats s = parts_->worker->stats();
+          if (stopping_ || s.state == "failed" || config_.source.atEnd == "exit") {
+            parts_->loop.stop();
+          } else {
+            spdlog::info("input ended after {} frames; outputs flushed; still serving the socket", s.frames);
+            parts_->notifier.status("input ended after " + std::to_string(s.frames) + " frames");
+          }
+        });
+      });
+}
+
+int Daemon::run() {
+  // Blocked before any thread starts, so that every thread inherits the mask and only the signalfd sees them.
+  const sigset_t set = handledSignals();
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  parts_ = std::make_unique<Parts>();
+  Parts& p = *parts_;
+  p.source = createSource(config_.source);
+  const SequenceInfo info = p.source->info();
+  p.queue = std::make_unique<FrameQueue>(config_.source.queueFrames,
+                                         p.source->live() ? FrameQueue::Policy::newest : FrameQueue::Policy::wait);
+  p.mailbox = std::make_unique<Mailbox>(p.loop, kMailboxCapacity);
+  Mailbox& mailbox = *p.mailbox;
+  try {
+    p.worker = makeWorker(info, mailbox);
+    p.controllerSettings = loadControllerSettings(config_.slam, p.worker->controllerContext());
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const Error& e) {
+    throw ConfigError(e.what());  // the pipeline config file or the controller settings
+  }
+  p.listener = openListeningSocket(config_.socket.path, config_.socket.mode);
+  p.server = std::make_unique<SocketServer>(p.loop, p.listener.fd.get(), config_.socket,
+                                            ControlPolicy(::geteuid(), config_.socket.controlGroup), *this, release_);
+
+  p.signals.reset(signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC));
+  if (!p.signals.valid()) throw Error(std::string("signalfd failed: ") + std::strerror(errno));
+  p.loop.add(p.signals.get(), EPOLLIN, [this](uint32_t) { onSignal(); });
+  auto tick = std::chrono::duration_cast<std::chrono::nanoseconds>(kTick);
+  if (p.notifier.watchdogPeriod())
+    tick = std::min(tick, std::chrono::duration_cast<std::chrono::nanoseconds>(*p.notifier.watchdogPeriod()));
+  p.timer = makeTimer(tick);
+  p.loop.add(p.timer.get(), EPOLLIN, [this](uint32_t) { onTimer(); });
+
+  p.worker->start();
+  p.capture = std::thread([&p] {
+    try {
+      while (auto frame = p.source->next())
+        if (!p.queue->push(std::move(*frame))) break;
+    } catch (const std::exception& e) {
+      spdlog::error("source: {}", e.what());
+      std::lock_guard lock(p.captureMutex);
+      p.captureError = e.what();
+    }
+    p.queue->close();
+  });
+
+  spdlog::info("slamboosterd {} serving {} ({}); input {} ({} frames)", release_, p.listener.path,
+               p.listener.activated ? std::string("socket activation") : fmt::format("mode {:04o}", config_.socket.mode),
+               info.path, info.frameCount);
+  p.notifier.ready("replaying " + info.path);
+
+  p.loop.run();
+
+  // Reverse order of start-up: input, SLAM thread (flushes its outputs), socket.
+  p.source->stop();
+  p.queue->abort();
+  p.capture.join();
+  p.worker->join();
+  const WorkerStats s = p.worker->stats();
+  std::string captureError;
+  {
+    std::lock_guard lock(p.captureMutex);
+    captureError = p.captureError;
+  }
+  p.notifier.stopping("stopped after " + std::to_string(s.frames) + " frames");
+  p.server.reset();
+  spdlog::info("stopped after {} frames; outputs in {}", s.frames, s.outputDir);
+  return s.state == "failed" || !captureError.empty() ? 1 : 0;
+}
+
+void Daemon::beginStop(const std::string& why) {
+  if (stopping_) return;
+  stopping_ = true;
+  spdlog::info("{}: finishing the current frame and flushing the outputs", why);
+  parts_->notifier.stopping(why);
+  parts_->worker->requestStop();
+  parts_->source->stop();
+  parts_->queue->abort();
+  if (workerDone_) parts_->loop.stop();
+}
+
+void Daemon::onSignal() {
+  signalfd_siginfo info{};
+  while (::read(parts_->signals.get(), &info, sizeof info) == static_cast<ssize_t>(sizeof info)) {
+    if (info.ssi_signo == SIGHUP) {
+      reload();
+    } else {
+      beginStop(info.ssi_signo == SIGTERM ? "SIGTERM" : "SIGINT");
+    }
+  }
+}
+
+void Daemon::reload() {
+  Parts& p = *parts_;
+  p.notifier.reloading();
+  try {
+    const DaemonConfig fresh = reload_();
+    ControllerSettings settings = loadControllerSettings(fresh.slam, p.worker->controllerContext());
+    nlohmann::json before = daemonConfigToJson(config_), after = daemonConfigToJson(fresh);
+    before["slam"].erase("controller");
+    before["slam"].erase("controller_config");
+    after["slam"].erase("controller");
+    after["slam"].erase("controller_config");
+    before.erase("log_level");
+    after.erase("log_level");
+    if (before != after) spdlog::warn("SIGHUP: only the controller settings are reloaded; restart for the other changes");
+    p.worker->switchController(settings, settings.name);
+    p.controllerSettings = settings;
+    config_.slam.controller = fresh.slam.controller;
+    config_.slam.controllerConfig = fresh.slam.controllerConfig;
+    spdlog::info("SIGHUP: controller settings reloaded; controller '{}' from the next frame", settings.name);
+  } catch (const std::exception& e) {
+    spdlog::error("SIGHUP: reload failed, settings unchanged: {}", e.what());
+  }
+  p.notifier.ready("running");
+}
+
+void Daemon::onTimer() {
+  Parts& p = *parts_;
+  uint64_t expirations = 0;
+  (void)!::read(p.timer.get(), &expirations, sizeof expirations);
+  p.server->dropStalledClients();
+  const auto now = Clock::now();
+  const WorkerStats s = p.worker->stats();
+  if (p.notifier.watchdogPeriod()) {
+    // Alive means: not stuck on one frame for longer than WatchdogSec (twice the ping period).
+    const bool stuck = s.busySince && now - *s.busySince > 2 * *p.notifier.watchdogPeriod();
+    if (!stuck) {
+      p.notifier.watchdog();
+      p.watchdogWarned = false;
+    } else if (!p.watchdogWarned) {
+      spdlog::error("watchdog: the SLAM thread has been on one frame for too long; not pinging systemd");
+      p.watchdogWarned = true;
+    }
+  }
+  if (now - p.lastStatus >= std::chrono::duration<double>(config_.statusIntervalSeconds)) {
+    p.lastStatus = now;
+    char text[160];
+    std::snprintf(text, sizeof text, "%s: %llu frames, %.1f fps, %.1f ms/frame, controller %s, %zu clients",
+                  s.state.c_str(), static_cast<unsigned long long>(s.frames), s.fps, s.computationMs,
+                  s.controller.c_str(), p.server->clientCount());
+    p.notifier.status(text);
+  }
+}
+
+void Daemon::publishEnergy(const EnergyReport& report) {
+  if (!parts_ || !parts_->mailbox) return;
+  parts_->mailbox->post([this, report] { parts_->server->publishEnergy(report); });
+}
+
+nlohmann::json Daemon::status() {
+  Parts& p = *parts_;
+  const WorkerStats s = p.worker->stats();
+  nlohmann::json source = p.source->status();
+  source["queued"] = p.queue->size();
+  source["dropped"] = p.queue->dropped();
+  std::string state = stopping_ ? "stopping" : s.state;
+  nlohmann::json j = {{"state", state},
+                      {"source", source},
+                      {"controller", s.controller},
+                      {"pinned", s.pinned},
+                      {"meter", "none"},
+                      {"fps", s.fps},
+                      {"frames", s.frames},
+                      {"tracked", s.tracked},
+                      {"computation_ms", s.computationMs},
+                      {"drops", p.queue->dropped() + p.mailbox->dropped()},
+                      {"uptime_s", std::chrono::duration<double>(Clock::now() - started_).count()},
+                      {"cpus", s.cpus},
+                      {"threads", s.threads},
+                      {"pass", s.pass},
+                      {"output_dir", s.outputDir}};
+  {
+    std::lock_guard lock(p.captureMutex);
+    if (!p.captureError.empty()) j["error"] = p.captureError;
+  }
+  if (!s.error.empty()) j["error"] = s.error;
+  return j;
+}
+
+nlohmann::json Daemon::control(const ControlRequest& request) {
+  Parts& p = *parts_;
+  if (request.controller) {
+    try {  // validate the name before anything changes
+      createController(*request.controller, p.controllerSettings, p.worker->controllerContext());
+    } catch (const Error& e) {
+      throw Error(std::string("?CONTROL: ") + e.what());
+    }
+  }
+  nlohmann::json pinned;
+  try {
+    pinned = p.worker->changePins(request);
+  } catch (const Error& e) {
+    throw Error(std::string("?CONTROL: ") + e.what());
+  }
+  if (request.controller) p.worker->switchController(p.controllerSettings, *request.controller);
+  return {{"ok", true},
+          {"controller", request.controller ? *request.controller : p.worker->stats().controller},
+          {"pinned", pinned}};
+}
+
+}  // namespace sb::daemon

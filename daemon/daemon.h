@@ -1,0 +1,64 @@
+#pragma once
+// slamboosterd's top level: builds the parts in dependency order (source, SLAM worker, socket, event loop)
+// and tears them down in reverse. Threads: capture (source -> queue), SLAM (queue -> pipeline -> outputs,
+// reports), and the event loop (this thread: socket, signals, timers, sd_notify).
+//
+// Signals (blocked in every thread, read through a signalfd): SIGTERM/SIGINT finish the frame in hand, flush
+// every output and exit 0; SIGHUP re-reads the controller settings.
+//
+// Energy seam: publishEnergy() is how the power-meter ledger (power/, issue 7) delivers a frame's joules;
+// until a meter is wired in, STATUS reports "meter": "none" and no ENERGY message is sent.
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "daemon/daemon_config.h"
+#include "daemon/protocol.h"
+#include "daemon/service_state.h"
+
+namespace sb {
+struct SequenceInfo;
+}
+
+namespace sb::daemon {
+
+class Mailbox;
+class SlamWorker;
+
+class Daemon : public ServiceState {
+ public:
+  // `reload` re-reads the configuration for SIGHUP (the same file and overrides); it throws sb::Error on a
+  // bad file, and the daemon keeps its settings then.
+  Daemon(DaemonConfig config, std::function<DaemonConfig()> reload, std::string release);
+  ~Daemon() override;
+
+  // Runs until SIGTERM/SIGINT (or the end of the input with source.at_end = "exit"). Returns the exit code:
+  // 0 after a clean stop, 1 when the SLAM thread failed. Throws sb::Error when start-up fails.
+  int run();
+
+  // Any thread: a frame's energy is known (the meter ledger calls this; ENERGY may lag POSE).
+  void publishEnergy(const EnergyReport& report);
+
+  nlohmann::json status() override;
+  nlohmann::json control(const ControlRequest& request) override;
+
+ private:
+  struct Parts;
+  std::unique_ptr<SlamWorker> makeWorker(const SequenceInfo& info, Mailbox& mailbox);
+  void onSignal();
+  void onTimer();
+  void reload();
+  void beginStop(const std::string& why);
+
+  DaemonConfig config_;
+  std::function<DaemonConfig()> reload_;
+  std::string release_;
+  std::chrono::steady_clock::time_point started_;
+  std::unique_ptr<Parts> parts_;
+  bool stopping_ = false;
+  bool workerDone_ = false;
+};
+
+}  // namespace sb::daemon

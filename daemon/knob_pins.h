@@ -1,0 +1,31 @@
+#pragma once
+// Knobs pinned over the controller's choice through ?CONTROL: a set of (knob, value) pairs, validated when
+// set, applied to whatever the controller decides for each frame. Knob names: csr, icp, pd0, pd1, pd2, tr, ir.
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "pipeline/knobs.h"
+
+namespace sb::daemon {
+
+class KnobPins {
+ public:
+  // Pins `knob` to `value`. Throws sb::Error naming the knob, the value and what is allowed (nothing changes).
+  void pin(const std::string& knob, double value);
+  // Unpins `knob`, or every knob for "all". Throws sb::Error for an unknown name.
+  void unpin(const std::string& knob);
+
+  bool empty() const { return values_.empty(); }
+  // `knobs` with the pinned values in place.
+  Knobs apply(Knobs knobs) const;
+  std::vector<std::string> names() const;
+  nlohmann::json toJson() const;
+
+ private:
+  std::map<std::string, double> values_;
+};
+
+}  // namespace sb::daemon

@@ -1,0 +1,229 @@
+#include "daemon/slam_worker.h"
+
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Geometry>
+#include <cstdio>
+#include <deque>
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/thread_pool.h"
+#include "daemon/cpu_affinity.h"
+#include "mesh/marching_cubes.h"
+#include "mesh/ply_writer.h"
+#include "pipeline/pipeline.h"
+#include "runtime/slam_runner.h"
+#include "runtime/standard_outputs.h"
+
+namespace sb::daemon {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr auto kFlushInterval = std::chrono::seconds(2);  // outputs on disk lag by at most this much
+constexpr size_t kFpsWindow = 30;                         // frames in the frame-rate average
+
+PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& info) {
+  PipelineConfig c;
+  if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
+  if (info.volumeInitialPosition)
+    for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
+  if (!slam.pipelineConfig.empty()) c = loadConfigFile(slam.pipelineConfig, c);
+  validateConfig(c);
+  return c;
+}
+
+FrameReport makeReport(const FrameRecord& record, const std::vector<std::string>& pinned) {
+  const FrameResult& r = record.result;
+  FrameReport report;
+  report.frame = r.frame;
+  report.timestamp = r.timestamp;
+  const Eigen::Vector3d t = r.T_camera_to_world.translation();
+  report.position = {t.x(), t.y(), t.z()};
+  const Eigen::Quaterniond q(r.T_camera_to_world.rotation());
+  report.quaternion = {q.x(), q.y(), q.z(), q.w()};
+  report.tracked = r.tracked;
+  report.corrected = r.poseOverridden;
+  report.velocity = r.velocity;
+  report.computationMs = r.times.computationMs();
+  report.knobs = r.knobs;
+  report.controller = record.controller;
+  report.pinned = pinned;
+  return report;
+}
+
+}  // namespace
+
+ControllerSettings loadControllerSettings(const SlamConfig& slam, const ControllerContext& context) {
+  if (slam.controllerConfig.empty()) return parseControllerSettings(slam.controller, context, "slam.controller");
+  nlohmann::json j = readJsonFile(slam.controllerConfig);
+  if (j.is_object() && !j.contains("name")) j["name"] = slam.controller;
+  return parseControllerSettings(j, context, slam.controllerConfig);
+}
+
+SlamWorker::SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence, FrameQueue& queue, Publish publish,
+                       Finished finished)
+    : config_(config), sequence_(sequence), pipelineConfig_(buildPipelineConfig(config.slam, sequence)),
+      queue_(queue), publish_(std::move(publish)), finished_(std::move(finished)) {
+  context_.baseKnobs = pipelineConfig_.knobs;
+  settings_ = loadControllerSettings(config.slam, context_);
+  stats_.controller = settings_.name;
+}
+
+SlamWorker::~SlamWorker() {
+  stop_ = true;
+  join();
+}
+
+void SlamWorker::start() { thread_ = std::thread([this] { run(); }); }
+
+void SlamWorker::join() {
+  if (thread_.joinable()) thread_.join();
+}
+
+void SlamWorker::switchController(const ControllerSettings& settings, const std::string& name) {
+  std::lock_guard lock(mutex_);
+  settings_ = settings;
+  pendingController_ = name;
+}
+
+nlohmann::json SlamWorker::changePins(const ControlRequest& request) {
+  std::lock_guard lock(mutex_);
+  KnobPins pins = pins_;
+  for (const auto& knob : request.unpin) pins.unpin(knob);
+  for (const auto& [knob, value] : request.pin) pins.pin(knob, value);
+  pins_ = pins;
+  pinsChanged_ = true;
+  return pins_.toJson();
+}
+
+WorkerStats SlamWorker::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+void SlamWorker::run() {
+  try {
+    const std::vector<int> cpus = resolveCpus(config_.slam.cpus);
+    pinCurrentThread(cpus);  // before the pool: its workers inherit the affinity
+    {
+      std::lock_guard lock(mutex_);
+      stats_.cpus = formatCpuList(cpus);
+      stats_.threads = config_.slam.threads ? config_.slam.threads : static_cast<unsigned>(cpus.size());
+    }
+    spdlog::info("SLAM thread on CPUs {} with {} compute threads", formatCpuList(cpus), stats().threads);
+    runPasses();
+    std::lock_guard lock(mutex_);
+    stats_.state = "finished";
+  } catch (const std::exception& e) {
+    spdlog::error("SLAM thread stopped: {}", e.what());
+    std::lock_guard lock(mutex_);
+    stats_.state = "failed";
+    stats_.error = e.what();
+  }
+  {
+    std::lock_guard lock(mutex_);
+    stats_.busySince.reset();
+  }
+  finished_();
+}
+
+void SlamWorker::runPasses() {
+  ThreadPool pool(stats().threads);
+  std::unique_ptr<Pipeline> pipeline;
+  std::unique_ptr<SlamRunner> runner;
+  const bool loop = config_.source.atEnd == "loop";
+  uint32_t pass = 0;
+  std::deque<Clock::time_point> recent;
+  double computationSum = 0.0;
+  auto lastFlush = Clock::now();
+
+  const auto finishPass = [&] {
+    if (!runner) return;
+    runner->flush();
+    if (config_.output.mesh) {
+      const VolumeView view{pipeline->volumeData(), pipelineConfig_.volumeResolution, pipelineConfig_.volumeSize};
+      writePly((std::filesystem::path(stats().outputDir) / "mesh.ply").string(), extractMesh(view, MeshOptions{}, pool));
+    }
+    spdlog::info("pass {}: {} frames; outputs in {}", pass, runner->frames(), stats().outputDir);
+  };
+  const auto startPass = [&] {
+    finishPass();
+    runner.reset();
+    ++pass;
+    std::string dir = config_.output.dir;
+    if (loop) {
+      char name[32];
+      std::snprintf(name, sizeof name, "pass-%04u", pass);
+      dir = (std::filesystem::path(dir) / name).string();
+    }
+    pipeline = Pipeline::create(pipelineConfig_, sequence_.intrinsics, pool);
+    ControllerSettings settings;
+    {
+      std::lock_guard lock(mutex_);
+      settings = settings_;
+      if (!pendingController_.empty()) settings.name = pendingController_;
+      pendingController_.clear();
+      pinsChanged_ = true;
+      stats_.pass = pass;
+      stats_.outputDir = dir;
+      stats_.controller = settings.name;
+    }
+    runner = std::make_unique<SlamRunner>(*pipeline, createController(settings, context_), sequence_.depthScale);
+    const nlohmann::json extra = {{"sequence", sequence_.path},
+                                  {"daemon", {{"pass", pass}, {"cpus", stats().cpus}, {"threads", stats().threads}}},
+                                  {"config", configToJson(pipelineConfig_)}};
+    addStandardOutputs(*runner, dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
+                       "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)");
+  };
+
+  while (!stop_) {
+    std::optional<CapturedFrame> item = queue_.pop();
+    if (!item || stop_) break;
+    if (!runner || item->restart) startPass();
+    std::vector<std::string> pinned;
+    {
+      std::lock_guard lock(mutex_);
+      if (!pendingController_.empty()) {
+        runner->setController(createController(pendingController_, settings_, context_));
+        stats_.controller = pendingController_;
+        pendingController_.clear();
+        pinsChanged_ = true;
+      }
+      if (pinsChanged_ || !pins_.empty()) {
+        // The controller's own choice, then the pins over it.
+        runner->pinKnobs(std::nullopt);
+        if (!pins_.empty()) runner->pinKnobs(pins_.apply(runner->nextKnobs()));
+        pinsChanged_ = false;
+      }
+      pinned = pins_.names();
+      stats_.pinned = pins_.toJson();
+      stats_.busySince = Clock::now();
+    }
+    const FrameRecord record = runner->step(item->frame);
+    publish_(makeReport(record, pinned));
+    const auto now = Clock::now();
+    recent.push_back(now);
+    if (recent.size() > kFpsWindow) recent.pop_front();
+    computationSum += record.result.times.computationMs();
+    {
+      std::lock_guard lock(mutex_);
+      stats_.busySince.reset();
+      stats_.state = "running";
+      ++stats_.frames;
+      stats_.tracked += record.result.tracked;
+      stats_.computationMs = computationSum / static_cast<double>(stats_.frames);
+      if (recent.size() > 1)
+        stats_.fps = static_cast<double>(recent.size() - 1) /
+                     std::chrono::duration<double>(recent.back() - recent.front()).count();
+    }
+    if (now - lastFlush > kFlushInterval) {
+      runner->flush();
+      lastFlush = now;
+    }
+  }
+  finishPass();
+}
+
+}  // namespace sb::daemon

@@ -1,0 +1,93 @@
+#pragma once
+// The SLAM thread: pinned to the configured CPUs, it owns the compute pool, the pipeline, the controller and
+// the outputs (runtime/SlamRunner), takes frames from the FrameQueue, and publishes one immutable
+// FrameReport per frame through a callback that must not block (the daemon posts it to the event loop).
+//
+// Other threads talk to it only through the thread-safe methods below; it applies controller switches and
+// pins between frames. Stopping: requestStop() and abort the queue; the thread finishes the frame in hand,
+// flushes every output and exits.
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "controller/registry.h"
+#include "daemon/daemon_config.h"
+#include "daemon/frame_queue.h"
+#include "daemon/knob_pins.h"
+#include "daemon/protocol.h"
+#include "pipeline/config.h"
+
+namespace sb::daemon {
+
+struct WorkerStats {
+  std::string state = "starting";  // starting, running, finished, failed
+  std::string error;               // when failed
+  uint64_t frames = 0;             // frames processed (all passes)
+  uint64_t tracked = 0;
+  uint32_t pass = 0;
+  double fps = 0.0;                // over the last second or so of frames
+  double computationMs = 0.0;      // mean over the run
+  std::string controller;
+  nlohmann::json pinned = nlohmann::json::object();
+  std::string cpus;                // CPUs the thread is pinned to
+  unsigned threads = 0;            // compute threads
+  std::string outputDir;           // of the current pass
+  std::optional<std::chrono::steady_clock::time_point> busySince;  // start of the frame in hand
+};
+
+// The controller settings of `slam` (slam.controller, or the file slam.controller_config whose own "name"
+// wins). Validated; throws sb::Error naming the file or key.
+ControllerSettings loadControllerSettings(const SlamConfig& slam, const ControllerContext& context);
+
+class SlamWorker {
+ public:
+  using Publish = std::function<void(FrameReport)>;  // called on the SLAM thread; must not block
+  using Finished = std::function<void()>;            // called on the SLAM thread as it exits
+
+  // Validates the pipeline config (file + sequence hints) and the controller settings. Throws sb::Error.
+  SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence, FrameQueue& queue, Publish publish,
+             Finished finished);
+  ~SlamWorker();  // joins
+  SlamWorker(const SlamWorker&) = delete;
+  SlamWorker& operator=(const SlamWorker&) = delete;
+
+  void start();
+  void requestStop() { stop_ = true; }
+  void join();
+
+  // Any thread. Switches the controller from the next frame on; `settings` already validated.
+  void switchController(const ControllerSettings& settings, const std::string& name);
+  // Any thread. Applies pin/unpin changes to a copy and installs it; throws sb::Error (nothing changes).
+  nlohmann::json changePins(const ControlRequest& request);
+  const ControllerContext& controllerContext() const { return context_; }
+  WorkerStats stats() const;
+
+ private:
+  void run();
+  void runPasses();
+
+  DaemonConfig config_;
+  SequenceInfo sequence_;
+  PipelineConfig pipelineConfig_;
+  ControllerContext context_;
+  FrameQueue& queue_;
+  Publish publish_;
+  Finished finished_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+
+  mutable std::mutex mutex_;  // guards everything below
+  ControllerSettings settings_;
+  std::string pendingController_;  // non-empty: switch before the next frame
+  KnobPins pins_;
+  bool pinsChanged_ = false;
+  WorkerStats stats_;
+};
+
+}  // namespace sb::daemon
