@@ -90,3 +90,39 @@ TEST_CASE("slambooster reports bad input with exit code 1 and says what is wrong
   const auto noCommand = runCommand(kTool);
   CHECK(noCommand.exitCode == 2);
 }
+
+TEST_CASE("run takes the controller from --controller and from the config file's controller section", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_controller");
+  const std::string seq = dir + "/seq";
+  REQUIRE(runCommand(kTool + " synth --out " + seq + " --builtin-frames 4 --no-noise").exitCode == 0);
+  const std::string config = dir + "/config.json";
+  std::ofstream(config) << R"({"volume_resolution": 64, "controller": {"name": "fixed", "fixed": {"knobs": "csr=4,ir=1"}}})";
+
+  const auto fromFile = runCommand(kTool + " run " + seq + " --out " + dir + "/a --config " + config + " --quiet");
+  INFO(fromFile.output);
+  REQUIRE(fromFile.exitCode == 0);
+  std::ifstream log(dir + "/a/frames.jsonl");
+  std::string line;
+  REQUIRE(std::getline(log, line));
+  const auto first = nlohmann::json::parse(line);
+  CHECK(first.at("controller") == "fixed");
+  CHECK(first.at("knobs").at("csr") == 4);
+  CHECK(first.at("knobs").at("ir") == 1);
+  CHECK(readJson(dir + "/a/summary.json").at("controller") == "fixed");
+
+  // --controller wins over the file's name; the sections stay.
+  const auto flag = runCommand(kTool + " run " + seq + " --out " + dir + "/b --config " + config +
+                               " --controller default --knobs csr=8 --frames 2 --quiet");
+  INFO(flag.output);
+  REQUIRE(flag.exitCode == 0);
+  CHECK(readJson(dir + "/b/summary.json").at("controller") == "default");
+  CHECK(readJson(dir + "/b/summary.json").at("knobs").at("csr") == 1);
+
+  std::ofstream(dir + "/bad.json") << R"({"controller": {"name": "fixed", "fixed": {"knobz": "csr=2"}}})";
+  const auto bad = runCommand(kTool + " run " + seq + " --out " + dir + "/c --config " + dir + "/bad.json --quiet");
+  CHECK(bad.exitCode == 1);
+  CHECK_THAT(bad.output, Catch::Contains("bad.json") && Catch::Contains("knobz"));
+  const auto unknown = runCommand(kTool + " run " + seq + " --out " + dir + "/d --controller fastest --quiet");
+  CHECK(unknown.exitCode == 1);
+  CHECK_THAT(unknown.output, Catch::Contains("fastest"));
+}

@@ -1,6 +1,6 @@
-// `slambooster run`: replays a sequence through the KinectFusion pipeline with fixed knobs and writes the
-// trajectory, a per-frame log, a summary (with ATE when the sequence has ground truth), a rendered model and,
-// on request, a mesh.
+// `slambooster run`: replays a sequence through the KinectFusion pipeline under a controller (default: fixed
+// knobs) and writes the trajectory, a per-frame log, a summary (with ATE when the sequence has ground truth),
+// a rendered model and, on request, a mesh. The frame loop and the outputs are runtime/'s.
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -16,6 +16,7 @@
 #include <optional>
 #include <sstream>
 
+#include "controller/registry.h"
 #include "core/error.h"
 #include "core/png_io.h"
 #include "core/thread_pool.h"
@@ -26,6 +27,8 @@
 #include "mesh/ply_writer.h"
 #include "pipeline/config.h"
 #include "pipeline/pipeline.h"
+#include "runtime/slam_runner.h"
+#include "runtime/standard_outputs.h"
 #include "tools/slambooster/commands.h"
 
 namespace sb::cli {
@@ -40,6 +43,7 @@ struct RunOptions {
   std::string configPath;
   std::string knobs;
   std::string preset;
+  std::string controller;
   std::optional<double> volumeSize;
   std::optional<int> volumeResolution;
   std::string initialPosition;
@@ -61,13 +65,42 @@ std::array<float, 3> parsePosition(const std::string& text) {
   return p;
 }
 
+struct RunSetup {
+  PipelineConfig pipeline;
+  ControllerSettings controller;
+};
+
+// Reads the --config file: the pipeline keys (config/pipeline.json) and an optional "controller" section
+// (config/controller.json).
+nlohmann::json readConfigFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot open config file '" + path + "' (check the path)");
+  try {
+    nlohmann::json j = nlohmann::json::parse(in);
+    if (!j.is_object()) throw Error("config file '" + path + "' must hold a JSON object");
+    return j;
+  } catch (const nlohmann::json::exception& e) {
+    throw Error("config file '" + path + "' is not valid JSON: " + e.what());
+  }
+}
+
 // defaults < sequence volume hints < config file < command-line flags.
-PipelineConfig buildConfig(const RunOptions& o, const SequenceInfo& info) {
+RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
   PipelineConfig c;
   if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
   if (info.volumeInitialPosition)
     for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
-  if (!o.configPath.empty()) c = loadConfigFile(o.configPath, c);
+  nlohmann::json controllerSection = "fixed";
+  std::string controllerWhere = "controller";
+  if (!o.configPath.empty()) {
+    nlohmann::json file = readConfigFile(o.configPath);
+    if (file.contains("controller")) {
+      controllerSection = file["controller"];
+      controllerWhere = o.configPath + ": controller";
+      file.erase("controller");
+    }
+    c = parseConfig(file, c, o.configPath);
+  }
   if (!o.preset.empty()) c.knobs = knobPreset(o.preset);
   if (!o.knobs.empty()) c.knobs = parseKnobs(o.knobs, c.knobs);
   if (o.volumeSize) c.volumeSize = static_cast<float>(*o.volumeSize);
@@ -78,32 +111,15 @@ PipelineConfig buildConfig(const RunOptions& o, const SequenceInfo& info) {
   } catch (const Error& e) {
     throw Error(std::string("run options: ") + e.what());
   }
-  return c;
-}
-
-nlohmann::json knobsJson(const Knobs& k) {
-  return {{"csr", k.csr},
-          {"icp", k.icpThreshold},
-          {"pd", {k.pyramidIterations[0], k.pyramidIterations[1], k.pyramidIterations[2]}},
-          {"tr", k.trackingRate},
-          {"ir", k.integrationRate}};
-}
-
-nlohmann::json frameJson(const FrameResult& r) {
-  nlohmann::json stages = nlohmann::json::object();
-  for (int s = 0; s < kStageCount; ++s) stages[stageName(static_cast<Stage>(s))] = r.times.ms[s];
-  return {{"frame", r.frame},
-          {"timestamp", r.timestamp},
-          {"knobs", knobsJson(r.knobs)},
-          {"ms", stages},
-          {"computation_ms", r.times.computationMs()},
-          {"tracking_attempted", r.trackingAttempted},
-          {"tracked", r.tracked},
-          {"integrated", r.integrated},
-          {"icp_iterations", r.icpIterations},
-          {"residual_m", r.residual},
-          {"inliers", r.inlierFraction},
-          {"velocity_m_per_frame", r.velocity}};
+  if (!o.controller.empty()) {
+    if (controllerSection.is_object())
+      controllerSection["name"] = o.controller;
+    else
+      controllerSection = o.controller;
+    if (controllerWhere == "controller") controllerWhere = "--controller";
+  }
+  const ControllerContext context{c.knobs};
+  return RunSetup{c, parseControllerSettings(controllerSection, context, controllerWhere)};
 }
 
 // CPU time (user + system) of the process so far, milliseconds.
@@ -127,70 +143,40 @@ void runCommand(const RunOptions& o) {
   seqOptions.maxFrames = o.frames;
   std::unique_ptr<FrameSource> source = openSequence(o.sequence, seqOptions);
   const SequenceInfo info = source->info();
-  const PipelineConfig config = buildConfig(o, info);
-
-  std::error_code ec;
-  fs::create_directories(o.out, ec);
-  if (!fs::is_directory(o.out)) throw Error("cannot create output directory '" + o.out + "': " + ec.message());
-  const fs::path out(o.out);
-  std::ofstream frames(out / "frames.jsonl");
-  if (!frames) throw Error("cannot write '" + (out / "frames.jsonl").string() + "'");
+  const RunSetup setup = buildSetup(o, info);
+  const PipelineConfig& config = setup.pipeline;
 
   ThreadPool pool(o.threads);
   auto pipeline = Pipeline::createCpu(config, info.intrinsics, pool);
+  SlamRunner runner(*pipeline, createController(setup.controller, ControllerContext{config.knobs}), info.depthScale);
+  nlohmann::json extra;
+  extra["sequence"] = o.sequence;
+  extra["controller"] = setup.controller.name;
+  extra["controller_sections"] = setup.controller.sections;
+  extra["knobs"] = knobsToJson(runner.nextKnobs());
+  extra["config"] = configToJson(config);
+  extra["threads"] = pool.threadCount();
+  const StandardOutputs outputs =
+      addStandardOutputs(runner, o.out, info.groundTruthPath, extra,
+                         "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
+                             formatKnobs(runner.nextKnobs()) + " (volume frame)");
+  const fs::path out(o.out);
+
   const bool progress = !o.quiet && isatty(STDERR_FILENO);
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
-
-  Trajectory trajectory;
-  StageTimes sum;
   const double cpuStartMs = processCpuMs();
-  size_t count = 0, attempted = 0, tracked = 0, integrated = 0;
   while (auto frame = source->next()) {
-    FrameResult r = pipeline->processFrame(*frame, info.depthScale, config.knobs);
-    trajectory.push_back(TimedPose{r.timestamp, r.T_camera_to_world});
-    frames << frameJson(r).dump() << "\n";
-    for (int s = 0; s < kStageCount; ++s) sum.ms[s] += r.times.ms[s];
-    ++count;
-    attempted += r.trackingAttempted;
-    tracked += r.tracked;
-    integrated += r.integrated;
-    if (progress) printProgress(count, total, sum.computationMs() / count);
+    runner.step(*frame);
+    if (progress) printProgress(runner.frames(), total, outputs.summary->stats().computationMsPerFrame());
   }
   const double cpuMs = processCpuMs() - cpuStartMs;
   if (progress) std::cerr << "\n";
+  const RunStats& stats = outputs.summary->stats();
+  const size_t count = stats.frames;
   if (count == 0) throw Error("sequence '" + o.sequence + "' has no frames");
-  frames.close();
-  writeTumTrajectory((out / "trajectory.tum").string(), trajectory,
-                     "slambooster run " + o.sequence + " knobs " + formatKnobs(config.knobs) + " (volume frame)");
-
-  nlohmann::json summary;
-  summary["sequence"] = o.sequence;
-  summary["frames"] = count;
-  summary["tracking_attempted"] = attempted;
-  summary["tracked"] = tracked;
-  summary["tracked_percent"] = attempted > 0 ? 100.0 * tracked / attempted : 0.0;
-  summary["integrated"] = integrated;
-  summary["knobs"] = knobsJson(config.knobs);
-  summary["config"] = configToJson(config);
-  summary["threads"] = pool.threadCount();
-  summary["computation_ms_per_frame"] = sum.computationMs() / count;
   // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
   // times to other load on the machine.
-  summary["cpu_ms_per_frame"] = cpuMs / count;
-  nlohmann::json stages = nlohmann::json::object();
-  for (int s = 0; s < kStageCount; ++s) stages[stageName(static_cast<Stage>(s))] = sum.ms[s] / count;
-  summary["stage_ms_per_frame"] = stages;
-  std::optional<AteResult> ate;
-  if (!info.groundTruthPath.empty()) {
-    try {
-      ate = computeAte(trajectory, readTumTrajectory(info.groundTruthPath));
-      summary["ate"] = {{"rmse_m", ate->rmse},   {"mean_m", ate->mean},
-                        {"max_m", ate->max},     {"median_m", ate->median},
-                        {"matches", ate->matches}, {"unaligned_mean_m", ate->unalignedMean}};
-    } catch (const Error& e) {
-      summary["ate_error"] = e.what();
-    }
-  }
+  outputs.summary->setExtra("cpu_ms_per_frame", cpuMs / count);
 
   const Image<uint8_t> model = pipeline->renderModel(1);
   writePng8((out / "model.png").string(), model);
@@ -198,17 +184,21 @@ void runCommand(const RunOptions& o) {
     const VolumeView view{pipeline->volumeData(), config.volumeResolution, config.volumeSize};
     const Mesh mesh = extractMesh(view, MeshOptions{}, pool);
     writePly((out / "mesh.ply").string(), mesh);
-    summary["mesh_triangles"] = mesh.triangles.size();
+    outputs.summary->setExtra("mesh_triangles", mesh.triangles.size());
   }
-  std::ofstream(out / "summary.json") << summary.dump(2) << "\n";
+  runner.flush();
+  const std::optional<AteResult>& ate = outputs.summary->ate();
+  const nlohmann::json& summary = outputs.summary->summary();
 
   std::cout << std::fixed << std::setprecision(1);
-  std::cout << "frames " << count << ", tracked " << tracked << "/" << attempted << " ("
-            << summary["tracked_percent"].get<double>() << "%), integrated " << integrated << "\n";
-  std::cout << "computation " << sum.computationMs() / count << " ms/frame (";
+  std::cout << "controller " << setup.controller.name << ", frames " << count << ", tracked " << stats.tracked << "/"
+            << stats.trackingAttempted << " (" << stats.trackedPercent() << "%), integrated " << stats.integrated
+            << ", corrected " << stats.corrected << "\n";
+  std::cout << "computation " << stats.computationMsPerFrame() << " ms/frame (";
   for (int s = 0; s < kStageCount; ++s) {
     if (static_cast<Stage>(s) == Stage::render) continue;
-    std::cout << (s ? ", " : "") << stageName(static_cast<Stage>(s)) << " " << std::setprecision(2) << sum.ms[s] / count;
+    std::cout << (s ? ", " : "") << stageName(static_cast<Stage>(s)) << " " << std::setprecision(2)
+              << stats.stageSums.ms[s] / count;
   }
   std::cout << "), process CPU " << std::setprecision(1) << cpuMs / count << " ms/frame over " << pool.threadCount()
             << " threads\n" << std::setprecision(2);
@@ -224,12 +214,15 @@ void runCommand(const RunOptions& o) {
 
 void addRunCommand(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
-  auto* sub = app.add_subcommand("run", "Replay a sequence through KinectFusion with fixed knobs");
+  auto* sub = app.add_subcommand("run", "Replay a sequence through KinectFusion under a controller");
   sub->add_option("sequence", options->sequence, "Sequence directory (TUM layout) or .raw file")->required();
   sub->add_option("--out", options->out, "Output directory")->required();
   sub->add_option("--config", options->configPath, "Pipeline config (JSON)");
   sub->add_option("--knobs", options->knobs, "Knobs, e.g. csr=2,icp=1e-4,pd=8:5:4,tr=1,ir=2 (on top of the preset)");
-  sub->add_option("--preset", options->preset, "Knob preset")->check(CLI::IsMember({"default", "accurate"}));
+  sub->add_option("--preset", options->preset, "Knob preset (the knobs of the fixed controller)")
+      ->check(CLI::IsMember({"default", "accurate"}));
+  sub->add_option("--controller", options->controller,
+                  "Controller (wins over the config file's controller.name; default: fixed):\n" + controllerHelp());
   sub->add_option("--volume-size", options->volumeSize, "Volume side (metres)");
   sub->add_option("--volume-resolution", options->volumeResolution, "Voxels per side (multiple of 8)");
   sub->add_option("--initial-position", options->initialPosition,

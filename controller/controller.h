@@ -1,0 +1,73 @@
+#pragma once
+// The controller interface (DESIGN section 4): after each frame's tracking, a controller sees an Observation
+// and returns a Decision: the knobs of the next frame, optionally a corrected pose for this frame (used by
+// integration and raycast), a half-precision wish, and the triggers that fired (for the log).
+//
+// Lifecycle: create through the registry (controller/registry.h), ask initialKnobs() for frame 0, then call
+// decide() once per frame in order. A controller keeps whatever history it needs itself; it is not
+// thread-safe (one SLAM thread owns it).
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/image.h"
+#include "pipeline/knobs.h"
+#include "pipeline/stages.h"
+
+namespace sb {
+
+struct Observation {
+  size_t frame = 0;                // 0-based frame count of the run
+  double timestamp = 0.0;          // seconds (sequence or capture time)
+  Knobs knobs;                     // the knobs this frame ran with
+  bool trackingAttempted = false;  // false in the pipeline's bootstrap frames and frames skipped by tr
+  bool tracked = false;            // ICP result passed the residual and inlier tests
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();          // this frame's pose after tracking, volume frame
+  Eigen::Isometry3d previousPose = Eigen::Isometry3d::Identity();  // the previous frame's final pose
+  double velocity = 0.0;           // m/frame: |translation(pose) - translation(previousPose)|
+  double residual = 0.0;           // m: RMS point-to-plane residual of the last ICP pass
+  double inlierFraction = 0.0;     // ICP inliers / pixels
+  StageTimes times;                // ms per stage of this frame so far (preprocessing and tracking)
+  double previousComputationMs = 0.0;    // ms: the whole previous frame (0 before the first)
+  std::optional<double> latestJoules;    // J per frame of the most recent frame whose energy is known
+  const DepthRaw* depth = nullptr;       // the raw input frame (full size), borrowed for the call
+  double depthScale = 1000.0;            // raw units per metre
+};
+
+// Trigger flags (bits of Decision::triggers), for the per-frame log and the activity plots.
+enum Trigger : uint32_t {
+  kTriggerBootstrap = 1u << 0,       // still in the controller's bootstrap: no approximation
+  kTriggerIntegral = 1u << 1,        // I: window mean velocity above the threshold
+  kTriggerDerivativeUp = 1u << 2,    // D: velocity non-decreasing over the D window
+  kTriggerDerivativeDown = 1u << 3,  // D: velocity consistently decreasing
+  kTriggerSurface = 1u << 4,         // smooth surface in view
+  kTriggerCorrection = 1u << 5,      // pose replaced by constant-velocity extrapolation
+  kTriggerHold = 1u << 6,            // a move towards approximation waits for the hold time
+  kTriggerBudget = 1u << 7,          // budget/tc: the time or energy target was missed
+};
+// The names of the set bits, e.g. {"surface", "correction"}.
+std::vector<std::string> triggerNames(uint32_t triggers);
+
+struct Decision {
+  Knobs next;                                       // knobs for the next frame
+  std::optional<Eigen::Isometry3d> correctedPose;   // replaces this frame's pose when set
+  bool halfPrecision = false;                       // wish: preprocessing and raycast in half precision
+  uint32_t triggers = 0;                            // Trigger bits
+  int level = -1;                                   // approximation level when the controller has one, else -1
+};
+
+class Controller {
+ public:
+  virtual ~Controller() = default;
+  // The registry name, e.g. "fixed", "slambooster", "pid+surface".
+  virtual const std::string& name() const = 0;
+  // Knobs of the first frame this controller runs.
+  virtual Knobs initialKnobs() const = 0;
+  // Called once per frame, after tracking and before integration.
+  virtual Decision decide(const Observation& observation) = 0;
+};
+
+}  // namespace sb

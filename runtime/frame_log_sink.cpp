@@ -1,0 +1,54 @@
+#include "runtime/frame_log_sink.h"
+
+#include "core/error.h"
+
+namespace sb {
+
+nlohmann::json knobsToJson(const Knobs& k) {
+  return {{"csr", k.csr},
+          {"icp", k.icpThreshold},
+          {"pd", {k.pyramidIterations[0], k.pyramidIterations[1], k.pyramidIterations[2]}},
+          {"tr", k.trackingRate},
+          {"ir", k.integrationRate}};
+}
+
+nlohmann::json frameRecordToJson(const FrameRecord& rec) {
+  const FrameResult& r = rec.result;
+  nlohmann::json stages = nlohmann::json::object();
+  for (int s = 0; s < kStageCount; ++s) stages[stageName(static_cast<Stage>(s))] = r.times.ms[s];
+  nlohmann::json j = {{"frame", r.frame},
+                      {"timestamp", r.timestamp},
+                      {"knobs", knobsToJson(r.knobs)},
+                      {"ms", stages},
+                      {"computation_ms", r.times.computationMs()},
+                      {"tracking_attempted", r.trackingAttempted},
+                      {"tracked", r.tracked},
+                      {"integrated", r.integrated},
+                      {"icp_iterations", r.icpIterations},
+                      {"residual_m", r.residual},
+                      {"inliers", r.inlierFraction},
+                      {"velocity_m_per_frame", r.velocity},
+                      {"tracked_velocity_m_per_frame", rec.trackedVelocity},
+                      {"corrected", r.poseOverridden},
+                      {"controller", rec.controller},
+                      {"controller_ms", rec.controllerMs},
+                      {"triggers", triggerNames(rec.decision.triggers)},
+                      {"half_wish", rec.decision.halfPrecision},
+                      {"next_knobs", knobsToJson(rec.decision.next)},
+                      {"knobs_pinned", rec.knobsPinned}};
+  if (rec.decision.level >= 0) j["level"] = rec.decision.level;
+  return j;
+}
+
+FrameLogSink::FrameLogSink(const std::string& path) : path_(path), out_(path) {
+  if (!out_) throw Error("cannot write per-frame log '" + path + "' (check the output directory)");
+}
+
+void FrameLogSink::onFrame(const FrameRecord& record) { out_ << frameRecordToJson(record).dump() << "\n"; }
+
+void FrameLogSink::flush() {
+  out_.flush();
+  if (!out_) throw Error("writing per-frame log '" + path_ + "' failed (disk full?)");
+}
+
+}  // namespace sb

@@ -1,0 +1,21 @@
+#pragma once
+// What the runtime records about one processed frame: the pipeline's result, the controller's decision and
+// the controller's own cost. Output sinks receive it; the daemon publishes it.
+
+#include <string>
+
+#include "controller/controller.h"
+#include "pipeline/pipeline.h"
+
+namespace sb {
+
+struct FrameRecord {
+  FrameResult result;             // after finishFrame: final pose, stage times, velocity of the final pose
+  Decision decision;              // the controller's decision after this frame (decision.next = next knobs)
+  std::string controller;         // name of the controller that decided
+  bool knobsPinned = false;       // decision.next was overridden by pinned knobs
+  double trackedVelocity = 0.0;   // m/frame: velocity of the tracked pose, before any correction
+  double controllerMs = 0.0;      // time spent in Controller::decide (and reading the frame for it)
+};
+
+}  // namespace sb

@@ -1,0 +1,64 @@
+#pragma once
+// The per-frame loop shared by `slambooster run`, `slambooster bench` and the daemon's SLAM thread:
+//   frame -> Pipeline::trackFrame -> Controller::decide -> Pipeline::finishFrame(result, corrected pose)
+//         -> every output sink
+// One frame per step(), so the caller owns pacing, threads and stopping. Between any two steps the caller
+// may switch the controller, pin knobs (overriding the controller's choice), report energy, or flush the
+// outputs. Not thread-safe: one thread drives a runner.
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "controller/controller.h"
+#include "drivers/frame_source.h"
+#include "pipeline/pipeline.h"
+#include "runtime/frame_record.h"
+#include "runtime/output_sink.h"
+
+namespace sb {
+
+class SlamRunner {
+ public:
+  // Borrows `pipeline` (must outlive the runner); owns `controller`. `depthScale`: raw units per metre.
+  SlamRunner(Pipeline& pipeline, std::unique_ptr<Controller> controller, double depthScale);
+
+  // Adds an output; the runner owns it. Returns it for the caller's later use (e.g. reading a summary).
+  OutputSink& addSink(std::unique_ptr<OutputSink> sink);
+
+  // Processes one frame with the current knobs and returns its record (also given to every sink).
+  // Throws sb::Error on bad input or invalid knobs from the controller (naming it).
+  FrameRecord step(const DepthFrame& frame);
+
+  // Replaces the controller from the next frame on; the next frame runs the new controller's initial knobs
+  // (unless knobs are pinned).
+  void setController(std::unique_ptr<Controller> controller);
+  // Pins the knobs of every following frame (validated; throws sb::Error), or unpins with nullopt. The
+  // controller still observes every frame and may still correct poses.
+  void pinKnobs(const std::optional<Knobs>& knobs);
+  // Energy of the most recent frame whose energy is known (J), passed to the controller from now on.
+  void setLatestJoules(double joules) { latestJoules_ = joules; }
+  // Flushes every sink (files on disk reflect every frame so far).
+  void flush();
+
+  const Controller& controller() const { return *controller_; }
+  // The knobs the next frame will run with.
+  Knobs nextKnobs() const { return pinned_ ? *pinned_ : next_; }
+  const std::optional<Knobs>& pinnedKnobs() const { return pinned_; }
+  size_t frames() const { return frames_; }
+  Pipeline& pipeline() { return pipeline_; }
+
+ private:
+  Pipeline& pipeline_;
+  std::unique_ptr<Controller> controller_;
+  double depthScale_;
+  std::vector<std::unique_ptr<OutputSink>> sinks_;
+  Knobs next_;
+  std::optional<Knobs> pinned_;
+  std::optional<double> latestJoules_;
+  Eigen::Isometry3d previousPose_;
+  double previousComputationMs_ = 0.0;
+  size_t frames_ = 0;
+};
+
+}  // namespace sb

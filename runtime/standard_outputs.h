@@ -1,0 +1,26 @@
+#pragma once
+// The standard outputs of a run in one directory: trajectory.tum, frames.jsonl and summary.json.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "runtime/frame_log_sink.h"
+#include "runtime/slam_runner.h"
+#include "runtime/summary_sink.h"
+#include "runtime/trajectory_sink.h"
+
+namespace sb {
+
+struct StandardOutputs {
+  TrajectorySink* trajectory = nullptr;  // owned by the runner
+  FrameLogSink* frameLog = nullptr;
+  SummarySink* summary = nullptr;
+};
+
+// Creates `dir` when missing and adds the three sinks to `runner`. `groundTruthPath` ("" = none) gives the
+// summary its ATE; `extra` goes into summary.json as it is; `comment` heads the trajectory file.
+// Throws sb::Error naming the directory or file that cannot be written.
+StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir, const std::string& groundTruthPath,
+                                   const nlohmann::json& extra, const std::string& comment);
+
+}  // namespace sb

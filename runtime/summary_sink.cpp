@@ -1,0 +1,79 @@
+#include "runtime/summary_sink.h"
+
+#include <cstdio>
+#include <fstream>
+
+#include "core/error.h"
+#include "runtime/frame_log_sink.h"
+
+namespace sb {
+
+void RunStats::add(const FrameRecord& rec) {
+  const FrameResult& r = rec.result;
+  ++frames;
+  trackingAttempted += r.trackingAttempted;
+  tracked += r.tracked;
+  integrated += r.integrated;
+  corrected += r.poseOverridden;
+  halfWishes += rec.decision.halfPrecision;
+  for (int s = 0; s < kStageCount; ++s) stageSums.ms[s] += r.times.ms[s];
+  controllerMsSum += rec.controllerMs;
+  for (const std::string& t : triggerNames(rec.decision.triggers)) ++triggerCounts[t];
+  ++knobCounts[formatKnobs(r.knobs)];
+}
+
+nlohmann::json RunStats::toJson() const {
+  nlohmann::json j;
+  j["frames"] = frames;
+  j["tracking_attempted"] = trackingAttempted;
+  j["tracked"] = tracked;
+  j["tracked_percent"] = trackedPercent();
+  j["integrated"] = integrated;
+  j["corrected"] = corrected;
+  j["half_wish_frames"] = halfWishes;
+  j["computation_ms_per_frame"] = computationMsPerFrame();
+  j["controller_ms_per_frame"] = frames ? controllerMsSum / frames : 0.0;
+  nlohmann::json stages = nlohmann::json::object();
+  for (int s = 0; s < kStageCount; ++s)
+    stages[stageName(static_cast<Stage>(s))] = frames ? stageSums.ms[s] / frames : 0.0;
+  j["stage_ms_per_frame"] = stages;
+  j["triggers"] = triggerCounts;
+  j["knob_frames"] = knobCounts;
+  return j;
+}
+
+SummarySink::SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra)
+    : path_(path), groundTruthPath_(groundTruthPath), extra_(std::move(extra)) {
+  if (!extra_.is_object()) extra_ = nlohmann::json::object();
+}
+
+void SummarySink::onFrame(const FrameRecord& record) {
+  stats_.add(record);
+  trajectory_.push_back(TimedPose{record.result.timestamp, record.result.T_camera_to_world});
+}
+
+void SummarySink::flush() {
+  summary_ = extra_;
+  summary_.update(stats_.toJson());
+  ate_.reset();
+  if (!groundTruthPath_.empty() && !trajectory_.empty()) {
+    try {
+      if (!groundTruth_) groundTruth_ = readTumTrajectory(groundTruthPath_);
+      ate_ = computeAte(trajectory_, *groundTruth_);
+      summary_["ate"] = {{"rmse_m", ate_->rmse},       {"mean_m", ate_->mean},
+                         {"max_m", ate_->max},         {"median_m", ate_->median},
+                         {"matches", ate_->matches},   {"unaligned_mean_m", ate_->unalignedMean}};
+    } catch (const Error& e) {
+      summary_["ate_error"] = e.what();
+    }
+  }
+  const std::string tmp = path_ + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << summary_.dump(2) << "\n";
+    if (!out) throw Error("cannot write summary '" + tmp + "' (check the output directory)");
+  }
+  if (std::rename(tmp.c_str(), path_.c_str()) != 0) throw Error("cannot rename '" + tmp + "' to '" + path_ + "'");
+}
+
+}  // namespace sb

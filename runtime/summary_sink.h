@@ -1,0 +1,57 @@
+#pragma once
+// summary.json of a run: frame counts, % tracked, mean computation time and stage times per frame,
+// controller cost, corrections and trigger counts, time per knob setting, and the ATE against the
+// sequence's ground truth when it has one. Rewritten atomically (temporary file + rename) on every flush,
+// so a reader never sees half a file and a killed run keeps the last flushed summary.
+
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "core/trajectory.h"
+#include "eval/trajectory_eval.h"
+#include "runtime/output_sink.h"
+
+namespace sb {
+
+// Running totals of a run (also what `slambooster bench` reads back from summary.json).
+struct RunStats {
+  size_t frames = 0, trackingAttempted = 0, tracked = 0, integrated = 0, corrected = 0, halfWishes = 0;
+  StageTimes stageSums;         // ms summed over frames
+  double controllerMsSum = 0.0;
+  std::map<std::string, size_t> triggerCounts;
+  std::map<std::string, size_t> knobCounts;  // formatKnobs(knobs) -> frames run with them
+
+  void add(const FrameRecord& record);
+  double computationMsPerFrame() const { return frames ? stageSums.computationMs() / frames : 0.0; }
+  double trackedPercent() const { return trackingAttempted ? 100.0 * tracked / trackingAttempted : 0.0; }
+  nlohmann::json toJson() const;
+};
+
+class SummarySink final : public OutputSink {
+ public:
+  // `groundTruthPath`: TUM trajectory to compute the ATE against ("" = none). `extra` keys are written as
+  // they are (sequence, config, ...); setExtra() may change them later.
+  SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra);
+  void onFrame(const FrameRecord& record) override;
+  void flush() override;
+
+  void setExtra(const std::string& key, nlohmann::json value) { extra_[key] = std::move(value); }
+  const RunStats& stats() const { return stats_; }
+  // The ATE of the frames so far (computed at the last flush), when there is ground truth.
+  const std::optional<AteResult>& ate() const { return ate_; }
+  const nlohmann::json& summary() const { return summary_; }
+
+ private:
+  std::string path_;
+  std::string groundTruthPath_;
+  std::optional<Trajectory> groundTruth_;
+  nlohmann::json extra_;
+  RunStats stats_;
+  Trajectory trajectory_;
+  std::optional<AteResult> ate_;
+  nlohmann::json summary_;
+};
+
+}  // namespace sb

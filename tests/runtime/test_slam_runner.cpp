@@ -1,0 +1,174 @@
+// SlamRunner: the controller's knobs reach the next frame, its corrected pose is the one integrated and
+// written, pinned knobs and controller switches take effect between frames, and flush() leaves readable
+// files at any time.
+
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+#include "core/trajectory.h"
+#include "runtime/slam_runner.h"
+#include "runtime/standard_outputs.h"
+#include "tests/pipeline/synthetic_room.h"
+#include "tests/support/test_data.h"
+
+namespace {
+
+// Plays back a script of decisions and records what it observed.
+class ScriptedController final : public sb::Controller {
+ public:
+  ScriptedController(std::string name, std::vector<sb::Decision> script, sb::Knobs initial)
+      : name_(std::move(name)), script_(std::move(script)), initial_(initial) {}
+  const std::string& name() const override { return name_; }
+  sb::Knobs initialKnobs() const override { return initial_; }
+  sb::Decision decide(const sb::Observation& o) override {
+    observed.push_back(o);
+    depthSeen.push_back(o.depth != nullptr && o.depth->width() > 0);
+    return script_.at(std::min(observed.size() - 1, script_.size() - 1));
+  }
+  std::vector<sb::Observation> observed;
+  std::vector<bool> depthSeen;
+
+ private:
+  std::string name_;
+  std::vector<sb::Decision> script_;
+  sb::Knobs initial_;
+};
+
+sb::Decision decision(const std::string& knobs) {
+  sb::Decision d;
+  d.next = sb::parseKnobs(knobs);
+  return d;
+}
+
+size_t countLines(const std::string& path) {
+  std::ifstream in(path);
+  size_t n = 0;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#') ++n;
+  return n;
+}
+
+struct Fixture {
+  sb::test::Room room;
+  sb::Intrinsics k = sb::test::roomIntrinsics(160, 120);
+  sb::PipelineConfig config;
+  sb::ThreadPool pool{2};
+  std::unique_ptr<sb::Pipeline> pipeline;
+  Fixture() {
+    config.volumeSize = 3.0f;
+    config.volumeResolution = 64;
+    config.bootstrapFrames = 1;
+    pipeline = sb::Pipeline::createCpu(config, k, pool);
+  }
+  // Frame i: the camera moves 5 mm per frame along x.
+  sb::DepthFrame frame(size_t i) const {
+    Eigen::Isometry3d pose = pipeline->initialPose();
+    pose.translation().x() += 0.005 * double(i);
+    return sb::test::renderRoom(room, pose, k, i);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("the runner applies the controller's knobs and corrected pose and writes every output", "[runtime]") {
+  Fixture f;
+  const std::string dir = sb::test::scratchDir("runtime_runner");
+  Eigen::Isometry3d jump = f.pipeline->initialPose();
+  jump.translation() += Eigen::Vector3d(0.3, 0, 0);
+  std::vector<sb::Decision> script = {decision("csr=2"), decision("csr=4,ir=1"), decision("csr=2")};
+  script[2].correctedPose = jump;
+  script[2].triggers = sb::kTriggerCorrection;
+  auto owned = std::make_unique<ScriptedController>("scripted", script, sb::parseKnobs("csr=1"));
+  ScriptedController& controller = *owned;
+  sb::SlamRunner runner(*f.pipeline, std::move(owned), sb::test::kRoomDepthScale);
+  const sb::StandardOutputs outputs = sb::addStandardOutputs(runner, dir, "", {{"sequence", "room"}}, "test");
+
+  std::vector<sb::FrameRecord> records;
+  for (size_t i = 0; i < 3; ++i) records.push_back(runner.step(f.frame(i)));
+  // Knobs: frame 0 the initial ones, then each frame the previous decision's.
+  CHECK(records[0].result.knobs.csr == 1);
+  CHECK(records[1].result.knobs.csr == 2);
+  CHECK(records[2].result.knobs == sb::parseKnobs("csr=4,ir=1"));
+  CHECK(runner.nextKnobs().csr == 2);
+  // Observations carry the frame, its tracking and the raw depth.
+  REQUIRE(controller.observed.size() == 3);
+  CHECK(controller.observed[1].frame == 1);
+  CHECK(controller.observed[1].trackingAttempted);
+  CHECK(controller.observed[1].tracked);
+  CHECK(controller.observed[1].velocity == Approx((records[1].result.T_camera_to_world.translation() -
+                                                   records[0].result.T_camera_to_world.translation()).norm()));
+  CHECK(controller.observed[1].velocity < 0.03);
+  CHECK(controller.observed[2].previousPose.matrix() == records[1].result.T_camera_to_world.matrix());
+  CHECK(controller.observed[2].previousComputationMs == Approx(records[1].result.times.computationMs()));
+  CHECK(controller.depthSeen == std::vector<bool>{true, true, true});
+  // The corrected pose replaced the tracked one.
+  CHECK(records[2].result.poseOverridden);
+  CHECK(records[2].result.T_camera_to_world.isApprox(jump));
+  CHECK(records[2].trackedVelocity < 0.02);
+  CHECK(records[2].result.velocity > 0.25);
+
+  // Flush mid-run: the files hold every frame so far.
+  runner.flush();
+  CHECK(countLines(dir + "/trajectory.tum") == 3);
+  CHECK(countLines(dir + "/frames.jsonl") == 3);
+  const sb::Trajectory written = sb::readTumTrajectory(dir + "/trajectory.tum");
+  CHECK(written[2].T_camera_to_world.translation().isApprox(jump.translation(), 1e-6));
+  std::ifstream log(dir + "/frames.jsonl");
+  std::string line;
+  for (int i = 0; i < 3; ++i) std::getline(log, line);
+  const auto last = nlohmann::json::parse(line);
+  CHECK(last.at("controller") == "scripted");
+  CHECK(last.at("corrected") == true);
+  CHECK(last.at("triggers") == nlohmann::json::array({"correction"}));
+  CHECK(last.at("knobs").at("csr") == 4);
+  CHECK(last.at("next_knobs").at("csr") == 2);
+  std::ifstream summaryFile(dir + "/summary.json");
+  const auto summary = nlohmann::json::parse(summaryFile);
+  CHECK(summary.at("frames") == 3);
+  CHECK(summary.at("corrected") == 1);
+  CHECK(summary.at("sequence") == "room");
+  CHECK(summary.at("triggers").at("correction") == 1);
+  CHECK(outputs.summary->stats().frames == 3);
+}
+
+TEST_CASE("pinned knobs and a controller switch take effect from the next frame", "[runtime]") {
+  Fixture f;
+  sb::SlamRunner runner(*f.pipeline,
+                        std::make_unique<ScriptedController>("a", std::vector<sb::Decision>{decision("csr=2")},
+                                                             sb::parseKnobs("csr=2")),
+                        sb::test::kRoomDepthScale);
+  CHECK(runner.step(f.frame(0)).result.knobs.csr == 2);
+  runner.pinKnobs(sb::parseKnobs("csr=4"));
+  const sb::FrameRecord pinned = runner.step(f.frame(1));
+  CHECK(pinned.result.knobs.csr == 4);
+  CHECK(pinned.knobsPinned);
+  CHECK(pinned.decision.next.csr == 4);
+  CHECK(runner.step(f.frame(2)).result.knobs.csr == 4);
+  runner.pinKnobs(std::nullopt);
+  runner.setController(std::make_unique<ScriptedController>("b", std::vector<sb::Decision>{decision("csr=8")},
+                                                            sb::parseKnobs("csr=4,ir=1")));
+  const sb::FrameRecord switched = runner.step(f.frame(3));
+  CHECK(switched.result.knobs == sb::parseKnobs("csr=4,ir=1"));
+  CHECK(switched.controller == "b");
+  CHECK(runner.nextKnobs().csr == 8);
+
+  sb::Knobs bad;
+  bad.csr = 3;
+  CHECK_THROWS_AS(runner.pinKnobs(bad), sb::Error);
+  runner.setController(std::make_unique<ScriptedController>("broken", std::vector<sb::Decision>{decision("csr=2")},
+                                                            sb::parseKnobs("csr=2")));
+}
+
+TEST_CASE("a controller that chooses invalid knobs is named in the error", "[runtime]") {
+  Fixture f;
+  sb::Decision bad;
+  bad.next.csr = 5;
+  sb::SlamRunner runner(*f.pipeline,
+                        std::make_unique<ScriptedController>("broken", std::vector<sb::Decision>{bad}, sb::Knobs{}),
+                        sb::test::kRoomDepthScale);
+  CHECK_THROWS_WITH(runner.step(f.frame(0)), Catch::Matchers::Contains("controller 'broken'") &&
+                                                 Catch::Matchers::Contains("csr"));
+}
