@@ -10,5 +10,6 @@ void addRunCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addEnergyCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
+void addReportCommand(CLI::App& app);
 
 }  // namespace sb::cli

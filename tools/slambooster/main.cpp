@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   sb::cli::addEvalCommand(app);
   sb::cli::addEnergyCommand(app);
   sb::cli::addSynthCommand(app);
+  sb::cli::addReportCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

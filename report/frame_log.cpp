@@ -1,0 +1,171 @@
+#include "report/frame_log.h"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+namespace sb::report {
+
+namespace {
+
+using nlohmann::json;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr size_t kMaxProblems = 8;
+
+class ProblemList {
+ public:
+  explicit ProblemList(std::vector<std::string>& out) : out_(out) {}
+  void add(const std::string& p) {
+    if (count_++ < kMaxProblems) out_.push_back(p);
+  }
+  // Appends the count of problems left out; call once at the end.
+  void finish() {
+    if (count_ > kMaxProblems) out_.push_back("... and " + std::to_string(count_ - kMaxProblems) + " more problems");
+  }
+
+ private:
+  std::vector<std::string>& out_;
+  size_t count_ = 0;
+};
+
+const json* find(const json& j, std::initializer_list<const char*> path) {
+  const json* node = &j;
+  for (const char* key : path) {
+    if (!node->is_object()) return nullptr;
+    auto it = node->find(key);
+    if (it == node->end()) return nullptr;
+    node = &*it;
+  }
+  return node;
+}
+
+const char* typeName(const json& j) { return j.type_name(); }
+
+// Numeric value at `path`; NaN when absent or null; a problem when present with another type.
+double number(const json& j, std::initializer_list<const char*> path, const std::string& where, ProblemList& problems) {
+  const json* v = find(j, path);
+  if (!v || v->is_null()) return kNaN;
+  if (v->is_boolean()) return v->get<bool>() ? 1.0 : 0.0;
+  if (v->is_number()) return v->get<double>();
+  std::string key;
+  for (const char* p : path) key += (key.empty() ? "" : ".") + std::string(p);
+  problems.add(where + ": '" + key + "' should be a number, found " + typeName(*v));
+  return kNaN;
+}
+
+void addTrigger(FrameLog& log, const std::string& name, double frame) {
+  for (auto& t : log.triggers)
+    if (t.name == name) {
+      if (t.frames.empty() || t.frames.back() != frame) t.frames.push_back(frame);
+      return;
+    }
+  log.triggers.push_back({name, {frame}});
+}
+
+void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemList& problems) {
+  const size_t index = log.size();
+  double frame = number(j, {"frame"}, where, problems);
+  log.frame.push_back(std::isfinite(frame) ? frame : static_cast<double>(index));
+  log.timestamp.push_back(number(j, {"timestamp"}, where, problems));
+  log.csr.push_back(number(j, {"knobs", "csr"}, where, problems));
+  log.icp.push_back(number(j, {"knobs", "icp"}, where, problems));
+  const json* pd = find(j, {"knobs", "pd"});
+  log.pd0.push_back(pd && pd->is_array() && !pd->empty() && (*pd)[0].is_number() ? (*pd)[0].get<double>() : kNaN);
+  log.computationMs.push_back(number(j, {"computation_ms"}, where, problems));
+  log.tracked.push_back(number(j, {"tracked"}, where, problems));
+  log.trackingAttempted.push_back(number(j, {"tracking_attempted"}, where, problems));
+  log.velocity.push_back(number(j, {"velocity_m_per_frame"}, where, problems));
+  double joules = number(j, {"joules"}, where, problems);
+  if (!std::isfinite(joules)) joules = number(j, {"energy_j"}, where, problems);
+  log.joules.push_back(joules);
+  log.powerW.push_back(number(j, {"power_w"}, where, problems));
+
+  for (auto& column : log.stageMs) column.push_back(kNaN);
+  if (const json* ms = find(j, {"ms"}); ms && ms->is_object()) {
+    for (auto it = ms->begin(); it != ms->end(); ++it) {
+      size_t s = 0;
+      while (s < log.stageNames.size() && log.stageNames[s] != it.key()) ++s;
+      if (s == log.stageNames.size()) {
+        log.stageNames.push_back(it.key());
+        log.stageMs.emplace_back(index + 1, kNaN);
+      }
+      if (it->is_number()) log.stageMs[s][index] = it->get<double>();
+    }
+  }
+
+  log.level.push_back(number(j, {"level"}, where, problems));
+  if (const json* triggers = find(j, {"triggers"})) {
+    log.recordsTriggers = true;
+    if (triggers->is_array()) {
+      for (const auto& t : *triggers)
+        if (t.is_string()) addTrigger(log, t.get<std::string>(), log.frame.back());
+    } else {
+      problems.add(where + ": 'triggers' should be a list of names, found " + typeName(*triggers));
+    }
+  }
+  if (const json* corrected = find(j, {"corrected"}); corrected && corrected->is_boolean()) {
+    log.recordsTriggers = true;
+    if (corrected->get<bool>()) addTrigger(log, "correction", log.frame.back());
+  }
+}
+
+}  // namespace
+
+const std::vector<double>& FrameLog::triggerFrames(const std::string& name) const {
+  static const std::vector<double> none;
+  for (const auto& t : triggers)
+    if (t.name == name) return t.frames;
+  return none;
+}
+
+bool FrameLog::hasColumn(const std::vector<double>& column) const {
+  for (double v : column)
+    if (std::isfinite(v)) return true;
+  return false;
+}
+
+FrameLogReadResult readFrameLog(const std::string& path) {
+  FrameLogReadResult result;
+  std::ifstream in(path);
+  if (!in) {
+    result.problems.push_back("cannot read '" + path + "' (no per-frame plots)");
+    return result;
+  }
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  in.clear();
+  in.seekg(-1, std::ios::end);
+  const bool endsWithNewline = in && in.get() == '\n';
+
+  ProblemList problems(result.problems);
+  size_t nonEmpty = 0;
+  for (size_t n = 0; n < lines.size(); ++n) {
+    const std::string& line = lines[n];
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    ++nonEmpty;
+    const std::string where = path + " line " + std::to_string(n + 1);
+    const bool last = n + 1 == lines.size();
+    json j;
+    try {
+      j = json::parse(line);
+    } catch (const json::exception& e) {
+      if (last && !endsWithNewline)
+        problems.add(where + " is incomplete (the run was probably interrupted while writing it); the report uses "
+                     "the " + std::to_string(result.log.size()) + " frames before it");
+      else
+        problems.add(where + " is not valid JSON (" + e.what() + "); line skipped");
+      continue;
+    }
+    if (!j.is_object()) {
+      problems.add(where + " is not a JSON object (found " + j.type_name() + "); line skipped");
+      continue;
+    }
+    addFrame(result.log, j, where, problems);
+  }
+  if (nonEmpty == 0) problems.add(path + " is empty: the run recorded no frames (no per-frame plots)");
+  problems.finish();
+  return result;
+}
+
+}  // namespace sb::report

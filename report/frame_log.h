@@ -1,0 +1,49 @@
+#pragma once
+// The per-frame log of a run (frames.jsonl, one JSON object per line) as columns for plotting. Reading is
+// forgiving: a bad or truncated line is skipped and reported (file and line), missing keys become NaN, so a
+// partial log still gives a partial report. The keys read are listed in report/README.md.
+
+#include <string>
+#include <vector>
+
+namespace sb::report {
+
+struct FrameLog {
+  // One entry per frame read, in file order. NaN where the line lacks the key.
+  std::vector<double> frame;           // "frame" (else the running index)
+  std::vector<double> timestamp;       // "timestamp", s
+  std::vector<double> csr, icp, pd0;   // "knobs": csr, icp, pd[0]
+  std::vector<double> computationMs;   // "computation_ms"
+  std::vector<double> tracked;         // "tracked": 1 or 0
+  std::vector<double> trackingAttempted;  // "tracking_attempted": 1 or 0
+  std::vector<double> velocity;        // "velocity_m_per_frame"
+  std::vector<double> joules;          // "joules" (null = unknown)
+  std::vector<double> powerW;          // "power_w"
+  std::vector<std::string> stageNames;         // keys of "ms", in first-seen order
+  std::vector<std::vector<double>> stageMs;    // [stage][frame]
+  std::vector<double> level;           // "level": the controller's approximation level, when it has one
+  // Frames where each controller trigger fired ("triggers": ["surface", ...]), in first-seen order; a frame
+  // with "corrected": true counts as a "correction" trigger.
+  struct Trigger {
+    std::string name;
+    std::vector<double> frames;
+  };
+  std::vector<Trigger> triggers;
+  bool recordsTriggers = false;  // some line has "triggers" or "corrected" (else: no controller information)
+
+  // Frames of the named trigger (empty when it never fired).
+  const std::vector<double>& triggerFrames(const std::string& name) const;
+
+  size_t size() const { return frame.size(); }
+  bool hasColumn(const std::vector<double>& column) const;  // any finite value
+};
+
+struct FrameLogReadResult {
+  FrameLog log;
+  std::vector<std::string> problems;  // "frames.jsonl line 7: ..." (capped, with a count of the rest)
+};
+
+// Reads `path`. A missing or unreadable file is a problem, not an exception.
+FrameLogReadResult readFrameLog(const std::string& path);
+
+}  // namespace sb::report

@@ -1,0 +1,112 @@
+#include "report/run_data.h"
+
+#include <filesystem>
+#include <fstream>
+
+#include "core/error.h"
+
+namespace sb::report {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+bool isFile(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
+void loadSummary(RunData& run) {
+  const fs::path path = fs::path(run.dir) / "summary.json";
+  if (!isFile(path)) {
+    run.problems.push_back("'" + path.string() + "' is missing (no summary table; the run may not have finished)");
+    return;
+  }
+  std::ifstream in(path);
+  try {
+    nlohmann::json j = nlohmann::json::parse(in);
+    if (!j.is_object()) throw Error(std::string("expected a JSON object, found ") + j.type_name());
+    run.summary = std::move(j);
+  } catch (const std::exception& e) {
+    run.problems.push_back("'" + path.string() + "' could not be read: " + e.what() + " (no summary table)");
+  }
+}
+
+// The ground truth: the explicit path, else groundtruth.txt in the summary's sequence directory.
+void findGroundTruth(RunData& run, const RunLoadOptions& options) {
+  std::string path = options.groundTruth;
+  if (path.empty()) {
+    const nlohmann::json* sequence = nullptr;
+    if (run.summary && run.summary->contains("sequence")) sequence = &run.summary->at("sequence");
+    if (!sequence || !sequence->is_string()) {
+      run.notes.push_back("no ground truth: summary.json names no sequence (pass --groundtruth FILE)");
+      return;
+    }
+    const fs::path candidate = fs::path(sequence->get<std::string>()) / "groundtruth.txt";
+    if (!isFile(candidate)) {
+      run.notes.push_back("no ground truth: '" + candidate.string() +
+                          "' does not exist (pass --groundtruth FILE; relative sequence paths are read from the "
+                          "current directory)");
+      return;
+    }
+    path = candidate.string();
+  }
+  try {
+    run.groundTruth = readTumTrajectory(path);
+    run.groundTruthPath = path;
+  } catch (const Error& e) {
+    run.problems.push_back(std::string("ground truth not used: ") + e.what());
+    return;
+  }
+  if (run.trajectory.empty()) return;
+  try {
+    run.ate = computeAte(run.trajectory, run.groundTruth);
+  } catch (const Error& e) {
+    run.problems.push_back("trajectory not compared with the ground truth '" + path + "': " + e.what());
+  }
+}
+
+}  // namespace
+
+RunData loadRun(const std::string& dir, const RunLoadOptions& options) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw Error("run directory '" + dir + "' does not exist (give the --out directory of `slambooster run`)");
+  RunData run;
+  run.dir = dir;
+  run.label = fs::path(dir).lexically_normal().filename().string();
+  if (run.label.empty() || run.label == ".") run.label = fs::absolute(dir, ec).lexically_normal().parent_path().filename().string();
+  const fs::path base(dir);
+  bool any = false;
+  for (const char* f : {"summary.json", "frames.jsonl", "trajectory.tum", "model.png"}) any |= isFile(base / f);
+  if (!any)
+    throw Error("'" + dir + "' holds none of summary.json, frames.jsonl, trajectory.tum, model.png: is it the --out "
+                "directory of `slambooster run`?");
+
+  loadSummary(run);
+  if (isFile(base / "frames.jsonl")) {
+    FrameLogReadResult log = readFrameLog((base / "frames.jsonl").string());
+    run.frames = std::move(log.log);
+    run.problems.insert(run.problems.end(), log.problems.begin(), log.problems.end());
+  } else {
+    run.problems.push_back("'" + (base / "frames.jsonl").string() + "' is missing (no per-frame plots)");
+  }
+  if (isFile(base / "trajectory.tum")) {
+    try {
+      run.trajectory = readTumTrajectory((base / "trajectory.tum").string());
+    } catch (const Error& e) {
+      run.problems.push_back(std::string("trajectory not shown: ") + e.what());
+    }
+  } else {
+    run.problems.push_back("'" + (base / "trajectory.tum").string() + "' is missing (no trajectory plot)");
+  }
+  findGroundTruth(run, options);
+  if (isFile(base / "model.png"))
+    run.modelPath = (base / "model.png").string();
+  else
+    run.problems.push_back("'" + (base / "model.png").string() + "' is missing (no map image)");
+  if (isFile(base / "mesh.ply")) run.meshPath = (base / "mesh.ply").string();
+  return run;
+}
+
+}  // namespace sb::report
