@@ -1,7 +1,7 @@
 #include "power/energy_ledger.h"
 
 #include <algorithm>
-#include <limits>
+#include <cstdint>
 
 namespace sb::power {
 
@@ -121,7 +121,7 @@ void EnergyLedger::resolve() {
       reason = "power samples for this frame were already discarded (frame reported too late)";
     }
     pending_.pop_front();
-    const Coverage c = reason.empty() || f.endNs >= f.startNs ? energyBetween(f.startNs, f.endNs) : Coverage{};
+    const Coverage c = energyBetween(f.startNs, f.endNs);
     if (reason.empty() && !c.complete()) reason = "meter gap";
     emit(f, c, reason);
   }
@@ -164,7 +164,8 @@ void EnergyLedger::extendSpan(int64_t toNs) {
 
 void EnergyLedger::prune() {
   if (samples_.size() < 2) return;
-  int64_t horizon = samples_.back().tNs - options_.retainNs;
+  const int64_t newest = samples_.back().tNs;
+  int64_t horizon = newest > INT64_MIN + options_.retainNs ? newest - options_.retainNs : INT64_MIN;
   if (spanStarted_) horizon = std::min(horizon, spanCursorNs_);
   for (const FrameInterval& f : pending_) horizon = std::min(horizon, f.startNs);
   // Keep the last sample at or before the horizon: it starts the segment that holds the horizon.

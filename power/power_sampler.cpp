@@ -147,7 +147,7 @@ void PowerSampler::pollOnce() {
   try {
     meter_->poll(batch);
     status = meter_->status();
-  } catch (const Error& e) {  // a sysfs read or library call failed: a gap, not a crash
+  } catch (const std::exception& e) {  // a sysfs read or library call failed: a gap, not a crash
     status = meter_->status();
     status.connected = false;
     status.message = e.what();

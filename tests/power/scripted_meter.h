@@ -3,6 +3,8 @@
 // out by poll() on the sampler thread. Optionally advances a ManualClock on every poll (idle measurement).
 
 #include <mutex>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "power/clock.h"
@@ -39,6 +41,11 @@ class ScriptedMeter final : public power::Meter {
     stepNs_ = stepNs;
     autoWatts_ = watts;
   }
+  // poll() throws this (a plain std::runtime_error, as a library might) while set; empty = no throwing.
+  void throwOnPoll(const std::string& what) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    throw_ = what;
+  }
   size_t polls() const {
     std::lock_guard<std::mutex> lock(mutex_);
     return polls_;
@@ -48,6 +55,7 @@ class ScriptedMeter final : public power::Meter {
   void poll(std::vector<power::PowerSample>& out) override {
     std::lock_guard<std::mutex> lock(mutex_);
     ++polls_;
+    if (!throw_.empty()) throw std::runtime_error(throw_);
     if (clock_) {
       clock_->advance(stepNs_);
       power::PowerSample s;
@@ -74,6 +82,7 @@ class ScriptedMeter final : public power::Meter {
   int64_t stepNs_ = 0;
   double autoWatts_ = 0.0;
   size_t polls_ = 0;
+  std::string throw_;
 };
 
 }  // namespace sb::test

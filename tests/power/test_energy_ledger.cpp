@@ -252,3 +252,15 @@ TEST_CASE("ledger: old samples are pruned but a late frame within the retention 
   CHECK_FALSE(out[1].known);
   CHECK(out[1].unknownReason.find("discarded") != std::string::npos);
 }
+
+TEST_CASE("ledger: keeping every sample works at any time value (no overflow in the retention)", "[power][ledger]") {
+  LedgerOptions o;
+  o.retainNs = INT64_MAX;  // offline accounting keeps the whole trace
+  EnergyLedger ledger(o);
+  for (int i = -10; i <= -5; ++i) ledger.addSample(at(i * kS, 3.0));
+  ledger.addFrame({0, -10 * kS, -6 * kS});
+  const auto out = ledger.takeReady();
+  REQUIRE(out.size() == 1);
+  REQUIRE(out[0].known);
+  CHECK(relativelyEqual(out[0].joules, 12.0));
+}

@@ -173,6 +173,37 @@ TEST_CASE("sampler: a lost meter and a silent meter make frames unknown and are 
   CHECK(trace.events.size() == 6);
 }
 
+TEST_CASE("sampler: a meter that throws is a gap, not a crash", "[power][sampler]") {
+  ManualClock clock(kT0);
+  auto owned = std::make_unique<ScriptedMeter>();
+  ScriptedMeter& meter = *owned;
+  PowerSampler sampler(std::move(owned), {}, clock);
+  sampler.start();
+  meter.push(kT0, 2.0);
+  meter.push(kT0 + 10 * kMs, 2.0);
+  for (int i = 0; i < 5000 && sampler.meterStatus().samples < 2; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  meter.throwOnPoll("cannot read '/sys/class/powercap/intel-rapl:0/energy_uj': No such device");
+  sampler.addFrame({0, kT0 + 5 * kMs, kT0 + 20 * kMs});
+  auto results = collect(sampler, 1);
+  REQUIRE(results.size() == 1);
+  CHECK_FALSE(results[0].known);
+  CHECK(results[0].unknownReason.find("No such device") != std::string::npos);
+  CHECK_FALSE(sampler.meterStatus().connected);
+  meter.throwOnPoll("");
+  meter.push(kT0 + 30 * kMs, 2.0, true);
+  meter.push(kT0 + 40 * kMs, 2.0);
+  for (int i = 0; i < 5000 && sampler.meterStatus().samples < 4; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  CHECK(sampler.meterStatus().connected);
+  sampler.addFrame({1, kT0 + 30 * kMs, kT0 + 40 * kMs});
+  results = collect(sampler, 1);
+  REQUIRE(results.size() == 1);
+  CHECK(results[0].known);
+  CHECK(results[0].joules == Approx(0.02).epsilon(1e-12));
+  sampler.stop();
+}
+
 TEST_CASE("sampler: with the none meter every frame is unknown at once", "[power][sampler]") {
   PowerConfig c;
   PowerSampler sampler(openMeter(c), samplerOptions(c));
