@@ -162,7 +162,10 @@ void PowerSampler::pollOnce() {
     std::string lostReason;
     if (!status.connected && (wasConnected_ || !batch.empty())) {
       lostReason = status.message.empty() ? "meter disconnected" : status.message;
-      if (wasConnected_) spdlog::warn("power meter {}: {}; energy unknown until it is back", info_.name, lostReason);
+      if (wasConnected_ && everConnected_)
+        spdlog::warn("power meter {}: {}; energy unknown until it is back", info_.name, lostReason);
+      else if (wasConnected_)
+        spdlog::info("power meter {}: {}; per-frame energy is unknown", info_.name, lostReason);
     } else if (status.connected && !ledger_.lost()) {
       const int64_t since = ledger_.hasSamples() ? ledger_.lastSampleNs() : startNs_;
       if (now - since > maxGapNs_) {
@@ -176,6 +179,7 @@ void PowerSampler::pollOnce() {
     }
     if (trace_) trace_->flush();
     wasConnected_ = status.connected;
+    everConnected_ = everConnected_ || status.connected;
     status_ = status;
     ready = ledger_.takeReady();
   }

@@ -97,6 +97,7 @@ class PowerSampler {
   std::vector<FrameEnergy> results_;
   MeterStatus status_;
   bool wasConnected_ = true;
+  bool everConnected_ = false;
   int64_t startNs_ = 0;
   bool stopping_ = false;
   bool stopped_ = false;
