@@ -2,7 +2,12 @@
 
 #include <functional>
 
+#include "controller/budget_controller.h"
 #include "controller/fixed_controller.h"
+#include "controller/offline_controller.h"
+#include "controller/slambooster_controller.h"
+#include "controller/step_controller.h"
+#include "controller/tc_controller.h"
 #include "core/error.h"
 
 namespace sb {
@@ -25,12 +30,48 @@ Factory fixedPreset(const char* name, const char* preset) {
   };
 }
 
+// slambooster with some parts switched off (the incremental study); "all" keeps the section's switches.
+Factory slamBoosterVariant(const char* name, int parts) {
+  return [name, parts](const nlohmann::json& params, const std::string& where, const ControllerContext&) {
+    SlamBoosterConfig c = parseSlamBoosterConfig(params, where);
+    if (parts >= 0) {
+      c.surfaceDetection = parts >= 1;
+      c.poseCorrection = parts >= 2;
+      c.halfPrecision = false;
+    }
+    return std::make_unique<SlamBoosterController>(name, c);
+  };
+}
+
+template <typename Config, typename Impl, Config (*parse)(const nlohmann::json&, const std::string&)>
+Factory simple(const char* name) {
+  return [name](const nlohmann::json& params, const std::string& where, const ControllerContext&) {
+    return std::make_unique<Impl>(name, parse(params, where));
+  };
+}
+
 // One line per controller.
 const std::vector<Entry>& entries() {
   static const std::vector<Entry> table = {
       {"fixed", "fixed", "the same knobs every frame (section: preset, knobs, half)", fixedPreset("fixed", "")},
       {"default", "", "fixed, SLAMBench's default knobs (csr=1,icp=1e-5,pd=10:5:4,ir=2)", fixedPreset("default", "default")},
       {"accurate", "", "fixed, the most accurate knobs (icp=0, ir=1)", fixedPreset("accurate", "accurate")},
+      {"slambooster", "slambooster", "the paper's controller: PID on velocity, surface, correction, half",
+       slamBoosterVariant("slambooster", -1)},
+      {"pid", "slambooster", "slambooster's PID part only", slamBoosterVariant("pid", 0)},
+      {"pid+surface", "slambooster", "PID + smooth-surface detection", slamBoosterVariant("pid+surface", 1)},
+      {"pid+surface+correction", "slambooster", "PID + surface + pose correction (no half precision)",
+       slamBoosterVariant("pid+surface+correction", 2)},
+      {"step", "step", "hierarchical step controller (csr, then icp, then pd0)",
+       simple<StepConfig, StepController, parseStepConfig>("step")},
+      {"budget", "budget", "least approximation meeting a target ms or J per frame",
+       simple<BudgetConfig, BudgetController, parseBudgetConfig>("budget")},
+      {"tc", "tc", "application-agnostic window controller over a `slambooster profile` table",
+       simple<TcConfig, TcController, parseTcConfig>("tc")},
+      {"offline", "offline", "replays the best fixed setting of `slambooster dse`",
+       [](const nlohmann::json& params, const std::string& where, const ControllerContext&) {
+         return createOfflineController(params, where);
+       }},
   };
   return table;
 }

@@ -60,9 +60,16 @@ TEST_CASE("controller config errors name the key and what is allowed", "[control
 
 TEST_CASE("every registered name creates a controller with valid initial knobs", "[controller][registry]") {
   const auto names = sb::controllerNames();
-  for (const char* required : {"fixed", "default", "accurate"})
+  for (const char* required : {"fixed", "default", "accurate", "slambooster", "pid", "pid+surface",
+                               "pid+surface+correction", "step", "tc", "offline", "budget"})
     CHECK(std::find(names.begin(), names.end(), required) != names.end());
-  const auto settings = sb::parseControllerSettings(nlohmann::json("fixed"), kContext);
+  // The controllers that need parameters get them; every other one runs on its defaults.
+  const auto settings = sb::parseControllerSettings(nlohmann::json::parse(R"({"name": "fixed",
+      "budget": {"target_frame_ms": 30},
+      "offline": {"knobs": "csr=2,icp=1e-4"},
+      "tc": {"inline_table": {"reference_ms_per_frame": 100,
+                              "entries": [{"knobs": "csr=1", "ms_per_frame": 100, "speedup": 1, "ate_m": 0.01}]}}})"),
+                                                    kContext);
   for (const std::string& name : names) {
     INFO(name);
     auto c = sb::createController(name, settings, kContext);

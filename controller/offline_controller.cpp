@@ -1,0 +1,44 @@
+#include "controller/offline_controller.h"
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "controller/config_reader.h"
+#include "controller/fixed_controller.h"
+#include "core/error.h"
+
+namespace sb {
+
+Knobs loadDseBestKnobs(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot open dse result '" + path + "' (run `slambooster dse SEQ --out DIR` first)");
+  try {
+    const nlohmann::json j = nlohmann::json::parse(in);
+    const nlohmann::json& best = j.contains("best") ? j.at("best") : j;
+    if (best.is_null()) throw Error("dse result '" + path + "' has no setting under the ATE bound");
+    return parseKnobs(best.at("knobs").get<std::string>());
+  } catch (const nlohmann::json::exception& e) {
+    throw Error("dse result '" + path + "' is not a `slambooster dse` best.json: " + e.what());
+  } catch (const Error& e) {
+    throw Error("dse result '" + path + "': " + e.what());
+  }
+}
+
+std::unique_ptr<Controller> createOfflineController(const nlohmann::json& section, const std::string& where) {
+  ConfigReader r(section, where);
+  std::string result, knobs;
+  r.string("result", result);
+  r.string("knobs", knobs);
+  r.finish();
+  if (result.empty() == knobs.empty())
+    throw Error(where + ": set exactly one of 'result' (a `slambooster dse` best.json) and 'knobs'");
+  FixedConfig c;
+  try {
+    c.knobs = result.empty() ? parseKnobs(knobs) : loadDseBestKnobs(result);
+  } catch (const Error& e) {
+    throw Error(r.at(result.empty() ? "knobs" : "result") + ": " + e.what());
+  }
+  return std::make_unique<FixedController>("offline", c);
+}
+
+}  // namespace sb

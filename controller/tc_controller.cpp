@@ -1,0 +1,55 @@
+#include "controller/tc_controller.h"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "controller/config_reader.h"
+#include "core/error.h"
+
+namespace sb {
+
+TcConfig parseTcConfig(const nlohmann::json& section, const std::string& where) {
+  ConfigReader r(section, where);
+  TcConfig c;
+  r.string("table", c.tablePath);
+  r.integer("window_frames", c.windowFrames, 1, 100000);
+  r.number("reference_velocity_m_per_frame", c.referenceVelocity, 1e-6, 1.0);
+  r.number("error_budget_m", c.errorBudgetM, 0.0, 10.0);
+  const nlohmann::json* inlineTable = r.raw("inline_table");
+  r.finish();
+  if (inlineTable) {
+    c.table = tcTableFromJson(*inlineTable, r.at("inline_table"));
+  } else {
+    if (c.tablePath.empty())
+      throw Error(where + ": 'table' is required: the JSON configuration table built by `slambooster profile`");
+    c.table = loadTcTable(c.tablePath);
+  }
+  return c;
+}
+
+TcController::TcController(std::string name, TcConfig config) : name_(std::move(name)), config_(std::move(config)) {}
+
+size_t TcController::select(double velocity) const {
+  const double scale = std::max(velocity, 0.0) / config_.referenceVelocity;
+  size_t best = 0;
+  for (size_t i = 0; i < config_.table.entries.size(); ++i)
+    if (config_.table.entries[i].ateM * scale <= config_.errorBudgetM) best = i;  // by increasing speedup
+  return best;
+}
+
+Decision TcController::decide(const Observation& o) {
+  Decision d;
+  velocitySum_ += o.velocity;
+  if (++inWindow_ >= config_.windowFrames) {
+    const size_t chosen = select(velocitySum_ / inWindow_);
+    if (chosen < entry_) d.triggers |= kTriggerBudget;  // the error budget forced a slower entry
+    entry_ = chosen;
+    velocitySum_ = 0.0;
+    inWindow_ = 0;
+  }
+  d.level = static_cast<int>(entry_);
+  d.next = config_.table.entries[entry_].knobs;
+  return d;
+}
+
+}  // namespace sb
