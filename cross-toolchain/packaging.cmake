@@ -49,15 +49,27 @@ install(FILES ${SB_PKG_DIR}/udev/60-slambooster.rules DESTINATION /lib/udev/rule
 # reproducible bytes), lintian overrides (each with its reason).
 string(TIMESTAMP SB_DEB_DATE "%a, %d %b %Y %H:%M:%S +0000" UTC)
 configure_file(${SB_PKG_DIR}/debian/changelog.in ${CMAKE_BINARY_DIR}/deb/changelog @ONLY)
-add_custom_command(OUTPUT ${CMAKE_BINARY_DIR}/deb/changelog.gz
-  COMMAND gzip -9nc ${CMAKE_BINARY_DIR}/deb/changelog > ${CMAKE_BINARY_DIR}/deb/changelog.gz
-  DEPENDS ${CMAKE_BINARY_DIR}/deb/changelog
-  COMMENT "Compressing the Debian changelog")
-add_custom_target(sb_deb_changelog ALL DEPENDS ${CMAKE_BINARY_DIR}/deb/changelog.gz)
+function(sb_gzip_for_deb input output)
+  execute_process(COMMAND gzip -9nc ${input} OUTPUT_FILE ${output} RESULT_VARIABLE result)
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "gzip of ${input} into ${output} failed (${result})")
+  endif()
+endfunction()
+sb_gzip_for_deb(${CMAKE_BINARY_DIR}/deb/changelog ${CMAKE_BINARY_DIR}/deb/changelog.gz)
 install(FILES ${SB_PKG_DIR}/debian/copyright ${CMAKE_BINARY_DIR}/deb/changelog.gz
   DESTINATION share/doc/slambooster)
 install(FILES ${SB_PKG_DIR}/debian/lintian-overrides DESTINATION share/lintian/overrides
   RENAME slambooster)
+
+# Manual pages of the executables the package ships.
+foreach(page slambooster.1 slamboosterctl.1 slamboosterd.8)
+  string(REGEX REPLACE "\\.[0-9]$" "" program ${page})
+  string(REGEX REPLACE "^.*\\." "" section ${page})
+  if(TARGET ${program})
+    sb_gzip_for_deb(${SB_PKG_DIR}/man/${page} ${CMAKE_BINARY_DIR}/deb/${page}.gz)
+    install(FILES ${CMAKE_BINARY_DIR}/deb/${page}.gz DESTINATION share/man/man${section})
+  endif()
+endforeach()
 
 # The package's architecture is the target's: armhf for the cross build, the host's otherwise.
 set(SB_DEB_ARCH "")
@@ -82,17 +94,18 @@ set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_ARCHITECTURE ${SB_DEB_ARCH})
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 set(CPACK_DEBIAN_PACKAGE_PRIORITY optional)
-set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "dense SLAM with an online approximation controller
- SLAMBooster runs KinectFusion dense SLAM (depth frames in, camera pose and a
- 3D map out) with a controller that turns approximation knobs frame by frame,
- so that a small board such as the ODROID XU4 spends as little time and
- energy per frame as it can while the trajectory stays accurate.
- .
- This package ships the slamboosterd daemon (systemd service, Unix-socket
- pose/knob/energy stream), the slambooster offline tool, the slamboosterctl
- client, the default configuration in /etc/slambooster and udev rules for
- the ODROID SmartPower meters and OpenNI2 depth cameras. Installing it
- enables and starts nothing: run 'systemctl enable --now slambooster'.")
+# CPack writes CPACK_PACKAGE_DESCRIPTION_SUMMARY as the synopsis and this text, indented, as the extended
+# description (an empty line becomes " .").
+set(CPACK_DEBIAN_PACKAGE_DESCRIPTION "SLAMBooster runs KinectFusion dense SLAM (depth frames in, camera pose and a
+3D map out) with a controller that turns approximation knobs frame by frame,
+so that a small board such as the ODROID XU4 spends as little time and
+energy per frame as it can while the trajectory stays accurate.
+
+This package ships the slamboosterd daemon (systemd service, Unix-socket
+pose/knob/energy stream), the slambooster offline tool, the slamboosterctl
+client, the default configuration in /etc/slambooster and udev rules for
+the ODROID SmartPower meters and OpenNI2 depth cameras. Installing it
+enables and starts nothing: run 'systemctl enable --now slambooster'.")
 # Library dependencies from the binaries (dpkg-shlibdeps, run for the package's architecture), plus what the
 # maintainer scripts use.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)

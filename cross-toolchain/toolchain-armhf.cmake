@@ -21,8 +21,12 @@ set(CMAKE_LIBRARY_ARCHITECTURE ${SB_CROSS_TRIPLET})
 # Exynos 5422 big.LITTLE tuning; -Wno-psabi silences GCC's notes about the ARM parameter-passing ABI change
 # of GCC 7 (nothing here links against code built by older compilers).
 set(SB_ARMHF_FLAGS "-mcpu=cortex-a15.cortex-a7 -mfpu=neon-vfpv4 -mfloat-abi=hard -Wno-psabi")
-set(CMAKE_C_FLAGS_INIT "${SB_ARMHF_FLAGS}")
-set(CMAKE_CXX_FLAGS_INIT "${SB_ARMHF_FLAGS}")
+# The board build is the deployable one: Debian's hardening for a service too (fortified libc calls, full
+# RELRO with immediate binding); neither changes the generated math.
+set(CMAKE_C_FLAGS_INIT "${SB_ARMHF_FLAGS} -D_FORTIFY_SOURCE=2")
+set(CMAKE_CXX_FLAGS_INIT "${SB_ARMHF_FLAGS} -D_FORTIFY_SOURCE=2")
+set(CMAKE_EXE_LINKER_FLAGS_INIT "-Wl,-z,relro,-z,now")
+set(CMAKE_SHARED_LINKER_FLAGS_INIT "-Wl,-z,relro,-z,now")
 
 # Search roots: the cross toolchain's own tree, then the host root, where find_library and find_package look
 # in the multiarch directories first (lib/arm-linux-gnueabihf, lib/arm-linux-gnueabihf/cmake). Programs
