@@ -11,5 +11,6 @@ void addEvalCommand(CLI::App& app);
 void addEnergyCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 void addReportCommand(CLI::App& app);
+void addRecordCommand(CLI::App& app);
 
 }  // namespace sb::cli

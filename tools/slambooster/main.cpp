@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   sb::cli::addEnergyCommand(app);
   sb::cli::addSynthCommand(app);
   sb::cli::addReportCommand(app);
+  sb::cli::addRecordCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
