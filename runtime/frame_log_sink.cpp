@@ -37,6 +37,12 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                       {"next_knobs", knobsToJson(rec.decision.next)},
                       {"knobs_pinned", rec.knobsPinned}};
   if (rec.decision.level >= 0) j["level"] = rec.decision.level;
+  // Device (OpenCL profiling event) times per stage, beside the host times; absent on the cpu backend.
+  if (r.times.deviceMs != decltype(r.times.deviceMs){}) {
+    nlohmann::json device = nlohmann::json::object();
+    for (int s = 0; s < kStageCount; ++s) device[stageName(static_cast<Stage>(s))] = r.times.deviceMs[s];
+    j["device_ms"] = device;
+  }
   return j;
 }
 
