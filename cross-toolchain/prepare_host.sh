@@ -5,11 +5,13 @@
 # What it does, each step only when needed (running it twice changes nothing the second time):
 #   1. dpkg --add-architecture armhf
 #   2. apt-get update (only when the armhf package lists are missing or a package is missing)
-#   3. pins the packages that must carry the same version on amd64 and armhf (Multi-Arch: same:
-#      liblzma5, libsystemd0, libudev1 and their -dev packages) to one version available for both, in
+#   3. pins the packages that must carry the same version on amd64 and armhf (Multi-Arch: same, e.g.
+#      liblzma5, libsystemd0, libudev1) to one version available for both, in
 #      /etc/apt/preferences.d/slambooster-multiarch. This copes with an armhf security/updates index that is
-#      out of sync with amd64: instead of failing, apt installs the version both architectures have.
-#   4. installs the cross toolchain, qemu-user, the packaging/lint tools, and the armhf -dev libraries.
+#      out of sync with amd64 (or a host installed from another snapshot): instead of failing, apt installs
+#      the version both architectures have, upgrading or downgrading the host's copy when it must.
+#   4. installs the cross toolchain, qemu-user, the packaging/lint tools, and the armhf -dev libraries, then
+#      removes the pin file again, so that it does not hold back later security updates of the host.
 #
 # Which libraries need their :armhf package: only those with compiled code or arch-specific files
 # (libpng, zlib, spdlog, fmt, libsystemd, libusb, OpenNI2, the OpenCL ICD loader). Eigen, nlohmann-json,
@@ -90,7 +92,8 @@ fi
 # that one list (apt keeps the rest; step 3 then picks versions both architectures still offer); fail only
 # when a list of the host architecture could not be fetched.
 update_log=$(mktemp)
-trap 'rm -f "$update_log"' EXIT
+pin_file=/etc/apt/preferences.d/slambooster-multiarch
+trap 'rm -f "$update_log"; [ ! -f "$pin_file" ] || as_root rm -f "$pin_file"' EXIT
 if ! as_root apt-get update -qq >"$update_log" 2>&1; then
   cat "$update_log" >&2
   failed=$(grep -E '^(E|W): Failed to fetch' "$update_log" || true)
@@ -112,7 +115,6 @@ fi
 versions_for() { # package arch -> available versions, one per line
   apt-cache madison "$1:$2" 2>/dev/null | awk -F'|' -v p="$1" -v a="$1:$2" '{gsub(/ /,"",$1); gsub(/ /,"",$2); if ($1==p || $1==a) print $2}' | sort -u
 }
-pin_file=/etc/apt/preferences.d/slambooster-multiarch
 declare -A pinned=()
 pin_package() { # package -> adds pins for it and its same-source siblings; fails when no common version
   local lead=$1 amd arm current chosen src p
@@ -133,15 +135,18 @@ pin_package() { # package -> adds pins for it and its same-source siblings; fail
   src=$(apt-cache show "$lead=$chosen" 2>/dev/null | awk '/^Source:/ && !s {s=$2} END {print s}')
   src=${src:-$lead}
   pinned[$lead]=$chosen
-  for p in $(dpkg-query -W -f='${db:Status-Abbrev} ${source:Package} ${Package}\n' 2>/dev/null |
-             awk -v s="$src" '$1=="ii" && $2==s{print $3}'); do
+  [ "$chosen" != "$current" ] || return 0
+  # The host's version changes: the host packages of the same source and version that must move with it
+  # (Multi-Arch: same ones, and those depending on exactly this version, like systemd on libsystemd0).
+  for p in $(dpkg-query -W -f='${db:Status-Abbrev}|${source:Package}|${Version}|${Package}|${Multi-Arch}|${Depends}, ${Pre-Depends}\n' 2>/dev/null |
+             awk -F'|' -v s="$src" -v v="$current" '$1 ~ /^ii/ && $2==s && $3==v && ($5=="same" || index($6, "(= " v ")")) {print $4}'); do
     pinned[$p]=$chosen
   done
 }
 write_pins() {
   local body p
-  body="# Written by SLAMBooster's cross-toolchain/prepare_host.sh: Multi-Arch: same packages must carry one
-# version on amd64 and armhf; these pins keep them equal when one architecture's index runs ahead.
+  body="# Written by SLAMBooster's cross-toolchain/prepare_host.sh while it installs the armhf packages (and
+# removed when it exits): Multi-Arch: same packages must carry one version on amd64 and armhf.
 "
   for p in $(printf '%s\n' "${!pinned[@]}" | sort); do
     body+="
