@@ -234,3 +234,29 @@ TEST_CASE("OpenCL backend: switching to half and back keeps the reference maps (
   cl.setHalfPrecision(false);
   CHECK(cl.referenceVertices() == halfVertices);  // half -> float is exact
 }
+
+TEST_CASE("OpenCL reduce without cl_khr_fp64 (float partial sums with Kahan compensation) matches the double one",
+          "[opencl][track]") {
+  const sb::Intrinsics k = sb::test::roomIntrinsics(160, 120);
+  const sb::PipelineConfig config = stageConfig();
+  sb::opencl::DeviceInfo noFp64 = sb::test::openclTestDevice();
+  noFp64.fp64 = false;  // builds the program without SB_HAVE_FP64, as for a device without cl_khr_fp64
+  sb::OpenClBackend withDouble(config, k, sb::test::openclTestDevice());
+  sb::OpenClBackend withFloat(config, k, noFp64);
+  const Eigen::Isometry3d pose = startPose();
+  const Eigen::Isometry3f posef = pose.cast<float>();
+  const Eigen::Isometry3f estimate = (pose * sb::test::motion({0.01, -0.005, 0.008}, 0.8, {0.3, 1.0, -0.2})).cast<float>();
+  sb::StageTimes times;
+  for (sb::OpenClBackend* cl : {&withDouble, &withFloat}) {
+    cl->preprocess(noisyRoom(pose, k), float(1.0 / kRoomDepthScale), 1, times);
+    cl->integrate(posef, times);
+    cl->raycast(posef, 1, times);
+  }
+  const sb::TrackSums a = withFloat.track(0, estimate, posef, times);
+  const sb::TrackSums b = withDouble.track(0, estimate, posef, times);
+  CHECK(a[28] == b[28]);  // counts are exact in float up to 2^24
+  for (size_t i = 0; i < a.size(); ++i) {
+    INFO("sum " << i << ": float " << a[i] << ", double " << b[i]);
+    CHECK(a[i] == Approx(b[i]).epsilon(1e-6).margin(1e-9));
+  }
+}
