@@ -8,9 +8,11 @@
 #   --enable       also enable the service at boot (installing the package never does)
 #
 # Steps: checks that the board is armhf Debian, copies the package to /tmp on the board (scp), installs it
-# (sudo dpkg -i, which keeps an edited /etc/slambooster config), restarts slambooster.service, and prints its
-# status. Exits non-zero when a step fails or the service is not active after the restart. SSH options (port,
-# key) come from ~/.ssh/config. The remote user needs sudo unless it is root.
+# with `apt-get install /tmp/<deb>` (dpkg -i plus the missing dependencies from the board's own archive;
+# without a prompt, keeping an edited /etc/slambooster config and leaving the new default beside it as
+# *.dpkg-dist), restarts slambooster.service, and prints its status. Exits non-zero when a step fails or the service is not active after the restart. SSH options (port,
+# key) come from ~/.ssh/config. The remote user needs sudo unless it is root (asked for its password when run
+# from a terminal).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 say() { echo "deploy: $*"; }
@@ -40,7 +42,10 @@ fi
 user=${target%@*}
 sudo=""
 [ "$user" = root ] || sudo="sudo "
-remote() { ssh "$target" "$@"; }
+# A terminal for sudo's password prompt when there is one to offer (interactive use).
+ssh_opts=()
+[ -t 0 ] && [ -n "$sudo" ] && ssh_opts=(-t)
+remote() { ssh "${ssh_opts[@]}" "$target" "$@"; }
 
 board_arch=$(remote dpkg --print-architecture) || { say "cannot run dpkg on $target over ssh" >&2; exit 1; }
 deb_arch=$(dpkg-deb -f "$deb" Architecture)
@@ -52,8 +57,13 @@ fi
 name=$(basename "$deb")
 say "copying $name to $target:/tmp/"
 scp -q "$deb" "$target:/tmp/$name"
-say "installing (dpkg -i)"
-remote "${sudo}dpkg -i /tmp/$name && rm -f /tmp/$name"
+say "installing (apt-get install /tmp/$name: dpkg -i and its dependencies)"
+if ! remote "${sudo}env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends" \
+  "-o Dpkg::Options::=--force-confdef -o Dpkg::Options::=--force-confold /tmp/$name"; then
+  say "installing failed on $target (see above); the package stays in /tmp/$name there" >&2
+  exit 1
+fi
+remote "rm -f /tmp/$name"
 if [ "$enable" = 1 ]; then
   say "enabling slambooster.service at boot"
   remote "${sudo}systemctl enable slambooster.service"

@@ -24,15 +24,16 @@ case "\$*" in
   *"dpkg --print-architecture"*) echo "\$BOARD_ARCH" ;;
   *"systemctl restart"*) exit "\$RESTART_RC" ;;
   *"is-active"*) exit "\$RESTART_RC" ;;
+  *"apt-get install"*) exit "\$INSTALL_RC" ;;
 esac
 exit 0
 EOF
 printf '#!/bin/sh\necho "scp $*" >>"%s/log"\n' "$work" >"$work/bin/scp"
 chmod +x "$work/bin/ssh" "$work/bin/scp"
 
-run() { # board_arch restart_rc args... -> $rc, $log
+run() { # board_arch restart_rc args... -> $rc, $log   (INSTALL_RC: exit of apt-get install on the board)
   : >"$work/log"
-  BOARD_ARCH=$1 RESTART_RC=$2 PATH="$work/bin:$PATH" bash "$deploy" "${@:3}" >"$work/out" 2>&1
+  INSTALL_RC=${INSTALL_RC:-0} BOARD_ARCH=$1 RESTART_RC=$2 PATH="$work/bin:$PATH" bash "$deploy" "${@:3}" >"$work/out" 2>&1
   rc=$?
   log=$(cat "$work/log")
 }
@@ -44,22 +45,22 @@ run armhf 0 odroid@xu4 "$deb"
 [ $rc -eq 0 ] || fail "$case: exit $rc: $(cat "$work/out")"
 expect "ssh odroid@xu4 dpkg --print-architecture"
 expect "scp -q $deb odroid@xu4:/tmp/slambooster_9.8.7_armhf.deb"
-expect "ssh odroid@xu4 sudo dpkg -i /tmp/slambooster_9.8.7_armhf.deb"
+expect "ssh odroid@xu4 sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends -o Dpkg::Options::=--force-confdef -o Dpkg::Options::=--force-confold /tmp/slambooster_9.8.7_armhf.deb"
 expect "ssh odroid@xu4 sudo systemctl restart slambooster.service"
 refuse "systemctl enable"
-[ "$(grep -n 'dpkg -i' <<<"$log" | cut -d: -f1)" -lt "$(grep -n 'restart' <<<"$log" | cut -d: -f1)" ] ||
+[ "$(grep -n 'apt-get install' <<<"$log" | cut -d: -f1)" -lt "$(grep -n 'restart' <<<"$log" | cut -d: -f1)" ] ||
   fail "$case: restart before install: $log"
 
 case="root on the board, --enable"
 run armhf 0 --enable root@xu4 "$deb"
 [ $rc -eq 0 ] || fail "$case: exit $rc"
-expect "ssh root@xu4 dpkg -i /tmp/slambooster_9.8.7_armhf.deb"
+expect "ssh root@xu4 env DEBIAN_FRONTEND=noninteractive apt-get install"
 expect "ssh root@xu4 systemctl enable slambooster.service"
 
 case="--no-restart"
 run armhf 0 --no-restart odroid@xu4 "$deb"
 [ $rc -eq 0 ] || fail "$case: exit $rc"
-expect "sudo dpkg -i"
+expect "sudo env DEBIAN_FRONTEND=noninteractive apt-get install"
 refuse "systemctl restart"
 
 case="amd64 host instead of the board"
@@ -72,6 +73,12 @@ case="service fails to start"
 run armhf 1 odroid@xu4 "$deb"
 [ $rc -eq 1 ] || fail "$case: exit $rc, expected 1"
 grep -q "journalctl -u slambooster" "$work/out" || fail "$case: message: $(cat "$work/out")"
+
+case="install fails on the board (e.g. a dependency the board's archive lacks)"
+INSTALL_RC=100 run armhf 0 odroid@xu4 "$deb"
+[ $rc -eq 1 ] || fail "$case: exit $rc, expected 1"
+refuse "systemctl restart"
+grep -q "installing failed" "$work/out" || fail "$case: message: $(cat "$work/out")"
 
 case="no USER@"
 run armhf 0 xu4 "$deb"
