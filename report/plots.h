@@ -17,17 +17,25 @@ enum class LineStyle {
   points,  // dots only
 };
 
+// Constructors (rather than bare aggregates) so that brace lists may stop early without -Wextra warnings:
+// Series{"name", x, y} is a solid line in the next palette colour.
 struct Series {
+  Series(std::string seriesName = "", std::vector<double> xs = {}, std::vector<double> ys = {},
+         std::string colour = "", LineStyle lineStyle = LineStyle::line, double strokeWidth = 1.5, bool isDashed = false)
+      : name(std::move(seriesName)), x(std::move(xs)), y(std::move(ys)), color(std::move(colour)),
+        style(lineStyle), width(strokeWidth), dashed(isDashed) {}
   std::string name;           // legend entry; empty = not in the legend
   std::vector<double> x, y;   // same length; NaN/inf in y breaks the line
   std::string color;          // "#rrggbb"; empty = next palette colour
-  LineStyle style = LineStyle::line;
-  double width = 1.5;         // stroke width, px
-  bool dashed = false;
+  LineStyle style;
+  double width;               // stroke width, px
+  bool dashed;
 };
 
 // Moments marked on a line plot (e.g. controller triggers): a short tick per x in a lane along the top.
 struct EventMarks {
+  EventMarks(std::string marksName = "", std::vector<double> xs = {}, std::string colour = "")
+      : name(std::move(marksName)), x(std::move(xs)), color(std::move(colour)) {}
   std::string name;           // legend entry, e.g. "surface trigger"
   std::vector<double> x;
   std::string color;          // empty = next palette colour
@@ -48,6 +56,8 @@ struct LinePlot {
 };
 
 struct BarGroup {
+  BarGroup(std::string groupName = "", std::vector<double> barValues = {}, std::string colour = "")
+      : name(std::move(groupName)), values(std::move(barValues)), color(std::move(colour)) {}
   std::string name;            // legend entry (e.g. "DEFAULT")
   std::vector<double> values;  // one per category; NaN = no bar
   std::string color;           // empty = next palette colour
