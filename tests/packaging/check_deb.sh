@@ -135,6 +135,50 @@ run_script postrm remove
 check; ! grep -q '^rm ' <<<"$calls" || fail "remove (not purge) deletes data: $calls"
 check; grep -q 'deb-systemd-invoke stop slambooster.service' "$work/control/prerm" || fail "prerm does not stop the service"
 
+# --- the dpkg life cycle in a sandbox root: install, upgrade keeping an edited config, remove, purge ----------
+# dpkg --root with chrootless scripts (they see DPKG_ROOT and act inside it); the system commands are the stubs
+# above. Dependencies and the architecture are forced: the sandbox holds no other package.
+sandbox="$work/sandbox"
+mkdir -p "$sandbox/var/lib/dpkg/updates" "$sandbox/var/lib/dpkg/info"
+touch "$sandbox/var/lib/dpkg/status" "$sandbox/var/lib/dpkg/available"
+sb_stubs="$work/sandbox-stubs"  # the stubs, less rm: purge really deletes inside the sandbox
+mkdir -p "$sb_stubs"; cp -p "$stubs"/* "$sb_stubs"/; rm "$sb_stubs/rm"
+sb_dpkg() { PATH="$sb_stubs:$PATH" dpkg --root="$sandbox" --force-script-chrootless --force-not-root \
+  --force-depends --force-architecture --force-confold "$@" >>"$work/dpkg.log" 2>&1; }
+repack() { # new_version edit_default_config -> $work/next.deb: this package as another version
+  rm -rf "$work/repack"; dpkg-deb -R "$deb" "$work/repack"
+  sed -i "s/^Version: .*/Version: $1/" "$work/repack/DEBIAN/control"
+  if [ "$2" = yes ]; then
+    sed -i 's/"log_level": "info"/"log_level": "warn"/' "$work/repack/etc/slambooster/slamboosterd.json"
+  fi
+  dpkg-deb --root-owner-group -b "$work/repack" "$work/next.deb" >/dev/null
+}
+conf="$sandbox/etc/slambooster/slamboosterd.json"
+status_of() { dpkg-query --admindir="$sandbox/var/lib/dpkg" -W -f='${db:Status-Status} ${Version}' slambooster 2>/dev/null; }
+rm -f "$state"/*
+check; sb_dpkg -i "$deb" || fail "dpkg -i into a sandbox failed: $(tail -5 "$work/dpkg.log")"
+check; [ "$(status_of)" = "installed $version" ] || fail "after install: status '$(status_of)'"
+check; [ -x "$sandbox/usr/sbin/slamboosterd" ] && [ -f "$conf" ] || fail "after install: files missing"
+echo '{"edited": "by the user"}' >"$conf"
+edited=$(cat "$conf")
+repack "$version.1" no
+check; sb_dpkg -i "$work/next.deb" || fail "upgrade failed: $(tail -5 "$work/dpkg.log")"
+check; [ "$(cat "$conf")" = "$edited" ] || fail "upgrade (same default config) replaced the user's edited config"
+check; [ ! -e "$conf.dpkg-dist" ] || fail "upgrade with an unchanged default wrote $conf.dpkg-dist"
+repack "$version.2" yes
+check; sb_dpkg -i "$work/next.deb" || fail "upgrade failed: $(tail -5 "$work/dpkg.log")"
+check; [ "$(cat "$conf")" = "$edited" ] || fail "upgrade (new default config) replaced the user's edited config"
+check; grep -q '"log_level": "warn"' "$conf.dpkg-dist" 2>/dev/null ||
+  fail "upgrade with a new default did not leave it beside the edited one as $conf.dpkg-dist"
+mkdir -p "$sandbox/var/lib/slambooster/run1" && touch "$sandbox/var/lib/slambooster/run1/trajectory.tum"
+check; sb_dpkg -r slambooster || fail "remove failed: $(tail -5 "$work/dpkg.log")"
+check; [ ! -e "$sandbox/usr/sbin/slamboosterd" ] && [ -f "$conf" ] ||
+  fail "remove: binaries should be gone and the config kept"
+check; [ -e "$sandbox/var/lib/slambooster/run1/trajectory.tum" ] || fail "remove (not purge) deleted run outputs"
+check; sb_dpkg -P slambooster || fail "purge failed: $(tail -5 "$work/dpkg.log")"
+check; [ ! -e "$sandbox/etc/slambooster" ] && [ ! -e "$sandbox/var/lib/slambooster" ] ||
+  fail "purge left $(ls -d "$sandbox/etc/slambooster" "$sandbox/var/lib/slambooster" 2>/dev/null)"
+
 # --- binaries --------------------------------------------------------------------------------------------
 case "$arch" in
   armhf) machine=ARM ;;
