@@ -21,7 +21,8 @@ figure { margin: 0.8em 0; display: inline-block; vertical-align: top; }
 figcaption { font-size: 0.88em; color: #555; max-width: 820px; }
 figure img { max-width: 100%; image-rendering: pixelated; border: 1px solid #ccc; }
 .row { display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start; }
-.row figure img { max-width: 340px; }
+.row figure { margin: 0; flex: 0 1 340px; }
+.row figure img { width: 100%; }
 .problems { background: #fff4e5; border: 1px solid #f0b46c; padding: 0.5em 1em; }
 .muted { color: #666; }
 pre { background: #f7f7f7; padding: 0.6em; overflow-x: auto; font-size: 0.85em; }

@@ -15,9 +15,10 @@ std::string svgXyPlot(const XyPlot& plot) {
   SvgWriter svg(plot.size.width, plot.size.height, plot.title);
   FrameLayout layout{plot.title, plot.xLabel, plot.yLabel, {}, {}, 16};
   std::vector<std::string> colours;
+  size_t colourIndex = 0;  // only series without a colour take palette colours, as in line plots
   for (size_t k = 0; k < plot.series.size(); ++k) {
     const Series& s = plot.series[k];
-    colours.push_back(s.color.empty() ? paletteColour(k) : s.color);
+    colours.push_back(s.color.empty() ? paletteColour(colourIndex++) : s.color);
     layout.legend.push_back({s.name, colours.back(),
                              s.style == LineStyle::points ? LegendKind::dot
                              : s.dashed                   ? LegendKind::dashed
