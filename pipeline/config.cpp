@@ -153,6 +153,12 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
     } else if (key == "opencl_device") {
       c.openclDevice = parseSelector(where, key, v);
       known = true;
+    } else if (key == "opencl_source_dir") {
+      if (!v.is_string())
+        throw Error(where + ": 'opencl_source_dir' must be a directory path (\"\" = the embedded kernels), got " +
+                    v.dump());
+      c.openclSourceDir = v.get<std::string>();
+      known = true;
     } else if (key == "opencl_half_storage") {
       if (!v.is_boolean()) throw Error(where + ": 'opencl_half_storage' must be true or false, got " + v.dump());
       c.openclHalfStorage = v.get<bool>();
@@ -205,6 +211,7 @@ nlohmann::json configToJson(const PipelineConfig& c) {
   j["opencl_platform"] = c.openclPlatform;
   j["opencl_device"] = c.openclDevice;
   j["opencl_half_storage"] = c.openclHalfStorage;
+  j["opencl_source_dir"] = c.openclSourceDir;
   j["knobs"] = formatKnobs(c.knobs);
   return j;
 }

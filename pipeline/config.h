@@ -53,6 +53,8 @@ struct PipelineConfig {
   std::string openclPlatform;       // platform index ("0") or a name substring; empty: the first with a GPU
   std::string openclDevice;         // device index within the platform or a name substring; empty: first GPU
   bool openclHalfStorage = false;   // preprocessed and raycast maps stored as half (OpenCL only)
+  std::string openclSourceDir;      // empty: the program embedded in the binary; else a directory holding
+                                    // kernels/*.h and kernels/cl/*.cl to build instead (e.g. installed kernels)
 
   // --- initial knobs of a run ---
   Knobs knobs;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/error.h"
 #include "kernels/track.h"
 #include "kernels/volume.h"
 #include "pipeline/opencl/kernel_sources.h"
@@ -11,11 +12,17 @@ namespace sb {
 
 namespace opencl {
 
-Kernels::Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfStorage) {
+Kernels::Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfStorage, const std::string& sourceDir) {
   std::string options = "-cl-std=CL1.2 -DSB_REDUCE_GROUP=" + std::to_string(kReduceGroup);
   if (halfStorage) options += " -DSB_MAP_HALF";
   if (device.fp64) options += " -DSB_HAVE_FP64";
-  const std::string source = assembleProgram(programEntries(), embeddedLoader());
+  std::string source;
+  try {
+    source = assembleProgram(programEntries(), sourceDir.empty() ? embeddedLoader() : directoryLoader(sourceDir));
+  } catch (const Error& e) {
+    if (sourceDir.empty()) throw;
+    throw Error(std::string(e.what()) + " (opencl_source_dir '" + sourceDir + "')");
+  }
   program = buildProgram(launcher.context(), launcher.device(), source, options);
   const cl_program p = program.get();
   mm2meters = createKernel(p, "mm2metersKernel");
@@ -99,7 +106,7 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
 
 const opencl::Kernels& OpenClBackend::State::variant(bool halfStorage) {
   std::unique_ptr<opencl::Kernels>& v = variants[halfStorage ? 1 : 0];
-  if (!v) v = std::make_unique<opencl::Kernels>(launcher, device, halfStorage);
+  if (!v) v = std::make_unique<opencl::Kernels>(launcher, device, halfStorage, config.openclSourceDir);
   return *v;
 }
 

@@ -21,7 +21,8 @@ constexpr size_t kMaxReduceGroups = 1024;
 
 // One build of the program and its kernels.
 struct Kernels {
-  Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfStorage);
+  // `sourceDir`: empty for the embedded program, else the directory to read it from.
+  Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfStorage, const std::string& sourceDir);
 
   Program program;
   Kernel mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal;

@@ -1,5 +1,6 @@
 #include "pipeline/opencl/kernel_sources.h"
 
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -59,6 +60,16 @@ SourceLoader embeddedLoader() {
     for (const SourceFile& f : embeddedSources())
       if (path == f.path) return std::string(f.text);
     return std::nullopt;
+  };
+}
+
+SourceLoader directoryLoader(const std::string& directory) {
+  return [directory](const std::string& path) -> std::optional<std::string> {
+    std::ifstream in(directory + "/" + path);
+    if (!in) return std::nullopt;
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
   };
 }
 

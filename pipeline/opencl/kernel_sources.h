@@ -22,6 +22,9 @@ using SourceLoader = std::function<std::optional<std::string>(const std::string&
 
 SourceLoader embeddedLoader();
 
+// Reads `directory`/path from disk (an install-time or development override of the embedded files).
+SourceLoader directoryLoader(const std::string& directory);
+
 // One program text from the .cl files `entries`: each `#include "path"` line is replaced by the file (each file
 // at most once, as #pragma once would; `#pragma once` lines are dropped), with #line markers so that compiler
 // messages name the original file and line. Throws sb::Error naming the including file and line when an

@@ -1,17 +1,21 @@
 // makeBackend with OpenCL present (the test device) and absent ([noplatform]: run with OCL_ICD_VENDORS pointing
-// at an empty directory, so the ICD loader finds no platform).
+// at an empty directory, so the ICD loader finds no platform), and the program built from opencl_source_dir.
 
 #include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
 
 #include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "core/error.h"
 #include "pipeline/backend_factory.h"
 #include "pipeline/cpu_backend.h"
+#include "pipeline/opencl/kernel_sources.h"
 #include "pipeline/opencl/opencl_backend.h"
 #include "tests/pipeline/test_opencl_support.h"
+#include "tests/support/test_data.h"
 
 using Catch::Matchers::Contains;
 
@@ -113,4 +117,23 @@ TEST_CASE("makeBackend without any OpenCL platform: auto warns once and runs on 
   CHECK_THROWS_WITH(sb::makeBackend(smallConfig(sb::BackendKind::opencl), smallImage(), pool),
                     Contains("backend opencl: no OpenCL platform found") && Contains("install") &&
                         Contains("'backend' to cpu"));
+}
+
+TEST_CASE("opencl_source_dir: the program is built from files on disk instead of the embedded copy",
+          "[opencl][sources]") {
+  const std::string dir = sb::test::scratchDir("opencl_source_dir");
+  for (const sb::opencl::SourceFile& f : sb::opencl::embeddedSources()) {
+    std::filesystem::create_directories(std::filesystem::path(dir + "/" + f.path).parent_path());
+    std::ofstream(dir + "/" + f.path) << f.text;
+  }
+  sb::PipelineConfig config = smallConfig(sb::BackendKind::opencl);
+  config.openclSourceDir = dir;
+  CHECK_NOTHROW(sb::OpenClBackend(config, smallImage(), sb::test::openclTestDevice()));
+  // A broken kernel on disk: the build log names the file (the #line markers keep the original names).
+  std::ofstream(dir + "/kernels/cl/convert.cl", std::ios::app) << "\nthis is not OpenCL C;\n";
+  CHECK_THROWS_WITH(sb::OpenClBackend(config, smallImage(), sb::test::openclTestDevice()),
+                    Contains("building the kernels") && Contains("convert.cl"));
+  std::filesystem::remove(dir + "/kernels/track.h");
+  CHECK_THROWS_WITH(sb::OpenClBackend(config, smallImage(), sb::test::openclTestDevice()),
+                    Contains("kernels/track.h") && Contains(dir));
 }
