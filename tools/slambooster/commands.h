@@ -7,6 +7,9 @@
 namespace sb::cli {
 
 void addRunCommand(CLI::App& app);
+void addBenchCommand(CLI::App& app);
+void addDseCommand(CLI::App& app);
+void addProfileCommand(CLI::App& app);
 void addEvalCommand(CLI::App& app);
 void addEnergyCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);

@@ -13,6 +13,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string(SB_VERSION));
   sb::cli::addRunCommand(app);
+  sb::cli::addBenchCommand(app);
+  sb::cli::addDseCommand(app);
+  sb::cli::addProfileCommand(app);
   sb::cli::addEvalCommand(app);
   sb::cli::addEnergyCommand(app);
   sb::cli::addSynthCommand(app);

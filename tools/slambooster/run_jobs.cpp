@@ -1,0 +1,192 @@
+#include "tools/slambooster/run_jobs.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <climits>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "core/error.h"
+
+namespace sb::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string selfExecutable() {
+  char buffer[PATH_MAX];
+  const ssize_t n = readlink("/proc/self/exe", buffer, sizeof(buffer) - 1);
+  if (n <= 0) throw Error("cannot find the slambooster executable (/proc/self/exe)");
+  return std::string(buffer, static_cast<size_t>(n));
+}
+
+std::string hostName() {
+  char buffer[256] = {};
+  gethostname(buffer, sizeof(buffer) - 1);
+  return buffer;
+}
+
+// Claims `dir` for this process; false when another live process holds it.
+bool claim(const std::string& dir) {
+  const std::string path = dir + "/.claim";
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const int fd = open(path.c_str(), O_CREAT | O_EXCL | O_WRONLY, 0644);
+    if (fd >= 0) {
+      const std::string owner = hostName() + " " + std::to_string(getpid()) + "\n";
+      (void)!write(fd, owner.data(), owner.size());
+      close(fd);
+      return true;
+    }
+    std::ifstream in(path);
+    std::string host;
+    long pid = 0;
+    in >> host >> pid;
+    if (host == hostName() && pid > 0 && kill(static_cast<pid_t>(pid), 0) != 0) {
+      fs::remove(path);  // stale claim of a process that is gone
+      continue;
+    }
+    return false;
+  }
+  return false;
+}
+
+pid_t spawn(const std::string& exe, const Job& job) {
+  std::vector<std::string> args = {exe, "run"};
+  args.insert(args.end(), job.runArgs.begin(), job.runArgs.end());
+  args.insert(args.end(), {"--out", job.outDir, "--quiet"});
+  const std::string log = job.outDir + "/run.log";
+  const pid_t pid = fork();
+  if (pid < 0) throw Error("cannot start a process for job " + job.id);
+  if (pid == 0) {
+    const int fd = open(log.c_str(), O_CREAT | O_TRUNC | O_WRONLY, 0644);
+    if (fd >= 0) {
+      dup2(fd, STDOUT_FILENO);
+      dup2(fd, STDERR_FILENO);
+      close(fd);
+    }
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(exe.c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+}  // namespace
+
+bool jobDone(const std::string& outDir) {
+  std::ifstream in(outDir + "/summary.json");
+  if (!in) return false;
+  try {
+    const auto j = nlohmann::json::parse(in);
+    return j.value("complete", false);
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+}
+
+nlohmann::json readSummary(const std::string& outDir) {
+  const std::string path = outDir + "/summary.json";
+  std::ifstream in(path);
+  if (!in) throw Error("missing '" + path + "' (the run did not finish; see run.log there)");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw Error("'" + path + "' is not valid JSON: " + e.what());
+  }
+}
+
+void runJobs(const std::vector<Job>& jobs, int parallel, bool quiet) {
+  const std::string exe = selfExecutable();
+  std::vector<const Job*> todo;
+  for (const Job& j : jobs)
+    if (!jobDone(j.outDir)) todo.push_back(&j);
+  const size_t total = jobs.size(), alreadyDone = total - todo.size();
+  if (!quiet)
+    std::cerr << "jobs: " << total << " (" << alreadyDone << " already done, " << todo.size() << " to run, " << parallel
+              << " at a time)\n";
+  std::map<pid_t, const Job*> running;
+  std::vector<std::string> failures;
+  size_t next = 0, finished = 0, skipped = 0;
+  const auto start = std::chrono::steady_clock::now();
+  while (next < todo.size() || !running.empty()) {
+    while (next < todo.size() && static_cast<int>(running.size()) < parallel) {
+      const Job& job = *todo[next++];
+      fs::create_directories(job.outDir);
+      if (!claim(job.outDir)) {
+        ++skipped;  // another process works on it
+        continue;
+      }
+      running[spawn(exe, job)] = &job;
+    }
+    if (running.empty()) break;
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) break;
+    const auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const Job& job = *it->second;
+    running.erase(it);
+    fs::remove(job.outDir + "/.claim");
+    ++finished;
+    const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && jobDone(job.outDir);
+    if (!ok) failures.push_back(job.id + " (log: " + job.outDir + "/run.log)");
+    if (!quiet) {
+      const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      const double eta = elapsed / double(finished) * double(todo.size() - skipped - finished);
+      std::cerr << "[" << alreadyDone + finished << "/" << total << "] " << job.id << (ok ? " done" : " FAILED")
+                << ", " << std::fixed << std::setprecision(0) << elapsed << " s elapsed, ~" << eta << " s left\n";
+    }
+  }
+  if (skipped && !quiet) std::cerr << skipped << " jobs were claimed by another process and left to it\n";
+  if (!failures.empty()) {
+    std::string list;
+    for (const auto& f : failures) list += "\n  " + f;
+    throw Error(std::to_string(failures.size()) + " of " + std::to_string(todo.size()) + " runs failed:" + list);
+  }
+}
+
+std::vector<Knobs> knobGrid(const std::vector<int>& csr, const std::vector<double>& icp, const std::vector<int>& pd0,
+                            const std::vector<int>& ir) {
+  std::vector<Knobs> grid;
+  for (int c : csr)
+    for (double i : icp)
+      for (int p : pd0)
+        for (int r : ir) {
+          Knobs k;
+          k.csr = c;
+          k.icpThreshold = i;
+          k.pyramidIterations[0] = p;
+          k.integrationRate = r;
+          validateKnobs(k);
+          grid.push_back(k);
+        }
+  return grid;
+}
+
+std::string knobsId(const Knobs& k) {
+  std::ostringstream s;
+  s << "csr" << k.csr << "_icp" << k.icpThreshold << "_pd" << k.pyramidIterations[0] << "-" << k.pyramidIterations[1]
+    << "-" << k.pyramidIterations[2] << "_tr" << k.trackingRate << "_ir" << k.integrationRate;
+  return s.str();
+}
+
+std::string sequenceName(const std::string& path) {
+  fs::path p(path);
+  while (!p.empty() && p.filename().empty()) p = p.parent_path();
+  if (p.filename() == "depth.txt") p = p.parent_path();
+  return p.stem().string();
+}
+
+}  // namespace sb::cli
