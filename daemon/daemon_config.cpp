@@ -28,6 +28,24 @@ std::string formatMode(unsigned mode) {
   return buf;
 }
 
+void readCamera(const nlohmann::json& j, const std::string& where, CameraConfig& c) {
+  JsonObjectReader r(j, where + ": source: camera");
+  r.string("uri", c.uri);
+  r.integer("width", c.width, 1, 8192);
+  r.integer("height", c.height, 1, 8192);
+  r.integer("fps", c.fps, 1, 1000);
+  r.number("fx", c.fx, 0.0, 1e5);
+  r.number("fy", c.fy, 0.0, 1e5);
+  r.number("cx", c.cx, 0.0, 1e5);
+  r.number("cy", c.cy, 0.0, 1e5);
+  r.number("frame_timeout_s", c.frameTimeoutSeconds, 0.05, 3600.0);
+  r.number("reconnect_min_s", c.reconnectMinSeconds, 0.01, 3600.0);
+  r.number("reconnect_max_s", c.reconnectMaxSeconds, 0.01, 3600.0);
+  r.finish();
+  if (c.reconnectMaxSeconds < c.reconnectMinSeconds)
+    throw Error(r.where() + ": 'reconnect_max_s' must be >= 'reconnect_min_s'");
+}
+
 void readSource(const nlohmann::json& j, const std::string& where, SourceConfig& s) {
   JsonObjectReader r(j, where + ": source");
   r.string("type", s.type);
@@ -38,6 +56,7 @@ void readSource(const nlohmann::json& j, const std::string& where, SourceConfig&
   r.integer("max_frames", s.maxFrames, 0, 100000000);
   r.number("depth_scale", s.depthScale, 0.0, 1e6);
   r.integer("queue_frames", s.queueFrames, 1, 256);
+  if (const auto* c = r.object("camera")) readCamera(*c, where, s.camera);
   r.finish();
   const auto types = sourceTypes();
   if (std::find(types.begin(), types.end(), s.type) == types.end()) {
@@ -163,7 +182,19 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"at_end", c.source.atEnd},
             {"max_frames", c.source.maxFrames},
             {"depth_scale", c.source.depthScale},
-            {"queue_frames", c.source.queueFrames}}},
+            {"queue_frames", c.source.queueFrames},
+            {"camera",
+             {{"uri", c.source.camera.uri},
+              {"width", c.source.camera.width},
+              {"height", c.source.camera.height},
+              {"fps", c.source.camera.fps},
+              {"fx", c.source.camera.fx},
+              {"fy", c.source.camera.fy},
+              {"cx", c.source.camera.cx},
+              {"cy", c.source.camera.cy},
+              {"frame_timeout_s", c.source.camera.frameTimeoutSeconds},
+              {"reconnect_min_s", c.source.camera.reconnectMinSeconds},
+              {"reconnect_max_s", c.source.camera.reconnectMaxSeconds}}}}},
           {"slam",
            {{"cpus", c.slam.cpus},
             {"threads", c.slam.threads},

@@ -17,6 +17,18 @@ class ConfigError : public Error {
   using Error::Error;
 };
 
+// source.camera: a live camera (source.type "openni2"; replay ignores it).
+struct CameraConfig {
+  std::string uri;                        // OpenNI2 device URI; empty = the first device found
+  int width = 640;                        // depth mode, pixels
+  int height = 480;                       // depth mode, pixels
+  int fps = 30;                           // depth mode, frames per second
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // intrinsics, pixels; 0 = from the device's field of view
+  double frameTimeoutSeconds = 2.0;       // no frame for this long: the camera counts as lost
+  double reconnectMinSeconds = 0.5;   // first wait before reopening a lost camera; doubles per failed attempt
+  double reconnectMaxSeconds = 10.0;  // longest wait between attempts
+};
+
 struct SourceConfig {
   std::string type = "replay";     // a registered source (daemon/source_registry.cpp)
   std::string path;                // replay: sequence directory (TUM layout) or .raw file; required
@@ -26,6 +38,7 @@ struct SourceConfig {
   size_t maxFrames = 0;            // frames per pass (0 = all)
   double depthScale = 0.0;         // raw units per metre; 0 = from calibration.json / the format
   size_t queueFrames = 4;          // capacity of the capture -> SLAM queue (frames)
+  CameraConfig camera;             // type "openni2"
 };
 
 struct SlamConfig {

@@ -3,6 +3,7 @@
 #include <functional>
 
 #include "core/error.h"
+#include "daemon/openni2_capture.h"
 #include "daemon/replay_source.h"
 
 namespace sb::daemon {
@@ -17,6 +18,7 @@ struct SourceEntry {
 const std::vector<SourceEntry>& registry() {
   static const std::vector<SourceEntry> entries = {
       {"replay", [](const SourceConfig& c) { return std::make_unique<ReplaySource>(c); }},
+      {"openni2", [](const SourceConfig& c) { return std::make_unique<OpenNI2Capture>(c); }},
   };
   return entries;
 }

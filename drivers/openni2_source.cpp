@@ -3,7 +3,6 @@
 
 #include <OpenNI.h>
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -15,17 +14,13 @@
 
 #include "core/error.h"
 #include "drivers/device_clock.h"
+#include "drivers/openni2_errors.h"
 
 namespace sb {
 
 namespace {
 
 constexpr int kWaitSliceMs = 100;  // next() looks at stop() and the disconnect flag this often
-const char* const kUdevHint =
-    "the camera's USB device node must be readable and writable by this user: install the project's udev rule "
-    "(/lib/udev/rules.d/60-slambooster.rules, shipped in the package; or copy cross-toolchain/udev/"
-    "60-slambooster.rules to /etc/udev/rules.d and run `udevadm control --reload && udevadm trigger`), add the "
-    "user to the group `video` (`sudo usermod -aG video $USER`, then log in again), and replug the camera";
 
 std::string formatName(openni::PixelFormat f) {
   switch (f) {
@@ -47,50 +42,6 @@ std::string extendedError() {
   while (!e.empty() && (e.back() == '\n' || e.back() == ' ' || e.back() == '\t')) e.pop_back();
   while (!e.empty() && (e.front() == '\n' || e.front() == '\t')) e.erase(e.begin());
   return e.empty() ? "no details from OpenNI2" : e;
-}
-
-bool contains(const std::string& text, const char* needle) { return text.find(needle) != std::string::npos; }
-
-// The USB device node of a libusb-style URI "vvvv/pppp@bus/address" (PrimeSense, Kinect, Orbbec), if any.
-std::optional<std::string> usbNode(const std::string& uri) {
-  unsigned vid = 0, pid = 0, bus = 0, address = 0;
-  if (std::sscanf(uri.c_str(), "%x/%x@%u/%u", &vid, &pid, &bus, &address) != 4) return std::nullopt;
-  char node[64];
-  std::snprintf(node, sizeof node, "/dev/bus/usb/%03u/%03u", bus, address);
-  return std::string(node);
-}
-
-enum class OpenFailure { permission, busy, other };
-
-OpenFailure classify(const std::string& uri, const std::string& details) {
-  const auto node = usbNode(uri);
-  const bool nodeDenied = node && ::access(node->c_str(), F_OK) == 0 && ::access(node->c_str(), R_OK | W_OK) != 0;
-  // libusb's names, and the PrimeSense driver's texts for libusb_open (EACCES) and claim_interface (EBUSY).
-  if (nodeDenied || contains(details, "ACCESS") || contains(details, "ermission") ||
-      contains(details, "Failed to open the USB device"))
-    return OpenFailure::permission;
-  if (contains(details, "BUSY") || contains(details, "busy") || contains(details, "already open") ||
-      contains(details, "Failed to set USB interface"))
-    return OpenFailure::busy;
-  return OpenFailure::other;
-}
-
-// Why opening `uri` failed, in words a user can act on.
-std::string describeOpenFailure(const std::string& uri, const std::string& details) {
-  const std::string what = "cannot open the OpenNI2 camera '" + uri + "'";
-  const auto node = usbNode(uri);
-  switch (classify(uri, details)) {
-    case OpenFailure::permission:
-      return what + ": permission denied" + (node ? " on " + *node : std::string()) + " (" + details + "). Fix: " +
-             kUdevHint;
-    case OpenFailure::busy:
-      return what + ": the device is busy (" + details +
-             "). Another program holds it: stop it (e.g. `systemctl stop slambooster`, or look with `fuser -v " +
-             (node ? *node : std::string("/dev/bus/usb/*/*")) + "`) and try again";
-    case OpenFailure::other:
-      break;
-  }
-  return what + ": " + details + ". Check the cable and the camera's power, then try again";
 }
 
 }  // namespace
@@ -141,10 +92,10 @@ void OpenNI2Source::Impl::open(bool initial) {
   if (uri.empty()) {
     if (devices.getSize() == 0)
       throw Error(
-          "no OpenNI2 depth camera found: plug one in (`lsusb` should list it: PrimeSense/Asus 1d27:*, Kinect "
-          "045e:02ae), and check that its OpenNI2 driver is installed (libopenni2-0 for PrimeSense/Asus, "
-          "openni2-freenect or libfreenect's driver for Kinect) and that " +
-          std::string(kUdevHint));
+          "no OpenNI2 depth camera found: plug one in (`lsusb` should list it, e.g. PrimeSense/Asus 1d27:*), "
+          "check that its OpenNI2 driver is installed (Debian's libopenni2-0 brings PrimeSense/Asus; other "
+          "cameras need their vendor's OpenNI2 driver in the same OpenNI2/Drivers directory); and " +
+          cameraAccessHint());
     uri = devices[0].getUri();
   }
 
@@ -153,7 +104,7 @@ void OpenNI2Source::Impl::open(bool initial) {
     const std::string details = extendedError();
     bool listed = options.uri.empty();
     for (int i = 0; i < devices.getSize() && !listed; ++i) listed = uri == devices[i].getUri();
-    if (!listed && classify(uri, details) == OpenFailure::other)
+    if (!listed && classifyOpenFailure(uri, details) == OpenFailure::other)
       throw Error("no OpenNI2 device with URI '" + uri + "' (" + details + "); devices found: " +
                   (found.empty() ? "none" : found) + ". Set the URI to one of them, or leave it empty for the first");
     throw Error(describeOpenFailure(uri, details));
