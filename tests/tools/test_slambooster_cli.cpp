@@ -126,3 +126,44 @@ TEST_CASE("run takes the controller from --controller and from the config file's
   CHECK(unknown.exitCode == 1);
   CHECK_THAT(unknown.output, Catch::Contains("fastest"));
 }
+
+TEST_CASE("bench and dse run their matrix once, resume, and write their tables", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_bench");
+  const std::string seq = dir + "/seq";
+  REQUIRE(runCommand(kTool + " synth --out " + seq + " --builtin-frames 6 --no-noise").exitCode == 0);
+  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
+  const std::string bench = kTool + " bench " + seq + " --out " + dir + "/bench --config " + dir +
+                            "/small.json --controllers default,slambooster --jobs 2";
+  const auto first = runCommand(bench);
+  INFO(first.output);
+  REQUIRE(first.exitCode == 0);
+  CHECK_THAT(first.output, Catch::Contains("DEFAULT vs SLAMBooster") && Catch::Contains("geomean"));
+  CHECK(countLines(dir + "/bench/results.csv") == 4);  // header + default, slambooster, accurate
+  for (const char* f : {"report.md", "time.svg", "ate.svg", "trace.svg"}) {
+    INFO(f);
+    CHECK(fs::file_size(fs::path(dir) / "bench" / f) > 0);
+  }
+  CHECK(readJson(dir + "/bench/runs/seq/slambooster/summary.json").at("controller") == "slambooster");
+  // Resumed: nothing runs again.
+  const auto again = runCommand(bench);
+  REQUIRE(again.exitCode == 0);
+  CHECK_THAT(again.output, Catch::Contains("3 already done, 0 to run"));
+
+  const auto dse = runCommand(kTool + " dse " + seq + " --out " + dir + "/dse --config " + dir +
+                              "/small.json --csr 4,8 --icp 1e-5 --pd0 4 --jobs 2 --max-ate 1.0");
+  INFO(dse.output);
+  REQUIRE(dse.exitCode == 0);
+  const auto best = readJson(dir + "/dse/best.json");
+  CHECK(best.at("settings") == 2);
+  REQUIRE(best.at("best").is_object());
+  CHECK(countLines(dir + "/dse/results.csv") == 3);
+  // The offline controller replays it.
+  std::ofstream(dir + "/offline.json") << R"({"volume_resolution": 64, "controller": {"name": "offline", "offline": {"result": ")"
+                                       << dir << R"(/dse/best.json"}}})";
+  const auto offline = runCommand(kTool + " run " + seq + " --out " + dir + "/offline --config " + dir + "/offline.json --quiet");
+  INFO(offline.output);
+  REQUIRE(offline.exitCode == 0);
+  const int bestCsr = best.at("best").at("knobs").get<std::string>().rfind("csr=4", 0) == 0 ? 4 : 8;
+  CHECK(readJson(dir + "/offline/summary.json").at("knobs").at("csr") == bestCsr);
+  CHECK(readJson(dir + "/offline/summary.json").at("controller") == "offline");
+}

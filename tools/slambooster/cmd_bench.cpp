@@ -251,8 +251,15 @@ void benchCommand(const BenchOptions& o) {
     trace.title = plotName + " under slambooster: per-frame error, csr, triggers";
     const std::string refPath =
         groundTruth[plotName].empty() ? dirOf[{plotName, "accurate"}] + "/trajectory.tum" : groundTruth[plotName];
-    const AteResult r = computeAte(readTumTrajectory(dir + "/trajectory.tum"), readTumTrajectory(refPath));
-    for (double e : r.errors) trace.iteCm.push_back(e * 100);
+    // A run whose trajectory cannot be aligned (lost from the first frame: every position the same) still gets
+    // its knob and trigger trace; its ATE is already n/a in the tables.
+    try {
+      const AteResult r = computeAte(readTumTrajectory(dir + "/trajectory.tum"), readTumTrajectory(refPath));
+      for (double e : r.errors) trace.iteCm.push_back(e * 100);
+    } catch (const Error& e) {
+      std::cerr << "slambooster bench: " << plotName << " / slambooster: no per-frame error in trace.svg: " << e.what()
+                << "\n";
+    }
     trace.triggerNames = {"integral", "derivative_up", "derivative_down", "surface", "correction", "hold"};
     trace.triggers.assign(trace.triggerNames.size(), {});
     std::ifstream log(dir + "/frames.jsonl");
