@@ -7,7 +7,10 @@
 namespace sb::daemon {
 
 Client::Client(UniqueFd fd, PeerCredentials peer, size_t maxRequestBytes, size_t maxQueuedBytes)
-    : fd_(std::move(fd)), peer_(std::move(peer)), maxRequestBytes_(maxRequestBytes), maxQueuedBytes_(maxQueuedBytes) {}
+    : fd_(std::move(fd)),
+      peer_(std::move(peer)),
+      maxRequestBytes_(maxRequestBytes),
+      maxQueuedBytes_(maxQueuedBytes) {}
 
 Client::ReadResult Client::read(const std::function<void(std::string_view)>& onLine,
                                 const std::function<void()>& onOversize) {

@@ -33,7 +33,8 @@ class Client {
   enum class ReadResult { open, closed };
   // Reads what the socket holds. Calls onLine(line) for every complete request line (without '\n') and
   // onOversize() once for every line longer than the cap (the rest of that line is discarded).
-  ReadResult read(const std::function<void(std::string_view)>& onLine, const std::function<void()>& onOversize);
+  ReadResult read(const std::function<void(std::string_view)>& onLine,
+                  const std::function<void()>& onOversize);
 
   // Queues one line; false (and counted) when it does not fit in the budget.
   bool send(Line line);
@@ -59,7 +60,7 @@ class Client {
   std::string input_;
   bool discarding_ = false;  // inside an oversize line: drop bytes up to the next '\n'
   std::deque<Line> queue_;
-  size_t headOffset_ = 0;    // bytes of queue_.front() already written
+  size_t headOffset_ = 0;  // bytes of queue_.front() already written
   size_t queuedBytes_ = 0;
   uint64_t dropped_ = 0;
   std::optional<SteadyClock::time_point> stalledSince_;

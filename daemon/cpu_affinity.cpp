@@ -35,7 +35,8 @@ std::vector<int> allowedCpus() {
 }  // namespace
 
 std::vector<int> parseCpuList(const std::string& text) {
-  const std::string usage = "CPU list '" + text + "' is not valid; expected \"auto\", \"all\" or e.g. \"4-7\" or \"0,2-3\"";
+  const std::string usage =
+      "CPU list '" + text + "' is not valid; expected \"auto\", \"all\" or e.g. \"4-7\" or \"0,2-3\"";
   std::set<int> cpus;
   std::stringstream in(text);
   std::string item;
@@ -123,7 +124,8 @@ void pinCurrentThread(const std::vector<int>& cpus) {
   CPU_ZERO(&set);
   for (int c : cpus) CPU_SET(c, &set);
   const int r = pthread_setaffinity_np(pthread_self(), sizeof set, &set);
-  if (r != 0) throw Error("cannot pin the SLAM thread to CPUs " + formatCpuList(cpus) + ": " + std::strerror(r));
+  if (r != 0)
+    throw Error("cannot pin the SLAM thread to CPUs " + formatCpuList(cpus) + ": " + std::strerror(r));
 }
 
 }  // namespace sb::daemon

@@ -19,7 +19,8 @@ void validateCpuSpec(const std::string& spec);
 std::vector<int> detectBigCores(const std::string& sysfsCpuDir = "/sys/devices/system/cpu");
 // The CPUs for `spec` on this machine, restricted to those the process may run on. Throws sb::Error when an
 // explicit list names none of them.
-std::vector<int> resolveCpus(const std::string& spec, const std::string& sysfsCpuDir = "/sys/devices/system/cpu");
+std::vector<int> resolveCpus(const std::string& spec,
+                             const std::string& sysfsCpuDir = "/sys/devices/system/cpu");
 
 // Pins the calling thread to `cpus`. Throws sb::Error.
 void pinCurrentThread(const std::vector<int>& cpus);

@@ -71,7 +71,9 @@ struct Daemon::Parts {
 };
 
 Daemon::Daemon(DaemonConfig config, std::function<DaemonConfig()> reload, std::string release)
-    : config_(std::move(config)), reload_(std::move(reload)), release_(std::move(release)),
+    : config_(std::move(config)),
+      reload_(std::move(reload)),
+      release_(std::move(release)),
       started_(Clock::now()) {}
 
 Daemon::~Daemon() = default;
@@ -106,8 +108,8 @@ int Daemon::run() {
   Parts& p = *parts_;
   p.source = createSource(config_.source);
   const SequenceInfo info = p.source->info();
-  p.queue = std::make_unique<FrameQueue>(config_.source.queueFrames,
-                                         p.source->live() ? FrameQueue::Policy::newest : FrameQueue::Policy::wait);
+  p.queue = std::make_unique<FrameQueue>(
+      config_.source.queueFrames, p.source->live() ? FrameQueue::Policy::newest : FrameQueue::Policy::wait);
   p.mailbox = std::make_unique<Mailbox>(p.loop, kMailboxCapacity);
   Mailbox& mailbox = *p.mailbox;
   try {
@@ -120,7 +122,8 @@ int Daemon::run() {
   }
   p.listener = openListeningSocket(config_.socket.path, config_.socket.mode);
   p.server = std::make_unique<SocketServer>(p.loop, p.listener.fd.get(), config_.socket,
-                                            ControlPolicy(::geteuid(), config_.socket.controlGroup), *this, release_);
+                                            ControlPolicy(::geteuid(), config_.socket.controlGroup), *this,
+                                            release_);
 
   p.signals.reset(signalfd(-1, &set, SFD_NONBLOCK | SFD_CLOEXEC));
   if (!p.signals.valid()) throw Error(std::string("signalfd failed: ") + std::strerror(errno));
@@ -145,7 +148,8 @@ int Daemon::run() {
   });
 
   spdlog::info("slamboosterd {} serving {} ({}); input {} ({} frames)", release_, p.listener.path,
-               p.listener.activated ? std::string("socket activation") : fmt::format("mode {:04o}", config_.socket.mode),
+               p.listener.activated ? std::string("socket activation")
+                                    : fmt::format("mode {:04o}", config_.socket.mode),
                info.path, info.frameCount);
   p.notifier.ready("replaying " + info.path);
 
@@ -203,7 +207,8 @@ void Daemon::reload() {
     after["slam"].erase("controller_config");
     before.erase("log_level");
     after.erase("log_level");
-    if (before != after) spdlog::warn("SIGHUP: only the controller settings are reloaded; restart for the other changes");
+    if (before != after)
+      spdlog::warn("SIGHUP: only the controller settings are reloaded; restart for the other changes");
     p.worker->switchController(settings, settings.name);
     p.controllerSettings = settings;
     config_.slam.controller = fresh.slam.controller;

@@ -79,15 +79,18 @@ void readSlam(const nlohmann::json& j, const std::string& where, SlamConfig& s) 
   } catch (const Error& e) {
     throw Error(r.where() + ": 'cpus': " + e.what());
   }
-  if (s.controller.empty()) throw Error(where + ": slam: 'controller' must name a controller, e.g. \"default\"");
+  if (s.controller.empty())
+    throw Error(where + ": slam: 'controller' must name a controller, e.g. \"default\"");
 }
 
 void readOutput(const nlohmann::json& j, const std::string& where, OutputConfig& o) {
   JsonObjectReader r(j, where + ": output");
   r.string("dir", o.dir);
   r.boolean("mesh", o.mesh);
+  r.boolean("model_png", o.modelPng);
   r.finish();
-  if (o.dir.empty()) throw Error(where + ": output: 'dir' must not be empty (where trajectory.tum is written)");
+  if (o.dir.empty())
+    throw Error(where + ": output: 'dir' must not be empty (where trajectory.tum is written)");
 }
 
 void readSocket(const nlohmann::json& j, const std::string& where, SocketConfig& s) {
@@ -107,7 +110,8 @@ void readSocket(const nlohmann::json& j, const std::string& where, SocketConfig&
   if (s.path.empty()) throw Error(where + ": socket: 'path' must not be empty");
   // sockaddr_un::sun_path holds 108 bytes including the terminating NUL.
   if (s.path.size() > 107)
-    throw Error(where + ": socket: 'path' = \"" + s.path + "\" is longer than 107 bytes (the Unix socket limit)");
+    throw Error(where + ": socket: 'path' = \"" + s.path +
+                "\" is longer than 107 bytes (the Unix socket limit)");
 }
 
 DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string& where);
@@ -201,7 +205,7 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"pipeline_config", c.slam.pipelineConfig},
             {"controller", c.slam.controller},
             {"controller_config", c.slam.controllerConfig}}},
-          {"output", {{"dir", c.output.dir}, {"mesh", c.output.mesh}}},
+          {"output", {{"dir", c.output.dir}, {"mesh", c.output.mesh}, {"model_png", c.output.modelPng}}},
           {"socket",
            {{"path", c.socket.path},
             {"mode", formatMode(c.socket.mode)},

@@ -30,38 +30,39 @@ struct CameraConfig {
 };
 
 struct SourceConfig {
-  std::string type = "replay";     // a registered source (daemon/source_registry.cpp)
-  std::string path;                // replay: sequence directory (TUM layout) or .raw file; required
+  std::string type = "replay";      // a registered source (daemon/source_registry.cpp)
+  std::string path;                 // replay: sequence directory (TUM layout) or .raw file; required
   std::string pacing = "recorded";  // "recorded": frames at their recorded timestamps; "fast": no waiting
-  double speed = 1.0;              // recorded pacing only: playback speed factor
-  std::string atEnd = "stop";      // "stop": keep serving the socket; "loop": replay again; "exit": exit 0
-  size_t maxFrames = 0;            // frames per pass (0 = all)
-  double depthScale = 0.0;         // raw units per metre; 0 = from calibration.json / the format
-  size_t queueFrames = 4;          // capacity of the capture -> SLAM queue (frames)
-  CameraConfig camera;             // type "openni2"
+  double speed = 1.0;               // recorded pacing only: playback speed factor
+  std::string atEnd = "stop";       // "stop": keep serving the socket; "loop": replay again; "exit": exit 0
+  size_t maxFrames = 0;             // frames per pass (0 = all)
+  double depthScale = 0.0;          // raw units per metre; 0 = from calibration.json / the format
+  size_t queueFrames = 4;           // capacity of the capture -> SLAM queue (frames)
+  CameraConfig camera;              // type "openni2"
 };
 
 struct SlamConfig {
-  std::string cpus = "auto";       // "auto" (big cores from sysfs), "all", or a list like "4-7" or "0,2"
-  unsigned threads = 0;            // compute threads; 0 = one per CPU the SLAM thread is pinned to
-  std::string pipelineConfig;      // pipeline JSON (config/pipeline.json keys); empty = built-in defaults
+  std::string cpus = "auto";           // "auto" (big cores from sysfs), "all", or a list like "4-7" or "0,2"
+  unsigned threads = 0;                // compute threads; 0 = one per CPU the SLAM thread is pinned to
+  std::string pipelineConfig;          // pipeline JSON (config/pipeline.json keys); empty = built-in defaults
   std::string controller = "default";  // controller name (see `slambooster run --help` for the list)
-  std::string controllerConfig;    // controller settings JSON, re-read on SIGHUP; empty = defaults
+  std::string controllerConfig;        // controller settings JSON, re-read on SIGHUP; empty = defaults
 };
 
 struct OutputConfig {
   std::string dir = "/var/lib/slambooster";  // trajectory.tum, frames.jsonl, summary.json land here
   bool mesh = false;                         // also write mesh.ply of the final volume at exit
+  bool modelPng = false;                     // also write model.png (the model rendered from the last pose)
 };
 
 struct SocketConfig {
   std::string path = "/run/slambooster/slambooster.sock";  // ignored under socket activation
-  unsigned mode = 0660;            // permission bits of the socket file
-  std::string controlGroup;        // members may send ?CONTROL (besides root and the daemon's user)
-  size_t maxClients = 128;         // further connections get an ERROR and are closed
-  size_t maxRequestBytes = 4096;   // longer request lines are refused with ERROR
+  unsigned mode = 0660;                                    // permission bits of the socket file
+  std::string controlGroup;           // members may send ?CONTROL (besides root and the daemon's user)
+  size_t maxClients = 128;            // further connections get an ERROR and are closed
+  size_t maxRequestBytes = 4096;      // longer request lines are refused with ERROR
   size_t clientBufferBytes = 262144;  // queued output per client; messages beyond it are dropped
-  double clientStallSeconds = 5.0;  // a client that keeps its buffer full this long is disconnected
+  double clientStallSeconds = 5.0;    // a client that keeps its buffer full this long is disconnected
 };
 
 struct DaemonConfig {
@@ -73,8 +74,8 @@ struct DaemonConfig {
   std::string logLevel = "info";       // trace, debug, info, warn, error
 };
 
-// Reads `j` on top of the defaults. Unknown keys, wrong types and out-of-range values throw ConfigError naming
-// `where`, the key, the value and what is allowed.
+// Reads `j` on top of the defaults. Unknown keys, wrong types and out-of-range values throw ConfigError
+// naming `where`, the key, the value and what is allowed.
 DaemonConfig parseDaemonConfig(const nlohmann::json& j, const std::string& where = "config");
 
 // Applies one override "section.key=value" (value: JSON, or a plain string) to `j`. Throws ConfigError.

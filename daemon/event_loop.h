@@ -35,8 +35,8 @@ class EventLoop {
     Handler handler;
   };
   UniqueFd epoll_;
-  std::unordered_map<int, Entry> entries_;      // by fd
-  std::unordered_map<uint64_t, int> fdById_;    // ids in flight: a removed entry's events are ignored
+  std::unordered_map<int, Entry> entries_;    // by fd
+  std::unordered_map<uint64_t, int> fdById_;  // ids in flight: a removed entry's events are ignored
   uint64_t nextId_ = 1;
   bool running_ = false;
 };

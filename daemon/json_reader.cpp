@@ -6,7 +6,8 @@
 
 namespace sb::daemon {
 
-JsonObjectReader::JsonObjectReader(const nlohmann::json& j, std::string where) : j_(j), where_(std::move(where)) {
+JsonObjectReader::JsonObjectReader(const nlohmann::json& j, std::string where)
+    : j_(j), where_(std::move(where)) {
   if (!j_.is_object()) throw Error(where_ + ": must be a JSON object, got " + j_.dump());
 }
 
@@ -47,7 +48,8 @@ void JsonObjectReader::number(const char* key, double& out, double minimum, doub
 
 void JsonObjectReader::integer(const char* key, int64_t& out, int64_t minimum, int64_t maximum) {
   if (const auto* v = find(key)) {
-    const std::string range = "an integer in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]";
+    const std::string range =
+        "an integer in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]";
     if (!v->is_number_integer()) fail(key, *v, range);
     if (v->is_number_unsigned() && v->get<uint64_t>() > static_cast<uint64_t>(maximum)) fail(key, *v, range);
     const int64_t i = v->get<int64_t>();

@@ -13,13 +13,20 @@ namespace {
 
 void set(Knobs& k, const std::string& knob, double v) {
   const int i = static_cast<int>(v);
-  if (knob == "csr") k.csr = i;
-  else if (knob == "icp") k.icpThreshold = v;
-  else if (knob == "pd0") k.pyramidIterations[0] = i;
-  else if (knob == "pd1") k.pyramidIterations[1] = i;
-  else if (knob == "pd2") k.pyramidIterations[2] = i;
-  else if (knob == "tr") k.trackingRate = i;
-  else if (knob == "ir") k.integrationRate = i;
+  if (knob == "csr")
+    k.csr = i;
+  else if (knob == "icp")
+    k.icpThreshold = v;
+  else if (knob == "pd0")
+    k.pyramidIterations[0] = i;
+  else if (knob == "pd1")
+    k.pyramidIterations[1] = i;
+  else if (knob == "pd2")
+    k.pyramidIterations[2] = i;
+  else if (knob == "tr")
+    k.trackingRate = i;
+  else if (knob == "ir")
+    k.integrationRate = i;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // Knobs pinned over the controller's choice through ?CONTROL: a set of (knob, value) pairs, validated when
-// set, applied to whatever the controller decides for each frame. Knob names: csr, icp, pd0, pd1, pd2, tr, ir.
+// set, applied to whatever the controller decides for each frame. Knob names: csr, icp, pd0, pd1, pd2, tr,
+// ir.
 
 #include <map>
 #include <nlohmann/json.hpp>
@@ -13,7 +14,8 @@ namespace sb::daemon {
 
 class KnobPins {
  public:
-  // Pins `knob` to `value`. Throws sb::Error naming the knob, the value and what is allowed (nothing changes).
+  // Pins `knob` to `value`. Throws sb::Error naming the knob, the value and what is allowed (nothing
+  // changes).
   void pin(const std::string& knob, double value);
   // Unpins `knob`, or every knob for "all". Throws sb::Error for an unknown name.
   void unpin(const std::string& knob);

@@ -16,7 +16,9 @@ Mailbox::Mailbox(EventLoop& loop, size_t capacity)
   loop_.add(event_.get(), EPOLLIN, [this](uint32_t) { drain(); });
 }
 
-Mailbox::~Mailbox() { loop_.remove(event_.get()); }
+Mailbox::~Mailbox() {
+  loop_.remove(event_.get());
+}
 
 void Mailbox::post(std::function<void()> work) {
   {

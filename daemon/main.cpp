@@ -25,8 +25,8 @@ struct Options {
 sb::daemon::DaemonConfig loadConfig(const Options& o) {
   nlohmann::json j = o.configPath.empty() ? nlohmann::json::object() : sb::daemon::readJsonFile(o.configPath);
   const std::pair<const char*, const std::string*> flags[] = {
-      {"source.path", &o.input},   {"output.dir", &o.out},         {"socket.path", &o.socket},
-      {"source.pacing", &o.pacing}, {"source.at_end", &o.atEnd},    {"slam.controller", &o.controller},
+      {"source.path", &o.input},    {"output.dir", &o.out},      {"socket.path", &o.socket},
+      {"source.pacing", &o.pacing}, {"source.at_end", &o.atEnd}, {"slam.controller", &o.controller},
       {"slam.cpus", &o.cpus}};
   for (const auto& [key, value] : flags)
     if (!value->empty()) sb::daemon::applyOverride(j, std::string(key) + "=" + nlohmann::json(*value).dump());
@@ -37,8 +37,9 @@ sb::daemon::DaemonConfig loadConfig(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"slamboosterd: KinectFusion with an online approximation controller, as a service.\n"
-               "Publishes pose, knobs and energy on a Unix socket (see docs/protocol.md; client: slamboosterctl)."};
+  CLI::App app{
+      "slamboosterd: KinectFusion with an online approximation controller, as a service.\n"
+      "Publishes pose, knobs and energy on a Unix socket (see docs/protocol.md; client: slamboosterctl)."};
   Options o;
   app.set_version_flag("--version", std::string(SB_VERSION));
   app.add_option("--config", o.configPath, "Daemon config (JSON; keys in config/README.md)");
@@ -77,7 +78,8 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::from_str(config.logLevel));
 
   try {
-    sb::daemon::Daemon daemon(config, [o] { return loadConfig(o); }, SB_VERSION);
+    sb::daemon::Daemon daemon(
+        config, [o] { return loadConfig(o); }, SB_VERSION);
     return daemon.run();
   } catch (const sb::daemon::ConfigError& e) {
     std::cerr << "slamboosterd: configuration error: " << e.what() << "\n";

@@ -55,7 +55,8 @@ ControlPolicy::ControlPolicy(uid_t daemonUid, const std::string& groupSpec)
 bool ControlPolicy::allowed(const PeerCredentials& peer) const {
   if (peer.uid == 0 || peer.uid == daemonUid_) return true;
   if (!group_) return false;
-  return peer.gid == *group_ || std::find(peer.groups.begin(), peer.groups.end(), *group_) != peer.groups.end();
+  return peer.gid == *group_ ||
+         std::find(peer.groups.begin(), peer.groups.end(), *group_) != peer.groups.end();
 }
 
 std::string ControlPolicy::describe() const {

@@ -15,8 +15,8 @@ struct CommandName {
 };
 
 constexpr CommandName kCommands[] = {
-    {"WATCH", Command::watch, true, false},  {"POLL", Command::poll, false, false},
-    {"STATUS", Command::status, false, false}, {"CONTROL", Command::control, true, true},
+    {"WATCH", Command::watch, true, false},      {"POLL", Command::poll, false, false},
+    {"STATUS", Command::status, false, false},   {"CONTROL", Command::control, true, true},
     {"VERSION", Command::version, false, false},
 };
 
@@ -29,11 +29,16 @@ std::string knownCommands() {
 bool readWatch(const nlohmann::json& args, WatchRequest& w, std::string& error) {
   for (auto it = args.begin(); it != args.end(); ++it) {
     std::optional<bool>* field = nullptr;
-    if (it.key() == "enable") field = &w.enable;
-    else if (it.key() == "pose") field = &w.pose;
-    else if (it.key() == "knobs") field = &w.knobs;
-    else if (it.key() == "energy") field = &w.energy;
-    else continue;  // unknown fields are ignored, as clients ignore unknown fields in reports
+    if (it.key() == "enable")
+      field = &w.enable;
+    else if (it.key() == "pose")
+      field = &w.pose;
+    else if (it.key() == "knobs")
+      field = &w.knobs;
+    else if (it.key() == "energy")
+      field = &w.energy;
+    else
+      continue;  // unknown fields are ignored, as clients ignore unknown fields in reports
     if (!it.value().is_boolean()) {
       error = "?WATCH: '" + it.key() + "' must be true or false";
       return false;
@@ -45,7 +50,9 @@ bool readWatch(const nlohmann::json& args, WatchRequest& w, std::string& error) 
 
 bool readControl(const nlohmann::json& args, ControlRequest& c, std::string& error) {
   const auto& knobs = pinnableKnobs();
-  const auto isKnob = [&](const std::string& k) { return std::find(knobs.begin(), knobs.end(), k) != knobs.end(); };
+  const auto isKnob = [&](const std::string& k) {
+    return std::find(knobs.begin(), knobs.end(), k) != knobs.end();
+  };
   std::string list;
   for (const auto& k : knobs) list += (list.empty() ? "" : ", ") + k;
   for (auto it = args.begin(); it != args.end(); ++it) {
@@ -125,7 +132,8 @@ ParseResult parseRequest(std::string_view line) {
   nlohmann::json args = nlohmann::json::object();
   if (rest == ";" || rest.empty()) {
     if (command->needsObject) {
-      result.error = "?" + std::string(command->name) + " needs an argument object: ?" + command->name + "={...}";
+      result.error =
+          "?" + std::string(command->name) + " needs an argument object: ?" + command->name + "={...}";
       return result;
     }
   } else if (rest.front() == '=' && command->takesObject) {
@@ -137,8 +145,9 @@ ParseResult parseRequest(std::string_view line) {
       return result;
     }
   } else {
-    result.error = "?" + std::string(command->name) + (command->takesObject ? " must be followed by ';' or '={...}'"
-                                                                            : " must be followed by ';'");
+    result.error =
+        "?" + std::string(command->name) +
+        (command->takesObject ? " must be followed by ';' or '={...}'" : " must be followed by ';'");
     return result;
   }
 
@@ -151,18 +160,14 @@ ParseResult parseRequest(std::string_view line) {
 }
 
 nlohmann::json versionMessage(const std::string& release) {
-  return {{"class", "VERSION"}, {"release", release}, {"proto_major", kProtoMajor}, {"proto_minor", kProtoMinor}};
+  return {
+      {"class", "VERSION"}, {"release", release}, {"proto_major", kProtoMajor}, {"proto_minor", kProtoMinor}};
 }
 
 nlohmann::json poseMessage(const FrameReport& r) {
-  return {{"class", "POSE"},
-          {"frame", r.frame},
-          {"timestamp", r.timestamp},
-          {"position", r.position},
-          {"quaternion", r.quaternion},
-          {"tracked", r.tracked},
-          {"corrected", r.corrected},
-          {"velocity", r.velocity}};
+  return {{"class", "POSE"},          {"frame", r.frame},           {"timestamp", r.timestamp},
+          {"position", r.position},   {"quaternion", r.quaternion}, {"tracked", r.tracked},
+          {"corrected", r.corrected}, {"velocity", r.velocity}};
 }
 
 nlohmann::json knobsMessage(const FrameReport& r) {
@@ -180,7 +185,11 @@ nlohmann::json knobsMessage(const FrameReport& r) {
 }
 
 nlohmann::json energyMessage(const EnergyReport& e) {
-  return {{"class", "ENERGY"}, {"frame", e.frame}, {"joules", e.joules}, {"mean_w", e.meanWatts}, {"meter", e.meter}};
+  return {{"class", "ENERGY"},
+          {"frame", e.frame},
+          {"joules", e.joules},
+          {"mean_w", e.meanWatts},
+          {"meter", e.meter}};
 }
 
 nlohmann::json watchMessage(bool enable, bool pose, bool knobs, bool energy) {
@@ -192,7 +201,9 @@ nlohmann::json statusMessage(nlohmann::json status) {
   return status;
 }
 
-nlohmann::json errorMessage(const std::string& message) { return {{"class", "ERROR"}, {"message", message}}; }
+nlohmann::json errorMessage(const std::string& message) {
+  return {{"class", "ERROR"}, {"message", message}};
+}
 
 std::string toLine(const nlohmann::json& message) {
   return message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";

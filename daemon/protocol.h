@@ -28,9 +28,9 @@ struct WatchRequest {  // fields absent from the request stay unset (the client'
 };
 
 struct ControlRequest {
-  std::optional<std::string> controller;   // switch to this controller
-  std::map<std::string, double> pin;       // knob name -> value; pd0/pd1/pd2 for the ICP iterations
-  std::vector<std::string> unpin;          // knob names, or {"all"}
+  std::optional<std::string> controller;  // switch to this controller
+  std::map<std::string, double> pin;      // knob name -> value; pd0/pd1/pd2 for the ICP iterations
+  std::vector<std::string> unpin;         // knob names, or {"all"}
 };
 
 struct Request {
@@ -52,17 +52,17 @@ const std::vector<std::string>& pinnableKnobs();
 
 // One processed frame as the SLAM thread publishes it: immutable once made.
 struct FrameReport {
-  uint64_t frame = 0;                       // 0-based frame count of this run
-  double timestamp = 0.0;                   // seconds, the frame's own timestamp
-  std::array<double, 3> position{};         // metres, T_camera_to_world translation (volume frame)
+  uint64_t frame = 0;                            // 0-based frame count of this run
+  double timestamp = 0.0;                        // seconds, the frame's own timestamp
+  std::array<double, 3> position{};              // metres, T_camera_to_world translation (volume frame)
   std::array<double, 4> quaternion{0, 0, 0, 1};  // qx, qy, qz, qw (TUM order)
   bool tracked = false;
-  bool corrected = false;                   // the controller replaced the tracked pose
-  double velocity = 0.0;                    // metres/frame
-  double computationMs = 0.0;               // preprocessing + tracking + integration + raycast
-  Knobs knobs;                              // the knobs this frame ran with
-  std::string controller;                   // the controller that chose them
-  std::vector<std::string> pinned;          // knobs pinned over the controller's choice
+  bool corrected = false;           // the controller replaced the tracked pose
+  double velocity = 0.0;            // metres/frame
+  double computationMs = 0.0;       // preprocessing + tracking + integration + raycast
+  Knobs knobs;                      // the knobs this frame ran with
+  std::string controller;           // the controller that chose them
+  std::vector<std::string> pinned;  // knobs pinned over the controller's choice
 };
 
 // Energy of one frame (DESIGN section 5; produced by the power meter ledger, which may lag POSE).

@@ -16,7 +16,9 @@ ReplaySource::ReplaySource(const SourceConfig& config)
   info_ = source_->info();
 }
 
-std::unique_ptr<FrameSource> ReplaySource::open() const { return openSequence(config_.path, options_); }
+std::unique_ptr<FrameSource> ReplaySource::open() const {
+  return openSequence(config_.path, options_);
+}
 
 bool ReplaySource::waitUntil(std::chrono::steady_clock::time_point due) {
   std::unique_lock lock(mutex_);
@@ -56,8 +58,9 @@ std::optional<CapturedFrame> ReplaySource::next() {
     }
     lastTimestamp_ = f->timestamp;
     if (!fast_) {
-      const auto due = *wallStart_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                         std::chrono::duration<double>((f->timestamp - *firstTimestamp_) / config_.speed));
+      const auto due =
+          *wallStart_ + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>((f->timestamp - *firstTimestamp_) / config_.speed));
       if (!waitUntil(due)) return std::nullopt;
     }
     ++frames_;
@@ -81,7 +84,9 @@ nlohmann::json ReplaySource::status() const {
           {"path", info_.path},
           {"format", info_.format},
           {"live", false},
-          {"state", ended_ ? "ended" : stopped ? "stopped" : "running"},
+          {"state", ended_    ? "ended"
+                    : stopped ? "stopped"
+                              : "running"},
           {"pacing", config_.pacing},
           {"frames", frames_.load()},
           {"sequence_frames", info_.frameCount},

@@ -40,10 +40,10 @@ class ReplaySource : public CaptureSource {
 
   // Pacing: pass-relative sequence time maps to wall time from the first frame on.
   std::optional<std::chrono::steady_clock::time_point> wallStart_;
-  std::optional<double> firstTimestamp_;   // of the first frame of the first pass
-  double passOffset_ = 0.0;                // seconds added to this pass's timestamps
-  double lastTimestamp_ = 0.0;             // of the last frame returned (with offset)
-  double framePeriod_ = 1.0 / 30.0;        // seconds, estimated from the sequence (gap between passes)
+  std::optional<double> firstTimestamp_;  // of the first frame of the first pass
+  double passOffset_ = 0.0;               // seconds added to this pass's timestamps
+  double lastTimestamp_ = 0.0;            // of the last frame returned (with offset)
+  double framePeriod_ = 1.0 / 30.0;       // seconds, estimated from the sequence (gap between passes)
 
   mutable std::mutex mutex_;
   std::condition_variable wake_;

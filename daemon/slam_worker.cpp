@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/png_io.h"
 #include "core/thread_pool.h"
 #include "daemon/cpu_affinity.h"
 #include "mesh/marching_cubes.h"
@@ -56,16 +57,21 @@ FrameReport makeReport(const FrameRecord& record, const std::vector<std::string>
 }  // namespace
 
 ControllerSettings loadControllerSettings(const SlamConfig& slam, const ControllerContext& context) {
-  if (slam.controllerConfig.empty()) return parseControllerSettings(slam.controller, context, "slam.controller");
+  if (slam.controllerConfig.empty())
+    return parseControllerSettings(slam.controller, context, "slam.controller");
   nlohmann::json j = readJsonFile(slam.controllerConfig);
   if (j.is_object() && !j.contains("name")) j["name"] = slam.controller;
   return parseControllerSettings(j, context, slam.controllerConfig);
 }
 
-SlamWorker::SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence, FrameQueue& queue, Publish publish,
-                       Finished finished)
-    : config_(config), sequence_(sequence), pipelineConfig_(buildPipelineConfig(config.slam, sequence)),
-      queue_(queue), publish_(std::move(publish)), finished_(std::move(finished)) {
+SlamWorker::SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence, FrameQueue& queue,
+                       Publish publish, Finished finished)
+    : config_(config),
+      sequence_(sequence),
+      pipelineConfig_(buildPipelineConfig(config.slam, sequence)),
+      queue_(queue),
+      publish_(std::move(publish)),
+      finished_(std::move(finished)) {
   context_.baseKnobs = pipelineConfig_.knobs;
   settings_ = loadControllerSettings(config.slam, context_);
   stats_.controller = settings_.name;
@@ -76,7 +82,9 @@ SlamWorker::~SlamWorker() {
   join();
 }
 
-void SlamWorker::start() { thread_ = std::thread([this] { run(); }); }
+void SlamWorker::start() {
+  thread_ = std::thread([this] { run(); });
+}
 
 void SlamWorker::join() {
   if (thread_.joinable()) thread_.join();
@@ -143,9 +151,13 @@ void SlamWorker::runPasses() {
     if (!runner) return;
     runner->flush();
     if (config_.output.mesh) {
-      const VolumeView view{pipeline->volumeData(), pipelineConfig_.volumeResolution, pipelineConfig_.volumeSize};
-      writePly((std::filesystem::path(stats().outputDir) / "mesh.ply").string(), extractMesh(view, MeshOptions{}, pool));
+      const VolumeView view{pipeline->volumeData(), pipelineConfig_.volumeResolution,
+                            pipelineConfig_.volumeSize};
+      writePly((std::filesystem::path(stats().outputDir) / "mesh.ply").string(),
+               extractMesh(view, MeshOptions{}, pool));
     }
+    if (config_.output.modelPng)
+      writePng8((std::filesystem::path(stats().outputDir) / "model.png").string(), pipeline->renderModel(1));
     spdlog::info("pass {}: {} frames; outputs in {}", pass, runner->frames(), stats().outputDir);
   };
   const auto startPass = [&] {
@@ -170,12 +182,15 @@ void SlamWorker::runPasses() {
       stats_.outputDir = dir;
       stats_.controller = settings.name;
     }
-    runner = std::make_unique<SlamRunner>(*pipeline, createController(settings, context_), sequence_.depthScale);
-    const nlohmann::json extra = {{"sequence", sequence_.path},
-                                  {"daemon", {{"pass", pass}, {"cpus", stats().cpus}, {"threads", stats().threads}}},
-                                  {"config", configToJson(pipelineConfig_)}};
-    addStandardOutputs(*runner, dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
-                       "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)");
+    runner =
+        std::make_unique<SlamRunner>(*pipeline, createController(settings, context_), sequence_.depthScale);
+    const nlohmann::json extra = {
+        {"sequence", sequence_.path},
+        {"daemon", {{"pass", pass}, {"cpus", stats().cpus}, {"threads", stats().threads}}},
+        {"config", configToJson(pipelineConfig_)}};
+    addStandardOutputs(
+        *runner, dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
+        "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)");
   };
 
   while (!stop_) {

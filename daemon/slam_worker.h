@@ -31,13 +31,13 @@ struct WorkerStats {
   uint64_t frames = 0;             // frames processed (all passes)
   uint64_t tracked = 0;
   uint32_t pass = 0;
-  double fps = 0.0;                // over the last second or so of frames
-  double computationMs = 0.0;      // mean over the run
+  double fps = 0.0;            // over the last second or so of frames
+  double computationMs = 0.0;  // mean over the run
   std::string controller;
   nlohmann::json pinned = nlohmann::json::object();
-  std::string cpus;                // CPUs the thread is pinned to
-  unsigned threads = 0;            // compute threads
-  std::string outputDir;           // of the current pass
+  std::string cpus;                                                // CPUs the thread is pinned to
+  unsigned threads = 0;                                            // compute threads
+  std::string outputDir;                                           // of the current pass
   std::optional<std::chrono::steady_clock::time_point> busySince;  // start of the frame in hand
 };
 

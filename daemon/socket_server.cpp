@@ -12,13 +12,19 @@ namespace sb::daemon {
 
 namespace {
 
-Line makeLine(const nlohmann::json& message) { return std::make_shared<const std::string>(toLine(message)); }
+Line makeLine(const nlohmann::json& message) {
+  return std::make_shared<const std::string>(toLine(message));
+}
 
 }  // namespace
 
 SocketServer::SocketServer(EventLoop& loop, int listener, const SocketConfig& config, ControlPolicy policy,
                            ServiceState& state, std::string release)
-    : loop_(loop), listener_(listener), config_(config), policy_(std::move(policy)), state_(state),
+    : loop_(loop),
+      listener_(listener),
+      config_(config),
+      policy_(std::move(policy)),
+      state_(state),
       release_(std::move(release)) {
   loop_.add(listener_, EPOLLIN, [this](uint32_t) { accept(); });
 }
@@ -36,12 +42,14 @@ void SocketServer::accept() {
     UniqueFd fd(accept4(listener_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
     if (!fd.valid()) {
       if (errno == EINTR || errno == ECONNABORTED) continue;
-      if (errno != EAGAIN && errno != EWOULDBLOCK) spdlog::warn("socket: accept failed: {}", std::strerror(errno));
+      if (errno != EAGAIN && errno != EWOULDBLOCK)
+        spdlog::warn("socket: accept failed: {}", std::strerror(errno));
       return;
     }
     if (clients_.size() >= config_.maxClients) {
-      const std::string line = toLine(errorMessage("too many clients (limit " + std::to_string(config_.maxClients) +
-                                                   ", socket.max_clients); try again later"));
+      const std::string line =
+          toLine(errorMessage("too many clients (limit " + std::to_string(config_.maxClients) +
+                              ", socket.max_clients); try again later"));
       (void)!::send(fd.get(), line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
       ++clientsDisconnected_;
       continue;  // fd closes here
@@ -72,7 +80,8 @@ void SocketServer::onClientEvent(int fd, uint32_t events) {
     if (!client.flush()) return close(fd, "write failed", false);
   }
   if (events & (EPOLLIN | EPOLLHUP | EPOLLERR)) {
-    const auto result = client.read([&](std::string_view line) { handleLine(client, line); },
+    const auto result = client.read(
+        [&](std::string_view line) { handleLine(client, line); },
         [&] {
           reply(client, errorMessage("request longer than " + std::to_string(config_.maxRequestBytes) +
                                      " bytes (socket.max_request_bytes); ignored"));
@@ -96,7 +105,8 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
       if (w.pose) client.watchPose = *w.pose;
       if (w.knobs) client.watchKnobs = *w.knobs;
       if (w.energy) client.watchEnergy = *w.energy;
-      return reply(client, watchMessage(client.watching, client.watchPose, client.watchKnobs, client.watchEnergy));
+      return reply(client,
+                   watchMessage(client.watching, client.watchPose, client.watchKnobs, client.watchEnergy));
     }
     case Command::poll:
       return reply(client, pollMessage());
@@ -109,8 +119,9 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
     }
     case Command::control: {
       if (!policy_.allowed(client.peer()))
-        return reply(client, errorMessage("?CONTROL: permission denied for uid " + std::to_string(client.peer().uid) +
-                                          "; allowed: " + policy_.describe() + " (socket.control_group)"));
+        return reply(client,
+                     errorMessage("?CONTROL: permission denied for uid " + std::to_string(client.peer().uid) +
+                                  "; allowed: " + policy_.describe() + " (socket.control_group)"));
       try {
         nlohmann::json result = state_.control(r.control);
         result["class"] = "CONTROL";
@@ -132,7 +143,9 @@ nlohmann::json SocketServer::pollMessage() const {
           {"energy", lastEnergy_ ? *lastEnergy_ : nlohmann::json()}};
 }
 
-void SocketServer::reply(Client& client, const nlohmann::json& message) { deliver(client, makeLine(message)); }
+void SocketServer::reply(Client& client, const nlohmann::json& message) {
+  deliver(client, makeLine(message));
+}
 
 void SocketServer::deliver(Client& client, const Line& line) {
   if (!client.send(line)) ++messagesDropped_;
@@ -177,8 +190,8 @@ void SocketServer::dropStalledClients() {
 void SocketServer::close(int fd, const char* why, bool byServer) {
   auto it = clients_.find(fd);
   if (it == clients_.end()) return;
-  spdlog::debug("socket: client fd {} (pid {}) disconnected: {}; {} messages dropped", fd, it->second->peer().pid,
-                why, it->second->dropped());
+  spdlog::debug("socket: client fd {} (pid {}) disconnected: {}; {} messages dropped", fd,
+                it->second->peer().pid, why, it->second->dropped());
   if (byServer) ++clientsDisconnected_;
   loop_.remove(fd);
   clients_.erase(it);  // closes the fd

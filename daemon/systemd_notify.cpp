@@ -21,10 +21,20 @@ void SystemdNotifier::send(const std::string& message) const {
   if (r < 0) spdlog::warn("sd_notify failed: {}", std::strerror(-r));
 }
 
-void SystemdNotifier::ready(const std::string& status) const { send("READY=1\nSTATUS=" + status); }
-void SystemdNotifier::status(const std::string& status) const { send("STATUS=" + status); }
-void SystemdNotifier::watchdog() const { send("WATCHDOG=1"); }
-void SystemdNotifier::reloading() const { send("RELOADING=1"); }
-void SystemdNotifier::stopping(const std::string& status) const { send("STOPPING=1\nSTATUS=" + status); }
+void SystemdNotifier::ready(const std::string& status) const {
+  send("READY=1\nSTATUS=" + status);
+}
+void SystemdNotifier::status(const std::string& status) const {
+  send("STATUS=" + status);
+}
+void SystemdNotifier::watchdog() const {
+  send("WATCHDOG=1");
+}
+void SystemdNotifier::reloading() const {
+  send("RELOADING=1");
+}
+void SystemdNotifier::stopping(const std::string& status) const {
+  send("STOPPING=1\nSTATUS=" + status);
+}
 
 }  // namespace sb::daemon

@@ -19,7 +19,8 @@ sockaddr_un address(const std::string& path) {
   sockaddr_un addr{};
   addr.sun_family = AF_UNIX;
   if (path.size() >= sizeof addr.sun_path)
-    throw Error("socket path '" + path + "' is longer than " + std::to_string(sizeof addr.sun_path - 1) + " bytes");
+    throw Error("socket path '" + path + "' is longer than " + std::to_string(sizeof addr.sun_path - 1) +
+                " bytes");
   std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
   return addr;
 }
@@ -39,14 +40,16 @@ ListeningSocket::~ListeningSocket() {
 ListeningSocket openListeningSocket(const std::string& path, unsigned mode) {
   ListeningSocket s;
   const int passed = sd_listen_fds(1);  // unsets LISTEN_FDS so children do not inherit it
-  if (passed < 0) throw Error(std::string("socket activation: sd_listen_fds failed: ") + std::strerror(-passed));
+  if (passed < 0)
+    throw Error(std::string("socket activation: sd_listen_fds failed: ") + std::strerror(-passed));
   if (passed > 1)
     throw Error("socket activation: systemd passed " + std::to_string(passed) +
                 " sockets; the .socket unit must have exactly one ListenStream=");
   if (passed == 1) {
     const int fd = SD_LISTEN_FDS_START;
     if (sd_is_socket_unix(fd, SOCK_STREAM, 1, nullptr, 0) <= 0)
-      throw Error("socket activation: the passed socket is not a listening Unix stream socket (ListenStream=PATH)");
+      throw Error(
+          "socket activation: the passed socket is not a listening Unix stream socket (ListenStream=PATH)");
     s.fd.reset(fd);
     s.activated = true;
     sockaddr_un addr{};

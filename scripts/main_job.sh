@@ -1,16 +1,22 @@
 #!/usr/bin/env bash
 # Command (1) of the README: install what is missing, build, and run the main job on the default input.
 #
-# The default input is ../shared/data/7scenes-redkitchen-a (600 real Kinect frames) when that directory is
-# present beside the checkout; otherwise a synthetic living-room sequence that the project renders itself
-# along its built-in handheld trajectory. Outputs go to out/ (or the directory given as $1).
+# The main job is the daemon: slamboosterd replays the default input through KinectFusion (DEFAULT knobs),
+# publishing pose and knobs on its Unix socket while slamboosterctl shows progress, and exits when the
+# sequence ends. The default input is ../shared/data/7scenes-redkitchen-a (600 real Kinect frames) when that
+# directory is present beside the checkout; otherwise a synthetic living-room sequence that the project
+# renders itself along its built-in handheld trajectory. Outputs go to out/ (or the directory given as $1):
+# out/run-NAME/{trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply} and slamboosterd.log.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 out=${1:-"$root/out"}
 "$root/scripts/install_deps.sh"
 "$root/scripts/build.sh" "$root/build"
 tool="$root/build/tools/slambooster/slambooster"
+daemon="$root/build/daemon/slamboosterd"
+ctl="$root/build/tools/slamboosterctl/slamboosterctl"
 mkdir -p "$out"
+out=$(cd "$out" && pwd)
 
 shared="$root/../shared/data/7scenes-redkitchen-a"
 if [ -d "$shared" ]; then
@@ -27,5 +33,38 @@ else
   echo "main_job: input: synthetic sequence $seq"
 fi
 
-"$tool" run "$seq" --out "$out/run-$name" --preset default --mesh
-echo "main_job: outputs in $out/run-$name (trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply)"
+# The socket lives in a private /tmp directory: Unix socket paths are limited to 107 bytes.
+rundir=$(mktemp -d /tmp/slambooster-main-job-XXXXXX)
+socket="$rundir/slamboosterd.sock"
+pid=""
+cleanup() {
+  if [ -n "$pid" ] && kill -0 "$pid" 2>/dev/null; then kill -TERM "$pid"; wait "$pid" || true; fi
+  rm -rf "$rundir"
+}
+trap cleanup EXIT
+trap 'exit 130' INT TERM
+
+run="$out/run-$name"
+rm -rf "$run"
+echo "main_job: starting slamboosterd (socket $socket, log $out/slamboosterd.log)"
+"$daemon" --input "$seq" --out "$run" --socket "$socket" --pacing fast --at-end exit --controller default \
+  --set output.mesh=true --set output.model_png=true 2> "$out/slamboosterd.log" &
+pid=$!
+for _ in $(seq 200); do [ -S "$socket" ] || ! kill -0 "$pid" 2>/dev/null && break; sleep 0.05; done
+# Progress from the socket, as any client would see it, until the daemon finishes the sequence.
+while kill -0 "$pid" 2>/dev/null; do
+  line=$("$ctl" --socket "$socket" --json --timeout 2 status 2>/dev/null |
+    sed -n 's/.*"computation_ms":\([0-9.eE+-]*\),.*"fps":[0-9.eE+-]*,"frames":\([0-9]*\),.*"sequence_frames":\([0-9]*\).*/\2 \3 \1/p' || true)
+  [ -n "$line" ] && set -- $line && printf 'main_job: slamboosterd: %s/%s frames, %.1f ms/frame computation\n' "$2" "$3" "$1"
+  sleep 5
+done
+status=0
+wait "$pid" || status=$?
+pid=""
+if [ "$status" -ne 0 ]; then
+  echo "main_job: slamboosterd failed (exit $status); its log:" >&2
+  tail -20 "$out/slamboosterd.log" >&2
+  exit "$status"
+fi
+tail -3 "$out/slamboosterd.log"
+echo "main_job: outputs in $run (trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply)"

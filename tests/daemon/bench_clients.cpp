@@ -101,8 +101,8 @@ int main(int argc, char** argv) {
       r.buffer.erase(0, start);
     }
   }
-  nlohmann::json out = {{"readers", readers}, {"sleepers", sleepers}, {"first_pose_s", firstPose},
-                        {"last_pose_s", lastPose}};
+  nlohmann::json out = {
+      {"readers", readers}, {"sleepers", sleepers}, {"first_pose_s", firstPose}, {"last_pose_s", lastPose}};
   long long minCount = -1, maxCount = 0;
   bool allInOrder = true;
   for (const auto& r : rs) {
@@ -113,7 +113,8 @@ int main(int argc, char** argv) {
   out["pose_min"] = minCount;
   out["pose_max"] = maxCount;
   out["first_frame_max"] = 0;
-  for (const auto& r : rs) out["first_frame_max"] = std::max(out["first_frame_max"].get<long long>(), r.first);
+  for (const auto& r : rs)
+    out["first_frame_max"] = std::max(out["first_frame_max"].get<long long>(), r.first);
   out["all_in_order"] = allInOrder;
   std::printf("%s\n", out.dump().c_str());
   return allInOrder ? 0 : 1;

@@ -14,8 +14,8 @@ class ChildProcess {
  public:
   // Starts argv[0] (a path) with `env` ("KEY=VALUE") added, stdout+stderr to `logPath`. `inChild` runs in
   // the child before exec (e.g. to set up inherited file descriptors).
-  ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env, const std::string& logPath,
-               const std::function<void()>& inChild = {});
+  ChildProcess(const std::vector<std::string>& argv, const std::vector<std::string>& env,
+               const std::string& logPath, const std::function<void()>& inChild = {});
   ~ChildProcess();  // kills (SIGKILL) and reaps a child still running
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

@@ -14,7 +14,8 @@ namespace sb::test {
 
 nlohmann::json ScriptedState::status() {
   return {{"state", "running"},
-          {"source", {{"type", "replay"}, {"path", "/seq"}, {"live", false}, {"state", "running"}, {"frames", 3}}},
+          {"source",
+           {{"type", "replay"}, {"path", "/seq"}, {"live", false}, {"state", "running"}, {"frames", 3}}},
           {"controller", "fixed"},
           {"meter", "none"},
           {"fps", 30.0},
@@ -49,8 +50,7 @@ daemon::FrameReport scriptedFrame(uint64_t n) {
   return r;
 }
 
-ServerHarness::ServerHarness(daemon::SocketConfig config, uid_t daemonUid)
-    : config_(std::move(config)) {
+ServerHarness::ServerHarness(daemon::SocketConfig config, uid_t daemonUid) : config_(std::move(config)) {
   // Under /tmp, not the build tree: a Unix socket path must stay under 108 bytes wherever the tree is.
   char dir[] = "/tmp/sb-daemon-test-XXXXXX";
   if (!mkdtemp(dir)) throw Error("mkdtemp failed");
@@ -60,8 +60,8 @@ ServerHarness::ServerHarness(daemon::SocketConfig config, uid_t daemonUid)
   path_ = dir_ + "/s.sock";
   listener_ = daemon::openListeningSocket(path_, config_.mode);
   server_ = std::make_unique<daemon::SocketServer>(loop_, listener_.fd.get(), config_,
-                                                   daemon::ControlPolicy(daemonUid, config_.controlGroup), state,
-                                                   "test-release");
+                                                   daemon::ControlPolicy(daemonUid, config_.controlGroup),
+                                                   state, "test-release");
   mailbox_ = std::make_unique<daemon::Mailbox>(loop_, 4096);
   thread_ = std::thread([this] { loop_.run(); });
 }
@@ -114,7 +114,8 @@ std::string LineClient::readLine(int timeoutMs) {
       return line;
     }
     if (eof_) return "";
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) return "";
     pollfd p{fd_.get(), POLLIN, 0};
     if (::poll(&p, 1, static_cast<int>(left.count())) <= 0) return "";

@@ -30,13 +30,15 @@ TEST_CASE("requests parse", "[daemon][protocol]") {
   CHECK_FALSE(*w->watch.knobs);
   CHECK_FALSE(w->watch.pose);
   CHECK(parseRequest("?WATCH;").request->command == Command::watch);
-  const auto c = parseRequest(R"(?CONTROL={"controller":"slambooster","pin":{"csr":2,"pd0":6},"unpin":["ir"]})").request;
+  const auto c =
+      parseRequest(R"(?CONTROL={"controller":"slambooster","pin":{"csr":2,"pd0":6},"unpin":["ir"]})").request;
   REQUIRE(c);
   CHECK(*c->control.controller == "slambooster");
   CHECK(c->control.pin.at("csr") == 2);
   CHECK(c->control.pin.at("pd0") == 6);
   CHECK(c->control.unpin == std::vector<std::string>{"ir"});
-  CHECK(parseRequest(R"(?CONTROL={"unpin":"all"})").request->control.unpin == std::vector<std::string>{"all"});
+  CHECK(parseRequest(R"(?CONTROL={"unpin":"all"})").request->control.unpin ==
+        std::vector<std::string>{"all"});
 }
 
 TEST_CASE("malformed requests are refused with a reason", "[daemon][protocol]") {
@@ -69,10 +71,11 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   r.velocity = 0.01;
   r.controller = "fixed";
   r.pinned = {"csr"};
-  CHECK(toLine(poseMessage(r)) ==
-        R"({"class":"POSE","corrected":false,"frame":7,"position":[1.0,2.0,3.0],"quaternion":[0.0,0.0,0.0,1.0],)"
-        R"("timestamp":1.5,"tracked":true,"velocity":0.01})"
-        "\n");
+  CHECK(
+      toLine(poseMessage(r)) ==
+      R"({"class":"POSE","corrected":false,"frame":7,"position":[1.0,2.0,3.0],"quaternion":[0.0,0.0,0.0,1.0],)"
+      R"("timestamp":1.5,"tracked":true,"velocity":0.01})"
+      "\n");
   CHECK(toLine(knobsMessage(r)) ==
         R"({"class":"KNOBS","computation_ms":0.0,"controller":"fixed","csr":1,"frame":7,"icp":1e-05,"ir":2,)"
         R"("pd":[10,5,4],"pinned":["csr"],"tr":1})"

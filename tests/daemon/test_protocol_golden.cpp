@@ -28,10 +28,14 @@ std::string unescape(const std::string& text, bool& newline) {
       continue;
     }
     const char c = text[++i];
-    if (c == 'n') out += '\n';
-    else if (c == 'r') out += '\r';
-    else if (c == '\\') out += '\\';
-    else if (c == 'c' && i + 1 == text.size()) newline = false;
+    if (c == 'n')
+      out += '\n';
+    else if (c == 'r')
+      out += '\r';
+    else if (c == '\\')
+      out += '\\';
+    else if (c == 'c' && i + 1 == text.size())
+      newline = false;
     else if (c == 'x' && i + 2 < text.size()) {
       out += static_cast<char>(std::stoi(text.substr(i + 1, 2), nullptr, 16));
       i += 2;
@@ -75,7 +79,8 @@ void runScript(const fs::path& script) {
   }
   // Nothing unexpected may come before the reply to this sentinel.
   client.send("?VERSION;\n");
-  CHECK(client.readLine() == R"({"class":"VERSION","proto_major":1,"proto_minor":0,"release":"test-release"})");
+  CHECK(client.readLine() ==
+        R"({"class":"VERSION","proto_major":1,"proto_minor":0,"release":"test-release"})");
 }
 
 }  // namespace
@@ -87,6 +92,8 @@ TEST_CASE("protocol golden scripts", "[daemon][protocol][golden]") {
   std::sort(scripts.begin(), scripts.end());
   REQUIRE(scripts.size() >= 4);
   for (const auto& s : scripts) {
-    SECTION(s.filename().string()) { runScript(s); }
+    SECTION(s.filename().string()) {
+      runScript(s);
+    }
   }
 }

@@ -42,8 +42,9 @@ struct Fixture {
   Fixture() {
     dir = sb::test::scratchDir("slamboosterd_seq");
     sequence = dir + "/seq";
-    const auto synth = runCommand(kTool + " synth --out " + sequence + " --builtin-frames " + std::to_string(kFrames) +
-                                  " --width 320 --height 240 --fx 240 --fy 240 --threads 1");
+    const auto synth =
+        runCommand(kTool + " synth --out " + sequence + " --builtin-frames " + std::to_string(kFrames) +
+                   " --width 320 --height 240 --fx 240 --fy 240 --threads 1");
     if (synth.exitCode != 0) throw std::runtime_error("synth failed: " + synth.output);
     pipelineConfig = dir + "/pipeline.json";
     std::ofstream(pipelineConfig) << R"({"volume_resolution": 64, "knobs": "csr=2,ir=1"})";
@@ -66,12 +67,23 @@ struct TempDir {
   ~TempDir() { fs::remove_all(path); }
 };
 
-std::vector<std::string> daemonArgs(const std::string& socket, const std::string& out, const std::string& pacing,
-                                    const std::string& atEnd) {
-  return {kDaemon,    "--input", fixture().sequence, "--out",   out,
-          "--socket", socket,    "--pacing",         pacing,    "--at-end",
-          atEnd,      "--set",   "slam.pipeline_config=" + fixture().pipelineConfig,
-          "--controller", "fixed"};
+std::vector<std::string> daemonArgs(const std::string& socket, const std::string& out,
+                                    const std::string& pacing, const std::string& atEnd) {
+  return {kDaemon,
+          "--input",
+          fixture().sequence,
+          "--out",
+          out,
+          "--socket",
+          socket,
+          "--pacing",
+          pacing,
+          "--at-end",
+          atEnd,
+          "--set",
+          "slam.pipeline_config=" + fixture().pipelineConfig,
+          "--controller",
+          "fixed"};
 }
 
 size_t dataLines(const std::string& path) {
@@ -103,7 +115,9 @@ TEST_CASE("slamboosterd: watch, then SIGTERM mid-run: every processed frame is o
           "[daemon][system]") {
   TempDir tmp;
   const std::string socket = tmp.path + "/s.sock", out = tmp.path + "/out";
-  ChildProcess d(daemonArgs(socket, out, "recorded", "stop"), {}, tmp.path + "/log.txt");
+  auto args = daemonArgs(socket, out, "recorded", "stop");
+  args.insert(args.end(), {"--set", "source.speed=0.5"});  // 2 s of input: SIGTERM lands mid-run even on a fast machine
+  ChildProcess d(args, {}, tmp.path + "/log.txt");
   REQUIRE(sb::test::waitForPath(socket, 20));
 
   const auto watch = runCommand(kCtl + " --json --socket " + socket + " watch --count 3 --no-knobs");
@@ -241,8 +255,10 @@ TEST_CASE("slamboosterd: socket activation through LISTEN_FDS", "[daemon][system
   const int fd = listener.fd.get();
   ChildProcess d(daemonArgs(tmp.path + "/unused.sock", tmp.path + "/out", "recorded", "stop"), {},
                  tmp.path + "/log.txt", [fd] {
-                   if (fd == 3) fcntl(fd, F_SETFD, 0);  // dup2 onto itself would keep close-on-exec
-                   else dup2(fd, 3);                     // SD_LISTEN_FDS_START
+                   if (fd == 3)
+                     fcntl(fd, F_SETFD, 0);  // dup2 onto itself would keep close-on-exec
+                   else
+                     dup2(fd, 3);  // SD_LISTEN_FDS_START
                    setenv("LISTEN_FDS", "1", 1);
                    setenv("LISTEN_PID", std::to_string(getpid()).c_str(), 1);
                  });
@@ -280,7 +296,8 @@ TEST_CASE("slamboosterd: bad configuration exits 2 naming the key, the value and
           "/o --set slam.pipeline_config=" + tmp.path + "/pipe.json");
   CHECK(r.exitCode == 2);
   CHECK(r.output.find("volume_resolutoin") != std::string::npos);
-  r = run("--input " + tmp.path + "/no-such-sequence --socket " + tmp.path + "/s.sock --out " + tmp.path + "/o");
+  r = run("--input " + tmp.path + "/no-such-sequence --socket " + tmp.path + "/s.sock --out " + tmp.path +
+          "/o");
   CHECK(r.exitCode == 1);
   CHECK(r.output.find("no-such-sequence") != std::string::npos);
   CHECK(run("--check-config --input x").exitCode == 0);

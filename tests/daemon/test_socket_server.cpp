@@ -1,6 +1,6 @@
-// The socket server under abuse: oversize lines, binary floods, half lines and disconnects, clients that never
-// read, too many clients, unauthorised ?CONTROL. The server must answer ERROR where a reply makes sense, keep
-// serving everyone else, and never block.
+// The socket server under abuse: oversize lines, binary floods, half lines and disconnects, clients that
+// never read, too many clients, unauthorised ?CONTROL. The server must answer ERROR where a reply makes
+// sense, keep serving everyone else, and never block.
 
 #include <pwd.h>
 #include <sys/socket.h>
@@ -14,9 +14,9 @@
 
 #include "tests/daemon/server_harness.h"
 
+using nlohmann::json;
 using sb::test::LineClient;
 using sb::test::ServerHarness;
-using nlohmann::json;
 
 namespace {
 
@@ -140,7 +140,8 @@ TEST_CASE("connections beyond max_clients get ERROR and are closed", "[daemon][s
   CHECK(readJson(d)["class"] == "VERSION");
 }
 
-TEST_CASE("?CONTROL from a peer that is not root, the daemon's user or in the group is refused", "[daemon][socket]") {
+TEST_CASE("?CONTROL from a peer that is not root, the daemon's user or in the group is refused",
+          "[daemon][socket]") {
   // The server's "own" uid is one nobody has; the client is this process, or (as root) a child that drops
   // to nobody first, since root is always allowed.
   const bool root = ::geteuid() == 0;
@@ -161,8 +162,10 @@ TEST_CASE("?CONTROL from a peer that is not root, the daemon's user or in the gr
       c.readLine();
       c.send("?CONTROL={\"controller\":\"slambooster\"}\n");
       const json e = json::parse(c.readLine());
-      _exit(e["class"] == "ERROR" && e["message"].get<std::string>().find("permission denied") != std::string::npos
-                ? 0 : 1);
+      _exit(e["class"] == "ERROR" &&
+                    e["message"].get<std::string>().find("permission denied") != std::string::npos
+                ? 0
+                : 1);
     } catch (...) {
       _exit(2);
     }

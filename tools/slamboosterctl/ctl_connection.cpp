@@ -12,7 +12,8 @@
 
 namespace sb::ctl {
 
-Connection::Connection(const std::string& socketPath, double timeoutSeconds) : fd_(daemon::connectUnix(socketPath)) {
+Connection::Connection(const std::string& socketPath, double timeoutSeconds)
+    : fd_(daemon::connectUnix(socketPath)) {
   auto greeting = next(timeoutSeconds);
   if (!greeting || greeting->value("class", "") != "VERSION")
     throw Error("'" + socketPath + "' did not greet with VERSION: is it a slamboosterd socket?");
@@ -32,21 +33,25 @@ void Connection::send(const std::string& requestLine) {
 
 std::optional<nlohmann::json> Connection::next(double timeoutSeconds) {
   using Clock = std::chrono::steady_clock;
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                           std::chrono::duration<double>(timeoutSeconds > 0 ? timeoutSeconds : 0));
+  const auto deadline =
+      Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                         std::chrono::duration<double>(timeoutSeconds > 0 ? timeoutSeconds : 0));
   while (true) {
     const auto nl = buffer_.find('\n');
     if (nl != std::string::npos) {
       const std::string line = buffer_.substr(0, nl);
       buffer_.erase(0, nl + 1);
       nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-      if (j.is_discarded() || !j.is_object()) throw Error("slamboosterd sent a line that is not a JSON object: " + line);
+      if (j.is_discarded() || !j.is_object())
+        throw Error("slamboosterd sent a line that is not a JSON object: " + line);
       return j;
     }
     int waitMs = -1;
     if (timeoutSeconds > 0) {
-      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-      if (left <= 0) throw Error("no reply from slamboosterd within " + std::to_string(timeoutSeconds) + " s");
+      const auto left =
+          std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
+      if (left <= 0)
+        throw Error("no reply from slamboosterd within " + std::to_string(timeoutSeconds) + " s");
       waitMs = static_cast<int>(left);
     }
     pollfd p{fd_.get(), POLLIN, 0};

@@ -29,7 +29,8 @@ std::string vec(const nlohmann::json& m, const char* key, int precision) {
   std::ostringstream s;
   s.setf(std::ios::fixed);
   s.precision(precision);
-  for (size_t i = 0; i < it->size(); ++i) s << (i ? " " : "") << ((*it)[i].is_number() ? (*it)[i].get<double>() : 0.0);
+  for (size_t i = 0; i < it->size(); ++i)
+    s << (i ? " " : "") << ((*it)[i].is_number() ? (*it)[i].get<double>() : 0.0);
   return s.str();
 }
 
@@ -48,12 +49,14 @@ std::string formatKnobs(const nlohmann::json& m) {
     for (const auto& v : m["pd"]) pd += (pd.empty() ? "" : ":") + v.dump();
   std::string pinned;
   if (m.contains("pinned") && m["pinned"].is_array())
-    for (const auto& v : m["pinned"]) pinned += (pinned.empty() ? "" : ",") + (v.is_string() ? v.get<std::string>() : v.dump());
+    for (const auto& v : m["pinned"])
+      pinned += (pinned.empty() ? "" : ",") + (v.is_string() ? v.get<std::string>() : v.dump());
   char buf[256];
-  std::snprintf(buf, sizeof buf, "KNOBS  frame %6s  csr=%s icp=%s pd=%s tr=%s ir=%s  %.1f ms  controller %s%s%s",
+  std::snprintf(buf, sizeof buf,
+                "KNOBS  frame %6s  csr=%s icp=%s pd=%s tr=%s ir=%s  %.1f ms  controller %s%s%s",
                 str(m, "frame").c_str(), str(m, "csr").c_str(), str(m, "icp").c_str(), pd.c_str(),
-                str(m, "tr").c_str(), str(m, "ir").c_str(), num(m, "computation_ms"), str(m, "controller").c_str(),
-                pinned.empty() ? "" : "  pinned ", pinned.c_str());
+                str(m, "tr").c_str(), str(m, "ir").c_str(), num(m, "computation_ms"),
+                str(m, "controller").c_str(), pinned.empty() ? "" : "  pinned ", pinned.c_str());
   return buf;
 }
 
@@ -73,7 +76,8 @@ std::string formatMessage(const nlohmann::json& m) {
   if (cls == "ENERGY") return formatEnergy(m);
   if (cls == "ERROR") return "ERROR  " + str(m, "message");
   if (cls == "VERSION")
-    return "slamboosterd " + str(m, "release") + " (protocol " + str(m, "proto_major") + "." + str(m, "proto_minor") + ")";
+    return "slamboosterd " + str(m, "release") + " (protocol " + str(m, "proto_major") + "." +
+           str(m, "proto_minor") + ")";
   if (cls == "STATUS") return formatStatus(m);
   return m.dump();
 }
@@ -87,14 +91,16 @@ std::string formatStatus(const nlohmann::json& m) {
   s << "slamboosterd " << str(m, "state") << "\n";
   if (m.contains("source") && m["source"].is_object()) {
     const auto& src = m["source"];
-    row("source", str(src, "type") + " " + str(src, "path") + " (" + str(src, "state") + ", " + str(src, "frames") +
-                      " frames read" + (flag(src, "live") ? ", live" : "") + ")");
+    row("source", str(src, "type") + " " + str(src, "path") + " (" + str(src, "state") + ", " +
+                      str(src, "frames") + " frames read" + (flag(src, "live") ? ", live" : "") + ")");
   }
   std::snprintf(buf, sizeof buf, "%s processed, %s tracked, %.1f fps, %.1f ms/frame computation",
                 str(m, "frames").c_str(), str(m, "tracked").c_str(), num(m, "fps"), num(m, "computation_ms"));
   row("frames", buf);
   row("drops", str(m, "drops"));
-  row("controller", str(m, "controller") + (m.contains("pinned") && !m["pinned"].empty() ? "  pinned " + m["pinned"].dump() : ""));
+  row("controller",
+      str(m, "controller") +
+          (m.contains("pinned") && !m["pinned"].empty() ? "  pinned " + m["pinned"].dump() : ""));
   row("meter", str(m, "meter"));
   row("slam cpus", str(m, "cpus") + " (" + str(m, "threads") + " compute threads)");
   row("outputs", str(m, "output_dir"));

@@ -58,7 +58,8 @@ int requestReply(const Options& o, const std::string& request, const std::string
 
 int watch(const Options& o) {
   sb::ctl::Connection c(o.socket, o.timeout);
-  const nlohmann::json w = {{"enable", true}, {"pose", !o.noPose}, {"knobs", !o.noKnobs}, {"energy", !o.noEnergy}};
+  const nlohmann::json w = {
+      {"enable", true}, {"pose", !o.noPose}, {"knobs", !o.noKnobs}, {"energy", !o.noEnergy}};
   c.send("?WATCH=" + w.dump());
   const nlohmann::json ack = c.reply("WATCH", o.timeout);
   if (ack.value("class", "") == "ERROR") {
@@ -85,13 +86,16 @@ std::string controlRequest(const Options& o) {
   if (!o.controller.empty()) j["controller"] = o.controller;
   for (const auto& p : o.pins) {
     const auto eq = p.find('=');
-    if (eq == std::string::npos || eq == 0) throw CLI::ValidationError("--pin", "'" + p + "' must be KNOB=VALUE, e.g. csr=2");
+    if (eq == std::string::npos || eq == 0)
+      throw CLI::ValidationError("--pin", "'" + p + "' must be KNOB=VALUE, e.g. csr=2");
     const nlohmann::json value = nlohmann::json::parse(p.substr(eq + 1), nullptr, false);
     if (!value.is_number()) throw CLI::ValidationError("--pin", "'" + p + "': the value must be a number");
     j["pin"][p.substr(0, eq)] = value;
   }
-  if (std::find(o.unpins.begin(), o.unpins.end(), "all") != o.unpins.end()) j["unpin"] = "all";
-  else if (!o.unpins.empty()) j["unpin"] = o.unpins;
+  if (std::find(o.unpins.begin(), o.unpins.end(), "all") != o.unpins.end())
+    j["unpin"] = "all";
+  else if (!o.unpins.empty())
+    j["unpin"] = o.unpins;
   if (j.empty()) throw CLI::ValidationError("control", "give --controller, --pin or --unpin");
   return "?CONTROL=" + j.dump();
 }
@@ -113,8 +117,9 @@ int main(int argc, char** argv) {
   watchCmd->add_flag("--no-energy", o.noEnergy, "Do not stream ENERGY");
   app.add_subcommand("poll", "The latest pose, knobs and energy");
   app.add_subcommand("status", "Source, controller, meter, frame rate, drops, uptime");
-  auto* controlCmd = app.add_subcommand("control", "Switch the controller or pin knobs (root, the daemon's user or "
-                                                   "the socket.control_group)");
+  auto* controlCmd = app.add_subcommand("control",
+                                        "Switch the controller or pin knobs (root, the daemon's user or "
+                                        "the socket.control_group)");
   controlCmd->add_option("--controller", o.controller, "Switch to this controller");
   controlCmd->add_option("--pin", o.pins, "Pin a knob: csr, icp, pd0, pd1, pd2, tr or ir, e.g. --pin csr=2");
   controlCmd->add_option("--unpin", o.unpins, "Unpin a knob, or all");
