@@ -141,8 +141,15 @@ check; grep -q 'deb-systemd-invoke stop slambooster.service' "$work/control/prer
 sandbox="$work/sandbox"
 mkdir -p "$sandbox/var/lib/dpkg/updates" "$sandbox/var/lib/dpkg/info"
 touch "$sandbox/var/lib/dpkg/status" "$sandbox/var/lib/dpkg/available"
-sb_stubs="$work/sandbox-stubs"  # the stubs, less rm: purge really deletes inside the sandbox
-mkdir -p "$sb_stubs"; cp -p "$stubs"/* "$sb_stubs"/; rm "$sb_stubs/rm"
+sb_stubs="$work/sandbox-stubs"  # the stubs; rm deletes inside the sandbox only (a script ignoring DPKG_ROOT fails)
+mkdir -p "$sb_stubs"; cp -p "$stubs"/* "$sb_stubs"/
+cat >"$sb_stubs/rm" <<EOF
+#!/bin/sh
+for a in "\$@"; do
+  case "\$a" in -*|"$sandbox"/*) ;; *) echo "check_deb: refusing rm outside the sandbox: \$a" >&2; exit 1 ;; esac
+done
+exec /bin/rm "\$@"
+EOF
 sb_dpkg() { PATH="$sb_stubs:$PATH" dpkg --root="$sandbox" --force-script-chrootless --force-not-root \
   --force-depends --force-architecture --force-confold "$@" >>"$work/dpkg.log" 2>&1; }
 repack() { # new_version edit_default_config -> $work/next.deb: this package as another version

@@ -29,7 +29,10 @@ int main(int argc, char** argv) {
     if (std::strstr(argv[i], "[data]") && !std::strstr(argv[i], "~[data]")) wantsData = true;
     if (std::strstr(argv[i], "[noplatform]") && !std::strstr(argv[i], "~[noplatform]")) noPlatform = true;
   }
-  const bool ci = std::getenv("CI") != nullptr;
+  // A cross-compiled binary (armhf under qemu) has no OpenCL platform of its architecture to find: an armhf
+  // PoCL cannot be installed beside the host toolchain (DESIGN section 9). There a missing platform is a
+  // skip even in CI; the native build runs these tests.
+  const bool ci = std::getenv("CI") != nullptr && !SB_CROSS_COMPILED;
   if (!noPlatform) {
     std::string problem;
     try {
@@ -43,7 +46,9 @@ int main(int argc, char** argv) {
     }
     if (!device) {
       std::cerr << (ci ? "FAILED" : "SKIPPED") << ": " << problem
-                << (ci ? "; CI is set, so PoCL must be installed and a missing platform is a failure" : "") << "\n";
+                << (ci ? "; CI is set, so PoCL must be installed and a missing platform is a failure"
+                       : SB_CROSS_COMPILED ? " (cross-compiled test binary: the native build runs the OpenCL tests)" : "")
+                << "\n";
       return ci ? 1 : 77;
     }
     std::cerr << "OpenCL test device: " << device->deviceName << " (" << device->platformName << ", "
