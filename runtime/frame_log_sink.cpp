@@ -35,7 +35,9 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                       {"triggers", triggerNames(rec.decision.triggers)},
                       {"half_wish", rec.decision.halfPrecision},
                       {"next_knobs", knobsToJson(rec.decision.next)},
-                      {"knobs_pinned", rec.knobsPinned}};
+                      {"knobs_pinned", rec.knobsPinned},
+                      {"t_start_mono_ns", rec.startMonoNs},
+                      {"t_end_mono_ns", rec.endMonoNs}};
   if (rec.decision.level >= 0) j["level"] = rec.decision.level;
   // Device (OpenCL profiling event) times per stage, beside the host times; absent on the cpu backend.
   if (r.times.deviceMs != decltype(r.times.deviceMs){}) {

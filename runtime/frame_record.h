@@ -2,6 +2,7 @@
 // What the runtime records about one processed frame: the pipeline's result, the controller's decision and
 // the controller's own cost. Output sinks receive it; the daemon publishes it.
 
+#include <cstdint>
 #include <string>
 
 #include "controller/controller.h"
@@ -16,6 +17,11 @@ struct FrameRecord {
   bool knobsPinned = false;       // decision.next was overridden by pinned knobs
   double trackedVelocity = 0.0;   // m/frame: velocity of the tracked pose, before any correction
   double controllerMs = 0.0;      // time spent in Controller::decide (and reading the frame for it)
+  // CLOCK_MONOTONIC (ns) when the runner began the frame (frame in hand, before preprocessing) and finished it
+  // (after integration/raycast and the controller, before the outputs): the interval the power meter's
+  // ledger charges to this frame (power/power_sampler.h).
+  int64_t startMonoNs = 0;
+  int64_t endMonoNs = 0;
 };
 
 }  // namespace sb

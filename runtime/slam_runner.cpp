@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "core/error.h"
+#include "power/clock.h"
 
 namespace sb {
 
@@ -36,6 +37,7 @@ void SlamRunner::pinKnobs(const std::optional<Knobs>& knobs) {
 
 FrameRecord SlamRunner::step(const DepthFrame& frame) {
   FrameRecord rec;
+  rec.startMonoNs = power::monotonicClock().nowNs();
   rec.knobsPinned = pinned_.has_value();
   rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs());
   const FrameResult& r = rec.result;
@@ -75,6 +77,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   previousPose_ = rec.result.T_camera_to_world;
   previousComputationMs_ = rec.result.times.computationMs();
   ++frames_;
+  rec.endMonoNs = power::monotonicClock().nowNs();
   for (auto& sink : sinks_) sink->onFrame(rec);
   return rec;
 }

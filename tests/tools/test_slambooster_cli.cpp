@@ -49,10 +49,11 @@ TEST_CASE("synth, run and eval agree end to end on a short synthetic sequence", 
   const auto run = runCommand(kTool + " run " + seq + " --out " + out + " --preset default --mesh --quiet");
   INFO(run.output);
   REQUIRE(run.exitCode == 0);
-  for (const char* f : {"trajectory.tum", "frames.jsonl", "summary.json", "model.png", "mesh.ply"}) {
+  for (const char* f : {"trajectory.tum", "frames.jsonl", "summary.json", "model.png", "mesh.ply", "report.html"}) {
     INFO(f);
     CHECK(fs::file_size(fs::path(out) / f) > 0);
   }
+  CHECK_THAT(run.output, Catch::Contains("report " + out + "/report.html"));
   CHECK(countLines(out + "/trajectory.tum") == kFrames);
   CHECK(countLines(out + "/frames.jsonl") == kFrames);
 
@@ -166,4 +167,59 @@ TEST_CASE("bench and dse run their matrix once, resume, and write their tables",
   const int bestCsr = best.at("best").at("knobs").get<std::string>().rfind("csr=4", 0) == 0 ? 4 : 8;
   CHECK(readJson(dir + "/offline/summary.json").at("knobs").at("csr") == bestCsr);
   CHECK(readJson(dir + "/offline/summary.json").at("controller") == "offline");
+}
+
+TEST_CASE("run --power accounts joules per frame that offline re-accounting reproduces", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_power");
+  const std::string seq = dir + "/seq";
+  REQUIRE(runCommand(kTool + " synth --out " + seq + " --builtin-frames 8 --no-noise").exitCode == 0);
+  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
+  // A recorded trace of a constant 4.5 W at 200 Hz, replayed live by the "file" meter.
+  constexpr double kWatts = 4.5;
+  {
+    std::ofstream trace(dir + "/trace.csv");
+    trace << R"(# {"format":"slambooster-power-trace","version":1,"meter":"smartpower3","device":"recorded",)"
+          << R"("kind":"instantaneous","nominal_period_ns":5000000,"clock":"CLOCK_MONOTONIC"})" << "\n"
+          << "t_ns,watts,volts,amps,event\n";
+    for (int64_t i = 0; i < 200 * 300; ++i) trace << 1000000000 + i * 5000000 << "," << kWatts << ",5,0.9,\n";
+  }
+  std::ofstream(dir + "/power.json") << R"({"meter": "file", "file": {"path": ")" << dir << R"(/trace.csv"}})";
+
+  const std::string out = dir + "/run";
+  const auto run = runCommand(kTool + " run " + seq + " --out " + out + " --config " + dir + "/small.json --power " +
+                              dir + "/power.json --quiet");
+  INFO(run.output);
+  REQUIRE(run.exitCode == 0);
+  CHECK_THAT(run.output, Catch::Contains("energy (file): 8/8 frames known") && Catch::Contains("J/frame"));
+
+  // energy.jsonl: every frame known, its joules the constant power times the interval frames.jsonl logs.
+  std::ifstream frames(out + "/frames.jsonl"), energy(out + "/energy.jsonl");
+  double sum = 0.0;
+  int n = 0;
+  for (std::string f, e; std::getline(frames, f) && std::getline(energy, e); ++n) {
+    const auto fj = nlohmann::json::parse(f), ej = nlohmann::json::parse(e);
+    INFO("frame " << n);
+    REQUIRE(ej.at("frame") == fj.at("frame"));
+    CHECK(ej.at("t_start_mono_ns") == fj.at("t_start_mono_ns"));
+    const int64_t start = fj.at("t_start_mono_ns"), end = fj.at("t_end_mono_ns");
+    CHECK(end > start);
+    REQUIRE(ej.at("known") == true);
+    CHECK(ej.at("joules").get<double>() == Approx(kWatts * (end - start) * 1e-9).epsilon(1e-9));
+    sum += ej.at("joules").get<double>();
+  }
+  CHECK(n == 8);
+  const auto summary = readJson(out + "/summary.json").at("energy");
+  CHECK(summary.at("known_frames") == 8);
+  CHECK(summary.at("joules").get<double>() == Approx(sum).epsilon(1e-12));
+  CHECK(summary.at("mean_watts").get<double>() == Approx(kWatts).epsilon(1e-9));
+  CHECK(fs::file_size(out + "/power.csv") > 0);
+
+  // The trace and frame log written by the run re-account to the same joules offline.
+  const auto offline =
+      runCommand(kTool + " energy --trace " + out + "/power.csv --frames " + out + "/frames.jsonl --json");
+  INFO(offline.output);
+  REQUIRE(offline.exitCode == 0);
+  const auto o = nlohmann::json::parse(offline.output);
+  CHECK(o.at("known_frames") == 8);
+  CHECK(o.at("joules").get<double>() == Approx(summary.at("joules").get<double>()).epsilon(1e-12));
 }

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "power/energy_json.h"
 #include "power/offline_accounting.h"
 #include "power/power_trace.h"
 #include "tools/slambooster/commands.h"
@@ -27,20 +28,6 @@ struct EnergyOptions {
   double maxGapMs = 0.0;
   bool json = false;
 };
-
-nlohmann::json number(double v) { return std::isnan(v) ? nlohmann::json(nullptr) : nlohmann::json(v); }
-
-nlohmann::json frameJson(const power::FrameEnergy& e) {
-  nlohmann::json j = {{"frame", e.frame},
-                      {"t_start_mono_ns", e.startNs},
-                      {"t_end_mono_ns", e.endNs},
-                      {"known", e.known},
-                      {"joules", number(e.joules)},
-                      {"joules_above_idle", number(e.joulesAboveIdle)},
-                      {"mean_watts", number(e.meanWatts)}};
-  if (!e.known) j["unknown_reason"] = e.unknownReason;
-  return j;
-}
 
 void energyCommand(const EnergyOptions& o) {
   const power::PowerTrace trace = power::readPowerTrace(o.trace);
@@ -59,7 +46,7 @@ void energyCommand(const EnergyOptions& o) {
   if (!o.out.empty()) {
     std::ofstream out(o.out);
     if (!out) throw Error("cannot write '" + o.out + "'");
-    for (const power::FrameEnergy& e : r.frames) out << frameJson(e).dump() << "\n";
+    for (const power::FrameEnergy& e : r.frames) out << power::frameEnergyJson(e).dump() << "\n";
   }
 
   if (o.json) {
@@ -67,21 +54,8 @@ void energyCommand(const EnergyOptions& o) {
                         {"meter", trace.meter.name},
                         {"device", trace.meter.device},
                         {"sample_kind", power::sampleKindName(trace.meter.kind)},
-                        {"samples", trace.events.size()},
-                        {"frames", t.frames},
-                        {"known_frames", t.knownFrames},
-                        {"unknown_frames", t.unknownFrames},
-                        {"joules", t.joules},
-                        {"joules_per_frame", number(t.joulesPerFrame())},
-                        {"mean_watts", number(t.meanWatts())},
-                        {"seconds", t.seconds},
-                        {"idle_watts", t.idleWatts},
-                        {"joules_above_idle", t.joulesAboveIdle},
-                        {"span_seconds", t.spanSeconds},
-                        {"span_known_seconds", t.spanKnownSeconds},
-                        {"span_joules", t.spanJoules},
-                        {"span_mean_watts", number(t.spanMeanWatts())},
-                        {"unknown_reasons", reasons}};
+                        {"samples", trace.events.size()}};
+    j.update(power::energyTotalsJson(t, reasons));
     std::cout << j.dump(2) << "\n";
     return;
   }

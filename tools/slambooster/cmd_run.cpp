@@ -27,6 +27,9 @@
 #include "mesh/ply_writer.h"
 #include "pipeline/config.h"
 #include "pipeline/pipeline.h"
+#include "report/run_report.h"
+#include "power/power_config.h"
+#include "runtime/energy_sink.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 #include "tools/slambooster/commands.h"
@@ -49,6 +52,7 @@ struct RunOptions {
   std::string initialPosition;
   size_t frames = 0;
   unsigned threads = 0;
+  std::string powerConfig;
   bool mesh = false;
   bool quiet = false;
 };
@@ -161,6 +165,16 @@ void runCommand(const RunOptions& o) {
                          "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
                              formatKnobs(runner.nextKnobs()) + " (volume frame)");
   const fs::path out(o.out);
+  EnergySink* energy = nullptr;
+  if (!o.powerConfig.empty()) {
+    if (auto sink = makeEnergySink(power::loadPowerConfig(o.powerConfig), o.out)) {
+      // The controller sees the newest known frame energy (budget mode in joules/frame needs it).
+      sink->setCallback([&runner](const power::FrameEnergy& e) {
+        if (e.known) runner.setLatestJoules(e.joules);
+      });
+      energy = static_cast<EnergySink*>(&runner.addSink(std::move(sink)));
+    }
+  }
 
   const bool progress = !o.quiet && isatty(STDERR_FILENO);
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
@@ -177,6 +191,7 @@ void runCommand(const RunOptions& o) {
   // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
   // times to other load on the machine.
   outputs.summary->setExtra("cpu_ms_per_frame", cpuMs / count);
+  if (energy) outputs.summary->setExtra("energy", energy->finish());
   outputs.summary->setExtra("complete", true);  // `slambooster bench` / dse / profile skip complete runs
 
   const Image<uint8_t> model = pipeline->renderModel(1);
@@ -208,7 +223,22 @@ void runCommand(const RunOptions& o) {
               << " cm, unaligned mean " << ate->unalignedMean * 100 << " cm (" << ate->matches << " matches)\n";
   else if (summary.contains("ate_error"))
     std::cout << "ATE not computed: " << summary["ate_error"].get<std::string>() << "\n";
+  if (energy) {
+    const nlohmann::json& e = summary["energy"];
+    std::cout << "energy (" << e["meter"].get<std::string>() << "): " << e["known_frames"] << "/" << e["frames"]
+              << " frames known";
+    if (e["joules_per_frame"].is_number())
+      std::cout << ", " << e["joules_per_frame"].get<double>() << " J/frame, " << e["mean_watts"].get<double>()
+                << " W mean";
+    std::cout << "; per frame in energy.jsonl, raw trace in power.csv\n";
+  }
   std::cout << "outputs in " << out.string() << "\n";
+  // The HTML report is a convenience: a run whose outputs are written is not failed by it.
+  try {
+    std::cout << "report " << writeRunReport(o.out).path << "\n";
+  } catch (const Error& e) {
+    std::cerr << "slambooster run: report not written: " << e.what() << "\n";
+  }
 }
 
 }  // namespace
@@ -230,6 +260,9 @@ void addRunCommand(CLI::App& app) {
                   "First camera position as fractions of the volume side: fx,fy,fz");
   sub->add_option("--frames", options->frames, "Process at most this many frames (0 = all)");
   sub->add_option("--threads", options->threads, "Worker threads (0 = all cores)");
+  sub->add_option("--power", options->powerConfig,
+                  "Power meter config (config/power.json keys): joules per frame in energy.jsonl and the summary,\n"
+                  "raw trace in power.csv (meter \"none\": no energy accounting)");
   sub->add_flag("--mesh", options->mesh, "Also write mesh.ply (marching cubes of the final volume)");
   sub->add_flag("--quiet", options->quiet, "No progress bar");
   sub->callback([options] { runCommand(*options); });
