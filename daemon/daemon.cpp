@@ -8,6 +8,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 
@@ -21,6 +22,9 @@
 #include "daemon/source_registry.h"
 #include "daemon/systemd_notify.h"
 #include "daemon/unix_socket.h"
+#include "power/energy_json.h"
+#include "power/meter_registry.h"
+#include "power/power_config.h"
 
 namespace sb::daemon {
 
@@ -60,6 +64,8 @@ struct Daemon::Parts {
   std::unique_ptr<Mailbox> mailbox;
   ListeningSocket listener;
   std::unique_ptr<SocketServer> server;
+  std::unique_ptr<power::PowerSampler> sampler;  // before the worker: destroyed after it
+  std::string meterError;                        // why the configured meter is not in use
   std::unique_ptr<SlamWorker> worker;
   ControllerSettings controllerSettings;
   std::thread capture;
@@ -120,6 +126,7 @@ int Daemon::run() {
   } catch (const Error& e) {
     throw ConfigError(e.what());  // the pipeline config file or the controller settings
   }
+  startPower();
   p.listener = openListeningSocket(config_.socket.path, config_.socket.mode);
   p.server = std::make_unique<SocketServer>(p.loop, p.listener.fd.get(), config_.socket,
                                             ControlPolicy(::geteuid(), config_.socket.controlGroup), *this,
@@ -170,6 +177,44 @@ int Daemon::run() {
   p.server.reset();
   spdlog::info("stopped after {} frames; outputs in {}", s.frames, s.outputDir);
   return s.state == "failed" || !captureError.empty() ? 1 : 0;
+}
+
+void Daemon::startPower() {
+  Parts& p = *parts_;
+  if (config_.power.config.empty()) return;
+  if (config_.power.config == kDefaultPowerConfig && !std::filesystem::exists(config_.power.config)) {
+    spdlog::info("no {}: no energy accounting (power.config names the meter's settings)", kDefaultPowerConfig);
+    return;
+  }
+  power::PowerConfig pc;
+  try {
+    pc = power::loadPowerConfig(config_.power.config);
+  } catch (const Error& e) {
+    throw ConfigError(std::string("power.config: ") + e.what());
+  }
+  if (pc.meter == "none") return;
+  try {
+    std::filesystem::create_directories(config_.output.dir);
+    p.sampler = std::make_unique<power::PowerSampler>(
+        power::openMeter(pc), power::samplerOptions(pc, config_.output.dir + "/power.csv"));
+    if (pc.idleBaselineS > 0) {
+      spdlog::info("measuring idle power for {} s", pc.idleBaselineS);
+      spdlog::info("idle baseline {:.3f} W", p.sampler->measureIdle(pc.idleBaselineS));
+    }
+    p.sampler->start();
+  } catch (const std::exception& e) {
+    // SLAM without energy beats no SLAM (a robot needs its poses); STATUS and the log say why.
+    p.sampler.reset();
+    p.meterError = std::string("meter '") + pc.meter + "' not in use: " + e.what();
+    spdlog::error("{}; running without energy accounting", p.meterError);
+    return;
+  }
+  const std::string name = p.sampler->meterInfo().name;
+  spdlog::info("power meter {} on {}; raw trace {}/power.csv", name, p.sampler->meterInfo().device,
+               config_.output.dir);
+  p.worker->setPower(p.sampler.get(), [this, name](const power::FrameEnergy& e) {
+    publishEnergy(EnergyReport{e.frame, e.joules, e.meanWatts, name});
+  });
 }
 
 void Daemon::beginStop(const std::string& why) {
@@ -264,7 +309,7 @@ nlohmann::json Daemon::status() {
                       {"source", source},
                       {"controller", s.controller},
                       {"pinned", s.pinned},
-                      {"meter", "none"},
+                      {"meter", p.sampler ? p.sampler->meterInfo().name : std::string("none")},
                       {"fps", s.fps},
                       {"frames", s.frames},
                       {"tracked", s.tracked},
@@ -280,6 +325,16 @@ nlohmann::json Daemon::status() {
     if (!p.captureError.empty()) j["error"] = p.captureError;
   }
   if (!s.error.empty()) j["error"] = s.error;
+  if (!p.meterError.empty()) j["meter_error"] = p.meterError;
+  if (p.sampler) {
+    const power::MeterStatus m = p.sampler->meterStatus();
+    nlohmann::json energy = power::energyTotalsJson(p.sampler->totals(), {});
+    energy.erase("unknown_reasons");
+    energy["connected"] = m.connected;
+    energy["device"] = p.sampler->meterInfo().device;
+    if (!m.message.empty()) energy["message"] = m.message;
+    j["energy"] = energy;
+  }
   return j;
 }
 

@@ -6,8 +6,9 @@
 // Signals (blocked in every thread, read through a signalfd): SIGTERM/SIGINT finish the frame in hand, flush
 // every output and exit 0; SIGHUP re-reads the controller settings.
 //
-// Energy seam: publishEnergy() is how the power-meter ledger (power/, issue 7) delivers a frame's joules;
-// until a meter is wired in, STATUS reports "meter": "none" and no ENERGY message is sent.
+// Energy: with power.config naming a meter, a PowerSampler thread reads it; the SLAM thread hands it every
+// frame's interval and publishes each frame's joules as ENERGY (lagging POSE by up to one meter period). A
+// meter that cannot be opened leaves the daemon running without energy (STATUS "meter_error").
 
 #include <chrono>
 #include <functional>
@@ -50,6 +51,7 @@ class Daemon : public ServiceState {
   void onSignal();
   void onTimer();
   void reload();
+  void startPower();
   void beginStop(const std::string& why);
 
   DaemonConfig config_;

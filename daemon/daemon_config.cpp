@@ -93,6 +93,12 @@ void readOutput(const nlohmann::json& j, const std::string& where, OutputConfig&
     throw Error(where + ": output: 'dir' must not be empty (where trajectory.tum is written)");
 }
 
+void readPower(const nlohmann::json& j, const std::string& where, PowerRefConfig& p) {
+  JsonObjectReader r(j, where + ": power");
+  r.string("config", p.config);
+  r.finish();
+}
+
 void readSocket(const nlohmann::json& j, const std::string& where, SocketConfig& s) {
   JsonObjectReader r(j, where + ": socket");
   r.string("path", s.path);
@@ -137,6 +143,7 @@ DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string
   if (const auto* s = r.object("slam")) readSlam(*s, where, c.slam);
   if (const auto* s = r.object("output")) readOutput(*s, where, c.output);
   if (const auto* s = r.object("socket")) readSocket(*s, where, c.socket);
+  if (const auto* s = r.object("power")) readPower(*s, where, c.power);
   r.number("status_interval_s", c.statusIntervalSeconds, 0.05, 3600.0);
   r.choice("log_level", c.logLevel, {"trace", "debug", "info", "warn", "error"});
   r.finish();
@@ -214,6 +221,7 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"max_request_bytes", c.socket.maxRequestBytes},
             {"client_buffer_kib", c.socket.clientBufferBytes / 1024},
             {"client_stall_s", c.socket.clientStallSeconds}}},
+          {"power", {{"config", c.power.config}}},
           {"status_interval_s", c.statusIntervalSeconds},
           {"log_level", c.logLevel}};
 }

@@ -55,6 +55,14 @@ struct OutputConfig {
   bool modelPng = false;                     // also write model.png (the model rendered from the last pose)
 };
 
+// Where the package installs the power meter's settings. At this default path a missing file means no meter
+// (a development checkout has none); a file named explicitly must exist.
+inline constexpr const char* kDefaultPowerConfig = "/etc/slambooster/power.json";
+
+struct PowerRefConfig {
+  std::string config = kDefaultPowerConfig;  // power meter config (config/power.json keys); empty = no energy
+};
+
 struct SocketConfig {
   std::string path = "/run/slambooster/slambooster.sock";  // ignored under socket activation
   unsigned mode = 0660;                                    // permission bits of the socket file
@@ -70,6 +78,7 @@ struct DaemonConfig {
   SlamConfig slam;
   OutputConfig output;
   SocketConfig socket;
+  PowerRefConfig power;
   double statusIntervalSeconds = 1.0;  // sd_notify STATUS= updates
   std::string logLevel = "info";       // trace, debug, info, warn, error
 };

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
+#include <fstream>
 
 #include "core/error.h"
 #include "core/png_io.h"
@@ -14,6 +15,7 @@
 #include "mesh/marching_cubes.h"
 #include "mesh/ply_writer.h"
 #include "pipeline/pipeline.h"
+#include "power/energy_json.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 
@@ -82,6 +84,11 @@ SlamWorker::~SlamWorker() {
   join();
 }
 
+void SlamWorker::setPower(power::PowerSampler* sampler, EnergyPublish publish) {
+  sampler_ = sampler;
+  publishEnergy_ = std::move(publish);
+}
+
 void SlamWorker::start() {
   thread_ = std::thread([this] { run(); });
 }
@@ -146,10 +153,27 @@ void SlamWorker::runPasses() {
   std::deque<Clock::time_point> recent;
   double computationSum = 0.0;
   auto lastFlush = Clock::now();
+  std::ofstream energyLog;  // energy.jsonl of the pass (with a meter); results of a frame may land in the next pass's
+  std::string energyPath;
+
+  const auto flushEnergy = [&] {
+    if (!energyLog.is_open()) return;
+    energyLog.flush();
+    if (!energyLog) throw Error("writing per-frame energy log '" + energyPath + "' failed (disk full?)");
+  };
+  const auto handleEnergy = [&](const std::vector<power::FrameEnergy>& results) {
+    for (const power::FrameEnergy& e : results) {
+      if (energyLog.is_open()) energyLog << power::frameEnergyJson(e).dump() << "\n";
+      if (!e.known) continue;
+      if (runner) runner->setLatestJoules(e.joules);
+      if (publishEnergy_) publishEnergy_(e);
+    }
+  };
 
   const auto finishPass = [&] {
     if (!runner) return;
     runner->flush();
+    flushEnergy();
     if (config_.output.mesh) {
       const VolumeView view{pipeline->volumeData(), pipelineConfig_.volumeResolution,
                             pipelineConfig_.volumeSize};
@@ -191,6 +215,12 @@ void SlamWorker::runPasses() {
     addStandardOutputs(
         *runner, dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
         "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)");
+    if (sampler_) {
+      energyLog.close();
+      energyPath = (std::filesystem::path(dir) / "energy.jsonl").string();
+      energyLog.open(energyPath);
+      if (!energyLog) throw Error("cannot write per-frame energy log '" + energyPath + "' (check output.dir)");
+    }
   };
 
   while (!stop_) {
@@ -218,6 +248,10 @@ void SlamWorker::runPasses() {
     }
     const FrameRecord record = runner->step(item->frame);
     publish_(makeReport(record, pinned));
+    if (sampler_) {
+      sampler_->addFrame({record.result.frame, record.startMonoNs, record.endMonoNs});
+      handleEnergy(sampler_->takeResults());
+    }
     const auto now = Clock::now();
     recent.push_back(now);
     if (recent.size() > kFpsWindow) recent.pop_front();
@@ -235,9 +269,12 @@ void SlamWorker::runPasses() {
     }
     if (now - lastFlush > kFlushInterval) {
       runner->flush();
+      flushEnergy();
       lastFlush = now;
     }
   }
+  // The energy of the last frames needs the samples after their end: waits up to the sampler's drain timeout.
+  if (sampler_) handleEnergy(sampler_->stop());
   finishPass();
 }
 

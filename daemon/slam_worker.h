@@ -22,6 +22,7 @@
 #include "daemon/knob_pins.h"
 #include "daemon/protocol.h"
 #include "pipeline/config.h"
+#include "power/power_sampler.h"
 
 namespace sb::daemon {
 
@@ -49,6 +50,7 @@ class SlamWorker {
  public:
   using Publish = std::function<void(FrameReport)>;  // called on the SLAM thread; must not block
   using Finished = std::function<void()>;            // called on the SLAM thread as it exits
+  using EnergyPublish = std::function<void(const power::FrameEnergy&)>;
 
   // Validates the pipeline config (file + sequence hints) and the controller settings. Throws sb::Error.
   SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence, FrameQueue& queue, Publish publish,
@@ -56,6 +58,11 @@ class SlamWorker {
   ~SlamWorker();  // joins
   SlamWorker(const SlamWorker&) = delete;
   SlamWorker& operator=(const SlamWorker&) = delete;
+
+  // Before start(): feed every frame's interval to `sampler` (owned by the caller, started, outliving the
+  // worker), log its per-frame results to energy.jsonl of the pass, pass known joules to the controller and to
+  // `publish` (called on the SLAM thread; must not block). At the end the worker stops the sampler.
+  void setPower(power::PowerSampler* sampler, EnergyPublish publish);
 
   void start();
   void requestStop() { stop_ = true; }
@@ -79,6 +86,8 @@ class SlamWorker {
   FrameQueue& queue_;
   Publish publish_;
   Finished finished_;
+  power::PowerSampler* sampler_ = nullptr;
+  EnergyPublish publishEnergy_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 

@@ -75,8 +75,8 @@ int watch(const Options& o) {
     }
     print(o, *m);
     const std::string cls = m->value("class", "");
-    // --count counts frames: POSE, or KNOBS when poses are not watched.
-    if (cls == (o.noPose ? "KNOBS" : "POSE")) ++frames;
+    // --count counts frames: POSE, or KNOBS when poses are not watched, or ENERGY when only energy is.
+    if (cls == (!o.noPose ? "POSE" : !o.noKnobs ? "KNOBS" : "ENERGY")) ++frames;
   }
   return 0;
 }
@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
   app.add_option("--timeout", o.timeout, "Seconds to wait for a reply")->capture_default_str();
   app.require_subcommand(1);
   auto* watchCmd = app.add_subcommand("watch", "Stream POSE, KNOBS and ENERGY as frames are processed");
-  watchCmd->add_option("--count", o.count, "Stop after this many frames (0 = until the daemon stops)");
+  watchCmd->add_option("--count", o.count, "Stop after this many frames: POSE messages, or KNOBS without POSE, or ENERGY alone (0 = until the daemon stops)");
   watchCmd->add_flag("--no-pose", o.noPose, "Do not stream POSE");
   watchCmd->add_flag("--no-knobs", o.noKnobs, "Do not stream KNOBS");
   watchCmd->add_flag("--no-energy", o.noEnergy, "Do not stream ENERGY");
