@@ -140,7 +140,9 @@ void addEnergySection(HtmlPage& page, const RunData& run) {
   const bool joules = f.hasColumn(f.joules), power = f.hasColumn(f.powerW);
   page.heading(2, "Energy", "energy");
   if (!joules && !power) {
-    page.paragraph("No power meter was used for this run (frames.jsonl has no \"joules\" or \"power_w\").", "muted");
+    page.paragraph("No power meter was used for this run (no energy.jsonl, and frames.jsonl has no \"joules\" or "
+                   "\"power_w\").",
+                   "muted");
     return;
   }
   if (joules) {

@@ -85,7 +85,7 @@ void comparisonTable(HtmlPage& page, const RunData& a, const RunData& b) {
       {"process CPU (ms/frame)", "cpu_ms_per_frame", {"cpu_ms_per_frame"}, 1},
       {"ATE RMSE (cm)", "ate_rmse_cm", {"ate", "rmse_m"}, 100},
       {"unaligned mean (cm)", "unaligned_mean_cm", {"ate", "unaligned_mean_m"}, 100},
-      {"energy (J/frame)", "joules_per_frame", {"joules_per_frame"}, 1},
+      {"energy (J/frame)", "joules_per_frame", {"energy", "joules_per_frame"}, 1},
   };
   Table t{{"measure", a.label, b.label, b.label + " / " + a.label}, {}};
   for (const auto& m : measures) {

@@ -1,7 +1,10 @@
 #include "report/run_data.h"
 
 #include <filesystem>
+#include <cmath>
 #include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
 
 #include "core/error.h"
 
@@ -33,6 +36,35 @@ void loadSummary(RunData& run) {
 }
 
 // The ground truth: the explicit path, else groundtruth.txt in the summary's sequence directory.
+// energy.jsonl (written by `slambooster run --power` and the daemon; lines resolve later than their frames):
+// its joules and mean power go into the frame log's columns for the frames it names. Damaged lines are
+// problems, not failures.
+void mergeEnergyLog(RunData& run, const fs::path& path) {
+  std::ifstream in(path);
+  std::map<int64_t, std::pair<double, double>> energy;  // frame -> joules, mean W (NaN when unknown)
+  size_t lineNumber = 0, bad = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++lineNumber;
+    if (line.empty()) continue;
+    const nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
+    if (j.is_discarded() || !j.is_object() || !j.contains("frame") || !j["frame"].is_number_integer()) {
+      if (bad++ == 0) run.problems.push_back("'" + path.string() + "' line " + std::to_string(lineNumber) + " is not an energy record");
+      continue;
+    }
+    const auto num = [&](const char* key) {
+      return j.contains(key) && j[key].is_number() ? j[key].get<double>() : std::nan("");
+    };
+    energy[j["frame"].get<int64_t>()] = {num("joules"), num("mean_watts")};
+  }
+  FrameLog& f = run.frames;
+  for (size_t i = 0; i < f.frame.size(); ++i) {
+    const auto it = energy.find(static_cast<int64_t>(f.frame[i]));
+    if (it == energy.end()) continue;
+    if (i < f.joules.size()) f.joules[i] = it->second.first;
+    if (i < f.powerW.size()) f.powerW[i] = it->second.second;
+  }
+}
+
 void findGroundTruth(RunData& run, const RunLoadOptions& options) {
   std::string path = options.groundTruth;
   if (path.empty()) {
@@ -91,6 +123,7 @@ RunData loadRun(const std::string& dir, const RunLoadOptions& options) {
   } else {
     run.problems.push_back("'" + (base / "frames.jsonl").string() + "' is missing (no per-frame plots)");
   }
+  if (isFile(base / "energy.jsonl")) mergeEnergyLog(run, base / "energy.jsonl");
   if (isFile(base / "trajectory.tum")) {
     try {
       run.trajectory = readTumTrajectory((base / "trajectory.tum").string());

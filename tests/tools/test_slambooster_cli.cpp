@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -213,6 +214,10 @@ TEST_CASE("run --power accounts joules per frame that offline re-accounting repr
   CHECK(summary.at("joules").get<double>() == Approx(sum).epsilon(1e-12));
   CHECK(summary.at("mean_watts").get<double>() == Approx(kWatts).epsilon(1e-9));
   CHECK(fs::file_size(out + "/power.csv") > 0);
+  // The run's report plots the energy from energy.jsonl.
+  std::ifstream reportFile(out + "/report.html");
+  const std::string report((std::istreambuf_iterator<char>(reportFile)), std::istreambuf_iterator<char>());
+  CHECK_THAT(report, Catch::Contains("Energy per frame") && !Catch::Contains("No power meter was used"));
 
   // The trace and frame log written by the run re-account to the same joules offline.
   const auto offline =
