@@ -83,8 +83,15 @@ SB_INLINE float sbExp(float v) {
   memcpy(&scale, &bits, sizeof scale);
   return p * scale;
 }
-SB_INLINE float sbFloor(float v) { return floorf(v); }
 SB_INLINE float sbFabs(float v) { return fabsf(v); }
+// floor without the libm call (baseline x86-64 and ARMv7 have no rounding instruction): truncation corrected
+// for negative non-integers; |v| >= 2^23 is already an integer (and NaN passes through). Equal to floorf
+// except that -0 gives +0.
+SB_INLINE float sbFloor(float v) {
+  if (!(sbFabs(v) < 8388608.0f)) return v;
+  const float t = (float)(int)v;
+  return t > v ? t - 1.0f : t;
+}
 SB_INLINE float sbFmin(float a, float b) { return a < b ? a : b; }
 SB_INLINE float sbFmax(float a, float b) { return a > b ? a : b; }
 SB_INLINE float sbDot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }

@@ -4,6 +4,10 @@
 
 #include "kernels/volume.h"
 
+// Samples of the march within this fraction of the small step before the end of a skipped box are still taken
+// (the box's exit is computed in float; the interpolation is continuous, so this only costs a sample).
+#define SB_SKIP_MARGIN 1e-3f
+
 // Empty-space skipping. `blockFlags` holds one byte per block of (1 << SB_BLOCK_SHIFT)^3 voxels, non-zero when
 // some voxel of the block stores a tsdf below +1. When every voxel that the trilinear interpolation at `pos`
 // reads lies in blocks without surface, the interpolation is exactly +1 there and stays so while the ray
@@ -37,17 +41,51 @@ SB_INLINE float sbSkipTo(SB_GLOBAL const unsigned char* blockFlags, int shift, i
   return exitT;
 }
 
-// raycast: pixel (x, y) of an image with intrinsics k seen from `cameraToWorld`. The ray parameter t is the
-// depth along the camera's z axis (metres), marched from nearPlane to farPlane (clipped to the volume) with
-// `largeStep` until the tsdf falls below `smallStepBelow`, then with `smallStep`; the zero crossing is
-// interpolated linearly. `blockFlags` and `superFlags` (see sbSkipTo; blocks of SB_BLOCK_SHIFT and
-// SB_SUPER_SHIFT) may be 0: no empty-space skipping at that level. Writes the surface point and unit normal (volume frame) or vertex 0 and an invalid
-// normal.
-SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
-                       SB_GLOBAL const short* volume, int resolution, float size,
-                       SB_GLOBAL const unsigned char* blockFlags, SB_GLOBAL const unsigned char* superFlags,
-                       SbMat34 cameraToWorld, SbCamera k, float nearPlane,
-                       float farPlane, float largeStep, float smallStep, float smallStepBelow, int x, int y) {
+// Empty-space skipping by block distance (the CPU backend's structure): `blockDistance` holds one byte per
+// block of (1 << shift)^3 voxels, the Chebyshev distance in blocks to the nearest block that has surface,
+// where a block "has surface" when a voxel of it or of the first voxel layer of its upper neighbours (voxels
+// B*b .. B*b + B per axis, B = 1 << shift) stores a tsdf below the small-step threshold. `s` is the sample in
+// voxel coordinates (pos * R / size - 0.5: the trilinear interpolation reads voxels floor(s) and floor(s) + 1
+// per axis); the ray is s(t) = sOrigin + t * sDirection, sInverse its componentwise inverse (0 where the
+// direction is 0). With d >= 1 for the block b of floor(s), no block within d - 1 of b has surface, so while
+// s stays in [B(b - d + 1), B(b + d)) on each axis the interpolation stays at or above the threshold: no
+// sample there ends the march or changes its step. Returns the ray parameter where s leaves that
+// box, or -1 when the block has surface or s is outside [0, R - 1).
+SB_INLINE float sbSkipByDistance(SB_GLOBAL const unsigned char* blockDistance, int resolution, int shift,
+                                 float3 s, float3 sOrigin, float3 sInverse) {
+  const float last = (float)(resolution - 1);
+  if (!(s.x >= 0.0f && s.y >= 0.0f && s.z >= 0.0f && s.x < last && s.y < last && s.z < last)) return -1.0f;
+  const int bx = (int)s.x >> shift;
+  const int by = (int)s.y >> shift;
+  const int bz = (int)s.z >> shift;
+  const int blocksPerSide = resolution >> shift;
+  const int d = blockDistance[bx + by * blocksPerSide + bz * blocksPerSide * blocksPerSide];
+  if (d == 0) return -1.0f;
+  const float blockVoxels = (float)(1 << shift);
+  const float tx =
+      sInverse.x > 0.0f
+          ? ((float)(bx + d) * blockVoxels - sOrigin.x) * sInverse.x
+          : (sInverse.x < 0.0f ? ((float)(bx - d + 1) * blockVoxels - sOrigin.x) * sInverse.x : 1e30f);
+  const float ty =
+      sInverse.y > 0.0f
+          ? ((float)(by + d) * blockVoxels - sOrigin.y) * sInverse.y
+          : (sInverse.y < 0.0f ? ((float)(by - d + 1) * blockVoxels - sOrigin.y) * sInverse.y : 1e30f);
+  const float tz =
+      sInverse.z > 0.0f
+          ? ((float)(bz + d) * blockVoxels - sOrigin.z) * sInverse.z
+          : (sInverse.z < 0.0f ? ((float)(bz - d + 1) * blockVoxels - sOrigin.z) * sInverse.z : 1e30f);
+  return sbFmin(tx, sbFmin(ty, tz));
+}
+
+// The march of one ray (see raycast), with empty-space skipping by `blockDistance` when it is not 0, else by
+// `blockFlags` / `superFlags` when they are not 0, else none.
+SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
+                              SB_GLOBAL const short* volume, int resolution, float size,
+                              SB_GLOBAL const unsigned char* blockDistance, int distanceShift,
+                              SB_GLOBAL const unsigned char* blockFlags,
+                              SB_GLOBAL const unsigned char* superFlags, SbMat34 cameraToWorld, SbCamera k,
+                              float nearPlane, float farPlane, float largeStep, float smallStep,
+                              float smallStepBelow, int x, int y) {
   const int index = y * width + x;
   const float3 origin = sbMakeFloat3(cameraToWorld.m[3], cameraToWorld.m[7], cameraToWorld.m[11]);
   const float3 direction = sbRotate(cameraToWorld, sbMakeFloat3(((float)x - k.cx) / k.fx, ((float)y - k.cy) / k.fy, 1.0f));
@@ -66,35 +104,68 @@ SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNor
       tExit = -1.0f;
     }
   }
+  // The ray in voxel coordinates, for sbSkipByDistance.
+  const float scale = (float)resolution / size;
+  const float3 sOrigin = origin * scale - sbMakeFloat3(0.5f, 0.5f, 0.5f);
+  const float3 sDirection = direction * scale;
+  const float3 sInverse = sbMakeFloat3(sDirection.x != 0.0f ? 1.0f / sDirection.x : 0.0f,
+                                       sDirection.y != 0.0f ? 1.0f / sDirection.y : 0.0f,
+                                       sDirection.z != 0.0f ? 1.0f / sDirection.z : 0.0f);
   float3 vertex = sbMakeFloat3(0.0f, 0.0f, 0.0f);
   float3 normal = sbMakeFloat3(SB_INVALID_NORMAL, 0.0f, 0.0f);
   if (tEnter < tExit) {
-    float t = tEnter;
+    // Samples lie on a fixed grid, t = tBase + n * step: tEnter + n * largeStep, then from the first sample
+    // below smallStepBelow on, that sample + n * smallStep. Skipping only leaves out samples of that grid
+    // that lie where the interpolated tsdf is >= smallStepBelow (they would neither end the march nor change
+    // the step), so the result does not depend on the skipping structure, nor on whether there is one.
+    float tBase = tEnter;
+    int n = 0;
     float step = largeStep;
+    int smallSteps = 0;  // the step is smallStep
+    float t = tEnter;
     float fPrevious = sbInterpolateTsdf(volume, resolution, size, origin + direction * t);
     float fCurrent = fPrevious;
-    int first = 1;  // the first sample is at tEnter, already interpolated
+    int first = 1;            // the first sample is at tEnter, already interpolated
+    int previousSkipped = 0;  // the sample before the current one was left out (fPrevious is not its value)
     if (fPrevious > 0.0f) {
-      for (; t < tExit; t += step) {
+      while (t < tExit) {
         const float3 pos = origin + direction * t;
-        if (blockFlags != 0) {
-          float skipTo = -1.0f;
+        float skipTo = -1.0f;
+        if (blockDistance != 0) {
+          skipTo = sbSkipByDistance(blockDistance, resolution, distanceShift, sOrigin + sDirection * t,
+                                    sOrigin, sInverse);
+        } else if (blockFlags != 0) {
           if (superFlags != 0) skipTo = sbSkipTo(superFlags, SB_SUPER_SHIFT, resolution, size, origin, direction, pos);
           if (skipTo <= t) skipTo = sbSkipTo(blockFlags, SB_BLOCK_SHIFT, resolution, size, origin, direction, pos);
-          if (skipTo > t) {
-            // The tsdf is +1 up to skipTo: continue just past it.
-            t = sbFmax(t, skipTo + 1e-3f * smallStep - step);
-            fPrevious = 1.0f;
-            fCurrent = 1.0f;
-            first = 0;
-            continue;
-          }
         }
-        fCurrent = first ? fPrevious : sbInterpolateTsdf(volume, resolution, size, pos);
-        first = 0;
-        if (fCurrent < 0.0f) break;
-        if (fCurrent < smallStepBelow) step = smallStep;
-        fPrevious = fCurrent;
+        if (skipTo > t) {
+          // Continue at the first grid sample past skipTo (less a rounding margin: a sample within it is
+          // taken).
+          const float skipEnd = sbFmin(skipTo, tExit) - SB_SKIP_MARGIN * smallStep;
+          const int next = (int)sbFloor((skipEnd - tBase) / step) + 1;
+          n = next > n + 1 ? next : n + 1;
+          previousSkipped = 1;
+          first = 0;
+        } else {
+          fCurrent = first ? fPrevious : sbInterpolateTsdf(volume, resolution, size, pos);
+          first = 0;
+          if (fCurrent < 0.0f) {
+            if (previousSkipped)
+              fPrevious = sbInterpolateTsdf(volume, resolution, size,
+                                            origin + direction * (tBase + (float)(n - 1) * step));
+            break;
+          }
+          if (fCurrent < smallStepBelow && !smallSteps) {
+            smallSteps = 1;
+            step = smallStep;
+            tBase = t;
+            n = 0;
+          }
+          fPrevious = fCurrent;
+          previousSkipped = 0;
+          ++n;
+        }
+        t = tBase + (float)n * step;
       }
       if (fCurrent < 0.0f) {
         t = t + step * fCurrent / (fPrevious - fCurrent);
@@ -110,6 +181,22 @@ SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNor
   }
   SB_STORE_MAP3(vertex, outVertex, index);
   SB_STORE_MAP3(normal, outNormal, index);
+}
+
+// raycast: pixel (x, y) of an image with intrinsics k seen from `cameraToWorld`. The ray parameter t is the
+// depth along the camera's z axis (metres), marched from nearPlane to farPlane (clipped to the volume) with
+// `largeStep` until the tsdf falls below `smallStepBelow`, then with `smallStep`; the zero crossing is
+// interpolated linearly. `blockFlags` and `superFlags` (see sbSkipTo; blocks of SB_BLOCK_SHIFT and
+// SB_SUPER_SHIFT) may be 0: no empty-space skipping at that level. Skipping leaves the result unchanged (see
+// sbRaycastPixel): only the number of samples differs. Writes the surface point and unit normal
+// (volume frame) or vertex 0 and an invalid normal.
+SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
+                       SB_GLOBAL const short* volume, int resolution, float size,
+                       SB_GLOBAL const unsigned char* blockFlags, SB_GLOBAL const unsigned char* superFlags,
+                       SbMat34 cameraToWorld, SbCamera k, float nearPlane, float farPlane, float largeStep,
+                       float smallStep, float smallStepBelow, int x, int y) {
+  sbRaycastPixel(outVertex, outNormal, width, volume, resolution, size, 0, 0, blockFlags, superFlags,
+                 cameraToWorld, k, nearPlane, farPlane, largeStep, smallStep, smallStepBelow, x, y);
 }
 
 // render: grey shading of raycast maps lit from `light` (volume frame, metres): 255 * clamp(ambient +

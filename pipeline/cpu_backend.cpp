@@ -7,15 +7,14 @@
 #include "kernels/preprocess.h"
 #include "kernels/raycast.h"
 #include "kernels/track.h"
+#include "pipeline/block_distance.h"
 #include "pipeline/kernel_args.h"
 
 namespace sb {
 
 namespace {
 
-constexpr int kRowsPerChunk = 8;   // image rows per parallel chunk (fixed: determinism)
-constexpr int kBlock = 1 << SB_BLOCK_SHIFT;
-constexpr int kSuper = 1 << SB_SUPER_SHIFT;
+constexpr int kRowsPerChunk = 8;  // image rows per parallel chunk (fixed: determinism)
 constexpr int kTile = 8;          // raycast tile side, pixels
 
 class StageTimer {
@@ -66,12 +65,9 @@ CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize,
     volume_[2 * i] = static_cast<int16_t>(SB_TSDF_SCALE);
     volume_[2 * i + 1] = 0;
   }
-  const int blocks = config_.volumeResolution / kBlock;
-  blockNearSurface_.assign(static_cast<size_t>(blocks) * blocks * blocks, 0);
-  if (config_.volumeResolution % kSuper == 0) {
-    const int supers = config_.volumeResolution / kSuper;
-    superNearSurface_.assign(static_cast<size_t>(supers) * supers * supers, 0);
-  }
+  const int blocks = config_.volumeResolution >> kSkipShift;
+  blockSurfaceMask_.assign(static_cast<size_t>(blocks) * blocks * blocks, 0);
+  computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_);
 }
 
 void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) {
@@ -234,49 +230,63 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
   const float maxDepth = depth_.empty() ? 0.0f : *std::max_element(depth_.begin(), depth_.end());
   const double zLimit = maxDepth + config_.mu;  // farther voxels cannot be within the truncation band
   const float3 step = sbRotate(w2c, sbMakeFloat3(voxel, 0.0f, 0.0f));
-  const int blocks = res / kBlock;
+  const int blocks = res >> kSkipShift;
   const float mu = config_.mu;
   const int maxWeight = config_.maxWeight;
   int16_t* vol = volume_.data();
   const float* depth = depth_.data();
-  // One chunk per z-slab of blocks, so each block's flag is written by one thread only.
+  // Empty-space skipping masks (block_distance.h) of the voxels below the raycast's small-step threshold,
+  // recomputed for every block whose voxels this integration all visited, or-ed into the old mask for the
+  // others.
+  const int16_t flagBelow = static_cast<int16_t>(std::ceil(config_.raycastSmallStepBelow * SB_TSDF_SCALE));
+  constexpr int kSide = 1 << kSkipShift;
+  constexpr int kBlockVoxels = kSide * kSide * kSide;
+  uint8_t maskBits[8];
+  for (int faces = 0; faces < 8; ++faces) maskBits[faces] = surfaceMaskBits(faces);
+  // One chunk per z-slab of blocks, so each block's mask is written by one thread only.
   pool_.parallelFor(0, blocks, 1, [&](int, int bz0, int bz1) {
-    for (int z = bz0 * kBlock; z < bz1 * kBlock; ++z) {
-      for (int y = 0; y < res; ++y) {
-        const float3 base = sbTransform(w2c, sbMakeFloat3(0.5f * voxel, (y + 0.5f) * voxel, (z + 0.5f) * voxel));
-        // Conservative x-range of the row inside the view frustum and in front of zLimit; the per-voxel
-        // checks in integrateVoxel stay exact.
-        double lo = 0, hi = res - 1;
-        clipLinear(base.z - SB_MIN_PROJECTION_DEPTH, step.z, lo, hi);
-        clipLinear(zLimit - base.z, -step.z, lo, hi);
-        clipLinear(k.fx * base.x + (k.cx + 0.5) * base.z, k.fx * step.x + (k.cx + 0.5) * step.z, lo, hi);
-        clipLinear(-(k.fx * base.x + (k.cx + 0.5 - w) * base.z), -(k.fx * step.x + (k.cx + 0.5 - w) * step.z), lo, hi);
-        clipLinear(k.fy * base.y + (k.cy + 0.5) * base.z, k.fy * step.y + (k.cy + 0.5) * step.z, lo, hi);
-        clipLinear(-(k.fy * base.y + (k.cy + 0.5 - h) * base.z), -(k.fy * step.y + (k.cy + 0.5 - h) * step.z), lo, hi);
-        if (hi < lo) continue;
-        const int x0 = std::max(0, static_cast<int>(std::floor(lo)) - 1);
-        const int x1 = std::min(res, static_cast<int>(std::ceil(hi)) + 2);
-        const size_t rowIndex = static_cast<size_t>(y) * res + static_cast<size_t>(z) * res * res;
-        uint8_t* flags = &blockNearSurface_[static_cast<size_t>(y / kBlock) * blocks + static_cast<size_t>(z / kBlock) * blocks * blocks];
-        for (int x = x0; x < x1; ++x) {
-          const float3 pos = base + step * static_cast<float>(x);
-          if (integrateVoxel(vol, static_cast<int>(rowIndex) + x, pos, depth, w, h, k, mu, maxWeight))
-            flags[x / kBlock] = 1;
+    std::vector<int> visited(static_cast<size_t>(blocks) * blocks);
+    std::vector<uint8_t> mask(static_cast<size_t>(blocks) * blocks);
+    for (int bz = bz0; bz < bz1; ++bz) {
+      std::fill(visited.begin(), visited.end(), 0);
+      std::fill(mask.begin(), mask.end(), 0);
+      for (int z = bz * kSide; z < (bz + 1) * kSide; ++z) {
+        for (int y = 0; y < res; ++y) {
+          const float3 base =
+              sbTransform(w2c, sbMakeFloat3(0.5f * voxel, (y + 0.5f) * voxel, (z + 0.5f) * voxel));
+          // Conservative x-range of the row inside the view frustum and in front of zLimit; the per-voxel
+          // checks in integrateVoxel stay exact.
+          double lo = 0, hi = res - 1;
+          clipLinear(base.z - SB_MIN_PROJECTION_DEPTH, step.z, lo, hi);
+          clipLinear(zLimit - base.z, -step.z, lo, hi);
+          clipLinear(k.fx * base.x + (k.cx + 0.5) * base.z, k.fx * step.x + (k.cx + 0.5) * step.z, lo, hi);
+          clipLinear(-(k.fx * base.x + (k.cx + 0.5 - w) * base.z),
+                     -(k.fx * step.x + (k.cx + 0.5 - w) * step.z), lo, hi);
+          clipLinear(k.fy * base.y + (k.cy + 0.5) * base.z, k.fy * step.y + (k.cy + 0.5) * step.z, lo, hi);
+          clipLinear(-(k.fy * base.y + (k.cy + 0.5 - h) * base.z),
+                     -(k.fy * step.y + (k.cy + 0.5 - h) * step.z), lo, hi);
+          if (hi < lo) continue;
+          const int x0 = std::max(0, static_cast<int>(std::floor(lo)) - 1);
+          const int x1 = std::min(res, static_cast<int>(std::ceil(hi)) + 2);
+          const size_t rowIndex = static_cast<size_t>(y) * res + static_cast<size_t>(z) * res * res;
+          const size_t blockRow = static_cast<size_t>(y >> kSkipShift) * blocks;
+          const int rowFaces = ((y & (kSide - 1)) == 0 ? 2 : 0) + ((z & (kSide - 1)) == 0 ? 4 : 0);
+          for (int x = x0; x < x1; ++x) {
+            const float3 pos = base + step * static_cast<float>(x);
+            integrateVoxel(vol, static_cast<int>(rowIndex) + x, pos, depth, w, h, k, mu, maxWeight);
+            if (vol[2 * (rowIndex + x)] < flagBelow)
+              mask[blockRow + (x >> kSkipShift)] |= maskBits[rowFaces + ((x & (kSide - 1)) == 0 ? 1 : 0)];
+          }
+          for (int bx = x0 >> kSkipShift; bx * kSide < x1; ++bx)
+            visited[blockRow + bx] += std::min(x1, (bx + 1) * kSide) - std::max(x0, bx * kSide);
         }
       }
+      uint8_t* masks = &blockSurfaceMask_[static_cast<size_t>(bz) * blocks * blocks];
+      for (size_t i = 0; i < visited.size(); ++i)
+        masks[i] = visited[i] == kBlockVoxels ? mask[i] : (masks[i] | mask[i]);
     }
   });
-  // The coarse grid: a cell has surface when one of its blocks has.
-  if (!superNearSurface_.empty()) {
-    const int ratio = kSuper / kBlock;
-    const int supers = res / kSuper;
-    for (int z = 0; z < blocks; ++z)
-      for (int y = 0; y < blocks; ++y)
-        for (int x = 0; x < blocks; ++x)
-          if (blockNearSurface_[x + static_cast<size_t>(y) * blocks + static_cast<size_t>(z) * blocks * blocks])
-            superNearSurface_[x / ratio + static_cast<size_t>(y / ratio) * supers +
-                              static_cast<size_t>(z / ratio) * supers * supers] = 1;
-  }
+  computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_);
 }
 
 void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) {
@@ -290,8 +300,7 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   const int res = config_.volumeResolution;
   const float size = config_.volumeSize;
   const int16_t* vol = volume_.data();
-  const uint8_t* flags = config_.emptySpaceSkipping ? blockNearSurface_.data() : nullptr;
-  const uint8_t* superFlags = config_.emptySpaceSkipping && !superNearSurface_.empty() ? superNearSurface_.data() : nullptr;
+  const uint8_t* distance = config_.emptySpaceSkipping ? blockDistance_.data() : nullptr;
   const float nearPlane = config_.nearPlane, farPlane = config_.farPlane;
   const float largeStep = config_.raycastLargeStep * config_.mu;
   const float smallStep = config_.raycastSmallStep * config_.voxelSize();
@@ -303,7 +312,8 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
     for (int tx = 0; tx < w; tx += kTile)
       for (int y = y0; y < y1; ++y)
         for (int x = tx; x < std::min(w, tx + kTile); ++x)
-          ::raycast(outV, outN, w, vol, res, size, flags, superFlags, pose, k, nearPlane, farPlane, largeStep, smallStep, below, x, y);
+          sbRaycastPixel(outV, outN, w, vol, res, size, distance, kSkipShift, nullptr, nullptr, pose, k,
+                         nearPlane, farPlane, largeStep, smallStep, below, x, y);
   });
 }
 

@@ -14,6 +14,10 @@ namespace sb {
 
 class CpuBackend : public ComputeBackend {
  public:
+  // log2 of the side (voxels) of the empty-space skipping blocks: 4^3 voxels, fine enough that the march
+  // enters few blocks with surface in front of the surface (measured: fewer samples per ray than 8^3 blocks).
+  static constexpr int kSkipShift = 2;
+
   // `fullSize`: intrinsics of the sensor image. `pool` is borrowed and must outlive the backend.
   CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool);
 
@@ -55,8 +59,9 @@ class CpuBackend : public ComputeBackend {
   std::vector<float> referenceVertex_, referenceNormal_;
 
   std::vector<int16_t> volume_;            // 2 * R^3: (tsdf, weight) pairs
-  std::vector<uint8_t> blockNearSurface_;  // per block: some voxel holds tsdf < +1 (empty-space skipping)
-  std::vector<uint8_t> superNearSurface_;  // the same per coarse cell (empty when R is not a multiple of it)
+  // Empty-space skipping (pipeline/block_distance.h), blocks of (1 << kSkipShift)^3 voxels:
+  std::vector<uint8_t> blockSurfaceMask_;  // per block: where its voxels below the small-step tsdf lie
+  std::vector<uint8_t> blockDistance_;     // per block: Chebyshev distance to a block with surface
 };
 
 }  // namespace sb
