@@ -19,7 +19,10 @@ std::string svgBarChart(const BarChart& chart) {
     colours.push_back(chart.groups[g].color.empty() ? paletteColour(g) : chart.groups[g].color);
     layout.legend.push_back({chart.groups[g].name, colours.back(), LegendKind::area});
   }
-  double lo = 0, hi = 0;  // bars start at zero
+  const bool limit = std::isfinite(chart.limit);
+  if (limit) layout.legend.push_back({chart.limitName, "#CC0000", LegendKind::dashed});
+  double lo = 0, hi = limit ? chart.limit : 0;  // bars start at zero
+  if (limit) lo = std::min(lo, chart.limit);
   for (const auto& g : chart.groups)
     for (double v : g.values)
       if (std::isfinite(v)) {
@@ -70,6 +73,7 @@ std::string svgBarChart(const BarChart& chart) {
       svg.text(cx, a.bottom + 15, chart.categories[c], {11, Anchor::middle});
   }
   if (a.yMin < 0) svg.line(a.left, a.py(0), a.right, a.py(0), {"#444444", 1});
+  if (limit) svg.line(a.left, a.py(chart.limit), a.right, a.py(chart.limit), {"#CC0000", 1.2, "6 4"});
   return svg.str();
 }
 

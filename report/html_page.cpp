@@ -64,7 +64,10 @@ void HtmlPage::table(const Table& t, const std::string& cssClass) {
       body_ += "<td";
       if (c.numeric) body_ += " class=\"num\"";
       if (!c.key.empty()) body_ += " data-key=\"" + escapeXml(c.key) + "\"";
-      body_ += ">" + escapeXml(c.text) + "</td>";
+      body_ += ">";
+      body_ += c.href.empty() ? escapeXml(c.text)
+                              : "<a href=\"" + escapeXml(c.href) + "\">" + escapeXml(c.text) + "</a>";
+      body_ += "</td>";
     }
     body_ += "</tr>\n";
   }

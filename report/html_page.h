@@ -11,11 +11,13 @@
 namespace sb::report {
 
 struct TableCell {
-  TableCell(std::string cellText = "", std::string dataKey = "", bool isNumeric = false)
-      : text(std::move(cellText)), key(std::move(dataKey)), numeric(isNumeric) {}
+  TableCell(std::string cellText = "", std::string dataKey = "", bool isNumeric = false,
+            std::string link = "")
+      : text(std::move(cellText)), key(std::move(dataKey)), numeric(isNumeric), href(std::move(link)) {}
   std::string text;
-  std::string key;  // when set: the cell carries data-key="key" (tests and scripts find values by it)
-  bool numeric;     // right-aligned
+  std::string key;   // when set: the cell carries data-key="key" (tests and scripts find values by it)
+  bool numeric;      // right-aligned
+  std::string href;  // when set: the text links there (e.g. a relative path to another report)
 };
 
 struct Table {

@@ -4,6 +4,7 @@
 // equal-aspect XY plots (trajectory top views). Axes carry nice-number ticks and labels; a legend sits above
 // the plot area; all text is escaped. Non-finite y values leave gaps. Documented in report/README.md.
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -68,6 +69,8 @@ struct BarChart {
   std::vector<std::string> categories;  // x-axis labels (e.g. sequence names)
   std::vector<BarGroup> groups;         // bars side by side within each category
   bool valueLabels = true;              // print each bar's value above it
+  double limit = NAN;     // a dashed red line across the chart (e.g. the 5 cm bound); NaN = none
+  std::string limitName;  // its legend entry
   Size size;
 };
 

@@ -95,6 +95,14 @@ void SvgWriter::text(double x, double y, const std::string& text, const TextStyl
   body_ += ">" + escapeXml(text) + "</text>\n";
 }
 
+void SvgWriter::embed(double x, double y, const std::string& svgElement) {
+  const std::string open = "<svg ";
+  if (svgElement.compare(0, open.size(), open) != 0)
+    throw std::invalid_argument("SvgWriter::embed: not an <svg> element: '" + svgElement.substr(0, 40) + "'");
+  body_ += "<svg x=\"" + svgNumber(x) + "\" y=\"" + svgNumber(y) + "\" " + svgElement.substr(open.size());
+  if (body_.back() != '\n') body_ += "\n";
+}
+
 void SvgWriter::beginGroup(const std::string& tooltip) {
   ++openGroups_;
   body_ += "<g>";

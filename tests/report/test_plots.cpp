@@ -11,6 +11,7 @@
 #include "report/map_difference.h"
 #include "report/plots.h"
 #include "report/png_codec.h"
+#include "report/svg_writer.h"
 #include "report/text_escape.h"
 #include "tests/report/markup_check.h"
 
@@ -144,6 +145,51 @@ TEST_CASE("bar charts draw one bar per finite value with value labels", "[report
   bool rotated = false;
   for (const auto* t : check.find("text")) rotated |= t->attributes.count("transform") > 0;
   CHECK(rotated);
+}
+
+TEST_CASE("a bar chart's limit is a dashed line inside the y range, with a legend entry", "[report]") {
+  BarChart c;
+  c.title = "ATE";
+  c.categories = {"lr0"};
+  c.groups.push_back({"SLAMBooster", {2}, ""});
+  c.limit = 5.0;
+  c.limitName = "5 cm bound";
+  const auto check = checkMarkup(svgBarChart(c));
+  REQUIRE(check.errors.empty());
+  size_t dashedLines = 0;
+  for (const auto* l : check.find("line")) dashedLines += l->attributes.count("stroke-dasharray") > 0;
+  CHECK(dashedLines == 2);  // the line and its legend swatch
+  bool legend = false;
+  for (const auto* t : check.find("text")) legend |= t->text == "5 cm bound";
+  CHECK(legend);
+  // On the bars' scale: the bar of 2 is 0.4 of the way from the axis to the line at 5.
+  double barTop = 0, barBottom = 0, limitY = 0;
+  for (const auto* r : check.find("rect"))
+    if (r->attributes.at("fill") == paletteColour(0) && std::stod(r->attributes.at("height")) > 20) {
+      barTop = std::stod(r->attributes.at("y"));
+      barBottom = barTop + std::stod(r->attributes.at("height"));
+    }
+  for (const auto* l : check.find("line"))
+    if (l->attributes.count("stroke-dasharray") && l->attributes.at("stroke") == "#CC0000")
+      limitY = std::max(limitY, std::stod(l->attributes.at("y1")));  // the legend swatch sits higher
+  REQUIRE(barBottom > barTop);
+  CHECK((barBottom - barTop) / (barBottom - limitY) == Approx(0.4).margin(0.01));
+}
+
+TEST_CASE("SvgWriter::embed nests complete plots at an offset and rejects other markup", "[report]") {
+  LinePlot p;
+  p.title = "ITE";
+  p.series.push_back({"ITE", {0, 1, 2}, {1, 2, 1}});
+  SvgWriter svg(820, 520, "stack");
+  svg.embed(0, 0, svgLinePlot(p));
+  svg.embed(0, 260, svgLinePlot(p));
+  const auto check = checkMarkup(svg.str());
+  REQUIRE(check.errors.empty());
+  const auto nested = check.find("svg");
+  REQUIRE(nested.size() == 3);  // closing order: the two plots, then the outer one
+  CHECK(nested[1]->attributes.at("y") == "260");
+  CHECK(nested[2]->attributes.count("y") == 0);
+  CHECK_THROWS_AS(svg.embed(0, 0, "<g/>"), std::invalid_argument);
 }
 
 TEST_CASE("base64 follows RFC 4648 and rejects malformed input", "[report]") {

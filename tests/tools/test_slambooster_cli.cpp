@@ -2,12 +2,16 @@
 // the trajectory, and get clear errors with exit code 1 for bad input.
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
+#include "tests/report/markup_check.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
 
@@ -30,6 +34,100 @@ size_t countLines(const std::string& path) {
   for (std::string line; std::getline(in, line);)
     if (!line.empty() && line[0] != '#') ++n;
   return n;
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  REQUIRE(in.good());
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// results.csv of bench: (sequence, controller) -> column -> value.
+std::map<std::pair<std::string, std::string>, std::map<std::string, double>> readResults(
+    const std::string& path) {
+  std::ifstream in(path);
+  std::vector<std::string> columns;
+  std::map<std::pair<std::string, std::string>, std::map<std::string, double>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> fields;
+    std::istringstream split(line);
+    for (std::string f; std::getline(split, f, ',');) fields.push_back(f);
+    if (columns.empty()) {
+      columns = fields;
+      continue;
+    }
+    REQUIRE(fields.size() == columns.size());
+    auto& row = rows[{fields[0], fields[1]}];
+    for (size_t i = 2; i < fields.size(); ++i)
+      if (columns[i] != "reference") row[columns[i]] = std::stod(fields[i]);  // "nan" reads as NaN
+  }
+  return rows;
+}
+
+// Bench's report.html: well-formed and self-contained, every number of its main table (cells keyed
+// main/<sequence>/<controller>/<column>, main/<sequence>/time_cut_percent, main/geomean/time_cut_percent) the
+// value of results.csv at the shown precision, and every link a relative path to an existing file.
+void checkBenchPage(const std::string& benchDir, size_t sequences, size_t runs) {
+  const std::string html = readText(benchDir + "/report.html");
+  const sb::test::MarkupCheck page = sb::test::checkMarkup(html);
+  for (const auto& e : page.errors) INFO(e);
+  REQUIRE(page.errors.empty());
+  CHECK(html.find("<script") == std::string::npos);
+  CHECK(page.find("img").empty());      // the figures are inline SVG
+  CHECK(page.find("svg").size() >= 4);  // time and ATE bars, ITE and csr trace
+
+  const auto csv = readResults(benchDir + "/results.csv");
+  const auto shown = [](const sb::test::MarkupElement* cell, double expected, int decimals) {
+    INFO(cell->attributes.at("data-key") << " = '" << cell->text << "', results.csv " << expected);
+    if (!std::isfinite(expected)) {
+      CHECK(cell->text == "-");
+      return;
+    }
+    CHECK(std::abs(std::stod(cell->text) - expected) <= 0.5 * std::pow(10.0, -decimals) + 1e-3);
+  };
+  size_t checked = 0;
+  double logRatio = 0;
+  int pairs = 0;
+  for (const auto* td : page.find("td")) {
+    const auto key = td->attributes.find("data-key");
+    if (key == td->attributes.end() || key->second.rfind("main/", 0) != 0) continue;
+    std::vector<std::string> parts;
+    std::istringstream split(key->second);
+    for (std::string p; std::getline(split, p, '/');) parts.push_back(p);
+    ++checked;
+    if (parts.size() == 4) {
+      const auto& row = csv.at({parts[1], parts[2]});
+      const std::string& column = parts[3];
+      if (column == "ate_rmse_cm")
+        shown(td, row.at("ate_rmse_m") * 100, 2);
+      else
+        shown(td, row.at(column), column == "frames" ? 0 : 1);
+    } else {
+      REQUIRE(parts.size() == 3);
+      CHECK(parts[2] == "time_cut_percent");
+      if (parts[1] == "geomean") {
+        shown(td, 100.0 * (1.0 - std::exp(logRatio / pairs)), 1);
+        continue;
+      }
+      const double d = csv.at({parts[1], "default"}).at("computation_ms_per_frame");
+      const double b = csv.at({parts[1], "slambooster"}).at("computation_ms_per_frame");
+      shown(td, 100.0 * (1.0 - b / d), 1);
+      logRatio += std::log(b / d);
+      ++pairs;
+    }
+  }
+  CHECK(checked == 8 * sequences + 1);  // per sequence: 7 numbers and the time cut; the geomean
+
+  size_t runReports = 0;
+  for (const auto* a : page.find("a")) {
+    const std::string& href = a->attributes.at("href");
+    INFO(href);
+    CHECK(href.find(':') == std::string::npos);  // no scheme: nothing fetched, nothing absolute
+    CHECK(href.front() != '/');
+    CHECK(fs::is_regular_file(fs::path(benchDir) / href));
+    runReports += fs::path(href).filename() == "report.html";
+  }
+  CHECK(runReports == runs);
 }
 
 }  // namespace
@@ -146,6 +244,7 @@ TEST_CASE("bench and dse run their matrix once, resume, and write their tables",
     CHECK(fs::file_size(fs::path(dir) / "bench" / f) > 0);
   }
   CHECK(readJson(dir + "/bench/runs/seq/slambooster/summary.json").at("controller") == "slambooster");
+  checkBenchPage(dir + "/bench", 1, 3);
   // Resumed: nothing runs again.
   const auto again = runCommand(bench);
   REQUIRE(again.exitCode == 0);
