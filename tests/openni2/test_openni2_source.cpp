@@ -1,6 +1,8 @@
 // OpenNI2Source end to end through the real libOpenNI2 runtime and the project's test camera driver
 // (test_camera_driver.cpp, loaded from the build tree's driver repository; see CMakeLists.txt).
 
+#include <algorithm>
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cmath>
@@ -227,15 +229,19 @@ TEST_CASE("openni2: an unplugged camera is reported lost and reopened with backo
   CHECK(s.lastError.empty());
   // Frames before and after: timestamps keep increasing across the reconnect (the device clock restarted),
   // with the outage between frames 9 and 10; the images are the room where the camera went on.
+  // The gap lies near frame 10 but not always exactly there: on a loaded machine a device frame just before
+  // the unplug can be lost (counted as a device drop), which moves the gap one frame earlier.
   int gaps = 0;
+  double longest = 0.0;
   for (size_t i = 1; i < frames.size(); ++i) {
     const double dt = frames[i].timestamp - frames[i - 1].timestamp;
     CHECK(dt > 0);
     gaps += dt > 0.3;
+    longest = std::max(longest, dt);
     CHECK(frames[i].index == i);
   }
   CHECK(gaps == 1);
-  CHECK(frames[10].timestamp - frames[9].timestamp > 0.35);
+  CHECK(longest > 0.35);
   for (const auto& f : frames) CHECK(mismatches(f, shotOf(f)) == 0);
 }
 
