@@ -35,29 +35,33 @@ inline uint8_t surfaceMaskBits(int faces) {
 inline void computeBlockDistance(const std::vector<uint8_t>& masks, int n, std::vector<uint8_t>& distance) {
   const size_t nn = static_cast<size_t>(n) * n;
   distance.resize(nn * n);
+  // Seeds, a row at a time: bit c of the mask of block (x, y, z) + c, for the c whose block exists.
+  std::vector<uint8_t> surface(static_cast<size_t>(n));
   for (int z = 0; z < n; ++z) {
     for (int y = 0; y < n; ++y) {
-      uint8_t* row = &distance[static_cast<size_t>(y) * n + z * nn];
-      for (int x = 0; x < n; ++x) {
-        bool surface = false;
-        for (int c = 0; c < 8; ++c) {
-          const int qx = x + (c & 1), qy = y + ((c >> 1) & 1), qz = z + (c >> 2);
-          if (qx < n && qy < n && qz < n && (masks[qx + static_cast<size_t>(qy) * n + qz * nn] >> c) & 1u)
-            surface = true;
-        }
-        row[x] = surface ? 0 : kNoSurfaceDistance;
+      std::fill(surface.begin(), surface.end(), 0);
+      for (int c = 0; c < 8; ++c) {
+        const int cx = c & 1, qy = y + ((c >> 1) & 1), qz = z + (c >> 2);
+        if (qy >= n || qz >= n) continue;
+        const uint8_t* m = &masks[static_cast<size_t>(qy) * n + qz * nn] + cx;
+        for (int x = 0; x < n - cx; ++x) surface[x] |= static_cast<uint8_t>((m[x] >> c) & 1u);
       }
+      uint8_t* row = &distance[static_cast<size_t>(y) * n + z * nn];
+      for (int x = 0; x < n; ++x) row[x] = surface[x] ? 0 : kNoSurfaceDistance;
     }
   }
-  // row = min(row, other + 1) over the three x-neighbours (-1, 0, +1) of `other`, saturating at 255.
+  // row = min(row, other + 1) over the three x-neighbours (-1, 0, +1) of `other`, saturating at 255; the
+  // interior without bound checks so that it vectorises.
+  const auto plusOne = [](uint8_t m) { return static_cast<uint8_t>(m + (m < kNoSurfaceDistance ? 1 : 0)); };
   const auto relax = [&](uint8_t* row, const uint8_t* other) {
-    for (int x = 0; x < n; ++x) {
-      uint8_t m = other[x];
-      if (x > 0) m = std::min(m, other[x - 1]);
-      if (x + 1 < n) m = std::min(m, other[x + 1]);
-      const uint8_t next = static_cast<uint8_t>(m + (m < kNoSurfaceDistance ? 1 : 0));
-      row[x] = std::min(row[x], next);
+    if (n == 1) {
+      row[0] = std::min(row[0], plusOne(other[0]));
+      return;
     }
+    row[0] = std::min(row[0], plusOne(std::min(other[0], other[1])));
+    for (int x = 1; x < n - 1; ++x)
+      row[x] = std::min(row[x], plusOne(std::min(other[x - 1], std::min(other[x], other[x + 1]))));
+    row[n - 1] = std::min(row[n - 1], plusOne(std::min(other[n - 2], other[n - 1])));
   };
   // Forwards: neighbours in the previous slice (rows y-1, y, y+1) and the previous row, then x-1 in order.
   for (int z = 0; z < n; ++z) {
