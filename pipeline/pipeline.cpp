@@ -134,4 +134,11 @@ Image<uint8_t> Pipeline::renderModel(int csr) {
   return backend_->render(pose_.translation().cast<float>(), times);
 }
 
+Image<uint8_t> Pipeline::renderModel(const Eigen::Isometry3d& T_camera_to_world, int csr) {
+  StageTimes times;
+  backend_->raycast(T_camera_to_world.cast<float>(), csr, times);
+  referenceStale_ = true;  // the maps no longer show referencePose_
+  return backend_->render(T_camera_to_world.translation().cast<float>(), times);
+}
+
 }  // namespace sb

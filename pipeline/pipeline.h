@@ -66,6 +66,9 @@ class Pipeline {
 
   // A shaded image of the model seen from the current pose at full size / csr (raycast + render).
   Image<uint8_t> renderModel(int csr = 1);
+  // The same from any camera pose (volume frame, camera looking along its +z, y down). The reference maps
+  // then show that view, so the next frame raycasts them again from its own reference pose before tracking.
+  Image<uint8_t> renderModel(const Eigen::Isometry3d& T_camera_to_world, int csr = 1);
   // The volume (2 * R^3 int16 pairs, layout in kernels/volume.h), valid until the next call.
   const int16_t* volumeData() { return backend_->volumeData(); }
   ComputeBackend& backend() { return *backend_; }

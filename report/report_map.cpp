@@ -100,14 +100,25 @@ void comparisonTable(HtmlPage& page, const RunData& a, const RunData& b) {
   page.table(t, "comparison");
 }
 
+// The viewpoint of model.png as summary.json's "model_view" names it (`run --model-view`; absent = last).
+bool overviewMap(const RunData& run) {
+  return run.summary && run.summary->value("model_view", std::string("last")) == "overview";
+}
+
+std::string viewpoint(const RunData& run) {
+  return overviewMap(run) ? "the overview viewpoint (above and behind the volume centre)"
+                          : "the last camera pose";
+}
+
 }  // namespace
 
 void addMapSection(HtmlPage& page, const RunData& run, const std::string& reportDir) {
   page.heading(2, "Map", "map");
   if (auto map = loadMap(page, run))
     page.image(map->png, "rendered model of " + run.label,
-               "Shaded raycast of the final model from the last camera pose (" + std::to_string(map->grey.width()) +
-                   " x " + std::to_string(map->grey.height()) + " px, model.png).");
+               "Shaded raycast of the final model from " + viewpoint(run) + " (" +
+                   std::to_string(map->grey.width()) + " x " + std::to_string(map->grey.height()) +
+                   " px, model.png).");
   if (run.meshPath.empty()) {
     page.paragraph("No mesh: run with --mesh to write mesh.ply.", "muted");
     return;
@@ -150,8 +161,12 @@ void addComparisonSection(HtmlPage& page, const RunData& a, const RunData& b) {
   }
   page.row(items);
   if (!stats.empty()) page.paragraph(stats);
-  page.paragraph("Each map is rendered from its own run's last camera pose, so a pose difference between the runs "
-                 "also shows up as a shading difference.", "muted");
+  const bool sameView = overviewMap(a) && overviewMap(b);
+  page.paragraph(
+      sameView ? "Both maps are rendered from the same overview viewpoint: the differences are the models'."
+               : a.label + " is rendered from " + viewpoint(a) + ", " + b.label + " from " + viewpoint(b) +
+                     ", so a pose difference between the runs also shows up as a shading difference.",
+      "muted");
 
   const RunData& withTruth = a.groundTruth.empty() ? b : a;
   if (!a.trajectory.empty() || !b.trajectory.empty()) {

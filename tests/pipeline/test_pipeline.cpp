@@ -1,6 +1,8 @@
 // The pipeline on analytic scenes: ICP recovers a known motion, integrate + raycast returns the surface,
-// knobs change between frames, results are independent of the thread count.
+// knobs change between frames, results are independent of the thread count, a model rendered from another
+// viewpoint leaves tracking unchanged.
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -167,6 +169,35 @@ TEST_CASE("pose override replaces the pose used downstream", "[pipeline]") {
   CHECK(r.T_camera_to_world.matrix() == corrected.matrix());
   CHECK(pipeline->pose().matrix() == corrected.matrix());
   CHECK(r.velocity == Approx(0.01));
+}
+
+TEST_CASE("a model rendered from another viewpoint leaves the next frames' tracking unchanged",
+          "[pipeline][render]") {
+  const sb::test::Room room;
+  const sb::Intrinsics k = sb::test::roomIntrinsics(160, 120);
+  sb::ThreadPool pool(2);
+  auto plain = sb::Pipeline::createCpu(roomConfig(64), k, pool);
+  auto viewed = sb::Pipeline::createCpu(roomConfig(64), k, pool);
+  const sb::Knobs knobs;
+  Eigen::Isometry3d above = plain->initialPose();
+  above.translation().y() -= 0.5;
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Isometry3d truth =
+        plain->initialPose() * sb::test::motion({0.01 * i, 0.0, 0.005 * i}, 0.5 * i, {0.0, 1.0, 0.0});
+    const sb::DepthFrame frame = sb::test::renderRoom(room, truth, k, static_cast<size_t>(i));
+    const sb::FrameResult a = plain->processFrame(frame, kRoomDepthScale, knobs);
+    const sb::FrameResult b = viewed->processFrame(frame, kRoomDepthScale, knobs);
+    INFO("frame " << i);
+    CHECK(a.T_camera_to_world.matrix() == b.T_camera_to_world.matrix());
+    if (i == 1) {
+      const sb::Image<uint8_t> fromAbove = viewed->renderModel(above, 1);
+      const sb::Image<uint8_t> fromPose = viewed->renderModel(1);
+      CHECK(fromAbove.width() == 160);
+      const size_t pixels = static_cast<size_t>(fromAbove.width()) * static_cast<size_t>(fromAbove.height());
+      CHECK_FALSE(std::equal(fromAbove.data(), fromAbove.data() + pixels, fromPose.data()));
+      viewed->renderModel(above, 2);  // the last render leaves maps of another view and size behind
+    }
+  }
 }
 
 TEST_CASE("bad frames and knobs are rejected with sb::Error", "[pipeline]") {

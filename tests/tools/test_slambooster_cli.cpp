@@ -227,6 +227,29 @@ TEST_CASE("run takes the controller from --controller and from the config file's
   CHECK_THAT(unknown.output, Catch::Contains("fastest"));
 }
 
+TEST_CASE("run --model-view overview renders model.png from above the volume centre and says so",
+          "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_model_view");
+  const std::string seq = dir + "/seq";
+  REQUIRE(runCommand(kTool + " synth --out " + seq + " --builtin-frames 3 --no-noise").exitCode == 0);
+  const std::string run = kTool + " run " + seq + " --volume-resolution 64 --quiet";
+  const auto last = runCommand(run + " --out " + dir + "/last");
+  const auto overview = runCommand(run + " --out " + dir + "/overview --model-view overview");
+  INFO(last.output << overview.output);
+  REQUIRE(last.exitCode == 0);
+  REQUIRE(overview.exitCode == 0);
+  CHECK(readJson(dir + "/last/summary.json").at("model_view") == "last");
+  CHECK(readJson(dir + "/overview/summary.json").at("model_view") == "overview");
+  // Same model, another camera: another image.
+  CHECK(readText(dir + "/overview/model.png") != readText(dir + "/last/model.png"));
+  CHECK_THAT(readText(dir + "/overview/report.html"), Catch::Contains("from the overview viewpoint"));
+  CHECK_THAT(readText(dir + "/last/report.html"), Catch::Contains("from the last camera pose"));
+
+  const auto bad = runCommand(run + " --out " + dir + "/bad --model-view sideways");
+  CHECK(bad.exitCode != 0);
+  CHECK_THAT(bad.output, Catch::Contains("sideways"));
+}
+
 TEST_CASE("bench and dse run their matrix once, resume, and write their tables", "[tools][system]") {
   const std::string dir = sb::test::scratchDir("cli_bench");
   const std::string seq = dir + "/seq";

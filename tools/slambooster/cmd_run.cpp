@@ -55,7 +55,24 @@ struct RunOptions {
   std::string powerConfig;
   bool mesh = false;
   bool quiet = false;
+  std::string modelView = "last";  // viewpoint of model.png: "last" camera pose or "overview"
 };
+
+// The "overview" viewpoint of model.png: above and behind the volume centre at 45 degrees, looking at the
+// centre along the first camera's +z (volume +y is down). The raycast reaches only far_plane_m along each
+// ray, so the camera sits within half of it from the centre (and within 0.6 of the volume side).
+Eigen::Isometry3d overviewPose(const PipelineConfig& c) {
+  const Eigen::Vector3d centre = Eigen::Vector3d::Constant(0.5 * c.volumeSize);
+  const double distance = std::min(0.6 * c.volumeSize, 0.5 * c.farPlane);  // metres
+  const Eigen::Vector3d forward = Eigen::Vector3d(0, 1, 1).normalized();
+  const Eigen::Vector3d right = Eigen::Vector3d::UnitY().cross(forward).normalized();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear().col(0) = right;
+  pose.linear().col(1) = forward.cross(right);  // down in the image
+  pose.linear().col(2) = forward;
+  pose.translation() = centre - distance * forward;
+  return pose;
+}
 
 std::array<float, 3> parsePosition(const std::string& text) {
   std::array<float, 3> p{};
@@ -194,7 +211,9 @@ void runCommand(const RunOptions& o) {
   if (energy) outputs.summary->setExtra("energy", energy->finish());
   outputs.summary->setExtra("complete", true);  // `slambooster bench` / dse / profile skip complete runs
 
-  const Image<uint8_t> model = pipeline->renderModel(1);
+  const Image<uint8_t> model =
+      o.modelView == "overview" ? pipeline->renderModel(overviewPose(config), 1) : pipeline->renderModel(1);
+  outputs.summary->setExtra("model_view", o.modelView);
   writePng8((out / "model.png").string(), model);
   if (o.mesh) {
     const VolumeView view{pipeline->volumeData(), config.volumeResolution, config.volumeSize};
@@ -264,6 +283,11 @@ void addRunCommand(CLI::App& app) {
                   "Power meter config (config/power.json keys): joules per frame in energy.jsonl and the summary,\n"
                   "raw trace in power.csv (meter \"none\": no energy accounting)");
   sub->add_flag("--mesh", options->mesh, "Also write mesh.ply (marching cubes of the final volume)");
+  sub->add_option(
+         "--model-view", options->modelView,
+         "Viewpoint of model.png: last (the last camera pose) or overview (above and behind the volume "
+         "centre, looking at it)")
+      ->check(CLI::IsMember({"last", "overview"}));
   sub->add_flag("--quiet", options->quiet, "No progress bar");
   sub->callback([options] { runCommand(*options); });
 }
