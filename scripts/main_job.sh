@@ -53,9 +53,9 @@ pid=$!
 for _ in $(seq 200); do [ -S "$socket" ] || ! kill -0 "$pid" 2>/dev/null && break; sleep 0.05; done
 # Progress from the socket, as any client would see it, until the daemon finishes the sequence.
 while kill -0 "$pid" 2>/dev/null; do
-  line=$("$ctl" --socket "$socket" --json --timeout 2 status 2>/dev/null |
-    sed -n 's/.*"computation_ms":\([0-9.eE+-]*\),.*"fps":[0-9.eE+-]*,"frames":\([0-9]*\),.*"sequence_frames":\([0-9]*\).*/\2 \3 \1/p' || true)
-  [ -n "$line" ] && set -- $line && printf 'main_job: slamboosterd: %s/%s frames, %.1f ms/frame computation\n' "$2" "$3" "$1"
+  # slamboosterctl's own status line (no JSON picking in shell): "N processed, T tracked, F fps, M ms/frame".
+  line=$("$ctl" --socket "$socket" --timeout 2 status 2>/dev/null | sed -n 's/^  frames *//p' || true)
+  [ -n "$line" ] && echo "main_job: slamboosterd: $line"
   sleep 5
 done
 status=0

@@ -134,6 +134,9 @@ TEST_CASE("slamboosterd: watch, then SIGTERM mid-run: every processed frame is o
   const auto human = runCommand(kCtl + " --socket " + socket + " status");
   CHECK(human.exitCode == 0);
   CHECK(human.output.find("controller    fixed") != std::string::npos);
+  // scripts/main_job.sh prints this row as its progress line (it once scrambled numbers picked from the JSON).
+  CHECK_THAT(human.output, Catch::Matches("(.|\\n)*\\n  frames +[0-9]+ processed, [0-9]+ tracked, [0-9.]+ fps, "
+                                          "[0-9.]+ ms/frame computation\\n(.|\\n)*"));
 
   d.signal(SIGTERM);
   REQUIRE(d.wait(30) == 0);
