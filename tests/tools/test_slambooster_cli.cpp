@@ -341,6 +341,25 @@ TEST_CASE("run --power accounts joules per frame that offline re-accounting repr
   const std::string report((std::istreambuf_iterator<char>(reportFile)), std::istreambuf_iterator<char>());
   CHECK_THAT(report, Catch::Contains("Energy per frame") && !Catch::Contains("No power meter was used"));
 
+  // bench --power: J/frame per run in results.csv and energy columns in the main table.
+  const auto bench = runCommand(kTool + " bench " + seq + " --out " + dir + "/bench --config " + dir +
+                                "/small.json --controllers default,slambooster --jobs 2 --quiet --power " + dir +
+                                "/power.json");
+  INFO(bench.output);
+  REQUIRE(bench.exitCode == 0);
+  CHECK_THAT(bench.output, Catch::Contains("running one job at a time") && Catch::Contains("SLAMBooster J/frame"));
+  std::ifstream csv(dir + "/bench/results.csv");
+  std::string header;
+  std::getline(csv, header);
+  CHECK(header.substr(header.rfind(',') + 1) == "joules_per_frame");
+  int energyRows = 0;
+  for (std::string row; std::getline(csv, row); ++energyRows) {
+    INFO(row);
+    const double jpf = std::stod(row.substr(row.rfind(',') + 1));
+    CHECK(jpf > 0.0);
+  }
+  CHECK(energyRows == 3);  // default, slambooster, accurate
+
   // The trace and frame log written by the run re-account to the same joules offline.
   const auto offline =
       runCommand(kTool + " energy --trace " + out + "/power.csv --frames " + out + "/frames.jsonl --json");

@@ -46,6 +46,9 @@ BenchSection mainSection(const BenchResults& r) {
                     "SLAMBooster ms/frame",
                     "SLAMBooster ATE cm",
                     "time cut %"};
+  const bool energy = r.hasEnergy();
+  if (energy)
+    s.table.header.insert(s.table.header.end(), {"DEFAULT J/frame", "SLAMBooster J/frame", "energy cut %"});
   double logRatio = 0, cutSum = 0;
   int paired = 0, violations = 0;
   for (const std::string& name : r.sequences) {
@@ -57,7 +60,7 @@ BenchSection mainSection(const BenchResults& r) {
     ++paired;
     violations += !(b.ateM < kMaxAteM) || b.tracked < kMinTrackedPercent;
     const std::string k = "main/" + name + "/";
-    s.table.rows.push_back({{sequenceCell(r, name)},
+    std::vector<TableCell> row{{sequenceCell(r, name)},
                             {benchNumber(b.frames, 0), k + "slambooster/frames", true},
                             {benchNumber(d.tracked), k + "default/tracked_percent", true},
                             {benchNumber(d.ms), k + "default/computation_ms_per_frame", true},
@@ -65,7 +68,13 @@ BenchSection mainSection(const BenchResults& r) {
                             {benchNumber(b.tracked), k + "slambooster/tracked_percent", true},
                             {benchNumber(b.ms), k + "slambooster/computation_ms_per_frame", true},
                             {benchCm(b.ateM), k + "slambooster/ate_rmse_cm", true},
-                            {benchNumber(cut), k + "time_cut_percent", true}});
+                            {benchNumber(cut), k + "time_cut_percent", true}};
+    if (energy) {
+      row.push_back({benchNumber(d.joulesPerFrame, 3), k + "default/joules_per_frame", true});
+      row.push_back({benchNumber(b.joulesPerFrame, 3), k + "slambooster/joules_per_frame", true});
+      row.push_back({benchNumber(100.0 * (1.0 - b.joulesPerFrame / d.joulesPerFrame)), k + "energy_cut_percent", true});
+    }
+    s.table.rows.push_back(row);
   }
   if (paired) {
     const double geoCut = 100.0 * (1.0 - std::exp(logRatio / paired));
@@ -143,6 +152,12 @@ std::string plain(std::string text) {
 }
 
 }  // namespace
+
+bool BenchResults::hasEnergy() const {
+  for (const auto& [key, c] : cells)
+    if (c.present && std::isfinite(c.joulesPerFrame)) return true;
+  return false;
+}
 
 BenchCell BenchResults::cell(const std::string& sequence, const std::string& label) const {
   const auto it = cells.find({sequence, label});

@@ -22,6 +22,7 @@ struct BenchCell {
   double ms = 0;            // computation ms/frame (host clock)
   double ateM = NAN;        // ATE RMSE, metres; NaN = could not be computed
   double controllerMs = 0;  // controller ms/frame
+  double joulesPerFrame = NAN;  // J/frame over the frames whose energy is known; NaN = no meter (bench --power)
   std::string dir;          // the run's output directory
 };
 
@@ -39,6 +40,8 @@ struct BenchResults {
 
   // The cell, or an absent one.
   BenchCell cell(const std::string& sequence, const std::string& label) const;
+  // Some run has a J/frame (a meter was configured): the main table gets energy columns.
+  bool hasEnergy() const;
 };
 
 // A table of the report with the text around it: rendered as Markdown and as HTML from the same cells.

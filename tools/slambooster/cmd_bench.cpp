@@ -32,7 +32,7 @@ namespace fs = std::filesystem;
 
 struct BenchOptions {
   std::vector<std::string> sequences;
-  std::string out, config, dseDir, tcTable, plotSequence;
+  std::string out, config, dseDir, tcTable, plotSequence, powerConfig;
   std::vector<std::string> controllers{"default", "accurate", "pid", "pid+surface", "pid+surface+correction",
                                        "slambooster", "step"};
   std::vector<double> tcVelocities{0.005, 0.01, 0.02};
@@ -110,11 +110,17 @@ void benchCommand(const BenchOptions& o) {
       j.outDir = o.out + "/runs/" + name + "/" + label;
       const std::string config = label == "offline" ? configOf["offline@" + name] : configOf[label];
       j.runArgs = {seq, "--config", config, "--threads", std::to_string(o.threads), "--frames", std::to_string(o.frames)};
+      if (!o.powerConfig.empty())
+        j.runArgs.insert(j.runArgs.end(), {"--power", fs::absolute(o.powerConfig).string()});
       dirOf[{name, label}] = j.outDir;
       jobs.push_back(j);
     }
   }
-  runJobs(jobs, o.jobs, o.quiet);
+  // One meter measures the whole board: runs in parallel would be charged each other's power.
+  if (!o.powerConfig.empty() && o.jobs > 1)
+    std::cerr << "slambooster bench: --power: running one job at a time (not " << o.jobs
+              << "), so that each run's energy is its own\n";
+  runJobs(jobs, o.powerConfig.empty() ? o.jobs : 1, o.quiet);
 
   // Evaluate every run.
   BenchResults r;
@@ -130,7 +136,7 @@ void benchCommand(const BenchOptions& o) {
   if (r.offline) allLabels.push_back("offline");
   std::map<std::string, std::string> referenceOf;
   std::ofstream csv(o.out + "/results.csv");
-  csv << "sequence,controller,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,reference,controller_ms_per_frame\n";
+  csv << "sequence,controller,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,reference,controller_ms_per_frame,joules_per_frame\n";
   for (const std::string& name : r.sequences) {
     const bool ownTruth = !groundTruth[name].empty();
     r.ownTruth[name] = ownTruth;
@@ -146,13 +152,16 @@ void benchCommand(const BenchOptions& o) {
       c.tracked = s["tracked_percent"];
       c.ms = s["computation_ms_per_frame"];
       c.controllerMs = s.value("controller_ms_per_frame", 0.0);
+      if (s.contains("energy") && s["energy"].value("joules_per_frame", nlohmann::json()).is_number())
+        c.joulesPerFrame = s["energy"]["joules_per_frame"].get<double>();
       try {
         c.ateM = computeAte(readTumTrajectory(c.dir + "/trajectory.tum"), reference).rmse;
       } catch (const Error&) {
         c.ateM = NAN;
       }
       csv << name << "," << label << "," << c.frames << "," << c.tracked << "," << c.ms << "," << c.ateM << ","
-          << (ownTruth ? "groundtruth" : "accurate") << "," << c.controllerMs << "\n";
+          << (ownTruth ? "groundtruth" : "accurate") << "," << c.controllerMs << "," << c.joulesPerFrame
+          << "\n";  // nan without a meter, as ate_rmse_m when it cannot be computed
       r.cells[{name, label}] = c;
       // Runs from before `run` wrote its report (a resumed bench) get one now, for report.html's links.
       if (!fs::exists(c.dir + "/report.html")) try {
@@ -200,6 +209,9 @@ void addBenchCommand(CLI::App& app) {
   sub->add_option("--frames", o->frames, "Frames per run (0 = all)");
   sub->add_option("--jobs", o->jobs, "Runs in parallel")->check(CLI::Range(1, 256));
   sub->add_option("--threads", o->threads, "Worker threads per run");
+  sub->add_option("--power", o->powerConfig,
+                  "Power meter config (config/power.json keys) for every run: J/frame in results.csv and the main table\n"
+                  "(runs then go one at a time: one meter cannot tell parallel runs apart)");
   sub->add_flag("--quiet", o->quiet, "No progress");
   sub->callback([o] { benchCommand(*o); });
 }
