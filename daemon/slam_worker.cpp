@@ -7,6 +7,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "core/error.h"
 #include "core/png_io.h"
@@ -153,10 +154,18 @@ void SlamWorker::runPasses() {
   std::deque<Clock::time_point> recent;
   double computationSum = 0.0;
   auto lastFlush = Clock::now();
+  SummarySink* summary = nullptr;  // of the pass
+  std::map<std::string, size_t> unknownEnergy;  // reason -> frames, since the daemon started
   std::ofstream energyLog;  // energy.jsonl of the pass (with a meter); results of a frame may land in the next pass's
   std::string energyPath;
 
   const auto flushEnergy = [&] {
+    // summary.json carries the meter's totals since the daemon started (one pass: exactly this run's).
+    if (sampler_ && summary) {
+      nlohmann::json totals = power::energyTotalsJson(sampler_->totals(), unknownEnergy);
+      totals["meter"] = sampler_->meterInfo().name;
+      summary->setExtra("energy", totals);
+    }
     if (!energyLog.is_open()) return;
     energyLog.flush();
     if (!energyLog) throw Error("writing per-frame energy log '" + energyPath + "' failed (disk full?)");
@@ -164,7 +173,10 @@ void SlamWorker::runPasses() {
   const auto handleEnergy = [&](const std::vector<power::FrameEnergy>& results) {
     for (const power::FrameEnergy& e : results) {
       if (energyLog.is_open()) energyLog << power::frameEnergyJson(e).dump() << "\n";
-      if (!e.known) continue;
+      if (!e.known) {
+        ++unknownEnergy[e.unknownReason];
+        continue;
+      }
       if (runner) runner->setLatestJoules(e.joules);
       if (publishEnergy_) publishEnergy_(e);
     }
@@ -172,8 +184,8 @@ void SlamWorker::runPasses() {
 
   const auto finishPass = [&] {
     if (!runner) return;
-    runner->flush();
     flushEnergy();
+    runner->flush();
     if (config_.output.mesh) {
       const VolumeView view{pipeline->volumeData(), pipelineConfig_.volumeResolution,
                             pipelineConfig_.volumeSize};
@@ -212,9 +224,10 @@ void SlamWorker::runPasses() {
         {"sequence", sequence_.path},
         {"daemon", {{"pass", pass}, {"cpus", stats().cpus}, {"threads", stats().threads}}},
         {"config", configToJson(pipelineConfig_)}};
-    addStandardOutputs(
+    summary = addStandardOutputs(
         *runner, dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
-        "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)");
+        "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)")
+                  .summary;
     if (sampler_) {
       energyLog.close();
       energyPath = (std::filesystem::path(dir) / "energy.jsonl").string();
@@ -268,8 +281,8 @@ void SlamWorker::runPasses() {
                      std::chrono::duration<double>(recent.back() - recent.front()).count();
     }
     if (now - lastFlush > kFlushInterval) {
-      runner->flush();
       flushEnergy();
+      runner->flush();
       lastFlush = now;
     }
   }

@@ -366,5 +366,10 @@ TEST_CASE("slamboosterd: a power meter gives ENERGY per frame, energy.jsonl and 
   }
   CHECK(n == dataLines(out + "/frames.jsonl"));
   CHECK(dataLines(out + "/energy.jsonl") == n);
+  std::ifstream summaryFile(out + "/summary.json");
+  const json summary = json::parse(summaryFile);
+  CHECK(summary["energy"]["known_frames"].get<size_t>() == n);
+  CHECK(summary["energy"]["meter"] == "file");
+  CHECK(summary["energy"]["mean_watts"].get<double>() == Approx(kWatts).epsilon(1e-9));
   CHECK(fs::file_size(out + "/power.csv") > 0);
 }
