@@ -88,6 +88,7 @@ void readOutput(const nlohmann::json& j, const std::string& where, OutputConfig&
   r.string("dir", o.dir);
   r.boolean("mesh", o.mesh);
   r.boolean("model_png", o.modelPng);
+  r.boolean("report", o.report);
   r.finish();
   if (o.dir.empty())
     throw Error(where + ": output: 'dir' must not be empty (where trajectory.tum is written)");
@@ -212,7 +213,8 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"pipeline_config", c.slam.pipelineConfig},
             {"controller", c.slam.controller},
             {"controller_config", c.slam.controllerConfig}}},
-          {"output", {{"dir", c.output.dir}, {"mesh", c.output.mesh}, {"model_png", c.output.modelPng}}},
+          {"output", {{"dir", c.output.dir}, {"mesh", c.output.mesh}, {"model_png", c.output.modelPng},
+                      {"report", c.output.report}}},
           {"socket",
            {{"path", c.socket.path},
             {"mode", formatMode(c.socket.mode)},

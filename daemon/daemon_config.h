@@ -53,6 +53,7 @@ struct OutputConfig {
   std::string dir = "/var/lib/slambooster";  // trajectory.tum, frames.jsonl, summary.json land here
   bool mesh = false;                         // also write mesh.ply of the final volume at exit
   bool modelPng = false;                     // also write model.png (the model rendered from the last pose)
+  bool report = true;                        // write report.html (report/) at the end of each pass
 };
 
 // Where the package installs the power meter's settings. At this default path a missing file means no meter

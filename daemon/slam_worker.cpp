@@ -17,6 +17,7 @@
 #include "mesh/ply_writer.h"
 #include "pipeline/pipeline.h"
 #include "power/energy_json.h"
+#include "report/run_report.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 
@@ -194,6 +195,13 @@ void SlamWorker::runPasses() {
     }
     if (config_.output.modelPng)
       writePng8((std::filesystem::path(stats().outputDir) / "model.png").string(), pipeline->renderModel(1));
+    if (config_.output.report) {
+      try {
+        spdlog::info("report {}", writeRunReport(stats().outputDir).path);
+      } catch (const std::exception& e) {
+        spdlog::warn("report.html not written: {}", e.what());
+      }
+    }
     spdlog::info("pass {}: {} frames; outputs in {}", pass, runner->frames(), stats().outputDir);
   };
   const auto startPass = [&] {

@@ -6,7 +6,7 @@
 # sequence ends. The default input is ../shared/data/7scenes-redkitchen-a (600 real Kinect frames) when that
 # directory is present beside the checkout; otherwise a synthetic living-room sequence that the project
 # renders itself along its built-in handheld trajectory. Outputs go to out/ (or the directory given as $1):
-# out/run-NAME/{trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply} and slamboosterd.log.
+# out/run-NAME/{trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply, report.html} and slamboosterd.log.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 out=${1:-"$root/out"}
@@ -67,4 +67,4 @@ if [ "$status" -ne 0 ]; then
   exit "$status"
 fi
 tail -3 "$out/slamboosterd.log"
-echo "main_job: outputs in $run (trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply)"
+echo "main_job: outputs in $run (trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply, report.html)"

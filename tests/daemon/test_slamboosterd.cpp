@@ -167,6 +167,7 @@ TEST_CASE("slamboosterd: at_end=exit replays every frame and exits 0", "[daemon]
   REQUIRE(d.wait(60) == 0);
   CHECK(dataLines(out + "/trajectory.tum") == 10);
   CHECK(dataLines(out + "/frames.jsonl") == 10);
+  CHECK(fs::file_size(out + "/report.html") > 0);  // output.report defaults to true
 }
 
 TEST_CASE("slamboosterd: ?CONTROL and SIGHUP switch the controller; pins apply", "[daemon][system]") {
