@@ -15,7 +15,7 @@
 #include <string>
 #include <string_view>
 
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 #include "daemon/peer_auth.h"
 
 namespace sb::daemon {

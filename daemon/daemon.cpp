@@ -14,7 +14,7 @@
 
 #include "core/error.h"
 #include "daemon/event_loop.h"
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 #include "daemon/frame_queue.h"
 #include "daemon/mailbox.h"
 #include "daemon/slam_worker.h"

@@ -8,7 +8,7 @@
 #include <functional>
 #include <unordered_map>
 
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 
 namespace sb::daemon {
 

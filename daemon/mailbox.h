@@ -11,7 +11,7 @@
 #include <mutex>
 
 #include "daemon/event_loop.h"
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 
 namespace sb::daemon {
 

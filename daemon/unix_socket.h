@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 
 namespace sb::daemon {
 

@@ -24,7 +24,7 @@
 #include "power/meter.h"
 #include "power/power_config.h"
 #include "power/power_trace.h"
-#include "power/unique_fd.h"
+#include "core/unique_fd.h"
 
 namespace sb::power {
 

@@ -12,7 +12,7 @@
 #include "power/clock.h"
 #include "power/line_splitter.h"
 #include "power/meter.h"
-#include "power/unique_fd.h"
+#include "core/unique_fd.h"
 
 namespace sb::power {
 

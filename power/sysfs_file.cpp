@@ -8,7 +8,7 @@
 #include <cstring>
 
 #include "core/error.h"
-#include "power/unique_fd.h"
+#include "core/unique_fd.h"
 
 namespace sb::power {
 

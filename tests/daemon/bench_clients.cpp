@@ -16,13 +16,13 @@
 #include <thread>
 #include <vector>
 
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 #include "daemon/unix_socket.h"
 
 namespace {
 
 struct Reader {
-  sb::daemon::UniqueFd fd;
+  sb::UniqueFd fd;
   std::string buffer;
   long long first = -1, last = -1, count = 0;
   bool inOrder = true, open = true;
@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   const std::string path = argv[1];
   const int readers = std::atoi(argv[2]), sleepers = std::atoi(argv[3]);
   std::vector<Reader> rs(static_cast<size_t>(readers));
-  std::vector<sb::daemon::UniqueFd> ss;
+  std::vector<sb::UniqueFd> ss;
   for (int attempt = 0;; ++attempt) {  // the daemon creates the socket a moment after it starts
     try {
       rs[0].fd = sb::daemon::connectUnix(path);
@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     const std::string all = "?WATCH={\"enable\":true}\n";
     (void)!::send(ss.back().get(), all.data(), all.size(), MSG_NOSIGNAL);
   }
-  sb::daemon::UniqueFd ep(epoll_create1(0));
+  sb::UniqueFd ep(epoll_create1(0));
   for (size_t i = 0; i < rs.size(); ++i) {
     epoll_event ev{};
     ev.events = EPOLLIN;

@@ -9,7 +9,7 @@
 
 #include "daemon/daemon_config.h"
 #include "daemon/event_loop.h"
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 #include "daemon/mailbox.h"
 #include "daemon/socket_server.h"
 #include "daemon/unix_socket.h"
@@ -63,7 +63,7 @@ class LineClient {
   void close() { fd_.reset(); }
 
  private:
-  daemon::UniqueFd fd_;
+  UniqueFd fd_;
   std::string buffer_;
   bool eof_ = false;
 };

@@ -18,7 +18,7 @@
 #include <sstream>
 #include <thread>
 
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 #include "daemon/unix_socket.h"
 #include "tests/daemon/process.h"
 #include "tests/support/run_command.h"
@@ -211,7 +211,7 @@ TEST_CASE("slamboosterd: ?CONTROL and SIGHUP switch the controller; pins apply",
 TEST_CASE("slamboosterd: READY, STATUS and WATCHDOG reach a fake NOTIFY_SOCKET", "[daemon][system]") {
   TempDir tmp;
   const std::string notifyPath = tmp.path + "/notify";
-  sb::daemon::UniqueFd notify(socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0));
+  sb::UniqueFd notify(socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0));
   sockaddr_un addr{};
   addr.sun_family = AF_UNIX;
   std::snprintf(addr.sun_path, sizeof addr.sun_path, "%s", notifyPath.c_str());

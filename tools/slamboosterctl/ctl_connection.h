@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "daemon/fd.h"
+#include "core/unique_fd.h"
 
 namespace sb::ctl {
 
@@ -23,7 +23,7 @@ class Connection {
   nlohmann::json reply(const std::string& cls, double timeoutSeconds);
 
  private:
-  daemon::UniqueFd fd_;
+  UniqueFd fd_;
   std::string buffer_;
   nlohmann::json version_;
 };

@@ -1,11 +1,12 @@
 #pragma once
-// RAII for a file descriptor: owns one fd and closes it exactly once.
+// RAII for file descriptors: a UniqueFd owns one fd and closes it exactly once (daemon sockets, meters' serial
+// ports and sysfs files).
 
 #include <unistd.h>
 
 #include <utility>
 
-namespace sb::power {
+namespace sb {
 
 class UniqueFd {
  public:
@@ -14,7 +15,10 @@ class UniqueFd {
   ~UniqueFd() { reset(); }
   UniqueFd(UniqueFd&& o) noexcept : fd_(std::exchange(o.fd_, -1)) {}
   UniqueFd& operator=(UniqueFd&& o) noexcept {
-    if (this != &o) reset(std::exchange(o.fd_, -1));
+    if (this != &o) {
+      reset();
+      fd_ = std::exchange(o.fd_, -1);
+    }
     return *this;
   }
   UniqueFd(const UniqueFd&) = delete;
@@ -22,6 +26,7 @@ class UniqueFd {
 
   int get() const { return fd_; }
   bool valid() const { return fd_ >= 0; }
+  int release() { return std::exchange(fd_, -1); }
   void reset(int fd = -1) {
     if (fd_ >= 0) ::close(fd_);
     fd_ = fd;
@@ -31,4 +36,4 @@ class UniqueFd {
   int fd_ = -1;
 };
 
-}  // namespace sb::power
+}  // namespace sb
