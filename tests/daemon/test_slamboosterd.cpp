@@ -21,6 +21,7 @@
 #include "core/unique_fd.h"
 #include "daemon/unix_socket.h"
 #include "tests/daemon/process.h"
+#include "tests/support/constant_power.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
 
@@ -317,15 +318,7 @@ TEST_CASE("slamboosterd: a power meter gives ENERGY per frame, energy.jsonl and 
   const std::string socket = tmp.path + "/s.sock", out = tmp.path + "/out";
   // A recorded constant 4.5 W at 200 Hz, replayed live by the "file" meter.
   constexpr double kWatts = 4.5;
-  {
-    std::ofstream trace(tmp.path + "/trace.csv");
-    trace << R"(# {"format":"slambooster-power-trace","version":1,"meter":"smartpower3","device":"recorded",)"
-          << R"("kind":"instantaneous","nominal_period_ns":5000000,"clock":"CLOCK_MONOTONIC"})" << "\n"
-          << "t_ns,watts,volts,amps,event\n";
-    for (int64_t i = 0; i < 200 * 300; ++i) trace << 1000000000 + i * 5000000 << "," << kWatts << ",5,0.9,\n";
-  }
-  std::ofstream(tmp.path + "/power.json") << R"({"meter": "file", "file": {"path": ")" << tmp.path
-                                          << R"(/trace.csv"}})";
+  sb::test::writeConstantPowerMeter(tmp.path, kWatts);
   auto args = daemonArgs(socket, out, "recorded", "stop");
   // 4 s of input, so that the stream is still running when the client starts watching.
   args.insert(args.end(), {"--set", "power.config=" + tmp.path + "/power.json", "--set", "source.speed=0.25"});

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "tests/report/markup_check.h"
+#include "tests/support/constant_power.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
 
@@ -299,14 +300,7 @@ TEST_CASE("run --power accounts joules per frame that offline re-accounting repr
   std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
   // A recorded trace of a constant 4.5 W at 200 Hz, replayed live by the "file" meter.
   constexpr double kWatts = 4.5;
-  {
-    std::ofstream trace(dir + "/trace.csv");
-    trace << R"(# {"format":"slambooster-power-trace","version":1,"meter":"smartpower3","device":"recorded",)"
-          << R"("kind":"instantaneous","nominal_period_ns":5000000,"clock":"CLOCK_MONOTONIC"})" << "\n"
-          << "t_ns,watts,volts,amps,event\n";
-    for (int64_t i = 0; i < 200 * 300; ++i) trace << 1000000000 + i * 5000000 << "," << kWatts << ",5,0.9,\n";
-  }
-  std::ofstream(dir + "/power.json") << R"({"meter": "file", "file": {"path": ")" << dir << R"(/trace.csv"}})";
+  sb::test::writeConstantPowerMeter(dir, kWatts);
 
   const std::string out = dir + "/run";
   const auto run = runCommand(kTool + " run " + seq + " --out " + out + " --config " + dir + "/small.json --power " +
