@@ -4,8 +4,9 @@
 #   conffiles, the binaries (architecture, stripped, hardened), the maintainer scripts (run against stubbed
 #   system commands: they create the user and its groups and enable/start nothing), the udev rule and the
 #   unit agreeing with the scripts (user, groups, ExecStart, config path), `systemd-analyze verify` of the
-#   packaged units, lintian (no error or warning; every override used), and, when the package's binaries can
-#   run here (natively or through plain qemu-arm), the packaged daemon accepting the packaged config.
+#   packaged units, lintian (no error or warning; every override used), the /etc/slambooster files the packaged
+#   daemon config names (power.config) being in the package, and, when the package's binaries can run here
+#   (natively or through plain qemu-arm), the packaged daemon accepting the packaged config.
 #
 #   tests/packaging/check_deb.sh path/to/slambooster_<version>_<arch>.deb
 #
@@ -246,6 +247,12 @@ lintian_rc=${PIPESTATUS[0]}
 check; [ "$lintian_rc" -eq 0 ] || fail "lintian (exit $lintian_rc): $(grep -E '^[EW]:' <<<"$lintian_out")"
 check; ! grep -Eq 'unused-override|mismatched-override' <<<"$lintian_out" ||
   fail "lintian overrides that no longer apply: $(grep -E 'unused-override|mismatched-override' <<<"$lintian_out")"
+
+# --- files the packaged config names (power.config = /etc/slambooster/power.json) are in the package -------
+daemon_conf="$work/root/etc/slambooster/slamboosterd.json"
+for named in $(grep -o '"/etc/slambooster/[^"]*"' "$daemon_conf" | tr -d '"' | sort -u); do
+  check; [ -f "$work/root$named" ] || fail "slamboosterd.json names $named, which the package does not ship"
+done
 
 # --- the packaged daemon accepts the packaged config (runs the armhf binary through plain qemu-arm) --------
 runner=()
