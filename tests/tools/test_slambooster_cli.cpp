@@ -293,6 +293,34 @@ TEST_CASE("bench and dse run their matrix once, resume, and write their tables",
   CHECK(readJson(dir + "/offline/summary.json").at("controller") == "offline");
 }
 
+TEST_CASE("dse and profile treat a run whose ATE is undefined as out of bound", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_dse_static");
+  // A camera that never moves: ground truth exists, but ATE alignment is undefined for every run.
+  {
+    std::ofstream tum(dir + "/static.tum");
+    for (int i = 0; i < 4; ++i) tum << i / 30.0 << " 0 -0.1 -1.2 0 0.7071068 0 0.7071068\n";
+  }
+  const std::string seq = dir + "/seq";
+  REQUIRE(runCommand(kTool + " synth --out " + seq + " --trajectory " + dir + "/static.tum --no-noise").exitCode == 0);
+  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
+  const auto dse = runCommand(kTool + " dse " + seq + " --out " + dir + "/dse --config " + dir +
+                              "/small.json --csr 8 --icp 1e-5 --pd0 4 --quiet");
+  INFO(dse.output);
+  REQUIRE(dse.exitCode == 0);
+  CHECK_THAT(dse.output, Catch::Contains("no setting keeps"));
+  CHECK(readJson(dir + "/dse/best.json").at("best").is_null());
+  std::ifstream csv(dir + "/dse/results.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  CHECK_THAT(row, Catch::Contains(",nan,0"));
+
+  const auto profile = runCommand(kTool + " profile " + seq + " --out " + dir + "/profile --config " + dir +
+                                  "/small.json --csr 8 --icp 1e-5 --pd0 4 --ir 1 --quiet");
+  CHECK(profile.exitCode == 1);
+  CHECK_THAT(profile.output, Catch::Contains("no setting has a defined ATE"));
+}
+
 TEST_CASE("run --power accounts joules per frame that offline re-accounting reproduces", "[tools][system]") {
   const std::string dir = sb::test::scratchDir("cli_power");
   const std::string seq = dir + "/seq";

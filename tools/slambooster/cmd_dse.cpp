@@ -1,9 +1,10 @@
 // `slambooster dse SEQ`: exhaustive design-space exploration of fixed knob settings on one sequence (the
 // `offline` baseline). Every combination of the given csr, icp, pd0 and ir values runs as its own
 // `slambooster run` (resumable, --jobs in parallel, several dse processes may share --out); results.csv
-// lists them all and best.json holds the fastest setting whose ATE is under the bound with enough frames
+// lists them all (ATE nan where it is undefined: such a setting is out of bound) and best.json holds the fastest setting whose ATE is under the bound with enough frames
 // tracked, ready for the `offline` controller ({"offline": {"result": ".../best.json"}}).
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -51,9 +52,12 @@ void dseCommand(const DseOptions& o) {
   nlohmann::json best = nullptr;
   for (size_t i = 0; i < grid.size(); ++i) {
     const nlohmann::json s = readSummary(jobs[i].outDir);
-    if (!s.contains("ate")) throw Error("dse needs ground truth: '" + o.sequence + "' gave no ATE (" + jobs[i].outDir + ")");
-    const double ate = s["ate"]["rmse_m"], ms = s["computation_ms_per_frame"], tracked = s["tracked_percent"];
-    const bool ok = ate < o.maxAteM && tracked >= o.minTrackedPercent;
+    // With ground truth, a run whose ATE is undefined (e.g. tracking never moved the camera) is out of bound.
+    if (!s.contains("ate") && !s.contains("ate_error"))
+      throw Error("dse needs ground truth: '" + o.sequence + "' gave no ATE (" + jobs[i].outDir + ")");
+    const double ate = s.contains("ate") ? s["ate"]["rmse_m"].get<double>() : NAN;
+    const double ms = s["computation_ms_per_frame"], tracked = s["tracked_percent"];
+    const bool ok = ate < o.maxAteM && tracked >= o.minTrackedPercent;  // false for NaN
     csv << formatKnobs(grid[i]) << "," << s["frames"] << "," << tracked << "," << ms << "," << ate << "," << ok << "\n";
     if (ok && (best.is_null() || ms < best["computation_ms_per_frame"].get<double>()))
       best = {{"knobs", formatKnobs(grid[i])}, {"computation_ms_per_frame", ms}, {"ate_rmse_m", ate},

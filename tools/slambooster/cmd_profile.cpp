@@ -53,16 +53,28 @@ void profileCommand(const ProfileOptions& o) {
   for (size_t g = 0; g < grid.size(); ++g) {
     TcEntry e;
     e.knobs = grid[g];
+    bool ateDefined = true;
     for (size_t s = 0; s < o.sequences.size(); ++s) {
       const nlohmann::json summary = readSummary(jobs[s * grid.size() + g].outDir);
-      if (!summary.contains("ate"))
+      if (!summary.contains("ate") && !summary.contains("ate_error"))
         throw Error("profile needs ground truth: '" + o.sequences[s] + "' gave no ATE");
       e.msPerFrame += summary["computation_ms_per_frame"].get<double>() / double(o.sequences.size());
-      e.ateM = std::max(e.ateM, summary["ate"]["rmse_m"].get<double>());
+      if (summary.contains("ate"))
+        e.ateM = std::max(e.ateM, summary["ate"]["rmse_m"].get<double>());
+      else
+        ateDefined = false;
     }
     if (grid[g] == reference) referenceMs = e.msPerFrame;
-    candidates.push_back(e);
+    // A setting whose ATE is undefined on a profiling sequence (tracking never moved the camera) has no
+    // known error, so it cannot be in the table.
+    if (ateDefined)
+      candidates.push_back(e);
+    else
+      std::cerr << "profile: " << formatKnobs(grid[g]) << " left out: ATE undefined on a profiling sequence\n";
   }
+  if (candidates.empty())
+    throw Error("profile: no setting has a defined ATE on every profiling sequence (see the runs' summary.json "
+                "ate_error in " + o.out + "/runs); profile on sequences where the camera moves");
   for (TcEntry& e : candidates) e.speedup = referenceMs / e.msPerFrame;
   TcTable table;
   table.referenceMsPerFrame = referenceMs;
