@@ -12,6 +12,13 @@ constexpr double kSwayHzX = 0.31, kSwayHzY = 0.23, kSwayHzZ = 0.17;
 constexpr double kSwayHzYaw = 0.13, kSwayHzPitch = 0.19, kSwayHzRoll = 0.29;
 }  // namespace
 
+Eigen::Matrix3d handheldRotation(double yaw, double pitchDown, double roll) {
+  // Pitching down turns forward towards +y (the floor).
+  return (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(-pitchDown, Eigen::Vector3d::UnitX()) *
+          Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()))
+      .toRotationMatrix();
+}
+
 Trajectory builtinTrajectory(size_t frames, const BuiltinTrajectoryParams& p) {
   Trajectory out;
   out.reserve(frames);
@@ -22,17 +29,12 @@ Trajectory builtinTrajectory(size_t frames, const BuiltinTrajectoryParams& p) {
     const Eigen::Vector3d position(p.centerX + p.orbitRadiusM * std::sin(angle) + p.swayPositionM * sway(kSwayHzX),
                                    p.centerY + p.swayPositionM * sway(kSwayHzY),
                                    p.centerZ + p.orbitRadiusM * std::cos(angle) + p.swayPositionM * sway(kSwayHzZ));
-    // Camera z (forward) = (sin yaw, 0, cos yaw) before pitch; pitching down turns it towards +y (the floor).
     const double yaw = angle + p.swayAngleRad * sway(kSwayHzYaw);
     const double pitch = p.pitchDownRad + p.swayAngleRad * sway(kSwayHzPitch);
     const double roll = p.swayAngleRad * sway(kSwayHzRoll);
-    const Eigen::Matrix3d R = (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(-pitch, Eigen::Vector3d::UnitX()) *
-                               Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitZ()))
-                                  .toRotationMatrix();
     TimedPose pose;
     pose.timestamp = t;
-    pose.T_camera_to_world.linear() = R;
+    pose.T_camera_to_world.linear() = handheldRotation(yaw, pitch, roll);
     pose.T_camera_to_world.translation() = position;
     out.push_back(pose);
   }

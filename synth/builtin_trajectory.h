@@ -4,6 +4,7 @@
 // outwards and slightly down, with hand sway in position and orientation. World frame as the scenes
 // (floor at +y); 30 frames per second.
 
+#include <Eigen/Core>
 #include <cstddef>
 
 #include "core/trajectory.h"
@@ -20,6 +21,10 @@ struct BuiltinTrajectoryParams {
   double swayPositionM = 0.04;      // amplitude of positional sway, metres
   double swayAngleRad = 0.05;       // amplitude of yaw/pitch/roll sway
 };
+
+// Camera-to-world rotation of a handheld camera that keeps its image "up" along world -y: forward (camera z) is
+// (sin yaw, 0, cos yaw) turned down towards the floor (+y) by pitchDown, then rolled about forward. Radians.
+Eigen::Matrix3d handheldRotation(double yaw, double pitchDown, double roll);
 
 // `frames` poses, timestamps i / fps.
 Trajectory builtinTrajectory(size_t frames, const BuiltinTrajectoryParams& params = {});

@@ -43,6 +43,17 @@ Primitive makeVerticalCylinder(const Eigen::Vector3f& base, float radius, float 
 // The plane through `point` with normal `normal` (need not be unit).
 Primitive makePlane(const Eigen::Vector3f& point, const Eigen::Vector3f& normal, const std::string& label = "plane");
 
+// A stretch of wall the generator keeps free of furniture and panels over the whole room height, and the floor
+// in front of it clear up to clearDepthM (plan view: x, z).
+struct BlankWall {
+  Eigen::Vector2f from = Eigen::Vector2f::Zero(), to = Eigen::Vector2f::Zero();  // ends on the wall, metres
+  Eigen::Vector2f inward = Eigen::Vector2f::Zero();  // unit normal into the room
+  float clearDepthM = 0.f;                            // metres from the wall kept free of furniture
+
+  Eigen::Vector2f middle() const { return 0.5f * (from + to); }
+  float length() const { return (to - from).norm(); }
+};
+
 struct Scene {
   std::string name;  // "livingroom", "office", or a test scene
   uint64_t seed = 0;
@@ -51,6 +62,7 @@ struct Scene {
   Eigen::Vector3f roomMin = Eigen::Vector3f::Zero();
   Eigen::Vector3f roomMax = Eigen::Vector3f::Zero();
   std::vector<Primitive> primitives;  // includes the RoomBox when hasRoom
+  std::vector<BlankWall> blankWalls;  // generated rooms: one per wall
 
   // Inside the room's walls by at least `margin` metres (true when there is no room).
   bool insideRoom(const Eigen::Vector3f& p, float margin = 0.f) const;

@@ -243,8 +243,11 @@ Scene generateScene(const std::string& name, uint64_t seed) {
   const ItemBuilder anchors[] = {spec.westAnchor, spec.eastAnchor, nullptr, nullptr};  // in wallsOf order
   std::vector<float> blankStarts;
   for (const Wall& wall : walls) {  // reserve every blank stretch first: furniture of the side walls reaches corners
-    blankStarts.push_back(blankStartOf(wall, rng));
-    placer.reserve(planRect(wall, blankStarts.back(), blankStarts.back() + kBlankWallM, wall.depth));
+    const float start = blankStartOf(wall, rng);
+    blankStarts.push_back(start);
+    placer.reserve(planRect(wall, start, start + kBlankWallM, wall.depth));
+    scene.blankWalls.push_back(
+        {wall.start + start * wall.along, wall.start + (start + kBlankWallM) * wall.along, wall.inward, wall.depth});
   }
   for (size_t w = 0; w < walls.size(); ++w) furnishWall(walls[w], blankStarts[w], spec, anchors[w], rng, placer);
 

@@ -3,7 +3,7 @@
 // camera positions of the four handheld ICL-NUIM living-room trajectories (livingroom0..3, world frame as in
 // their TUM files, floor at +y) and the built-in trajectory. Furniture stands along the walls outside that
 // free space (low pieces such as a coffee table may stand inside it), every wall keeps a stretch of blank
-// wall, and a column stands in the gap that the livingroom3 loop walks around. Different seeds vary the
+// wall (Scene::blankWalls), and a column stands in the gap that the livingroom3 loop walks around. Different seeds vary the
 // choice, size and placement of furniture; the room and the free space are the same for every seed.
 
 #include <cstdint>

@@ -192,6 +192,28 @@ TEST_CASE("slambooster reports bad input with exit code 1 and says what is wrong
   CHECK(noCommand.exitCode == 2);
 }
 
+TEST_CASE("synth --stress renders a stress trajectory and names its parts in segments.csv", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_stress");
+  const auto r = runCommand(kTool + " synth --out " + dir + "/s --stress blank-wall --scene office --frames 12" +
+                            " --width 80 --height 60 --fx 60.15 --fy 60 --threads 1");
+  INFO(r.output);
+  REQUIRE(r.exitCode == 0);
+  CHECK_THAT(r.output, Catch::Contains("wrote 12 frames"));
+  std::ifstream csv(dir + "/s/segments.csv");
+  std::string header, first, rest;
+  std::getline(csv, header);
+  std::getline(csv, first);
+  CHECK(header == "label,begin_frame,end_frame");
+  CHECK(first == "furnished,0,12");  // the later segments start after the 12 rendered frames
+  CHECK_FALSE(std::getline(csv, rest));
+
+  const auto two = runCommand(kTool + " synth --out " + dir + "/t --stress bursts --builtin-frames 3");
+  CHECK(two.exitCode != 0);
+  const auto unknown = runCommand(kTool + " synth --out " + dir + "/u --stress spin");
+  CHECK(unknown.exitCode != 0);
+  CHECK_THAT(unknown.output, Catch::Contains("spin"));
+}
+
 TEST_CASE("run takes the controller from --controller and from the config file's controller section", "[tools][system]") {
   const std::string dir = sb::test::scratchDir("cli_controller");
   const std::string seq = dir + "/seq";

@@ -1,10 +1,13 @@
 // `slambooster synth`: render a synthetic depth sequence of a procedural room along a TUM trajectory (or the
-// built-in one) and write it in TUM layout.
+// built-in one, or a stress trajectory) and write it in TUM layout. Stress sequences also get segments.csv
+// (label, first frame, end frame) naming their calm / burst / blank-wall parts.
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <optional>
 
@@ -13,6 +16,7 @@
 #include "core/trajectory.h"
 #include "synth/builtin_trajectory.h"
 #include "synth/scene_generator.h"
+#include "synth/stress_trajectory.h"
 #include "synth/synth_sequence.h"
 #include "tools/slambooster/commands.h"
 
@@ -22,7 +26,7 @@ namespace {
 
 struct SynthArgs {
   synth::SynthOptions options;
-  std::string trajectory;
+  std::string trajectory, stress;
   size_t builtinFrames = 0;
   std::optional<int> width, height;
   std::optional<float> fx, fy, cx, cy;
@@ -31,8 +35,9 @@ struct SynthArgs {
 };
 
 void runSynth(SynthArgs& a) {
-  if (a.trajectory.empty() == (a.builtinFrames == 0)) {
-    throw Error("synth: give exactly one of --trajectory FILE (a TUM trajectory) or --builtin-frames N (N > 0)");
+  if (int(!a.trajectory.empty()) + int(a.builtinFrames > 0) + int(!a.stress.empty()) != 1) {
+    throw Error("synth: give exactly one of --trajectory FILE (a TUM trajectory), --builtin-frames N (N > 0) or "
+                "--stress bursts|blank-wall");
   }
   synth::SynthOptions& o = a.options;
   Intrinsics& k = o.intrinsics;
@@ -53,8 +58,18 @@ void runSynth(SynthArgs& a) {
   if (a.noNoise) o.sensor.noise = false;
   if (a.threads > 0) ThreadPool::setGlobalThreads(a.threads);
 
-  const Trajectory trajectory =
-      a.trajectory.empty() ? synth::builtinTrajectory(a.builtinFrames) : readTumTrajectory(a.trajectory);
+  std::vector<synth::StressSegment> segments;
+  Trajectory trajectory;
+  if (!a.trajectory.empty()) {
+    trajectory = readTumTrajectory(a.trajectory);
+  } else if (a.builtinFrames > 0) {
+    trajectory = synth::builtinTrajectory(a.builtinFrames);
+  } else {
+    synth::StressTrajectory stress = synth::stressTrajectory(synth::parseStressKind(a.stress),
+                                                             synth::generateScene(o.scene, o.seed), o.seed);
+    trajectory = std::move(stress.poses);
+    segments = std::move(stress.segments);
+  }
   const bool tty = isatty(STDERR_FILENO) != 0;
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -65,6 +80,15 @@ void runSynth(SynthArgs& a) {
   std::printf("synth: wrote %zu frames of scene '%s' (seed %llu, noise %s) to %s in %.1f s\n", r.frames,
               o.scene.c_str(), static_cast<unsigned long long>(o.seed), o.sensor.noise ? "on" : "off",
               o.outDir.c_str(), seconds());
+  if (!segments.empty()) {
+    std::ofstream csv(o.outDir + "/segments.csv");
+    csv << "label,begin_frame,end_frame\n";
+    for (const auto& seg : segments)
+      if (seg.begin < r.frames) csv << seg.label << "," << seg.begin << "," << std::min(seg.end, r.frames) << "\n";
+    if (!csv) throw Error("synth: cannot write '" + o.outDir + "/segments.csv'");
+    std::printf("synth: stress '%s': %zu segments in %s/segments.csv\n", a.stress.c_str(), segments.size(),
+                o.outDir.c_str());
+  }
   std::printf("synth: valid pixels %.1f%%; volume hint: cube %.2f m, first camera at (%.3f, %.3f, %.3f) of it\n",
               100.0 * r.validFraction, r.volume.sizeM, r.volume.initialPosition[0], r.volume.initialPosition[1],
               r.volume.initialPosition[2]);
@@ -81,7 +105,14 @@ void addSynthCommand(CLI::App& app) {
                                "TUM trajectory (camera-to-world), e.g. an ICL-NUIM living-room trajectory");
   auto* builtin = sub->add_option("--builtin-frames", args->builtinFrames,
                                   "Use the built-in handheld-like orbit with this many frames (30 fps)");
+  auto* stress = sub->add_option("--stress", args->stress,
+                                 "Render a stress trajectory for the controller experiments (seeded by --seed): "
+                                 "bursts (calm handheld motion with four 0.5 s bursts of ~1 m/s or ~110 deg/s) or "
+                                 "blank-wall (6 s facing the room's widest blank wall stretch)")
+                     ->check(CLI::IsMember(synth::stressNames()));
   traj->excludes(builtin);
+  traj->excludes(stress);
+  builtin->excludes(stress);
   sub->add_option("--scene", o.scene, "Procedural room")
       ->check(CLI::IsMember(synth::sceneNames()))
       ->capture_default_str();

@@ -1,0 +1,209 @@
+// The stress trajectories have the designed properties: bursts peak at ~1 m/s or ~110 deg/s while the calm
+// parts stay slow; the blank-wall part sees one plane (the controller's smooth-surface detector fires) while
+// the furnished parts do not; the cameras stay in the room, out of the furniture, and see valid depth; the
+// same seed gives the same trajectory.
+
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "controller/surface_detector.h"
+#include "core/error.h"
+#include "synth/renderer.h"
+#include "synth/scene_generator.h"
+#include "synth/stress_trajectory.h"
+#include "synth/synth_sequence.h"
+
+using namespace sb;
+using namespace sb::synth;
+
+namespace {
+
+constexpr double kFps = 30.0;
+constexpr float kClearanceM = 0.15f;  // cameras keep at least this far from walls and furniture
+constexpr double kRadToDeg = 180.0 / 3.141592653589793;
+
+// Speed into frame i (from i-1): metres per second and degrees per second.
+double speedMps(const Trajectory& t, size_t i) {
+  return (t[i].position() - t[i - 1].position()).norm() * kFps;
+}
+double rateDegps(const Trajectory& t, size_t i) {
+  const Eigen::Matrix3d delta =
+      t[i - 1].T_camera_to_world.linear().transpose() * t[i].T_camera_to_world.linear();
+  return Eigen::AngleAxisd(delta).angle() * kRadToDeg * kFps;
+}
+
+struct Peak {
+  double speedMps = 0.0, rateDegps = 0.0;
+};
+Peak peakOf(const Trajectory& t, const StressSegment& s) {
+  Peak p;
+  for (size_t i = std::max<size_t>(s.begin, 1); i < s.end; ++i) {
+    p.speedMps = std::max(p.speedMps, speedMps(t, i));
+    p.rateDegps = std::max(p.rateDegps, rateDegps(t, i));
+  }
+  return p;
+}
+
+void requireInFreeSpace(const Scene& scene, const Trajectory& t) {
+  for (size_t i = 0; i < t.size(); ++i) {
+    const Eigen::Vector3f p = t[i].position().cast<float>();
+    INFO(scene.name << " seed " << scene.seed << " frame " << i << " at " << p.transpose());
+    REQUIRE(scene.insideRoom(p, kClearanceM));
+    REQUIRE(scene.objectContaining(p, kClearanceM) < 0);
+  }
+}
+
+void requireCoversFrames(const StressTrajectory& s) {
+  REQUIRE_FALSE(s.segments.empty());
+  REQUIRE(s.segments.front().begin == 0);
+  REQUIRE(s.segments.back().end == s.poses.size());
+  for (size_t k = 1; k < s.segments.size(); ++k) REQUIRE(s.segments[k].begin == s.segments[k - 1].end);
+  for (size_t i = 0; i < s.poses.size(); ++i) REQUIRE(s.poses[i].timestamp == Approx(i / kFps));
+}
+
+bool samePoses(const Trajectory& a, const Trajectory& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (!a[i].T_camera_to_world.isApprox(b[i].T_camera_to_world, 1e-12)) return false;
+  return true;
+}
+
+// Renders every `step`-th frame of [begin, end) at 160x120 with noise; returns the fraction of those frames
+// the surface detector calls smooth, and the lowest valid-pixel fraction.
+struct ViewStats {
+  double smoothFraction = 0.0, lowestValid = 1.0;
+};
+ViewStats viewStats(const Scene& scene, const Trajectory& t, size_t begin, size_t end, size_t step) {
+  constexpr int kScale = 4;
+  const Intrinsics k = iclNuimIntrinsics().scaled(kScale);
+  const Renderer renderer(scene, k);
+  SurfaceParams surface;
+  surface.sampleStridePx = 8 / kScale;  // the default stride of the full-size frame
+  DepthMeters meters;
+  DepthRaw raw;
+  ViewStats stats;
+  size_t frames = 0, smooth = 0;
+  for (size_t i = begin; i < end; i += step, ++frames) {
+    renderer.render(t[i].T_camera_to_world, SensorModel{}, frameSeed(scene.seed, i), meters);
+    toRaw(meters, kIclDepthScale, raw);
+    smooth += detectSmoothSurface(raw, kIclDepthScale, surface).smooth;
+    size_t valid = 0;
+    for (float z : meters.pixels()) valid += z > 0.f;
+    stats.lowestValid = std::min(stats.lowestValid, static_cast<double>(valid) / meters.size());
+  }
+  stats.smoothFraction = frames ? static_cast<double>(smooth) / frames : 0.0;
+  return stats;
+}
+
+}  // namespace
+
+TEST_CASE("stress trajectories are named and deterministic for a seed", "[synth][stress]") {
+  REQUIRE(stressNames() == std::vector<std::string>{"bursts", "blank-wall"});
+  REQUIRE(parseStressKind("bursts") == StressKind::Bursts);
+  REQUIRE_THROWS_WITH(parseStressKind("spin"), Catch::Contains("bursts, blank-wall"));
+  const Scene scene = generateScene("livingroom", 3);
+  for (StressKind kind : {StressKind::Bursts, StressKind::BlankWall}) {
+    const StressTrajectory a = stressTrajectory(kind, scene, 3), b = stressTrajectory(kind, scene, 3);
+    REQUIRE(samePoses(a.poses, b.poses));
+    REQUIRE(a.segments.size() == b.segments.size());
+    REQUIRE_FALSE(samePoses(a.poses, stressTrajectory(kind, scene, 4).poses));
+  }
+  Scene empty;
+  REQUIRE_THROWS_AS(stressTrajectory(StressKind::BlankWall, empty, 0), Error);
+}
+
+TEST_CASE("generated rooms record their blank wall stretches", "[synth][stress]") {
+  for (const std::string& name : sceneNames()) {
+    const Scene scene = generateScene(name, 5);
+    REQUIRE(scene.blankWalls.size() == 4);
+    for (const BlankWall& w : scene.blankWalls) {
+      REQUIRE(w.length() == Approx(1.3f));
+      REQUIRE(w.inward.norm() == Approx(1.f));
+      REQUIRE(w.clearDepthM > 0.4f);
+      // Nothing stands in front of the stretch, from floor to ceiling, within its clear depth.
+      for (float s = 0.02f; s < 0.98f; s += 0.04f)
+        for (float off = 0.05f; off < w.clearDepthM; off += 0.1f)
+          for (float y = scene.roomMin.y() + 0.05f; y < scene.roomMax.y(); y += 0.1f) {
+            const Eigen::Vector2f q = w.from + s * (w.to - w.from) + off * w.inward;
+            INFO(name << " blank wall at " << w.middle().transpose() << ", s " << s << ", off " << off);
+            REQUIRE(scene.objectContaining({q.x(), y, q.y()}, 0.01f) < 0);
+          }
+    }
+  }
+}
+
+TEST_CASE("the bursts trajectory: calm stretches and four fast bursts", "[synth][stress]") {
+  for (const std::string& name : sceneNames()) {
+    for (uint64_t seed : {0, 1, 2}) {
+      const Scene scene = generateScene(name, seed);
+      const StressTrajectory s = stressTrajectory(StressKind::Bursts, scene, seed);
+      INFO(name << " seed " << seed << ", " << s.poses.size() << " frames");
+      REQUIRE(s.poses.size() >= 300);
+      REQUIRE(s.poses.size() <= 600);
+      requireCoversFrames(s);
+      requireInFreeSpace(scene, s.poses);
+      int bursts = 0, fastTranslation = 0, fastRotation = 0;
+      for (const StressSegment& seg : s.segments) {
+        const Peak p = peakOf(s.poses, seg);
+        INFO(seg.label << " [" << seg.begin << ", " << seg.end << "): " << p.speedMps << " m/s, "
+                       << p.rateDegps << " deg/s");
+        if (seg.label == "burst") {
+          ++bursts;
+          REQUIRE(seg.end - seg.begin >= 14);  // ~0.5 s
+          REQUIRE(seg.end - seg.begin <= 16);
+          REQUIRE((p.speedMps > 0.8 || p.rateDegps > 80.0));  // every burst is fast
+          REQUIRE(p.speedMps < 1.2);                          // and still trackable at 30 fps
+          REQUIRE(p.rateDegps < 130.0);
+          fastTranslation += p.speedMps > 0.9;
+          fastRotation += p.rateDegps > 100.0;
+        } else {
+          REQUIRE(seg.label == "calm");
+          REQUIRE(p.speedMps < 0.25);
+          REQUIRE(p.rateDegps < 30.0);
+        }
+      }
+      REQUIRE(bursts == 4);
+      REQUIRE(fastTranslation >= 1);
+      REQUIRE(fastRotation >= 1);
+      if (seed == 0) {
+        const ViewStats v = viewStats(scene, s.poses, 0, s.poses.size(), 15);
+        INFO("lowest valid fraction " << v.lowestValid);
+        REQUIRE(v.lowestValid > 0.5);
+      }
+    }
+  }
+}
+
+TEST_CASE("the blank-wall trajectory faces one plane for seconds, then furnished parts", "[synth][stress]") {
+  for (const std::string& name : sceneNames()) {
+    for (uint64_t seed : {0, 1}) {
+      const Scene scene = generateScene(name, seed);
+      const StressTrajectory s = stressTrajectory(StressKind::BlankWall, scene, seed);
+      INFO(name << " seed " << seed << ", " << s.poses.size() << " frames");
+      REQUIRE(s.poses.size() >= 300);
+      REQUIRE(s.poses.size() <= 600);
+      requireCoversFrames(s);
+      requireInFreeSpace(scene, s.poses);
+      size_t blankFrames = 0;
+      for (const StressSegment& seg : s.segments) {
+        const Peak p = peakOf(s.poses, seg);
+        INFO(seg.label << " [" << seg.begin << ", " << seg.end << "): " << p.speedMps << " m/s, "
+                       << p.rateDegps << " deg/s");
+        REQUIRE(p.speedMps < 0.8);  // no bursts here: the stress is the view
+        REQUIRE(p.rateDegps < 100.0);
+        const ViewStats v = viewStats(scene, s.poses, seg.begin, seg.end, 5);
+        INFO("smooth in " << v.smoothFraction * 100 << "% of the sampled frames, lowest valid "
+                          << v.lowestValid);
+        REQUIRE(v.lowestValid > 0.5);
+        if (seg.label == "blank-wall") {
+          blankFrames += seg.end - seg.begin;
+          REQUIRE(v.smoothFraction > 0.95);
+        } else if (seg.label == "furnished") {
+          REQUIRE(v.smoothFraction < 0.2);
+        }
+      }
+      REQUIRE(blankFrames >= 5 * 30);  // several seconds
+    }
+  }
+}
