@@ -131,12 +131,18 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
       while (t < tExit) {
         const float3 pos = origin + direction * t;
         float skipTo = -1.0f;
-        if (blockDistance != 0) {
-          skipTo = sbSkipByDistance(blockDistance, resolution, distanceShift, sOrigin + sDirection * t,
-                                    sOrigin, sInverse);
-        } else if (blockFlags != 0) {
-          if (superFlags != 0) skipTo = sbSkipTo(superFlags, SB_SUPER_SHIFT, resolution, size, origin, direction, pos);
-          if (skipTo <= t) skipTo = sbSkipTo(blockFlags, SB_BLOCK_SHIFT, resolution, size, origin, direction, pos);
+        // Inside the small-step band (the previous sample was taken and is below smallStepBelow) the ray is at
+        // a surface, where a skip is rarely found: no lookup there (not skipping is always exact).
+        const int inBand = smallSteps && !previousSkipped && fPrevious < smallStepBelow;
+        if (!inBand) {
+          if (blockDistance != 0) {
+            skipTo = sbSkipByDistance(blockDistance, resolution, distanceShift, sOrigin + sDirection * t, sOrigin,
+                                      sInverse);
+          } else if (blockFlags != 0) {
+            if (superFlags != 0)
+              skipTo = sbSkipTo(superFlags, SB_SUPER_SHIFT, resolution, size, origin, direction, pos);
+            if (skipTo <= t) skipTo = sbSkipTo(blockFlags, SB_BLOCK_SHIFT, resolution, size, origin, direction, pos);
+          }
         }
         if (skipTo > t) {
           // Continue at the first grid sample past skipTo (less a rounding margin: a sample within it is
