@@ -1,0 +1,186 @@
+#!/usr/bin/env bash
+# The paper's experiments (issue 5) as one command: renders the synthetic sequences, runs the offline
+# design-space exploration per sequence, profiles the tc controller's table, then `slambooster bench` over
+# the whole set with every controller, and prints where report.md is.
+#
+# usage: scripts/bench_paper.sh [--frames N] [--jobs N] [--quick] [--plan] [OUT] [BUILD]
+#   OUT        output directory (default out/bench-paper); everything generated lands here:
+#                OUT/sequences/  the rendered synthetic sequences (TUM layout, with ground truth)
+#                OUT/dse/NAME/   `slambooster dse` per sequence (best.json = the offline column's setting)
+#                OUT/profile/    `slambooster profile` (tc_table.json)
+#                OUT/bench/      `slambooster bench`: report.md, report.html, results.csv, *.svg, runs/
+#   BUILD      build directory holding tools/slambooster/slambooster (default build/)
+#   --frames N process (and render) at most N frames per sequence: a quick check of the whole chain
+#   --jobs N   runs in parallel (default 2), each with one worker thread
+#   --quick    2-setting dse and profile grids instead of the full ones (with --frames: a smoke test)
+#   --plan     print the sequences and how many runs remain, then stop
+#
+# Resumable: rendered sequences are kept (each is rendered into NAME.partial and renamed when complete),
+# and dse, profile and bench skip the runs whose summary.json says complete; re-running the same command
+# continues where it stopped. OUT remembers its --frames / --quick setting and refuses another one (runs of a
+# different length must not mix).
+#
+# The sequence set (11 sequences, about 11,200 frames):
+#   7scenes-redkitchen-a   ../shared/data/7scenes-redkitchen-a (real, 600 frames), when present
+#   synth-SCENE-trajT      scenes livingroom and office along the ICL-NUIM living-room trajectories
+#                          ../shared/data/icl-nuim-trajectories/livingroomT.tum, T = 0..3 (1508, 965, 880 and
+#                          1240 frames), seed 0
+#   stress-bursts          `slambooster synth --stress bursts`, livingroom, seed 0 (468 frames: four 0.5 s
+#                          bursts at ~1 m/s or ~110 deg/s between calm stretches)
+#   stress-blank-wall      `slambooster synth --stress blank-wall`, office, seed 0 (511 frames: 6 s facing the
+#                          room's widest blank wall stretch)
+# Every sequence has ground truth (the synthetic ones: their trajectory), so ATE is against ground truth.
+#
+# The tc table is profiled on two sequences that span both kinds of input: the real 7scenes-redkitchen-a
+# and synth-office-traj2 (the shortest ICL-NUIM trajectory, in the scene the other one is not); without the
+# real data, synth-livingroom-traj2 stands in. They stay in the bench set (as in the paper, tc is profiled
+# on sequences it is also run on), so tc is if anything favoured there.
+#
+# Runs: dse 96 settings x 11 sequences, profile 72 settings x 2 sequences, bench 11 columns x 11 sequences
+# (default, accurate, pid, pid+surface, pid+surface+correction, slambooster, step, tc at 3 reference
+# velocities, offline).
+# Time estimate for the full set, CPU backend, --jobs 2 --threads 1 on an idle 2-core machine: ~32 hours.
+# From process CPU ms/frame measured at b35e4d0 on this machine class (single runs of 60-511 frames): DEFAULT
+# 340-370, csr=2 175-185, csr=4 118-128 (ir=1), csr=8 15 where it loses tracking (nothing is integrated)
+# and ~110 where it tracks, slambooster ~120 on stress-blank-wall (README: 0.24 x DEFAULT on 7-Scenes);
+# rendering 66 ms/frame. Hence dse ~27 h (96 settings x ~10,800 frames x ~190 ms mean / 2 cores), profile
+# ~2.5 h (72 x 1,480 frames x ~170 ms / 2), bench ~3 h (per frame of the set: DEFAULT 350 + ACCURATE 420 +
+# 9 approximate columns x ~120 ms, / 2), rendering ~10 min. On a shared, loaded machine wall time was 3-4x
+# the CPU time. `--frames 20 --quick` took 20 minutes there.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+
+frames=0 jobs=2 quick=0 plan=0
+positional=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --frames) frames=$2; shift 2 ;;
+    --jobs) jobs=$2; shift 2 ;;
+    --quick) quick=1; shift ;;
+    --plan) plan=1; shift ;;
+    -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "bench_paper: unknown option '$1' (see --help)" >&2; exit 2 ;;
+    *) positional+=("$1"); shift ;;
+  esac
+done
+out=$(realpath -m "${positional[0]:-$root/out/bench-paper}")
+build=$(realpath -m "${positional[1]:-$root/build}")
+bin="$build/tools/slambooster/slambooster"
+data=$(realpath -m "$root/../shared/data")
+[ -x "$bin" ] || { echo "bench_paper: $bin not found (build first: scripts/build.sh $build)" >&2; exit 1; }
+[[ "$frames" =~ ^[0-9]+$ && "$jobs" =~ ^[1-9][0-9]*$ ]] ||
+  { echo "bench_paper: --frames needs a number >= 0 and --jobs one >= 1 (got '$frames', '$jobs')" >&2; exit 2; }
+trajectories="$data/icl-nuim-trajectories"
+[ -d "$trajectories" ] || { echo "bench_paper: $trajectories not found (the ICL-NUIM trajectories)" >&2; exit 1; }
+
+# Knob grids: the tools' full defaults, or two settings each with --quick.
+# shellcheck disable=SC2054  # the commas separate the values of one option
+if [ "$quick" = 1 ]; then
+  dse_grid=(--csr 2,8 --icp 1e-05 --pd0 4 --ir 1)
+  profile_grid=(--csr 2,8 --icp 1e-4 --pd0 4 --ir 1)
+  dse_settings=2 profile_settings=3  # + DEFAULT, which profile always runs
+else
+  dse_grid=(--csr 1,2,4,8 --icp 0,1e-6,1e-5,1e-4,1e-3,1 --pd0 10,8,6,4 --ir 1)
+  profile_grid=(--csr 1,2,4,8 --icp 1e-5,1e-4,1e-3 --pd0 10,6,4 --ir 1,2)
+  dse_settings=96 profile_settings=72  # DEFAULT is in this grid
+fi
+controllers=default,accurate,pid,pid+surface,pid+surface+correction,slambooster,step
+tc_velocities=0.005,0.01,0.02
+bench_columns=11  # 7 controllers + 3 tc + offline
+
+setting="frames=$frames quick=$quick"
+if [ -f "$out/setting" ] && [ "$(cat "$out/setting")" != "$setting" ]; then
+  echo "bench_paper: $out was started with '$(cat "$out/setting")', not '$setting': runs of another length" \
+       "or grid must not mix; use another OUT or remove it" >&2
+  exit 1
+fi
+
+# The sequence set: NAME -> how to make it (a path for existing data, or synth arguments).
+names=() paths=() to_render=()
+declare -A synth_args
+if [ -d "$data/7scenes-redkitchen-a" ]; then
+  names+=(7scenes-redkitchen-a) paths+=("$data/7scenes-redkitchen-a")
+else
+  echo "bench_paper: $data/7scenes-redkitchen-a not found: the real sequence is left out" >&2
+fi
+for scene in livingroom office; do
+  for t in 0 1 2 3; do
+    synth_args[synth-$scene-traj$t]="--scene $scene --trajectory $trajectories/livingroom$t.tum"
+  done
+done
+synth_args[stress-bursts]="--scene livingroom --stress bursts"
+synth_args[stress-blank-wall]="--scene office --stress blank-wall"
+for scene in livingroom office; do
+  for t in 0 1 2 3; do names+=("synth-$scene-traj$t"); done
+done
+names+=(stress-bursts stress-blank-wall)
+rendered_ok() {  # a complete render of at least the frames we need
+  local marker="$out/sequences/$1/.rendered"
+  [ -f "$marker" ] || return 1
+  local have; have=$(cat "$marker")
+  [ "$have" = 0 ] || { [ "$frames" != 0 ] && [ "$have" -ge "$frames" ]; }
+}
+for name in "${names[@]}"; do
+  [ -n "${synth_args[$name]:-}" ] || continue
+  paths+=("$out/sequences/$name")
+  rendered_ok "$name" || to_render+=("$name")
+done
+if [ -d "$data/7scenes-redkitchen-a" ]; then
+  profile_set=("$data/7scenes-redkitchen-a" "$out/sequences/synth-office-traj2")
+else
+  profile_set=("$out/sequences/synth-livingroom-traj2" "$out/sequences/synth-office-traj2")
+fi
+
+# How many runs remain: expected runs minus those whose summary.json says complete.
+complete_runs() {
+  local n=0 f
+  for f in "$@"; do grep -qs '"complete": *true' "$f" && n=$((n + 1)); done
+  echo "$n"
+}
+# shellcheck disable=SC2086  # $1 is a glob
+count() { shopt -s nullglob; complete_runs $1; shopt -u nullglob; }
+nseq=${#names[@]}
+dse_total=$((dse_settings * nseq)) profile_total=$((profile_settings * ${#profile_set[@]}))
+bench_total=$((bench_columns * nseq))
+dse_done=$(count "$out/dse/*/runs/*/summary.json")
+profile_done=$(count "$out/profile/runs/*/*/summary.json")
+bench_done=$(count "$out/bench/runs/*/*/summary.json")
+remaining=$((dse_total - dse_done + profile_total - profile_done + bench_total - bench_done))
+echo "bench_paper: $nseq sequences (${#to_render[@]} to render) in $out; frames per run: ${frames/#0/all};" \
+     "grids: $([ "$quick" = 1 ] && echo quick || echo full)"
+echo "bench_paper: runs remaining: $remaining of $((dse_total + profile_total + bench_total))" \
+     "(dse $((dse_total - dse_done))/$dse_total, profile $((profile_total - profile_done))/$profile_total," \
+     "bench $((bench_total - bench_done))/$bench_total); $jobs at a time"
+[ "$plan" = 1 ] && exit 0
+mkdir -p "$out/sequences"
+echo "$setting" > "$out/setting"
+
+# 1. Render the synthetic sequences that are missing.
+for name in "${to_render[@]}"; do
+  dir="$out/sequences/$name"
+  echo "bench_paper: rendering $name"
+  rm -rf "$dir" "$dir.partial"
+  # shellcheck disable=SC2086  # synth_args holds several arguments
+  "$bin" synth --out "$dir.partial" --overwrite --seed 0 --frames "$frames" --threads "$jobs" ${synth_args[$name]}
+  echo "$frames" > "$dir.partial/.rendered"
+  mv "$dir.partial" "$dir"
+done
+
+# 2. The offline column: the best fixed setting per sequence.
+for i in "${!names[@]}"; do
+  echo "bench_paper: dse ${names[$i]}"
+  "$bin" dse "${paths[$i]}" --out "$out/dse/${names[$i]}" "${dse_grid[@]}" --frames "$frames" --jobs "$jobs" \
+    --threads 1
+done
+
+# 3. The tc controller's table.
+echo "bench_paper: profile on ${profile_set[*]##*/}"
+"$bin" profile "${profile_set[@]}" --out "$out/profile" "${profile_grid[@]}" --frames "$frames" --jobs "$jobs" \
+  --threads 1
+
+# 4. Every sequence under every controller, and the report.
+echo "bench_paper: bench"
+"$bin" bench "${paths[@]}" --out "$out/bench" --controllers "$controllers" --dse-dir "$out/dse" \
+  --tc-table "$out/profile/tc_table.json" --tc-velocities "$tc_velocities" --plot-sequence stress-bursts \
+  --frames "$frames" --jobs "$jobs" --threads 1 > "$out/bench.log"
+echo "bench_paper: done; report in $out/bench/report.md and $out/bench/report.html (bench output: $out/bench.log)"
