@@ -46,6 +46,7 @@ declare -A known_failures=(
 )
 declare -A slow=(
   [test_synth]="the synthetic-sequence renderer's 900k assertions: ~4.5 min under qemu-arm, more than the whole subset"
+  [test_synth_stress]="the stress trajectories of the synthetic-sequence generator (bench tooling, like test_synth)"
   [test_drivers_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_drivers"
   [test_eval_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_eval"
   [test_synth_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_synth"
