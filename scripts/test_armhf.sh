@@ -39,11 +39,9 @@ subset=(
 )
 # Known armhf failures: a test case that fails on armhf, reported to the owner of the code. Its test runs
 # without that one case, which is named on every run; remove the entry when it is fixed (--full runs it whole).
-#   test_pipeline: on armhf 10 of ~12k raycast vertices differ with and without empty-space skipping (the test
-#   demands bit-identical maps; GCC contracts a*b+c into vfma on armhf, never on x86-64 without -mfma).
-declare -A known_failures=(
-  [test_pipeline]="raycast finds the same surface with and without empty-space skipping"
-)
+# None now. (test_pipeline's "raycast finds the same surface with and without empty-space skipping" failed here
+# while GCC contracted a*b+c into vfma on armhf; the build has -ffp-contract=off since.)
+declare -A known_failures=()
 declare -A slow=(
   [test_synth]="the synthetic-sequence renderer's 900k assertions: ~4.5 min under qemu-arm, more than the whole subset"
   [test_synth_stress]="the stress trajectories of the synthetic-sequence generator (bench tooling, like test_synth)"
