@@ -65,6 +65,7 @@ TEST_CASE("depth noise on a flat wall matches sigma_z = z^2 sigma_d / (b f) plus
 
 TEST_CASE("measured disparities lie on the quantisation grid", "[synth][noise]") {
   SensorModel model;
+  model.sigmaDisparityPx = 0.2;  // wide enough to cover many steps
   const double bf = model.baselineM * iclNuimIntrinsics().fx;
   const DepthMeters depth = renderWith(planeScene(2.0), model, 3);
   std::set<float> distinct;
