@@ -5,14 +5,25 @@ namespace sb {
 void CorrectionParams::read(ConfigReader& r) {
   r.number("correction_velocity_threshold_m_per_frame", velocityThreshold, 0.0, 10.0);
   r.boolean("correction_on_tracking_failure", onTrackingFailure);
+  r.integer("correction_max_extrapolated_frames", maxExtrapolatedFrames, 0, 1000);
 }
 
 std::optional<Eigen::Isometry3d> PoseCorrector::correct(const Observation& o) {
   if (!o.trackingAttempted) return std::nullopt;
-  const bool jump = o.velocity > params_.velocityThreshold;
+  const bool afterCorrection = correctedInARow_ > 0;
+  const bool jump = o.tracked && !afterCorrection && o.velocity > params_.velocityThreshold;
   const bool failed = !o.tracked && params_.onTrackingFailure;
-  if (jump || failed) return motion_ * o.previousPose;
-  motion_ = o.pose * o.previousPose.inverse();
+  if (failed && correctedInARow_ >= params_.maxExtrapolatedFrames) {
+    ++correctedInARow_;
+    return o.previousPose;  // lost for too long: hold the pose
+  }
+  if (jump || failed) {
+    ++correctedInARow_;
+    return motion_ * o.previousPose;
+  }
+  if (!o.tracked) return std::nullopt;  // failed, correction of failures off: the pipeline keeps its pose
+  if (!afterCorrection) motion_ = o.pose * o.previousPose.inverse();
+  correctedInARow_ = 0;
   return std::nullopt;
 }
 

@@ -3,6 +3,10 @@
 // the frame's pose is replaced by constant-velocity extrapolation of the full rigid motion,
 // Pose_t = T_{t-1} * Pose_{t-1}, and the motion is kept (T_t = T_{t-1}); otherwise T_t = Pose_t * Pose_{t-1}^-1.
 // Motions are in the world (volume) frame.
+// Right after a corrected frame, Pose_{t-1} is an extrapolation: a tracked frame's velocity against it measures
+// the extrapolation's error, not a glitch, so that frame is accepted without the jump test and its apparent
+// motion is not learnt (else one wrong correction feeds the next: seen on the blank-wall stress sequence,
+// where 423 frames in a row were corrected and the trajectory ran off by a metre).
 
 #include <Eigen/Geometry>
 #include <optional>
@@ -15,8 +19,12 @@ namespace sb {
 struct CorrectionParams {
   double velocityThreshold = 0.035;  // m/frame: tracked velocity above this is a tracking glitch
   bool onTrackingFailure = true;     // also correct frames whose tracking failed
+  // Failed frames in a row that are extrapolated; later ones keep the previous pose (SLAMBench's behaviour on a
+  // failed track), so a camera that stays lost does not fly off at the last velocity.
+  int maxExtrapolatedFrames = 5;
 
-  // Keys: correction_velocity_threshold_m_per_frame, correction_on_tracking_failure.
+  // Keys: correction_velocity_threshold_m_per_frame, correction_on_tracking_failure,
+  // correction_max_extrapolated_frames.
   void read(ConfigReader& reader);
 };
 
@@ -31,6 +39,7 @@ class PoseCorrector {
  private:
   CorrectionParams params_;
   Eigen::Isometry3d motion_ = Eigen::Isometry3d::Identity();  // T_{t-1}, world frame
+  int correctedInARow_ = 0;  // frames corrected since the last accepted tracked pose
 };
 
 }  // namespace sb

@@ -26,6 +26,7 @@ TEST_CASE("config/controller.json holds the defaults", "[controller][config]") {
   CHECK(fromFile.rate.approximationHoldFrames == defaults.rate.approximationHoldFrames);
   CHECK(fromFile.surface.stdThresholdM == defaults.surface.stdThresholdM);
   CHECK(fromFile.correction.velocityThreshold == defaults.correction.velocityThreshold);
+  CHECK(fromFile.correction.maxExtrapolatedFrames == defaults.correction.maxExtrapolatedFrames);
   CHECK(fromFile.ladder.icpLevels == defaults.ladder.icpLevels);
   for (int l = 0; l <= 3; ++l) CHECK(fromFile.ladder.coupled(l) == defaults.ladder.coupled(l));
   CHECK(defaults.pid.vStand == 0.030);

@@ -177,6 +177,64 @@ TEST_CASE("pose correction replaces a jump and a failed track by the extrapolate
   }
 }
 
+TEST_CASE("a correction does not feed the next: the frame after it is accepted when tracked", "[controller][slambooster]") {
+  // The blank-wall stress sequence's runaway: a real fast frame (just above the jump threshold) is corrected to
+  // the slower extrapolation; the tracker then follows the true camera, so each next frame's velocity against
+  // the extrapolated pose exceeded the threshold too, and every frame was corrected from there on.
+  sb::SlamBoosterController c("pid+surface+correction", config(R"({"surface_detection": false})"));
+  Eigen::Isometry3d slow = Eigen::Isometry3d::Identity(), fast = Eigen::Isometry3d::Identity();
+  slow.translation().x() = 0.007;
+  fast.translation().x() = 0.036;
+  Eigen::Isometry3d truth = Eigen::Isometry3d::Identity(), previousFinal = Eigen::Isometry3d::Identity();
+  int corrected = 0;
+  for (int i = 0; i < 40; ++i) {
+    const Eigen::Isometry3d motion = i < 4 ? Eigen::Isometry3d::Identity() : (i == 20 ? fast : slow);
+    truth = motion * truth;
+    sb::Observation o;
+    o.frame = i;
+    o.previousPose = previousFinal;
+    o.trackingAttempted = i >= 4;
+    o.tracked = o.trackingAttempted;
+    o.pose = o.tracked ? truth : previousFinal;  // the tracker finds the true camera
+    o.velocity = (o.pose.translation() - o.previousPose.translation()).norm();
+    const sb::Decision d = c.decide(o);
+    INFO("frame " << i << " velocity " << o.velocity);
+    CHECK(d.correctedPose.has_value() == (i == 20));
+    if (d.correctedPose) {
+      ++corrected;
+      // Extrapolated with the last learnt motion, not the fast frame's.
+      CHECK(d.correctedPose->translation().isApprox(slow * o.previousPose.translation(), 1e-12));
+    }
+    previousFinal = d.correctedPose ? *d.correctedPose : o.pose;
+  }
+  CHECK(corrected == 1);
+  CHECK((previousFinal.translation() - truth.translation()).norm() < 1e-12);  // back on the true camera
+}
+
+TEST_CASE("a camera lost for long is extrapolated for a few frames, then held", "[controller][slambooster]") {
+  sb::SlamBoosterController c("pid+surface+correction",
+                              config(R"({"surface_detection": false, "correction_max_extrapolated_frames": 3})"));
+  Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+  step.translation().x() = 0.01;
+  sb::test::ObservationScript script;
+  Eigen::Isometry3d lastGood = Eigen::Isometry3d::Identity();
+  for (int i = 0; i < 20; ++i) {
+    const bool lost = i >= 10;
+    const sb::Observation o = script.next(i >= 4 ? step : Eigen::Isometry3d::Identity(), !lost);
+    const sb::Decision d = c.decide(o);
+    script.finish(o, d);
+    INFO("frame " << i);
+    CHECK(d.correctedPose.has_value() == lost);
+    if (!lost) lastGood = o.pose;
+    if (lost) {
+      const int extrapolated = std::min(i - 9, 3);  // frames 10, 11, 12 move on; then the pose holds
+      Eigen::Isometry3d expected = lastGood;
+      for (int k = 0; k < extrapolated; ++k) expected = step * expected;
+      CHECK(d.correctedPose->isApprox(expected, 1e-9));
+    }
+  }
+}
+
 TEST_CASE("the registry's slambooster variants switch the parts", "[controller][slambooster]") {
   const sb::ControllerContext context;
   const auto settings = sb::parseControllerSettings(
