@@ -8,6 +8,7 @@
 #include "kernels/raycast.h"
 #include "kernels/track.h"
 #include "pipeline/block_distance.h"
+#include "pipeline/cpu_track.h"
 #include "pipeline/kernel_args.h"
 
 namespace sb {
@@ -169,44 +170,43 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
 TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                             StageTimes& times) {
   const Level& in = levels_[level];
-  const int w = in.k.width, h = in.k.height;
-  // track and reduce run fused per chunk of rows (the chunk's track output stays in cache); each chunk
-  // reduces into its own partial sums (double), summed in chunk order: deterministic for any thread count.
-  trackOut_.resize(static_cast<size_t>(SB_TRACK_STRIDE) * w * h);
-  const SbMat34 toWorld = toMat34(cameraToWorld.matrix());
+  // pipeline/cpu_track.h: track() and reduce() four pixels at a time. Per chunk of rows, track fills the
+  // band (in cache), then reduce sums it into the chunk's partial (double); the partials are summed in chunk
+  // order: deterministic for any thread count.
+  TrackInputs args;
+  args.vertex = in.vertex.data();
+  args.normal = in.normal.data();
+  args.width = in.k.width;
+  args.height = in.k.height;
+  args.refVertex = referenceVertex_.data();
+  args.refNormal = referenceNormal_.data();
+  args.refWidth = referenceK_.width;
+  args.refHeight = referenceK_.height;
+  args.cameraToWorld = toMat34(cameraToWorld.matrix());
   const Eigen::Matrix<float, 3, 4> projection =
       cameraMatrix(referenceK_) * referencePose.inverse().matrix().topRows<3>();
-  const SbMat34 toReference = toMat34(projection);
-  float* out = trackOut_.data();
-  const float* v = in.vertex.data();
-  const float* n = in.normal.data();
-  const float* rv = referenceVertex_.data();
-  const float* rn = referenceNormal_.data();
-  const int rw = referenceK_.width, rh = referenceK_.height;
-  const float dist = config_.icpDistanceThreshold, dot = config_.icpNormalThreshold;
-  const int chunks = ThreadPool::chunkCount(0, h, kRowsPerChunk);
+  args.worldToRefPixel = toMat34(projection);
+  args.distanceThreshold = config_.icpDistanceThreshold;
+  args.normalThreshold = config_.icpNormalThreshold;
+  const int chunks = ThreadPool::chunkCount(0, args.height, kRowsPerChunk);
   std::vector<TrackSums> partial(chunks);
   std::vector<double> trackMs(chunks), reduceMs(chunks);
   const auto start = std::chrono::steady_clock::now();
-  pool_.parallelFor(0, h, kRowsPerChunk, [&](int chunk, int y0, int y1) {
+  pool_.parallelFor(0, args.height, kRowsPerChunk, [&](int chunk, int y0, int y1) {
+    thread_local TrackBand band;  // scratch of this thread, kept between calls
     const auto t0 = std::chrono::steady_clock::now();
-    for (int y = y0; y < y1; ++y)
-      for (int x = 0; x < w; ++x) ::track(out, v, n, w, rv, rn, rw, rh, toWorld, toReference, dist, dot, x, y);
+    trackBand(args, y0, y1, band);
     const auto t1 = std::chrono::steady_clock::now();
     TrackSums& sums = partial[chunk];
     sums.fill(0.0);
-    for (int y = y0; y < y1; ++y) {
-      float row[SB_REDUCE_SIZE] = {};
-      for (int x = 0; x < w; ++x) ::reduce(row, out, y * w + x);
-      for (int i = 0; i < SB_REDUCE_SIZE; ++i) sums[i] += row[i];
-    }
+    reduceBand(band, sums);
     trackMs[chunk] = std::chrono::duration<double, std::milli>(t1 - t0).count();
     reduceMs[chunk] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   });
   TrackSums total{};
   for (const TrackSums& p : partial)
     for (int i = 0; i < SB_REDUCE_SIZE; ++i) total[i] += p[i];
-  // Wall time of the fused loop, split between the stages by their share of the per-chunk work.
+  // Wall time of the loop, split between the stages by their share of the per-chunk work.
   double trackSum = 0, reduceSum = 0;
   for (int c = 0; c < chunks; ++c) {
     trackSum += trackMs[c];

@@ -53,7 +53,6 @@ class CpuBackend : public ComputeBackend {
   Intrinsics computeK_;          // of the last preprocessed frame
   std::vector<float> depth_;     // mm2meters output (compute size, metres), used by integrate
   std::array<Level, kPyramidLevels> levels_;
-  std::vector<float> trackOut_;  // SB_TRACK_STRIDE floats per pixel of the tracked level
 
   Intrinsics referenceK_;
   std::vector<float> referenceVertex_, referenceNormal_;
