@@ -42,43 +42,56 @@ SB_INLINE float sbSkipTo(SB_GLOBAL const unsigned char* blockFlags, int shift, i
 }
 
 // Empty-space skipping by block distance (the CPU backend's structure): `blockDistance` holds one byte per
-// block of (1 << shift)^3 voxels, the Chebyshev distance in blocks to the nearest block that has surface,
-// where a block "has surface" when a voxel of it or of the first voxel layer of its upper neighbours (voxels
-// B*b .. B*b + B per axis, B = 1 << shift) stores a tsdf below the small-step threshold. `s` is the sample in
-// voxel coordinates (pos * R / size - 0.5: the trilinear interpolation reads voxels floor(s) and floor(s) + 1
-// per axis); the ray is s(t) = sOrigin + t * sDirection, sInverse its componentwise inverse (0 where the
-// direction is 0). With d >= 1 for the block b of floor(s), no block within d - 1 of b has surface, so while
-// s stays in [B(b - d + 1), B(b + d)) on each axis the interpolation stays at or above the threshold: no
-// sample there ends the march or changes its step. Returns the ray parameter where s leaves that
-// box, or -1 when the block has surface or s is outside [0, R - 1).
-SB_INLINE float sbSkipByDistance(SB_GLOBAL const unsigned char* blockDistance, int resolution, int shift,
+// block of (1 << shift)^3 voxels (blocksPerSide^3 blocks), the Chebyshev distance in blocks to the nearest
+// block that has surface, where a block "has surface" when a voxel of it or of the first voxel layer of its
+// upper neighbours (voxels B*b .. B*b + B per axis, B = 1 << shift) stores a tsdf below the small-step
+// threshold. `s` is the sample in voxel coordinates (the trilinear interpolation reads voxels floor(s) and
+// floor(s) + 1 per axis), which the caller keeps in [0, R - 1) on every axis; the ray is
+// s(t) = sOrigin + t * sDirection, sInverse its componentwise inverse (0 where the direction is 0: no skip
+// then). With d >= 1 for the block b of floor(s), no block within d - 1 of b has surface, so while s stays
+// in [B(b - d + 1), B(b + d)) on each axis the interpolation stays at or above the threshold: no sample
+// there ends the march or changes its step. Returns the ray parameter where s leaves that box, or a value
+// <= 0 when the block has surface.
+SB_INLINE float sbSkipByDistance(SB_GLOBAL const unsigned char* blockDistance, int blocksPerSide, int shift,
                                  float3 s, float3 sOrigin, float3 sInverse) {
-  const float last = (float)(resolution - 1);
-  if (!(s.x >= 0.0f && s.y >= 0.0f && s.z >= 0.0f && s.x < last && s.y < last && s.z < last)) return -1.0f;
   const int bx = (int)s.x >> shift;
   const int by = (int)s.y >> shift;
   const int bz = (int)s.z >> shift;
-  const int blocksPerSide = resolution >> shift;
   const int d = blockDistance[bx + by * blocksPerSide + bz * blocksPerSide * blocksPerSide];
   if (d == 0) return -1.0f;
   const float blockVoxels = (float)(1 << shift);
-  const float tx =
-      sInverse.x > 0.0f
-          ? ((float)(bx + d) * blockVoxels - sOrigin.x) * sInverse.x
-          : (sInverse.x < 0.0f ? ((float)(bx - d + 1) * blockVoxels - sOrigin.x) * sInverse.x : 1e30f);
-  const float ty =
-      sInverse.y > 0.0f
-          ? ((float)(by + d) * blockVoxels - sOrigin.y) * sInverse.y
-          : (sInverse.y < 0.0f ? ((float)(by - d + 1) * blockVoxels - sOrigin.y) * sInverse.y : 1e30f);
-  const float tz =
-      sInverse.z > 0.0f
-          ? ((float)(bz + d) * blockVoxels - sOrigin.z) * sInverse.z
-          : (sInverse.z < 0.0f ? ((float)(bz - d + 1) * blockVoxels - sOrigin.z) * sInverse.z : 1e30f);
-  return sbFmin(tx, sbFmin(ty, tz));
+  // The box face the ray leaves through on each axis (a select, not a branch).
+  const float ex = (float)(sInverse.x >= 0.0f ? bx + d : bx - d + 1) * blockVoxels;
+  const float ey = (float)(sInverse.y >= 0.0f ? by + d : by - d + 1) * blockVoxels;
+  const float ez = (float)(sInverse.z >= 0.0f ? bz + d : bz - d + 1) * blockVoxels;
+  return sbFmin((ex - sOrigin.x) * sInverse.x, sbFmin((ey - sOrigin.y) * sInverse.y, (ez - sOrigin.z) * sInverse.z));
+}
+
+// The ray-parameter interval [*lo, *hi) in which s(t) = sOrigin + t * sDirection stays inside [0, R - 1) on
+// every axis with a margin of 1e-3 voxel (so that rounding in s(t) cannot leave it); *lo > *hi when empty.
+SB_INLINE void sbVoxelRange(float3 sOrigin, float3 sDirection, int resolution, float* lo, float* hi) {
+  const float margin = 1e-3f;
+  const float top = (float)(resolution - 1) - margin;
+  const float o[3] = {sOrigin.x, sOrigin.y, sOrigin.z};
+  const float d[3] = {sDirection.x, sDirection.y, sDirection.z};
+  float l = -1e30f, h = 1e30f;
+  for (int a = 0; a < 3; ++a) {
+    if (d[a] != 0.0f) {
+      const float t0 = (margin - o[a]) / d[a];
+      const float t1 = (top - o[a]) / d[a];
+      l = sbFmax(l, sbFmin(t0, t1));
+      h = sbFmin(h, sbFmax(t0, t1));
+    } else if (!(o[a] >= margin && o[a] <= top)) {
+      h = -1e30f;
+    }
+  }
+  *lo = l;
+  *hi = h;
 }
 
 // The march of one ray (see raycast), with empty-space skipping by `blockDistance` when it is not 0, else by
-// `blockFlags` / `superFlags` when they are not 0, else none.
+// `blockFlags` / `superFlags` when they are not 0, else none. Samples are interpolated in voxel coordinates
+// s(t) = sOrigin + t * sDirection.
 SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
                               SB_GLOBAL const short* volume, int resolution, float size,
                               SB_GLOBAL const unsigned char* blockDistance, int distanceShift,
@@ -104,13 +117,17 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
       tExit = -1.0f;
     }
   }
-  // The ray in voxel coordinates, for sbSkipByDistance.
+  // The ray in voxel coordinates.
   const float scale = (float)resolution / size;
   const float3 sOrigin = origin * scale - sbMakeFloat3(0.5f, 0.5f, 0.5f);
   const float3 sDirection = direction * scale;
   const float3 sInverse = sbMakeFloat3(sDirection.x != 0.0f ? 1.0f / sDirection.x : 0.0f,
                                        sDirection.y != 0.0f ? 1.0f / sDirection.y : 0.0f,
                                        sDirection.z != 0.0f ? 1.0f / sDirection.z : 0.0f);
+  // Where sbSkipByDistance may be asked (s inside [0, R - 1)).
+  float tLookupLo, tLookupHi;
+  sbVoxelRange(sOrigin, sDirection, resolution, &tLookupLo, &tLookupHi);
+  const int blocksPerSide = resolution >> distanceShift;
   float3 vertex = sbMakeFloat3(0.0f, 0.0f, 0.0f);
   float3 normal = sbMakeFloat3(SB_INVALID_NORMAL, 0.0f, 0.0f);
   if (tEnter < tExit) {
@@ -123,22 +140,23 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
     float step = largeStep;
     int smallSteps = 0;  // the step is smallStep
     float t = tEnter;
-    float fPrevious = sbInterpolateTsdf(volume, resolution, size, origin + direction * t);
+    float fPrevious = sbInterpolateTsdfVoxel(volume, resolution, sOrigin + sDirection * t);
     float fCurrent = fPrevious;
     int first = 1;            // the first sample is at tEnter, already interpolated
     int previousSkipped = 0;  // the sample before the current one was left out (fPrevious is not its value)
     if (fPrevious > 0.0f) {
       while (t < tExit) {
-        const float3 pos = origin + direction * t;
+        const float3 s = sOrigin + sDirection * t;
         float skipTo = -1.0f;
         // Inside the small-step band (the previous sample was taken and is below smallStepBelow) the ray is at
         // a surface, where a skip is rarely found: no lookup there (not skipping is always exact).
         const int inBand = smallSteps && !previousSkipped && fPrevious < smallStepBelow;
         if (!inBand) {
           if (blockDistance != 0) {
-            skipTo = sbSkipByDistance(blockDistance, resolution, distanceShift, sOrigin + sDirection * t, sOrigin,
-                                      sInverse);
+            if (t >= tLookupLo && t < tLookupHi)
+              skipTo = sbSkipByDistance(blockDistance, blocksPerSide, distanceShift, s, sOrigin, sInverse);
           } else if (blockFlags != 0) {
+            const float3 pos = origin + direction * t;
             if (superFlags != 0)
               skipTo = sbSkipTo(superFlags, SB_SUPER_SHIFT, resolution, size, origin, direction, pos);
             if (skipTo <= t) skipTo = sbSkipTo(blockFlags, SB_BLOCK_SHIFT, resolution, size, origin, direction, pos);
@@ -153,12 +171,12 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
           previousSkipped = 1;
           first = 0;
         } else {
-          fCurrent = first ? fPrevious : sbInterpolateTsdf(volume, resolution, size, pos);
+          fCurrent = first ? fPrevious : sbInterpolateTsdfVoxel(volume, resolution, s);
           first = 0;
           if (fCurrent < 0.0f) {
             if (previousSkipped)
-              fPrevious = sbInterpolateTsdf(volume, resolution, size,
-                                            origin + direction * (tBase + (float)(n - 1) * step));
+              fPrevious = sbInterpolateTsdfVoxel(volume, resolution,
+                                                 sOrigin + sDirection * (tBase + (float)(n - 1) * step));
             break;
           }
           if (fCurrent < smallStepBelow && !smallSteps) {
@@ -175,11 +193,10 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
       }
       if (fCurrent < 0.0f) {
         t = t + step * fCurrent / (fPrevious - fCurrent);
-        const float3 surface = origin + direction * t;
-        const float3 g = sbTsdfGradient(volume, resolution, size, surface);
+        const float3 g = sbTsdfGradientVoxel(volume, resolution, sOrigin + sDirection * t);
         const float len = sbLength(g);
         if (len > 0.0f) {
-          vertex = surface;
+          vertex = origin + direction * t;
           normal = g * (1.0f / len);
         }
       }

@@ -62,12 +62,10 @@ SB_INLINE int integrate(SB_GLOBAL short* volume, int resolution, float size, SbM
   return integrateVoxel(volume, index, sbTransform(worldToCamera, centre), depth, width, height, k, mu, maxWeight);
 }
 
-// Trilinear interpolation of the tsdf at `pos` (volume frame, metres), clamped at the borders.
-SB_INLINE float sbInterpolateTsdf(SB_GLOBAL const short* volume, int resolution, float size, float3 pos) {
-  const float scale = (float)resolution / size;
-  const float sx = pos.x * scale - 0.5f;
-  const float sy = pos.y * scale - 0.5f;
-  const float sz = pos.z * scale - 0.5f;
+// Trilinear interpolation of the tsdf at `s` in voxel coordinates (pos * resolution / size - 0.5: voxel
+// centres at integers), clamped at the borders.
+SB_INLINE float sbInterpolateTsdfVoxel(SB_GLOBAL const short* volume, int resolution, float3 s) {
+  const float sx = s.x, sy = s.y, sz = s.z;
   const int last = resolution - 1;
   const float lastF = (float)last;
   int x0, y0, z0, dx, dy, dz;
@@ -111,87 +109,61 @@ SB_INLINE float sbInterpolateTsdf(SB_GLOBAL const short* volume, int resolution,
   return (c0 * (1.0f - fz) + c1 * fz) * (1.0f / SB_TSDF_SCALE);
 }
 
-// The raw tsdf (SB_TSDF_SCALE = +1) of voxel (x, y, z).
-SB_INLINE float sbRawTsdf(SB_GLOBAL const short* volume, int resolution, int x, int y, int z) {
-  return (float)volume[2 * (x + y * resolution + z * resolution * resolution)];
+// Trilinear interpolation of the tsdf at `pos` (volume frame, metres), clamped at the borders.
+SB_INLINE float sbInterpolateTsdf(SB_GLOBAL const short* volume, int resolution, float size, float3 pos) {
+  const float scale = (float)resolution / size;
+  return sbInterpolateTsdfVoxel(volume, resolution,
+                                sbMakeFloat3(pos.x * scale - 0.5f, pos.y * scale - 0.5f, pos.z * scale - 0.5f));
 }
 
-// Gradient of the interpolated tsdf at `pos` (unnormalised, in raw tsdf units per two voxels): on each axis
-// the trilinear blend of the central differences v(i + 1) - v(i - 1) and v(i + 2) - v(i) around the
-// interpolation cell's corners i, i + 1, indices clamped into the volume (SLAMBench KinectFusion's
-// Volume::grad). 32 voxel reads.
-SB_INLINE float3 sbTsdfGradient(SB_GLOBAL const short* volume, int resolution, float size, float3 pos) {
-  const float scale = (float)resolution / size;
-  const float sx = pos.x * scale - 0.5f;
-  const float sy = pos.y * scale - 0.5f;
-  const float sz = pos.z * scale - 0.5f;
-  const float bx = sbFloor(sx);
-  const float by = sbFloor(sy);
-  const float bz = sbFloor(sz);
-  const float fx = sx - bx;
-  const float fy = sy - by;
-  const float fz = sz - bz;
+// Gradient of the interpolated tsdf at voxel coordinates `s` (as sbInterpolateTsdfVoxel; unnormalised, in raw
+// tsdf units per two voxels): on each axis the trilinear blend of the central differences v(i + 1) - v(i - 1)
+// and v(i + 2) - v(i) around the interpolation cell's corners i, i + 1, indices clamped into the volume
+// (SLAMBench KinectFusion's Volume::grad). 32 voxel reads.
+SB_INLINE float3 sbTsdfGradientVoxel(SB_GLOBAL const short* volume, int resolution, float3 s) {
+  const float bx = sbFloor(s.x);
+  const float by = sbFloor(s.y);
+  const float bz = sbFloor(s.z);
+  const float fx = s.x - bx;
+  const float fy = s.y - by;
+  const float fz = s.z - bz;
   const int last = resolution - 1;
   const int ix = (int)bx;
   const int iy = (int)by;
   const int iz = (int)bz;
-  // Clamped indices i - 1, i, i + 1, i + 2 per axis.
-  const int xm = sbClampInt(ix - 1, 0, last), x0 = sbClampInt(ix, 0, last), x1 = sbClampInt(ix + 1, 0, last),
-            x2 = sbClampInt(ix + 2, 0, last);
-  const int ym = sbClampInt(iy - 1, 0, last), y0 = sbClampInt(iy, 0, last), y1 = sbClampInt(iy + 1, 0, last),
-            y2 = sbClampInt(iy + 2, 0, last);
-  const int zm = sbClampInt(iz - 1, 0, last), z0 = sbClampInt(iz, 0, last), z1 = sbClampInt(iz + 1, 0, last),
-            z2 = sbClampInt(iz + 2, 0, last);
+  // Offsets (in shorts) from voxel (x0, y0, z0) to i - 1, i + 1, i + 2 per axis; constant away from the
+  // borders, clamped near them.
+  const int sx = 2, sy = 2 * resolution, sz = 2 * resolution * resolution;
+  const int x0 = sbClampInt(ix, 0, last), y0 = sbClampInt(iy, 0, last), z0 = sbClampInt(iz, 0, last);
+  const int xm = (sbClampInt(ix - 1, 0, last) - x0) * sx, x1 = (sbClampInt(ix + 1, 0, last) - x0) * sx,
+            x2 = (sbClampInt(ix + 2, 0, last) - x0) * sx;
+  const int ym = (sbClampInt(iy - 1, 0, last) - y0) * sy, y1 = (sbClampInt(iy + 1, 0, last) - y0) * sy,
+            y2 = (sbClampInt(iy + 2, 0, last) - y0) * sy;
+  const int zm = (sbClampInt(iz - 1, 0, last) - z0) * sz, z1 = (sbClampInt(iz + 1, 0, last) - z0) * sz,
+            z2 = (sbClampInt(iz + 2, 0, last) - z0) * sz;
+  SB_GLOBAL const short* p = volume + 2 * (x0 + y0 * resolution + z0 * resolution * resolution);
   // The cell's corners c[z][y][x] (0: lower, 1: upper).
-  const float c000 = sbRawTsdf(volume, resolution, x0, y0, z0),
-              c001 = sbRawTsdf(volume, resolution, x1, y0, z0);
-  const float c010 = sbRawTsdf(volume, resolution, x0, y1, z0),
-              c011 = sbRawTsdf(volume, resolution, x1, y1, z0);
-  const float c100 = sbRawTsdf(volume, resolution, x0, y0, z1),
-              c101 = sbRawTsdf(volume, resolution, x1, y0, z1);
-  const float c110 = sbRawTsdf(volume, resolution, x0, y1, z1),
-              c111 = sbRawTsdf(volume, resolution, x1, y1, z1);
-  const float gx = (((c001 - sbRawTsdf(volume, resolution, xm, y0, z0)) * (1.0f - fx) +
-                     (sbRawTsdf(volume, resolution, x2, y0, z0) - c000) * fx) *
-                        (1.0f - fy) +
-                    ((c011 - sbRawTsdf(volume, resolution, xm, y1, z0)) * (1.0f - fx) +
-                     (sbRawTsdf(volume, resolution, x2, y1, z0) - c010) * fx) *
-                        fy) *
+  const float c000 = (float)p[0], c001 = (float)p[x1];
+  const float c010 = (float)p[y1], c011 = (float)p[y1 + x1];
+  const float c100 = (float)p[z1], c101 = (float)p[z1 + x1];
+  const float c110 = (float)p[z1 + y1], c111 = (float)p[z1 + y1 + x1];
+  const float gx = (((c001 - (float)p[xm]) * (1.0f - fx) + ((float)p[x2] - c000) * fx) * (1.0f - fy) +
+                    ((c011 - (float)p[y1 + xm]) * (1.0f - fx) + ((float)p[y1 + x2] - c010) * fx) * fy) *
                        (1.0f - fz) +
-                   (((c101 - sbRawTsdf(volume, resolution, xm, y0, z1)) * (1.0f - fx) +
-                     (sbRawTsdf(volume, resolution, x2, y0, z1) - c100) * fx) *
-                        (1.0f - fy) +
-                    ((c111 - sbRawTsdf(volume, resolution, xm, y1, z1)) * (1.0f - fx) +
-                     (sbRawTsdf(volume, resolution, x2, y1, z1) - c110) * fx) *
-                        fy) *
+                   (((c101 - (float)p[z1 + xm]) * (1.0f - fx) + ((float)p[z1 + x2] - c100) * fx) * (1.0f - fy) +
+                    ((c111 - (float)p[z1 + y1 + xm]) * (1.0f - fx) + ((float)p[z1 + y1 + x2] - c110) * fx) * fy) *
                        fz;
-  const float gy = (((c010 - sbRawTsdf(volume, resolution, x0, ym, z0)) * (1.0f - fy) +
-                     (sbRawTsdf(volume, resolution, x0, y2, z0) - c000) * fy) *
-                        (1.0f - fx) +
-                    ((c011 - sbRawTsdf(volume, resolution, x1, ym, z0)) * (1.0f - fy) +
-                     (sbRawTsdf(volume, resolution, x1, y2, z0) - c001) * fy) *
-                        fx) *
+  const float gy = (((c010 - (float)p[ym]) * (1.0f - fy) + ((float)p[y2] - c000) * fy) * (1.0f - fx) +
+                    ((c011 - (float)p[ym + x1]) * (1.0f - fy) + ((float)p[y2 + x1] - c001) * fy) * fx) *
                        (1.0f - fz) +
-                   (((c110 - sbRawTsdf(volume, resolution, x0, ym, z1)) * (1.0f - fy) +
-                     (sbRawTsdf(volume, resolution, x0, y2, z1) - c100) * fy) *
-                        (1.0f - fx) +
-                    ((c111 - sbRawTsdf(volume, resolution, x1, ym, z1)) * (1.0f - fy) +
-                     (sbRawTsdf(volume, resolution, x1, y2, z1) - c101) * fy) *
-                        fx) *
+                   (((c110 - (float)p[z1 + ym]) * (1.0f - fy) + ((float)p[z1 + y2] - c100) * fy) * (1.0f - fx) +
+                    ((c111 - (float)p[z1 + ym + x1]) * (1.0f - fy) + ((float)p[z1 + y2 + x1] - c101) * fy) * fx) *
                        fz;
-  const float gz = (((c100 - sbRawTsdf(volume, resolution, x0, y0, zm)) * (1.0f - fz) +
-                     (sbRawTsdf(volume, resolution, x0, y0, z2) - c000) * fz) *
-                        (1.0f - fx) +
-                    ((c101 - sbRawTsdf(volume, resolution, x1, y0, zm)) * (1.0f - fz) +
-                     (sbRawTsdf(volume, resolution, x1, y0, z2) - c001) * fz) *
-                        fx) *
+  const float gz = (((c100 - (float)p[zm]) * (1.0f - fz) + ((float)p[z2] - c000) * fz) * (1.0f - fx) +
+                    ((c101 - (float)p[zm + x1]) * (1.0f - fz) + ((float)p[z2 + x1] - c001) * fz) * fx) *
                        (1.0f - fy) +
-                   (((c110 - sbRawTsdf(volume, resolution, x0, y1, zm)) * (1.0f - fz) +
-                     (sbRawTsdf(volume, resolution, x0, y1, z2) - c010) * fz) *
-                        (1.0f - fx) +
-                    ((c111 - sbRawTsdf(volume, resolution, x1, y1, zm)) * (1.0f - fz) +
-                     (sbRawTsdf(volume, resolution, x1, y1, z2) - c011) * fz) *
-                        fx) *
+                   (((c110 - (float)p[zm + y1]) * (1.0f - fz) + ((float)p[z2 + y1] - c010) * fz) * (1.0f - fx) +
+                    ((c111 - (float)p[zm + y1 + x1]) * (1.0f - fz) + ((float)p[z2 + y1 + x1] - c011) * fz) * fx) *
                        fy;
   return sbMakeFloat3(gx, gy, gz);
 }
