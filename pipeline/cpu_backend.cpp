@@ -51,6 +51,39 @@ void clipLinear(double a, double b, double& lo, double& hi) {
   }
 }
 
+// SB_SIMD_CLONES: x86-64 builds of the function for AVX2 and for the baseline, picked at load time by the CPU
+// (GCC function multiversioning). The lanes make the same IEEE operations either way (no FMA contraction:
+// -ffp-contract=off), so results do not depend on the clone; elsewhere (armhf) one build.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SB_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define SB_SIMD_CLONES
+#endif
+
+// The interior pixels x in [r, w - r) of row y (rows y - r .. y + r exist) of bilateralFilter, tap by tap (a
+// vectorisable loop over x) with the kernel's bilateralWeight and the kernel's summation order, so the result
+// is bit-identical to bilateralFilter(). ws, vs: w floats of scratch.
+SB_SIMD_CLONES void bilateralInteriorRow(float* out, const float* in, int w, int y, const float* g, int r,
+                                         float rangeFactor, float* ws, float* vs) {
+  std::fill(ws, ws + w, 0.0f);
+  std::fill(vs, vs + w, 0.0f);
+  const float* centre = in + static_cast<size_t>(y) * w;
+  for (int dy = -r; dy <= r; ++dy) {
+    for (int dx = -r; dx <= r; ++dx) {
+      const float spatial = g[dx + r] * g[dy + r];
+      const float* tap = in + static_cast<size_t>(y + dy) * w + dx;
+      for (int x = r; x < w - r; ++x) {
+        const float v = tap[x];
+        const float weight = bilateralWeight(v, centre[x], spatial, rangeFactor);
+        ws[x] += weight;
+        vs[x] += weight * v;
+      }
+    }
+  }
+  float* row = out + static_cast<size_t>(y) * w;
+  for (int x = r; x < w - r; ++x) row[x] = centre[x] > 0.0f ? vs[x] / ws[x] : 0.0f;
+}
+
 }  // namespace
 
 CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool)
@@ -99,9 +132,8 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
     const int r = config_.bilateralRadius;
     const float sigma = config_.bilateralRangeSigma;
     const float rangeFactor = -1.0f / (2.0f * sigma * sigma);
-    // Interior pixels of a row are filtered together, tap by tap (a vectorisable loop over x) with the
-    // kernel's bilateralWeight and the kernel's summation order, so the result is bit-identical to
-    // bilateralFilter(); the border (clamped taps) runs the per-pixel kernel.
+    // Interior pixels of a row by bilateralInteriorRow (bit-identical to bilateralFilter()); the border
+    // (clamped taps) runs the per-pixel kernel.
     pool_.parallelFor(0, h, kRowsPerChunk, [&](int, int y0, int y1) {
       std::vector<float> weightSum(w), valueSum(w);
       for (int y = y0; y < y1; ++y) {
@@ -111,25 +143,7 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
         }
         for (int x = 0; x < r; ++x) bilateralFilter(out, in, w, h, g, r, sigma, x, y);
         for (int x = w - r; x < w; ++x) bilateralFilter(out, in, w, h, g, r, sigma, x, y);
-        std::fill(weightSum.begin(), weightSum.end(), 0.0f);
-        std::fill(valueSum.begin(), valueSum.end(), 0.0f);
-        const float* centre = in + static_cast<size_t>(y) * w;
-        float* ws = weightSum.data();
-        float* vs = valueSum.data();
-        for (int dy = -r; dy <= r; ++dy) {
-          for (int dx = -r; dx <= r; ++dx) {
-            const float spatial = g[dx + r] * g[dy + r];
-            const float* tap = in + static_cast<size_t>(y + dy) * w + dx;
-            for (int x = r; x < w - r; ++x) {
-              const float v = tap[x];
-              const float weight = bilateralWeight(v, centre[x], spatial, rangeFactor);
-              ws[x] += weight;
-              vs[x] += weight * v;
-            }
-          }
-        }
-        float* row = out + static_cast<size_t>(y) * w;
-        for (int x = r; x < w - r; ++x) row[x] = centre[x] > 0.0f ? vs[x] / ws[x] : 0.0f;
+        bilateralInteriorRow(out, in, w, y, g, r, rangeFactor, weightSum.data(), valueSum.data());
       }
     });
   }
