@@ -8,6 +8,7 @@
 #include "kernels/raycast.h"
 #include "kernels/track.h"
 #include "pipeline/block_distance.h"
+#include "pipeline/cpu_integrate.h"
 #include "pipeline/cpu_track.h"
 #include "pipeline/kernel_args.h"
 
@@ -285,12 +286,11 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
           const size_t rowIndex = static_cast<size_t>(y) * res + static_cast<size_t>(z) * res * res;
           const size_t blockRow = static_cast<size_t>(y >> kSkipShift) * blocks;
           const int rowFaces = ((y & (kSide - 1)) == 0 ? 2 : 0) + ((z & (kSide - 1)) == 0 ? 4 : 0);
-          for (int x = x0; x < x1; ++x) {
-            const float3 pos = base + step * static_cast<float>(x);
-            integrateVoxel(vol, static_cast<int>(rowIndex) + x, pos, depth, w, h, k, mu, maxWeight);
-            if (vol[2 * (rowIndex + x)] < flagBelow)
+          int16_t* rowVoxels = vol + 2 * rowIndex;
+          integrateRow(rowVoxels, x0, x1, base, step, depth, w, h, k, mu, maxWeight);
+          for (int x = x0; x < x1; ++x)
+            if (rowVoxels[2 * x] < flagBelow)
               mask[blockRow + (x >> kSkipShift)] |= maskBits[rowFaces + ((x & (kSide - 1)) == 0 ? 1 : 0)];
-          }
           for (int bx = x0 >> kSkipShift; bx * kSide < x1; ++bx)
             visited[blockRow + bx] += std::min(x1, (bx + 1) * kSide) - std::max(x0, bx * kSide);
         }

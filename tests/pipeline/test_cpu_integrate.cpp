@@ -1,0 +1,91 @@
+// pipeline/cpu_integrate.h against kernels/volume.h's integrateVoxel(): every row of voxels must end
+// bit-identical, over rows that cross free space, the truncation band, the space behind the surface and the
+// outside of the view, from voxels in every state (unobserved, partly and fully weighted, negative tsdf).
+
+#include <catch2/catch.hpp>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "kernels/volume.h"
+#include "pipeline/cpu_integrate.h"
+#include "pipeline/kernel_args.h"
+#include "tests/pipeline/synthetic_room.h"
+
+namespace {
+
+constexpr int kResolution = 128;
+constexpr float kVolumeSize = 3.2f;  // metres: the room (x 0.9-2.2, y 1.0-2.0, z up to 2.7) fits
+constexpr float kMu = 0.1f;
+constexpr int kMaxWeight = 100;
+
+// Voxels in every state: unobserved (+1, 0), random tsdf with weights 1..max, and some at the maximum weight.
+std::vector<int16_t> randomRow(std::mt19937& rng) {
+  std::uniform_int_distribution<int> tsdf(-32767, 32767), weight(0, kMaxWeight), kind(0, 3);
+  std::vector<int16_t> row(2 * kResolution);
+  for (int x = 0; x < kResolution; ++x) {
+    const int k = kind(rng);
+    row[2 * x] = static_cast<int16_t>(k == 0 ? 32767 : tsdf(rng));
+    row[2 * x + 1] = static_cast<int16_t>(k == 0 ? 0 : (k == 1 ? kMaxWeight : weight(rng)));
+  }
+  return row;
+}
+
+}  // namespace
+
+TEST_CASE("integrateRow leaves every voxel bit-identical to integrateVoxel", "[pipeline][integrate]") {
+  const sb::test::Room room;
+  const sb::Intrinsics k = sb::test::roomIntrinsics(160, 120);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(1.5, 1.5, 0.9);
+  pose = pose * sb::test::motion({0.02, -0.03, 0.05}, 7.0, {0.2, 1.0, 0.1});
+  const sb::DepthFrame frame = sb::test::renderRoom(room, pose, k);
+  std::vector<float> depth(static_cast<size_t>(k.width) * k.height);
+  for (int y = 0; y < k.height; ++y)
+    for (int x = 0; x < k.width; ++x)
+      depth[static_cast<size_t>(y) * k.width + x] = static_cast<float>(frame.depth(x, y) / sb::test::kRoomDepthScale);
+  for (int x = 20; x < 40; ++x) depth[60 * k.width + x] = 0.0f;  // a hole: no reading
+  const SbMat34 w2c = sb::toMat34(pose.inverse().cast<float>().matrix());
+  const SbCamera camera = sb::toCamera(k);
+  const float voxel = kVolumeSize / kResolution;
+  const float3 step = sbRotate(w2c, sbMakeFloat3(voxel, 0.0f, 0.0f));
+  std::mt19937 rng(7);
+  // What the rows exercised: surface band (tsdf < 1), free space (+1), behind the surface, outside the view.
+  int band = 0, free = 0, untouched = 0, rows = 0;
+  for (int z = 0; z < kResolution; z += 3) {
+    for (int y = 0; y < kResolution; y += 5) {
+      const float3 base = sbTransform(w2c, sbMakeFloat3(0.5f * voxel, (y + 0.5f) * voxel, (z + 0.5f) * voxel));
+      // Rows from random voxels and from unobserved ones (+1, 0): on the latter, what a voxel became tells
+      // which case it took.
+      for (const bool unobserved : {false, true}) {
+        std::vector<int16_t> start = randomRow(rng);
+        if (unobserved)
+          for (int x = 0; x < kResolution; ++x) start[2 * x] = 32767, start[2 * x + 1] = 0;
+        // Whole rows and ranges of every length modulo 4 at every alignment.
+        const int x0 = (y + z) % 7, x1 = kResolution - (y * 3 + z) % 5;
+        std::vector<int16_t> expected = start, actual = start;
+        for (int x = x0; x < x1; ++x)
+          integrateVoxel(expected.data(), x, base + step * static_cast<float>(x), depth.data(), k.width, k.height,
+                         camera, kMu, kMaxWeight);
+        sb::integrateRow(actual.data(), x0, x1, base, step, depth.data(), k.width, k.height, camera, kMu, kMaxWeight);
+        INFO("row y " << y << " z " << z << " x " << x0 << ".." << x1 << (unobserved ? " unobserved" : " random"));
+        REQUIRE(std::memcmp(expected.data(), actual.data(), expected.size() * sizeof(int16_t)) == 0);
+        ++rows;
+        if (unobserved)
+          for (int x = 0; x < kResolution; ++x) {
+            if (expected[2 * x + 1] == 0)
+              ++untouched;
+            else if (expected[2 * x] == 32767)
+              ++free;
+            else
+              ++band;
+          }
+      }
+    }
+  }
+  INFO("band " << band << " free " << free << " untouched " << untouched);
+  CHECK(rows > 1000);
+  CHECK(band > 1000);
+  CHECK(free > 2000);
+  CHECK(untouched > 10000);
+}
