@@ -8,6 +8,7 @@
 #include "synth/builtin_trajectory.h"
 #include "synth/renderer.h"
 #include "synth/rng.h"
+#include "synth/stress_views.h"
 #include "synth/synth_sequence.h"
 
 namespace sb::synth {
@@ -99,15 +100,26 @@ StressTrajectory burstsTrajectory(const Scene& scene, const StressParams& p, Rng
   constexpr double kCalmDriftM = 0.08, kCalmDriftRad = 0.2, kCalmDriftPitchRad = 0.06;
   constexpr double kMaxOffsetM = 0.35, kMaxYawOffsetRad = 0.6;
   constexpr double kFinalCalmS = 2.0;
-  constexpr double kSwingShare = 0.9, kFlickShare = 0.82;  // of the peak speed / rate, for combined bursts
   // The built-in orbit's centre: free floor space in every generated room; facing the south-east corner.
   const Eigen::Vector3d base(0.0, scene.roomMax.y() - kEyeHeightM, -1.2);
   const double baseYaw = 0.75 * kPi;
+  // A minimum-jerk move of d over T peaks at 1.875 d / T: the moves that peak at the set speed and rate.
   const double burstShift = p.burstSpeedMps * p.burstDurationS / kMinJerkPeak;
   const double burstTurn = p.burstRateDegps * kPi / 180.0 * p.burstDurationS / kMinJerkPeak;
 
-  enum Kind { Translate, Rotate, Swing, Tilt };
-  std::vector<Kind> order{Translate, Rotate, Swing, Tilt};
+  // Every burst moves and turns at once; the shares are of the peak speed and rate.
+  struct BurstKind {
+    double speedShare, rateShare;
+    enum { Sideways, Forward } direction;  // of the translation, in the camera's horizontal plane
+    enum { Against, With, Pitch } turn;    // yaw against / with a sideways move (forward: seeded), or pitch
+  };
+  const BurstKind kinds[kBursts] = {
+      {1.0, 0.55, BurstKind::Sideways, BurstKind::Against},  // a sideways jerk, turning to keep the view
+      {0.75, 0.9, BurstKind::Sideways, BurstKind::With},     // a swing: the view sweeps fast
+      {0.45, 1.0, BurstKind::Forward, BurstKind::With},      // a yaw flick with a step
+      {0.55, 0.85, BurstKind::Forward, BurstKind::Pitch},    // a nod with a lunge
+  };
+  std::vector<int> order{0, 1, 2, 3};
   for (int i = kBursts - 1; i > 0; --i)
     std::swap(order[static_cast<size_t>(i)], order[static_cast<size_t>(rng.index(i + 1))]);
 
@@ -130,23 +142,25 @@ StressTrajectory burstsTrajectory(const Scene& scene, const StressParams& p, Rng
     moves.push_back(
         {"calm", rng.uniform(static_cast<float>(p.calmMinS), static_cast<float>(p.calmMaxS)), calm});
 
-    CameraState burst = calm;
+    const BurstKind& kind = kinds[order[static_cast<size_t>(b)]];
     const Eigen::Vector3d lateral = lateralOf(calm.yawRad);
-    const double sideShift = signTowards((calm.position - base).dot(lateral), rng);
-    const double sideTurn = signTowards(calm.yawRad - baseYaw, rng);
-    switch (order[static_cast<size_t>(b)]) {
-      case Translate:
-        burst.position += sideShift * burstShift * lateral;
+    const Eigen::Vector3d forward(std::sin(calm.yawRad), 0.0, std::cos(calm.yawRad));
+    const Eigen::Vector3d axis = kind.direction == BurstKind::Sideways ? lateral : forward;
+    const double shiftSign = signTowards((calm.position - base).dot(axis), rng);  // back towards the base
+    CameraState burst = calm;
+    burst.position += shiftSign * kind.speedShare * burstShift * axis;
+    const double turn = kind.rateShare * burstTurn;
+    switch (kind.turn) {
+      case BurstKind::Against:  // moving right (+lateral) while turning left (-yaw) keeps the view
+        burst.yawRad -= shiftSign * turn;
         break;
-      case Rotate:
-        burst.yawRad += sideTurn * burstTurn;
+      case BurstKind::With:
+        burst.yawRad +=
+            (kind.direction == BurstKind::Sideways ? shiftSign : signTowards(calm.yawRad - baseYaw, rng)) *
+            turn;
         break;
-      case Swing:  // a sideways step while turning the same way: the view sweeps fast
-        burst.position += sideShift * kSwingShare * burstShift * lateral;
-        burst.yawRad += sideShift * kFlickShare * burstTurn;
-        break;
-      case Tilt:
-        burst.pitchDownRad += signTowards(calm.pitchDownRad - kLevelPitchRad, rng) * kFlickShare * burstTurn;
+      case BurstKind::Pitch:
+        burst.pitchDownRad += signTowards(calm.pitchDownRad - kLevelPitchRad, rng) * turn;
         break;
     }
     moves.push_back({"burst", p.burstDurationS, burst});
@@ -160,84 +174,163 @@ StressTrajectory burstsTrajectory(const Scene& scene, const StressParams& p, Rng
   return play(start, moves, p, rng);
 }
 
-// How much depth structure a view has: the smallest, over the four image quadrants, std of the exact depth
-// (metres) in a coarse render; -1 when under 85% of the pixels have a reading (out of sensor range).
-double viewStructure(const Renderer& renderer, const Eigen::Isometry3d& T_camera_to_world) {
-  constexpr double kMinValid = 0.85;
-  SensorModel exact;
-  exact.noise = false;
-  DepthMeters depth;
-  renderer.render(T_camera_to_world, exact, 0, depth, /*parallel=*/false);
-  const int w = depth.width(), h = depth.height();
-  double smallest = 1e9;
-  size_t valid = 0;
-  for (int q = 0; q < 4; ++q) {
-    double sum = 0, sumSq = 0;
-    int n = 0;
-    for (int y = q / 2 ? h / 2 : 0; y < (q / 2 ? h : h / 2); ++y)
-      for (int x = q % 2 ? w / 2 : 0; x < (q % 2 ? w : w / 2); ++x)
-        if (const double z = depth(x, y); z > 0) sum += z, sumSq += z * z, ++n;
-    valid += static_cast<size_t>(n);
-    smallest = n ? std::min(smallest, std::sqrt(std::max(0.0, sumSq / n - (sum / n) * (sum / n)))) : 0.0;
+// How good a furnished view is: -1 when under 85% of the pixels have a reading (out of sensor range); else
+// its depth structure (the smallest depth std over the detector's windows, metres), plus 10 when ICP sees
+// every motion well (so those views win).
+double furnishedScore(const Renderer& renderer, const Eigen::Isometry3d& T_camera_to_world) {
+  constexpr double kMinValid = 0.85, kWellConstrained = 0.02, kConstrainedBonus = 10.0;
+  const ViewMetrics m = measureView(renderer, T_camera_to_world);
+  if (m.validFraction < kMinValid) return -1.0;
+  return m.minWindowStdM + (m.minConstraint >= kWellConstrained ? kConstrainedBonus : 0.0);
+}
+
+Eigen::Isometry3d poseOf(const CameraState& s) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = handheldRotation(s.yawRad, s.pitchDownRad, 0.0);
+  T.translation() = s.position;
+  return T;
+}
+
+// Yaw of a camera looking along the plan direction `d` (x, z).
+double yawOf(const Eigen::Vector2d& d) {
+  return std::atan2(d.x(), d.y());
+}
+
+// The blank-wall view: facing a blank stretch that ends at a room corner, from where the detector's windows
+// see only the blank wall (every window's depth std small) while the image border, outside the windows,
+// holds the side wall of the corner and the floor: three plane orientations, so ICP sees every motion.
+struct CornerView {
+  CameraState blank;             // the view held while facing the blank wall
+  std::vector<CameraState> pan;  // the slow pan's key states around it (all checked like `blank`)
+  CameraState stand;             // further back into the room, where the turns happen
+  Eigen::Vector2d inward;        // the blank wall's inward normal (plan x, z)
+  double worstStdM = 1e9, constraint = -1.0;
+};
+
+CornerView cornerView(const Scene& scene, const StressParams& p) {
+  constexpr double kCornerSlackM = 0.25;    // a stretch ends at a corner when the side wall is this close
+  constexpr double kMaxWindowStdM = 0.085;  // the detector's threshold is 0.14 m: margin for noise and sway
+  constexpr double kMinValid = 0.9;
+  constexpr double kFreeM = 0.3;       // cameras keep this far from walls and furniture while placed
+  constexpr double kStandBackM = 0.6;  // the stand is this much further from the wall
+  constexpr double kPanTowardM = 0.05, kPanYawRad = 0.03, kPanPitchRad = 0.03;
+  constexpr int kProbeScale = 8;
+  const double distances[] = {1.0, 1.15, 1.3, 1.45, 1.6, 1.75};  // from the blank wall, metres
+  const double sideRatios[] = {0.45, 0.5, 0.55, 0.6, 0.65};      // side-wall distance / wall distance
+  const double yawOffsets[] = {-0.1, -0.05, 0.0, 0.05, 0.1};     // towards the corner, radians
+  const double pitches[] = {0.3, 0.35, 0.4, 0.45, 0.5};          // downwards, radians
+  const Renderer renderer(scene, iclNuimIntrinsics().scaled(kProbeScale));
+  const float eye = scene.roomMax.y() - static_cast<float>(kEyeHeightM);
+  auto free = [&](const Eigen::Vector2d& q) {
+    const Eigen::Vector3f at(static_cast<float>(q.x()), eye, static_cast<float>(q.y()));
+    return scene.insideRoom(at, kFreeM) && scene.objectContaining(at, kFreeM) < 0;
+  };
+  auto state = [&](const Eigen::Vector2d& q, double yaw, double pitch) {
+    return CameraState{Eigen::Vector3d(q.x(), eye, q.y()), yaw, pitch};
+  };
+
+  CornerView best;
+  for (const BlankWall& wall : scene.blankWalls) {
+    const Eigen::Vector2d from = wall.from.cast<double>(), to = wall.to.cast<double>();
+    const Eigen::Vector2d inward = wall.inward.cast<double>(), along = (to - from).normalized();
+    // The room corner on this wall's line, beyond the end of the stretch nearest to it.
+    const Eigen::Vector2d lo(scene.roomMin.x(), scene.roomMin.z()), hi(scene.roomMax.x(), scene.roomMax.z());
+    // How far `end` is from the side wall, going along the wall in direction dir * along.
+    auto sideGap = [&](const Eigen::Vector2d& end, double dir) {
+      const Eigen::Vector2d d = dir * along;
+      double gap = 1e9;
+      for (int a = 0; a < 2; ++a) {
+        if (d[a] > 0.5) gap = std::min(gap, hi[a] - end[a]);
+        if (d[a] < -0.5) gap = std::min(gap, end[a] - lo[a]);
+      }
+      return gap;
+    };
+    const double gapFrom = sideGap(from, -1.0), gapTo = sideGap(to, 1.0);
+    if (std::min(gapFrom, gapTo) > kCornerSlackM) continue;
+    const Eigen::Vector2d towardCorner = gapTo < gapFrom ? along : Eigen::Vector2d(-along);
+    const Eigen::Vector2d corner =
+        gapTo < gapFrom ? Eigen::Vector2d(to + gapTo * along) : Eigen::Vector2d(from - gapFrom * along);
+    for (double d : distances) {
+      for (double ratio : sideRatios) {
+        const Eigen::Vector2d q = corner + d * inward - ratio * d * towardCorner;
+        const Eigen::Vector2d stand = q + kStandBackM * inward;
+        if (!free(q) || !free(stand) || !free(0.5 * (q + stand))) continue;
+        for (double yawOffset : yawOffsets) {
+          const double yaw = yawOf(std::cos(yawOffset) * -inward + std::sin(yawOffset) * towardCorner);
+          for (double pitch : pitches) {
+            const double pan = p.panAlongM;
+            const std::vector<CameraState> views{
+                state(q, yaw, pitch), state(q - pan * towardCorner, yaw - kPanYawRad, pitch - kPanPitchRad),
+                state(q + pan * towardCorner - kPanTowardM * inward, yaw + kPanYawRad, pitch + kPanPitchRad)};
+            double worstStd = 0.0, constraint = 1e9;
+            bool ok = true;
+            for (const CameraState& v : views) {
+              const ViewMetrics m = measureView(renderer, poseOf(v));
+              worstStd = std::max(worstStd, m.maxWindowStdM);
+              ok = ok && m.validFraction >= kMinValid && worstStd < kMaxWindowStdM;
+              if (!ok) break;
+              constraint = std::min(constraint, m.minConstraint);
+            }
+            if (!ok || constraint <= best.constraint) continue;
+            best = {views[0], {views[1], views[2]}, state(stand, yaw, pitch), inward, worstStd, constraint};
+          }
+        }
+      }
+    }
   }
-  return static_cast<double>(valid) < kMinValid * w * h ? -1.0 : smallest;
+  if (best.constraint < 0)
+    throw Error(
+        "synth: --stress blank-wall found no view of a blank corner in scene '" + scene.name + "' (seed " +
+        std::to_string(scene.seed) +
+        ") whose detector windows are flat and whose camera stands clear of the furniture; try another seed");
+  return best;
 }
 
 StressTrajectory blankWallTrajectory(const Scene& scene, const StressParams& p, Rng& rng) {
   if (scene.blankWalls.empty())
     throw Error("synth: --stress blank-wall needs a generated room with blank walls (scene '" + scene.name +
                 "' has none)");
-  constexpr double kStandOffM = 0.35;  // where the walk starts: this far into the camera space, metres
   constexpr double kMinSideTurnRad = 1.05,
-                   kMaxSideTurnRad = 2.09;  // furnished views: 60-120 degrees off the wall
+                   kMaxSideTurnRad = 1.75;  // furnished views: 60-100 degrees off the blank view
   constexpr int kSideCandidates = 5;        // directions tried per side
   constexpr int kProbeScale = 8;            // candidate views are rendered at 1/8 resolution
   constexpr double kFurnishedPitchRad = kLevelPitchRad + 0.05;
-  constexpr double kTurnPeakRadps = 1.31;  // turns peak at 75 deg/s
+  constexpr double kTurnPeakRadps = 0.8;  // turns peak at 46 deg/s (1.5 deg/frame)
   constexpr double kMinTurnS = 2.0;
-  constexpr double kScanRad = 0.15;       // slow look-around in the furnished views, radians
-  constexpr double kPanYawRad = 0.04;     // yaw during the pan, radians
-  constexpr double kWallPitchRad = 0.05;  // nearly level while facing the wall
+  constexpr double kScanRad = 0.15;  // slow look-around in the furnished views, radians
   constexpr double kFurnishedS = 1.5, kWalkS = 2.0;
-  const BlankWall& wall =
-      *std::max_element(scene.blankWalls.begin(), scene.blankWalls.end(),
-                        [](const BlankWall& a, const BlankWall& b) { return a.clearDepthM < b.clearDepthM; });
-  const Eigen::Vector2f along = (wall.to - wall.from).normalized();
-  const Eigen::Vector2f mid = wall.middle() + along * rng.uniform(-0.05f, 0.05f);
-  auto at = [&](float fromWallM, float alongM) {
-    const Eigen::Vector2f q = mid + wall.inward * fromWallM + along * alongM;
-    return Eigen::Vector3d(q.x(), scene.roomMax.y() - kEyeHeightM, q.y());
-  };
-  const double wallYaw = std::atan2(-wall.inward.x(), -wall.inward.y());
-  const Eigen::Vector3d stand = at(wall.clearDepthM + static_cast<float>(kStandOffM), 0.f);
-  // The furnished views: of the directions 60-120 degrees off the wall, either way, the one with the most
-  // depth structure (the one whose flattest image quadrant is least flat).
+  const CornerView view = cornerView(scene, p);
+  const double wallYaw = view.blank.yawRad;
+  const Eigen::Vector3d stand = view.stand.position;
+  // The furnished views: of the directions 60-100 degrees off the blank view, either way, the one with the
+  // most depth structure (the one whose flattest detector window is least flat) among those that constrain
+  // ICP well.
   const Renderer renderer(scene, iclNuimIntrinsics().scaled(kProbeScale));
   double sideYaw = wallYaw + kMaxSideTurnRad, best = -2.0;
   for (int k = 0; k < kSideCandidates; ++k) {
     for (double side : {-1.0, 1.0}) {
       const double yaw = wallYaw + side * (kMinSideTurnRad +
                                            k * (kMaxSideTurnRad - kMinSideTurnRad) / (kSideCandidates - 1));
-      Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-      T.linear() = handheldRotation(yaw, kFurnishedPitchRad, 0.0);
-      T.translation() = stand;
-      const double structure = viewStructure(renderer, T);
+      const double structure = furnishedScore(renderer, poseOf({stand, yaw, kFurnishedPitchRad}));
       if (structure > best) best = structure, sideYaw = yaw;
     }
   }
   const double scan = (sideYaw > wallYaw ? 1.0 : -1.0) * kScanRad;  // further from the wall
   const double turnS = std::max(kMinTurnS, kMinJerkPeak * std::abs(sideYaw - wallYaw) / kTurnPeakRadps);
+  // A little seeded variety in where the pan starts.
+  const double jitter = rng.uniform(-0.02f, 0.02f);
+  CameraState blank = view.blank;
+  blank.position += jitter * Eigen::Vector3d(view.inward.x(), 0.0, view.inward.y());
 
-  const float d = static_cast<float>(p.wallDistanceM), pan = static_cast<float>(p.panAlongM);
   const CameraState start{stand, sideYaw + scan, kFurnishedPitchRad};
   const std::vector<Move> moves{
       {"furnished", kFurnishedS, {stand, sideYaw, kFurnishedPitchRad}},
-      {"turn", turnS, {stand, wallYaw, kWallPitchRad}},
-      {"approach", kWalkS, {at(d, 0.f), wallYaw, kWallPitchRad}},
-      {"blank-wall", p.blankSeconds / 3, {at(d, pan), wallYaw + kPanYawRad, kWallPitchRad}},
-      {"blank-wall", p.blankSeconds * 5 / 12, {at(d, -pan), wallYaw - kPanYawRad, kWallPitchRad}},
-      {"blank-wall", p.blankSeconds / 4, {at(d, 0.f), wallYaw, kWallPitchRad}},
-      {"retreat", kWalkS, {stand, wallYaw, kWallPitchRad}},
+      {"turn", turnS, view.stand},
+      {"approach", kWalkS, blank},
+      {"blank-wall", p.blankSeconds / 3, view.pan[0]},
+      {"blank-wall", p.blankSeconds * 5 / 12, view.pan[1]},
+      {"blank-wall", p.blankSeconds / 4, view.blank},
+      {"retreat", kWalkS, view.stand},
       {"turn", turnS, {stand, sideYaw, kFurnishedPitchRad}},
       {"furnished", kFurnishedS, {stand, sideYaw + scan, kLevelPitchRad}},
   };
