@@ -131,6 +131,21 @@ void checkBenchPage(const std::string& benchDir, size_t sequences, size_t runs) 
   CHECK(runReports == runs);
 }
 
+// The "k of n" texts of the TC table for one tc column, from results.csv as tcSection defines them: error
+// violations = tc ATE >= 5 cm or NaN; better time = tc ms/frame below slambooster's.
+std::pair<std::string, std::string> tcCounts(
+    const std::map<std::pair<std::string, std::string>, std::map<std::string, double>>& csv,
+    const std::vector<std::string>& sequences, const std::string& label) {
+  int bad = 0, faster = 0;
+  for (const std::string& s : sequences) {
+    const auto& t = csv.at({s, label});
+    bad += !(t.at("ate_rmse_m") < 0.05);
+    faster += t.at("computation_ms_per_frame") < csv.at({s, "slambooster"}).at("computation_ms_per_frame");
+  }
+  const std::string of = " of " + std::to_string(sequences.size());
+  return {std::to_string(bad) + of, std::to_string(faster) + of};
+}
+
 }  // namespace
 
 TEST_CASE("synth, run and eval agree end to end on a short synthetic sequence", "[tools][system]") {
@@ -313,6 +328,96 @@ TEST_CASE("bench and dse run their matrix once, resume, and write their tables",
   const int bestCsr = best.at("best").at("knobs").get<std::string>().rfind("csr=4", 0) == 0 ? 4 : 8;
   CHECK(readJson(dir + "/offline/summary.json").at("knobs").at("csr") == bestCsr);
   CHECK(readJson(dir + "/offline/summary.json").at("controller") == "offline");
+}
+
+TEST_CASE("bench runs tc once per profiling set and reports each set in the TC table", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_bench_tc");
+  const std::string seq = dir + "/seq";
+  REQUIRE(runCommand(kTool + " synth --out " + seq + " --builtin-frames 6 --no-noise").exitCode == 0);
+  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
+  // Two tables as `slambooster profile` writes them; the second from before tables recorded their sequences.
+  // One entry each, so tc runs it: integrating every 6th frame loses this sequence (ATE ~9 cm), csr=8 keeps
+  // it (~0.4 cm), so the two sets' error violations differ and a swapped column group shows.
+  fs::create_directories(dir + "/profile-real");
+  fs::create_directories(dir + "/synth");
+  std::ofstream(dir + "/profile-real/tc_table.json") << R"({"reference_ms_per_frame": 100.0,
+    "sequences": ["/data/7scenes-redkitchen-a", "/out/sequences/synth-office-traj2/"],
+    "entries": [{"knobs": "csr=1,icp=1e-05,pd=10:5:4,tr=1,ir=6", "ms_per_frame": 50.0, "speedup": 2.0, "ate_m": 0.01}]})";
+  std::ofstream(dir + "/synth/tc_table.json") << R"({"reference_ms_per_frame": 90.0,
+    "entries": [{"knobs": "csr=8,icp=1e-04,pd=4:5:4,tr=1,ir=1", "ms_per_frame": 15.0, "speedup": 6.0, "ate_m": 0.02}]})";
+  const std::string common = kTool + " bench " + seq + " --out " + dir + "/bench --config " + dir +
+                             "/small.json --controllers default,slambooster --jobs 2";
+  const std::string bench = common + " --tc-table real=" + dir + "/profile-real/tc_table.json --tc-table " + dir +
+                            "/synth/tc_table.json --tc-velocities 0.01,0.02";
+  const auto first = runCommand(bench);
+  INFO(first.output);
+  REQUIRE(first.exitCode == 0);
+
+  // One tc column per set and velocity, each run with its own table.
+  const auto csv = readResults(dir + "/bench/results.csv");
+  CHECK(csv.size() == 7);  // default, slambooster, accurate, 2 sets x 2 velocities
+  for (const std::string set : {"real", "synth"})
+    for (const std::string v : {"0.010", "0.020"}) {
+      const std::string label = "tc-" + set + "@" + v;
+      INFO(label);
+      CHECK(csv.count({"seq", label}) == 1);
+      CHECK(readJson(dir + "/bench/runs/seq/" + label + "/summary.json").at("controller") == "tc");
+      const auto config = readJson(dir + "/bench/configs/tc-" + set + "_" + v + ".json");
+      CHECK_THAT(config.at("controller").at("tc").at("table").get<std::string>(),
+                 Catch::EndsWith((set == "real" ? "/profile-real" : "/synth") + std::string("/tc_table.json")));
+    }
+  checkBenchPage(dir + "/bench", 1, 7);
+
+  // The TC table: rows = velocities, a column group per set, numbers as results.csv gives them.
+  const std::string md = readText(dir + "/bench/report.md");
+  CHECK_THAT(md, Catch::Contains("| v_ref m/frame | real: error violations (ATE >= 5 cm) | real: better time than "
+                                 "SLAMBooster | synth: error violations (ATE >= 5 cm) | synth: better time than "
+                                 "SLAMBooster |"));
+  CHECK_THAT(md, Catch::Contains("`real`: table `" + dir +
+                                 "/profile-real/tc_table.json`, profiled on 7scenes-redkitchen-a, synth-office-traj2"));
+  CHECK_THAT(md, Catch::Contains("`synth`: table") && Catch::Contains("profiled sequences not recorded"));
+  const sb::test::MarkupCheck page = sb::test::checkMarkup(readText(dir + "/bench/report.html"));
+  std::map<std::string, std::string> shown;
+  for (const auto* td : page.find("td")) {
+    const auto key = td->attributes.find("data-key");
+    if (key != td->attributes.end() && key->second.rfind("tc/", 0) == 0) shown[key->second] = td->text;
+  }
+  CHECK(shown.size() == 8);
+  for (const std::string v : {"0.010", "0.020"}) {
+    std::string row = "| " + v + " |";
+    for (const std::string set : {"real", "synth"}) {
+      const auto [violations, faster] = tcCounts(csv, {"seq"}, "tc-" + set + "@" + v);
+      INFO(set << " @ " << v);
+      CHECK(shown["tc/" + set + "/" + v + "/error_violations"] == violations);
+      CHECK(shown["tc/" + set + "/" + v + "/better_time"] == faster);
+      row += " " + violations + " | " + faster + " |";
+    }
+    CHECK_THAT(md, Catch::Contains(row + "\n"));
+    CHECK(shown["tc/real/" + v + "/error_violations"] != shown["tc/synth/" + v + "/error_violations"]);
+  }
+
+  // Resumed: nothing runs again.
+  const auto again = runCommand(bench);
+  REQUIRE(again.exitCode == 0);
+  CHECK_THAT(again.output, Catch::Contains("7 already done, 0 to run"));
+
+  // One table without a name keeps the columns tc@v; the set is named after the table's directory.
+  const auto single = runCommand(common + " --tc-table " + dir + "/profile-real/tc_table.json --tc-velocities 0.01");
+  INFO(single.output);
+  REQUIRE(single.exitCode == 0);
+  CHECK_THAT(single.output, Catch::Contains("3 already done, 1 to run"));
+  CHECK(readResults(dir + "/bench/results.csv").count({"seq", "tc@0.010"}) == 1);
+  CHECK_THAT(readText(dir + "/bench/report.md"),
+             Catch::Contains("| v_ref m/frame | profile-real: error violations (ATE >= 5 cm) |"));
+
+  // Two sets of one name, or a missing table: refused before any run.
+  const auto twice = runCommand(common + " --tc-table " + dir + "/synth/tc_table.json --tc-table synth=" + dir +
+                                "/profile-real/tc_table.json");
+  CHECK(twice.exitCode == 1);
+  CHECK_THAT(twice.output, Catch::Contains("'synth'") && Catch::Contains("NAME=PATH"));
+  const auto missing = runCommand(common + " --tc-table x=" + dir + "/nowhere.json");
+  CHECK(missing.exitCode == 1);
+  CHECK_THAT(missing.output, Catch::Contains("nowhere.json"));
 }
 
 TEST_CASE("dse and profile treat a run whose ATE is undefined as out of bound", "[tools][system]") {

@@ -110,22 +110,43 @@ BenchSection study(const BenchResults& r, const std::string& title, const std::v
   return s;
 }
 
+// Reference velocities x profiling sets. Per set, of the bench's sequences: error violations = those whose
+// tc run has ATE >= 5 cm (or no ATE), better time = those where tc's ms/frame is below SLAMBooster's. Cell
+// keys "tc/<set>/<v>/error_violations" and "tc/<set>/<v>/better_time" (the count, shown as "k of n").
 BenchSection tcSection(const BenchResults& r) {
   BenchSection s;
   s.title = "TC (application-agnostic) vs SLAMBooster";
-  s.before = "Table: `" + r.tcTable + "`";
-  s.table.header = {"v_ref m/frame", "error violations (ATE >= 5 cm)", "better time than SLAMBooster"};
+  s.before = "Profiling sets (column groups):";
+  for (size_t i = 0; i < r.tcSets.size(); ++i) {
+    const BenchTcSet& t = r.tcSets[i];
+    std::string on;
+    for (const std::string& name : t.profiledOn) on += (on.empty() ? "" : ", ") + name;
+    s.before += std::string(i ? ";" : "") + " `" + t.name + "`: table `" + t.path + "`, " +
+                (on.empty() ? "profiled sequences not recorded in the table" : "profiled on " + on) +
+                " (columns " + t.prefix + "@v)";
+  }
+  s.before +=
+      ". Error violations: sequences whose tc run has ATE >= 5 cm; better time: sequences where tc "
+      "takes less computation ms/frame than SLAMBooster.";
+  s.table.header = {"v_ref m/frame"};
+  for (const BenchTcSet& t : r.tcSets)
+    s.table.header.insert(s.table.header.end(), {t.name + ": error violations (ATE >= 5 cm)",
+                                                 t.name + ": better time than SLAMBooster"});
   const std::string of = " of " + std::to_string(r.sequences.size());
   for (double v : r.tcVelocities) {
-    const std::string label = "tc@" + benchNumber(v, 3);
-    int bad = 0, faster = 0;
-    for (const std::string& name : r.sequences) {
-      const BenchCell t = r.cell(name, label), b = r.cell(name, "slambooster");
-      bad += t.present && !(t.ateM < kMaxAteM);
-      faster += t.present && b.present && t.ms < b.ms;
+    std::vector<TableCell> row{{benchNumber(v, 3), "", true}};
+    for (const BenchTcSet& t : r.tcSets) {
+      int bad = 0, faster = 0;
+      for (const std::string& name : r.sequences) {
+        const BenchCell c = r.cell(name, t.label(v)), b = r.cell(name, "slambooster");
+        bad += c.present && !(c.ateM < kMaxAteM);
+        faster += c.present && b.present && c.ms < b.ms;
+      }
+      const std::string k = "tc/" + t.name + "/" + benchNumber(v, 3) + "/";
+      row.push_back({std::to_string(bad) + of, k + "error_violations"});
+      row.push_back({std::to_string(faster) + of, k + "better_time"});
     }
-    s.table.rows.push_back(
-        {{benchNumber(v, 3), "", true}, {std::to_string(bad) + of}, {std::to_string(faster) + of}});
+    s.table.rows.push_back(row);
   }
   return s;
 }
@@ -159,6 +180,10 @@ bool BenchResults::hasEnergy() const {
   return false;
 }
 
+std::string BenchTcSet::label(double velocityMPerFrame) const {
+  return prefix + "@" + benchNumber(velocityMPerFrame, 3);
+}
+
 BenchCell BenchResults::cell(const std::string& sequence, const std::string& label) const {
   const auto it = cells.find({sequence, label});
   return it == cells.end() ? BenchCell{} : it->second;
@@ -181,7 +206,7 @@ std::vector<BenchSection> benchSections(const BenchResults& r) {
   sections.push_back(study(r, "PID vs step", {"default", "pid", "step", "slambooster"}));
   if (r.offline)
     sections.push_back(study(r, "Online vs offline best (dse)", {"default", "offline", "slambooster"}));
-  if (!r.tcTable.empty()) sections.push_back(tcSection(r));
+  if (!r.tcSets.empty()) sections.push_back(tcSection(r));
   return sections;
 }
 

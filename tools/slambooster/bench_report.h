@@ -26,15 +26,26 @@ struct BenchCell {
   std::string dir;          // the run's output directory
 };
 
+// One profiling set of the TC table: a tc configuration table (bench --tc-table [NAME=]PATH) and its columns.
+struct BenchTcSet {
+  std::string name;    // short name: the TC table's column group
+  std::string path;    // the tc_table.json
+  std::string prefix;  // column labels are prefix@v: "tc-NAME", or "tc" for one unnamed table
+  // The sequence names the table records ("sequences"); empty = not recorded.
+  std::vector<std::string> profiledOn;
+
+  std::string label(double velocityMPerFrame) const;  // the column of one reference velocity
+};
+
 struct BenchResults {
   std::string outDir;                    // bench --out (report links are relative to it)
   std::vector<std::string> sequences;    // sequence names, command-line order
-  std::vector<std::string> columns;      // controller labels of the bars (tc@v included, offline not)
+  std::vector<std::string> columns;      // controller labels of the bars (the tc columns included, offline not)
   std::map<std::string, bool> ownTruth;  // sequence -> has its own ground truth (else: against ACCURATE)
   std::map<std::pair<std::string, std::string>, BenchCell> cells;  // (sequence, label)
   size_t framesPerRun = 0;                                         // 0 = all
   bool offline = false;              // --dse-dir given: the online vs offline study
-  std::string tcTable;               // --tc-table; empty = no TC table
+  std::vector<BenchTcSet> tcSets;    // --tc-table, command-line order; empty = no TC table
   std::vector<double> tcVelocities;  // m/frame
   std::string plotSequence;          // the sequence of the per-frame trace
 

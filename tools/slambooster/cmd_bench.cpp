@@ -2,9 +2,12 @@
 // controller (resumable, --jobs runs in parallel, progress on stderr), evaluates each trajectory against the
 // sequence's ground truth (or, without one, the ACCURATE run's trajectory, as in the paper) and writes
 // results.csv, report.md (main table DEFAULT vs SLAMBooster with the geometric mean, the incremental study,
-// PID vs step, online vs offline, the TC table), SVG plots (time and ATE bars, the per-frame trace) and
-// report.html (all of these in one page, with links to each run's report.html).
+// PID vs step, online vs offline, the TC table: reference velocities x profiling sets, one set per
+// --tc-table), SVG plots (time and ATE bars, the per-frame trace) and report.html (all of these in one page,
+// with links to each run's report.html).
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +17,7 @@
 #include <memory>
 #include <sstream>
 
+#include "controller/tc_table.h"
 #include "core/error.h"
 #include "core/trajectory.h"
 #include "drivers/sequence.h"
@@ -32,7 +36,8 @@ namespace fs = std::filesystem;
 
 struct BenchOptions {
   std::vector<std::string> sequences;
-  std::string out, config, dseDir, tcTable, plotSequence, powerConfig;
+  std::string out, config, dseDir, plotSequence, powerConfig;
+  std::vector<std::string> tcTables;  // --tc-table [NAME=]PATH, repeated
   std::vector<std::string> controllers{"default", "accurate", "pid", "pid+surface", "pid+surface+correction",
                                        "slambooster", "step"};
   std::vector<double> tcVelocities{0.005, 0.01, 0.02};
@@ -71,6 +76,39 @@ std::string writeColumnConfig(const BenchOptions& o, const std::string& label, c
   return path;
 }
 
+bool isSetName(const std::string& name) {
+  return !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' || c == '+';
+  });
+}
+
+// The profiling sets of --tc-table [NAME=]PATH: NAME defaults to the table's directory name; one table
+// given without NAME keeps the columns tc@v (as before there could be several), otherwise tc-NAME@v.
+// Each table is loaded here, so a missing or malformed one stops the bench before any run.
+std::vector<BenchTcSet> tcSets(const std::vector<std::string>& args) {
+  std::vector<BenchTcSet> sets;
+  for (const std::string& arg : args) {
+    BenchTcSet t;
+    const size_t eq = arg.find('=');
+    const bool named = eq != std::string::npos && arg.substr(0, eq).find('/') == std::string::npos;
+    t.path = named ? arg.substr(eq + 1) : arg;
+    t.name =
+        named ? arg.substr(0, eq) : fs::absolute(t.path).lexically_normal().parent_path().filename().string();
+    if (!isSetName(t.name))
+      throw Error("--tc-table '" + arg + "': the set name '" + t.name +
+                  "' is not usable in column labels (letters, digits, - _ . +); name the set as NAME=PATH");
+    for (const BenchTcSet& other : sets)
+      if (other.name == t.name)
+        throw Error("--tc-table '" + arg + "': the set name '" + t.name + "' is also that of '" + other.path +
+                    "'; give each table its own name as NAME=PATH");
+    for (const std::string& s : loadTcTable(t.path).sequences) t.profiledOn.push_back(sequenceName(s));
+    t.path = fs::absolute(t.path).lexically_normal().string();
+    t.prefix = args.size() == 1 && !named ? "tc" : "tc-" + t.name;
+    sets.push_back(t);
+  }
+  return sets;
+}
+
 void writeText(const std::string& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
@@ -78,17 +116,19 @@ void writeText(const std::string& path, const std::string& text) {
 }
 
 void benchCommand(const BenchOptions& o) {
+  // First, so that a bad table stops the bench before anything is written.
+  const std::vector<BenchTcSet> tables = tcSets(o.tcTables);
   // Columns: label -> (controller name, config file).
   std::vector<std::string> labels = o.controllers;
   if (std::find(labels.begin(), labels.end(), "accurate") == labels.end()) labels.push_back("accurate");
   std::map<std::string, std::string> configOf;
   for (const std::string& c : labels) configOf[c] = writeColumnConfig(o, c, c, nlohmann::json::object());
-  if (!o.tcTable.empty())
+  for (const BenchTcSet& t : tables)
     for (double v : o.tcVelocities) {
-      const std::string label = "tc@" + benchNumber(v, 3);
+      const std::string label = t.label(v);
       labels.push_back(label);
       configOf[label] = writeColumnConfig(
-          o, label, "tc", {{"tc", {{"table", fs::absolute(o.tcTable).string()}, {"reference_velocity_m_per_frame", v}}}});
+          o, label, "tc", {{"tc", {{"table", t.path}, {"reference_velocity_m_per_frame", v}}}});
     }
 
   std::vector<Job> jobs;
@@ -128,7 +168,7 @@ void benchCommand(const BenchOptions& o) {
   r.columns = labels;
   r.framesPerRun = o.frames;
   r.offline = !o.dseDir.empty();
-  r.tcTable = o.tcTable;
+  r.tcSets = tables;
   r.tcVelocities = o.tcVelocities;
   for (const auto& s : o.sequences) r.sequences.push_back(sequenceName(s));
   r.plotSequence = o.plotSequence.empty() ? r.sequences.front() : o.plotSequence;
@@ -203,7 +243,11 @@ void addBenchCommand(CLI::App& app) {
   sub->add_option("--config", o->config, "Config (JSON): pipeline keys and a controller section for every run");
   sub->add_option("--controllers", o->controllers, "Controllers (columns)")->delimiter(',');
   sub->add_option("--dse-dir", o->dseDir, "Directory of `slambooster dse` outputs per sequence name (adds offline)");
-  sub->add_option("--tc-table", o->tcTable, "tc configuration table from `slambooster profile` (adds tc columns)");
+  sub->add_option("--tc-table", o->tcTables,
+                  "[NAME=]PATH: a tc configuration table from `slambooster profile` (adds the tc columns and the TC\n"
+                  "table); repeat it for several profiling sets. NAME (default: the table's directory name) names\n"
+                  "the set's columns tc-NAME@v; a single table given without NAME has the columns tc@v")
+      ->allow_extra_args(false);
   sub->add_option("--tc-velocities", o->tcVelocities, "tc reference velocities, m/frame")->delimiter(',');
   sub->add_option("--plot-sequence", o->plotSequence, "Sequence name of the per-frame trace figure");
   sub->add_option("--frames", o->frames, "Frames per run (0 = all)");
