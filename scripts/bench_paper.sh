@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The paper's experiments (issue 5) as one command: renders the synthetic sequences, runs the offline
-# design-space exploration per sequence, profiles the tc controller's table, then `slambooster bench` over
+# design-space exploration per sequence, profiles the tc controller's table on two profiling sets, then
+# `slambooster bench` over
 # the whole set with every controller, and prints where report.md is.
 #
 # usage: scripts/bench_paper.sh [--frames N] [--jobs N] [--quick] [--plan] [OUT] [BUILD]
 #   OUT        output directory (default out/bench-paper); everything generated lands here:
 #                OUT/sequences/  the rendered synthetic sequences (TUM layout, with ground truth)
 #                OUT/dse/NAME/   `slambooster dse` per sequence (best.json = the offline column's setting)
-#                OUT/profile/    `slambooster profile` (tc_table.json)
+#                OUT/profile-real/, OUT/profile-synth/  `slambooster profile` per profiling set (tc_table.json)
 #                OUT/bench/      `slambooster bench`: report.md, report.html, results.csv, *.svg, runs/
 #   BUILD      build directory holding tools/slambooster/slambooster (default build/)
 #   --frames N process (and render) at most N frames per sequence: a quick check of the whole chain
@@ -34,21 +35,23 @@
 # Both stress sequences are tracked by DEFAULT (full precision): ATE well under 1 cm, 100% tracked.
 # Every sequence has ground truth (the synthetic ones: their trajectory), so ATE is against ground truth.
 #
-# The tc table is profiled on two sequences that span both kinds of input: the real 7scenes-redkitchen-a
-# and synth-office-traj2 (the shortest ICL-NUIM trajectory, in the scene the other one is not); without the
-# real data, synth-livingroom-traj2 stands in. They stay in the bench set (as in the paper, tc is profiled
-# on sequences it is also run on), so tc is if anything favoured there.
+# The tc controller gets two tables, as the paper's TC table has two profiling sets: "real", profiled on
+# the real 7scenes-redkitchen-a (without the real data, synth-livingroom-traj2 stands in), and "synth",
+# profiled on synth-office-traj2 (the shortest ICL-NUIM trajectory, in the other scene). Each runs at the 3
+# reference velocities (columns tc-real@V, tc-synth@V). The profiled sequences stay in the bench set (as in
+# the paper, tc is profiled on sequences it is also run on), so tc is if anything favoured there.
 #
-# Runs: dse 96 settings x 11 sequences, profile 72 settings x 2 sequences, bench 11 columns x 11 sequences
-# (default, accurate, pid, pid+surface, pid+surface+correction, slambooster, step, tc at 3 reference
-# velocities, offline).
+# Runs: dse 96 settings x 11 sequences, profile 72 settings x 1 sequence x 2 sets, bench 14 columns x 11
+# sequences (default, accurate, pid, pid+surface, pid+surface+correction, slambooster, step, tc of each set at
+# 3 reference velocities, offline).
 # Time estimate for the full set, CPU backend, --jobs 2 --threads 1 on an idle 2-core machine: ~32 hours.
 # From process CPU ms/frame measured at b35e4d0 on this machine class (single runs of 60-511 frames): DEFAULT
 # 340-370, csr=2 175-185, csr=4 118-128 (ir=1), csr=8 15 where it loses tracking (nothing is integrated)
 # and ~110 where it tracks, slambooster ~120 on stress-blank-wall (README: 0.24 x DEFAULT on 7-Scenes);
 # rendering 66 ms/frame. Hence dse ~27 h (96 settings x ~10,800 frames x ~190 ms mean / 2 cores), profile
 # ~2.5 h (72 x 1,480 frames x ~170 ms / 2), bench ~3 h (per frame of the set: DEFAULT 350 + ACCURATE 420 +
-# 9 approximate columns x ~120 ms, / 2), rendering ~10 min. On a shared, loaded machine wall time was 3-4x
+# 9 approximate columns x ~120 ms, / 2; the second tc set adds ~0.5 h), rendering ~10 min. (The CPU
+# backend got ~1.5-2x faster since, at the same results: these are upper bounds.) On a shared, loaded machine wall time was 3-4x
 # the CPU time. `--frames 20 --quick` took 20 minutes there.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -89,7 +92,7 @@ else
 fi
 controllers=default,accurate,pid,pid+surface,pid+surface+correction,slambooster,step
 tc_velocities=0.005,0.01,0.02
-bench_columns=11  # 7 controllers + 3 tc + offline
+bench_columns=14  # 7 controllers + 2 sets x 3 tc + offline
 
 setting="frames=$frames quick=$quick"
 if [ -f "$out/setting" ] && [ "$(cat "$out/setting")" != "$setting" ]; then
@@ -128,11 +131,13 @@ for name in "${names[@]}"; do
   paths+=("$out/sequences/$name")
   rendered_ok "$name" || to_render+=("$name")
 done
+# The two profiling sets of the tc tables: NAME -> sequence.
 if [ -d "$data/7scenes-redkitchen-a" ]; then
-  profile_set=("$data/7scenes-redkitchen-a" "$out/sequences/synth-office-traj2")
+  profile_real="$data/7scenes-redkitchen-a"
 else
-  profile_set=("$out/sequences/synth-livingroom-traj2" "$out/sequences/synth-office-traj2")
+  profile_real="$out/sequences/synth-livingroom-traj2"  # stand-in without the real data
 fi
+profile_synth="$out/sequences/synth-office-traj2"
 
 # How many runs remain: expected runs minus those whose summary.json says complete.
 complete_runs() {
@@ -143,10 +148,10 @@ complete_runs() {
 # shellcheck disable=SC2086  # $1 is a glob
 count() { shopt -s nullglob; complete_runs $1; shopt -u nullglob; }
 nseq=${#names[@]}
-dse_total=$((dse_settings * nseq)) profile_total=$((profile_settings * ${#profile_set[@]}))
+dse_total=$((dse_settings * nseq)) profile_total=$((profile_settings * 2))
 bench_total=$((bench_columns * nseq))
 dse_done=$(count "$out/dse/*/runs/*/summary.json")
-profile_done=$(count "$out/profile/runs/*/*/summary.json")
+profile_done=$(count "$out/profile-*/runs/*/*/summary.json")
 bench_done=$(count "$out/bench/runs/*/*/summary.json")
 remaining=$((dse_total - dse_done + profile_total - profile_done + bench_total - bench_done))
 echo "bench_paper: $nseq sequences (${#to_render[@]} to render) in $out; frames per run: ${frames/#0/all};" \
@@ -176,14 +181,19 @@ for i in "${!names[@]}"; do
     --threads 1
 done
 
-# 3. The tc controller's table.
-echo "bench_paper: profile on ${profile_set[*]##*/}"
-"$bin" profile "${profile_set[@]}" --out "$out/profile" "${profile_grid[@]}" --frames "$frames" --jobs "$jobs" \
-  --threads 1
+# 3. The tc controller's tables, one per profiling set.
+for set in real synth; do
+  sequence=$profile_real
+  [ "$set" = synth ] && sequence=$profile_synth
+  echo "bench_paper: profile set $set on ${sequence##*/}"
+  "$bin" profile "$sequence" --out "$out/profile-$set" "${profile_grid[@]}" --frames "$frames" --jobs "$jobs" \
+    --threads 1
+done
 
 # 4. Every sequence under every controller, and the report.
 echo "bench_paper: bench"
 "$bin" bench "${paths[@]}" --out "$out/bench" --controllers "$controllers" --dse-dir "$out/dse" \
-  --tc-table "$out/profile/tc_table.json" --tc-velocities "$tc_velocities" --plot-sequence stress-bursts \
+  --tc-table real="$out/profile-real/tc_table.json" --tc-table synth="$out/profile-synth/tc_table.json" \
+  --tc-velocities "$tc_velocities" --plot-sequence stress-bursts \
   --frames "$frames" --jobs "$jobs" --threads 1 > "$out/bench.log"
 echo "bench_paper: done; report in $out/bench/report.md and $out/bench/report.html (bench output: $out/bench.log)"
