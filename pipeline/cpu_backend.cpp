@@ -8,6 +8,7 @@
 #include "kernels/raycast.h"
 #include "kernels/track.h"
 #include "pipeline/block_distance.h"
+#include "pipeline/cpu_raycast.h"
 #include "pipeline/cpu_integrate.h"
 #include "pipeline/cpu_track.h"
 #include "pipeline/kernel_args.h"
@@ -309,25 +310,24 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   const int w = referenceK_.width, h = referenceK_.height;
   referenceVertex_.resize(3 * static_cast<size_t>(w) * h);
   referenceNormal_.resize(3 * static_cast<size_t>(w) * h);
-  const SbMat34 pose = toMat34(cameraToWorld.matrix());
-  const SbCamera k = toCamera(referenceK_);
-  const int res = config_.volumeResolution;
-  const float size = config_.volumeSize;
-  const int16_t* vol = volume_.data();
-  const uint8_t* distance = config_.emptySpaceSkipping ? blockDistance_.data() : nullptr;
-  const float nearPlane = config_.nearPlane, farPlane = config_.farPlane;
-  const float largeStep = config_.raycastLargeStep * config_.mu;
-  const float smallStep = config_.raycastSmallStep * config_.voxelSize();
-  const float below = config_.raycastSmallStepBelow;
+  RaycastInputs in;
+  in.volume = volume_.data();
+  in.resolution = config_.volumeResolution;
+  in.size = config_.volumeSize;
+  in.blockDistance = config_.emptySpaceSkipping ? blockDistance_.data() : nullptr;
+  in.distanceShift = kSkipShift;
+  in.cameraToWorld = toMat34(cameraToWorld.matrix());
+  in.camera = toCamera(referenceK_);
+  in.nearPlane = config_.nearPlane;
+  in.farPlane = config_.farPlane;
+  in.largeStep = config_.raycastLargeStep * config_.mu;
+  in.smallStep = config_.raycastSmallStep * config_.voxelSize();
+  in.smallStepBelow = config_.raycastSmallStepBelow;
   float* outV = referenceVertex_.data();
   float* outN = referenceNormal_.data();
   // Square tiles: neighbouring rays read neighbouring voxels.
   pool_.parallelFor(0, h, kTile, [&](int, int y0, int y1) {
-    for (int tx = 0; tx < w; tx += kTile)
-      for (int y = y0; y < y1; ++y)
-        for (int x = tx; x < std::min(w, tx + kTile); ++x)
-          sbRaycastPixel(outV, outN, w, vol, res, size, distance, kSkipShift, nullptr, nullptr, pose, k,
-                         nearPlane, farPlane, largeStep, smallStep, below, x, y);
+    for (int tx = 0; tx < w; tx += kTile) raycastRect(in, outV, outN, w, tx, std::min(w, tx + kTile), y0, y1);
   });
 }
 
