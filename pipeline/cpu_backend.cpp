@@ -11,6 +11,7 @@
 #include "pipeline/cpu_raycast.h"
 #include "pipeline/cpu_integrate.h"
 #include "pipeline/cpu_track.h"
+#include "pipeline/integrate_cull.h"
 #include "pipeline/kernel_args.h"
 
 namespace sb {
@@ -251,6 +252,8 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
   const int maxWeight = config_.maxWeight;
   int16_t* vol = volume_.data();
   const float* depth = depth_.data();
+  constexpr int kCullShift = IntegrateCull::kShift;
+  cull_.update(pool_, depth, w, h, k, w2c, res, voxel, mu);
   // Empty-space skipping masks (block_distance.h) of the voxels below the raycast's small-step threshold,
   // recomputed for every block whose voxels this integration all visited, or-ed into the old mask for the
   // others.
@@ -268,6 +271,8 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
       std::fill(mask.begin(), mask.end(), 0);
       for (int z = bz * kSide; z < (bz + 1) * kSide; ++z) {
         for (int y = 0; y < res; ++y) {
+          const uint8_t* live = cull_.liveRow(y >> kCullShift, z >> kCullShift);
+          if (!cull_.anyLive(y >> kCullShift, z >> kCullShift)) continue;
           const float3 base =
               sbTransform(w2c, sbMakeFloat3(0.5f * voxel, (y + 0.5f) * voxel, (z + 0.5f) * voxel));
           // Conservative x-range of the row inside the view frustum and in front of zLimit; the per-voxel
@@ -288,12 +293,23 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
           const size_t blockRow = static_cast<size_t>(y >> kSkipShift) * blocks;
           const int rowFaces = ((y & (kSide - 1)) == 0 ? 2 : 0) + ((z & (kSide - 1)) == 0 ? 4 : 0);
           int16_t* rowVoxels = vol + 2 * rowIndex;
-          integrateRow(rowVoxels, x0, x1, base, step, depth, w, h, k, mu, maxWeight);
-          for (int x = x0; x < x1; ++x)
-            if (rowVoxels[2 * x] < flagBelow)
-              mask[blockRow + (x >> kSkipShift)] |= maskBits[rowFaces + ((x & (kSide - 1)) == 0 ? 1 : 0)];
-          for (int bx = x0 >> kSkipShift; bx * kSide < x1; ++bx)
-            visited[blockRow + bx] += std::min(x1, (bx + 1) * kSide) - std::max(x0, bx * kSide);
+          // Runs of blocks that culling kept, within [x0, x1).
+          for (int runStart = x0; runStart < x1;) {
+            if (!live[runStart >> kCullShift]) {
+              runStart = ((runStart >> kCullShift) + 1) << kCullShift;
+              continue;
+            }
+            int runEnd = runStart;
+            while (runEnd < x1 && live[runEnd >> kCullShift]) runEnd = ((runEnd >> kCullShift) + 1) << kCullShift;
+            runEnd = std::min(runEnd, x1);
+            integrateRow(rowVoxels, runStart, runEnd, base, step, depth, w, h, k, mu, maxWeight);
+            for (int x = runStart; x < runEnd; ++x)
+              if (rowVoxels[2 * x] < flagBelow)
+                mask[blockRow + (x >> kSkipShift)] |= maskBits[rowFaces + ((x & (kSide - 1)) == 0 ? 1 : 0)];
+            for (int bx = runStart >> kSkipShift; bx * kSide < runEnd; ++bx)
+              visited[blockRow + bx] += std::min(runEnd, (bx + 1) * kSide) - std::max(runStart, bx * kSide);
+            runStart = runEnd;
+          }
         }
       }
       uint8_t* masks = &blockSurfaceMask_[static_cast<size_t>(bz) * blocks * blocks];

@@ -9,6 +9,7 @@
 #include "core/thread_pool.h"
 #include "pipeline/backend.h"
 #include "pipeline/config.h"
+#include "pipeline/integrate_cull.h"
 
 namespace sb {
 
@@ -38,6 +39,7 @@ class CpuBackend : public ComputeBackend {
   const Intrinsics& referenceIntrinsics() const { return referenceK_; }
   const std::vector<float>& referenceVertices() const { return referenceVertex_; }
   const std::vector<float>& referenceNormals() const { return referenceNormal_; }
+  const IntegrateCull& integrateCull() const { return cull_; }  // what the last integrate skipped
 
  private:
   struct Level {
@@ -61,6 +63,7 @@ class CpuBackend : public ComputeBackend {
   // Empty-space skipping (pipeline/block_distance.h), blocks of (1 << kSkipShift)^3 voxels:
   std::vector<uint8_t> blockSurfaceMask_;  // per block: where its voxels below the small-step tsdf lie
   std::vector<uint8_t> blockDistance_;     // per block: Chebyshev distance to a block with surface
+  IntegrateCull cull_;                     // integrate's blocks that the current frame cannot change
 };
 
 }  // namespace sb

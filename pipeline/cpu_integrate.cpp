@@ -41,6 +41,10 @@ inline void integrateFour(int16_t* row, int x, float3 base, float3 step, const f
   if (!(update[0] | update[1] | update[2] | update[3])) return;
   // Signed distance: 1 where the depth difference is at least mu, else along the ray, capped at 1.
   const F4 alongZ = d - pz;
+  // Behind the surface by mu along z is behind it by mu along the ray (the ray factor is >= 1): the test
+  // below drops these lanes too; dropping them here first lets rows behind the surface stop early.
+  update &= alongZ > splat(-mu);
+  if (!(update[0] | update[1] | update[2] | update[3])) return;
   const I4 near = alongZ < splat(mu);
   const F4 qx = px * invZ;
   const F4 qy = py * invZ;
