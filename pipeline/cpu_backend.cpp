@@ -13,6 +13,7 @@
 #include "pipeline/cpu_track.h"
 #include "pipeline/integrate_cull.h"
 #include "pipeline/kernel_args.h"
+#include "pipeline/simd_clones.h"
 
 namespace sb {
 
@@ -53,15 +54,6 @@ void clipLinear(double a, double b, double& lo, double& hi) {
     hi = lo - 1;  // empty
   }
 }
-
-// SB_SIMD_CLONES: x86-64 builds of the function for AVX2 and for the baseline, picked at load time by the CPU
-// (GCC function multiversioning). The lanes make the same IEEE operations either way (no FMA contraction:
-// -ffp-contract=off), so results do not depend on the clone; elsewhere (armhf) one build.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define SB_SIMD_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define SB_SIMD_CLONES
-#endif
 
 // The interior pixels x in [r, w - r) of row y (rows y - r .. y + r exist) of bilateralFilter, tap by tap (a
 // vectorisable loop over x) with the kernel's bilateralWeight and the kernel's summation order, so the result
