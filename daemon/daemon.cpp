@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "core/error.h"
@@ -52,6 +53,18 @@ UniqueFd makeTimer(std::chrono::nanoseconds period) {
   spec.it_value = spec.it_interval;
   timerfd_settime(fd.get(), 0, &spec, nullptr);
   return fd;
+}
+
+// The meter settings that power.config names; none when it is empty, or when the packaged default file is
+// absent (a development checkout has none). Throws ConfigError naming the key.
+std::optional<power::PowerConfig> loadPowerSettings(const PowerRefConfig& power) {
+  if (power.config.empty()) return std::nullopt;
+  if (power.config == kDefaultPowerConfig && !std::filesystem::exists(power.config)) return std::nullopt;
+  try {
+    return power::loadPowerConfig(power.config);
+  } catch (const Error& e) {
+    throw ConfigError(std::string("power.config: ") + e.what());
+  }
 }
 
 }  // namespace
@@ -181,17 +194,13 @@ int Daemon::run() {
 
 void Daemon::startPower() {
   Parts& p = *parts_;
-  if (config_.power.config.empty()) return;
-  if (config_.power.config == kDefaultPowerConfig && !std::filesystem::exists(config_.power.config)) {
-    spdlog::info("no {}: no energy accounting (power.config names the meter's settings)", kDefaultPowerConfig);
+  const std::optional<power::PowerConfig> loaded = loadPowerSettings(config_.power);
+  if (!loaded) {
+    if (!config_.power.config.empty())
+      spdlog::info("no {}: no energy accounting (power.config names the meter's settings)", kDefaultPowerConfig);
     return;
   }
-  power::PowerConfig pc;
-  try {
-    pc = power::loadPowerConfig(config_.power.config);
-  } catch (const Error& e) {
-    throw ConfigError(std::string("power.config: ") + e.what());
-  }
+  const power::PowerConfig& pc = *loaded;
   if (pc.meter == "none") return;
   try {
     std::filesystem::create_directories(config_.output.dir);
@@ -357,6 +366,20 @@ nlohmann::json Daemon::control(const ControlRequest& request) {
   return {{"ok", true},
           {"controller", request.controller ? *request.controller : p.worker->stats().controller},
           {"pinned", pinned}};
+}
+
+void checkConfigFiles(const DaemonConfig& config) {
+  try {
+    const PipelineConfig pipeline = buildPipelineConfig(config.slam, SequenceInfo{});
+    ControllerContext context;
+    context.baseKnobs = pipeline.knobs;
+    loadControllerSettings(config.slam, context);
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const Error& e) {
+    throw ConfigError(e.what());
+  }
+  loadPowerSettings(config.power);
 }
 
 }  // namespace sb::daemon

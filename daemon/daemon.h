@@ -28,6 +28,11 @@ namespace sb::daemon {
 class Mailbox;
 class SlamWorker;
 
+// What `slamboosterd --check-config` checks beyond the daemon config itself: the settings files it names
+// (slam.pipeline_config, slam.controller_config, power.config) are read and validated as start-up would. The
+// input and the devices are not opened. Throws ConfigError naming the key, the file and what is wrong.
+void checkConfigFiles(const DaemonConfig& config);
+
 class Daemon : public ServiceState {
  public:
   // `reload` re-reads the configuration for SIGHUP (the same file and overrides); it throws sb::Error on a

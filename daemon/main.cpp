@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
   app.add_option("--controller", o.controller, "Controller name (slam.controller)");
   app.add_option("--cpus", o.cpus, "CPUs of the SLAM thread: auto, all or a list like 4-7 (slam.cpus)");
   app.add_option("--set", o.overrides, "Any config key: section.key=value, e.g. --set socket.max_clients=16");
-  app.add_flag("--check-config", o.checkOnly, "Validate the configuration and exit (0 valid, 2 invalid)");
+  app.add_flag("--check-config", o.checkOnly, "Validate the configuration and the settings files it names, then exit (0 valid, 2 invalid)");
   app.add_flag("--print-config", o.printConfig, "Print the effective configuration as JSON and exit");
   try {
     app.parse(argc, argv);
@@ -71,7 +71,13 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (o.checkOnly) {
-    std::cout << "configuration is valid\n";
+    try {
+      sb::daemon::checkConfigFiles(config);
+    } catch (const sb::Error& e) {
+      std::cerr << "slamboosterd: configuration error: " << e.what() << "\n";
+      return 2;
+    }
+    std::cout << "configuration is valid (the files it names too; the input and devices are not opened)\n";
     return 0;
   }
   spdlog::set_default_logger(spdlog::stderr_color_mt("slamboosterd"));

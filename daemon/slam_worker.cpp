@@ -29,16 +29,6 @@ using Clock = std::chrono::steady_clock;
 constexpr auto kFlushInterval = std::chrono::seconds(2);  // outputs on disk lag by at most this much
 constexpr size_t kFpsWindow = 30;                         // frames in the frame-rate average
 
-PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& info) {
-  PipelineConfig c;
-  if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
-  if (info.volumeInitialPosition)
-    for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
-  if (!slam.pipelineConfig.empty()) c = loadConfigFile(slam.pipelineConfig, c);
-  validateConfig(c);
-  return c;
-}
-
 FrameReport makeReport(const FrameRecord& record, const std::vector<std::string>& pinned) {
   const FrameResult& r = record.result;
   FrameReport report;
@@ -60,10 +50,24 @@ FrameReport makeReport(const FrameRecord& record, const std::vector<std::string>
 
 }  // namespace
 
+PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& info) {
+  PipelineConfig c;
+  if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
+  if (info.volumeInitialPosition)
+    for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
+  if (!slam.pipelineConfig.empty()) c = loadConfigFile(slam.pipelineConfig, c);
+  validateConfig(c);
+  return c;
+}
+
 ControllerSettings loadControllerSettings(const SlamConfig& slam, const ControllerContext& context) {
   if (slam.controllerConfig.empty())
     return parseControllerSettings(slam.controller, context, "slam.controller");
   nlohmann::json j = readJsonFile(slam.controllerConfig);
+  // The shipped config/controller.json wraps the settings in a "controller" object (the form a `slambooster
+  // run --config` file takes); the bare settings object is accepted too.
+  if (j.is_object() && j.size() == 1 && j.contains("controller") && j["controller"].is_object())
+    j = nlohmann::json(j["controller"]);
   if (j.is_object() && !j.contains("name")) j["name"] = slam.controller;
   return parseControllerSettings(j, context, slam.controllerConfig);
 }

@@ -43,8 +43,13 @@ struct WorkerStats {
 };
 
 // The controller settings of `slam` (slam.controller, or the file slam.controller_config whose own "name"
-// wins). Validated; throws sb::Error naming the file or key.
+// wins; the file holds the settings object, bare or as config/controller.json's "controller" key).
+// Validated; throws sb::Error naming the file or key.
 ControllerSettings loadControllerSettings(const SlamConfig& slam, const ControllerContext& context);
+
+// The pipeline config of a run of `sequence`: its volume size and start position, then the file
+// slam.pipeline_config on top. Validated; throws sb::Error naming the file or key.
+PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& sequence);
 
 class SlamWorker {
  public:

@@ -311,6 +311,22 @@ TEST_CASE("slamboosterd: bad configuration exits 2 naming the key, the value and
   CHECK(r.exitCode == 1);
   CHECK(r.output.find("no-such-sequence") != std::string::npos);
   CHECK(run("--check-config --input x").exitCode == 0);
+  // --check-config reads the files the config names, as start-up would (the input is not opened).
+  r = run("--check-config --input x --set power.config=" + tmp.path + "/no-power.json");
+  CHECK(r.exitCode == 2);
+  CHECK(r.output.find("no-power.json") != std::string::npos);
+  r = run("--check-config --input x --set slam.pipeline_config=" + tmp.path + "/pipe.json");
+  CHECK(r.exitCode == 2);
+  CHECK(r.output.find("volume_resolutoin") != std::string::npos);
+  std::ofstream(tmp.path + "/controller.json") << R"({"controller": {"name": "slambooster", "slambooster": {"v_low_m_per_frame": "x"}}})";
+  r = run("--check-config --input x --set slam.controller_config=" + tmp.path + "/controller.json");
+  CHECK(r.exitCode == 2);
+  CHECK(r.output.find("controller.json") != std::string::npos);
+  r = run("--check-config --input x --set power.config=" + std::string(SB_SOURCE_DIR) + "/config/power.json" +
+          " --set slam.pipeline_config=" + std::string(SB_SOURCE_DIR) + "/config/pipeline.json" +
+          " --set slam.controller_config=" + std::string(SB_SOURCE_DIR) + "/config/controller.json");
+  INFO(r.output);
+  CHECK(r.exitCode == 0);
 }
 
 TEST_CASE("slamboosterd: a power meter gives ENERGY per frame, energy.jsonl and STATUS joules", "[daemon][system]") {
