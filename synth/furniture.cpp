@@ -1,5 +1,7 @@
 #include "synth/furniture.h"
 
+#include <algorithm>
+
 namespace sb::synth {
 
 namespace {
@@ -194,11 +196,31 @@ Item makeFilingCabinet(Rng& rng) {
 }
 
 Item makeCupboard(Rng& rng) {
+  // Doors below, open shelves of binders above (their pattern fixed, so the random draws are as for a closed
+  // one).
+  constexpr float kDoorsH = 0.9f, kBoard = 0.025f, kBinderW = 0.07f;
+  constexpr float kBinderShare[] = {0.85f, 0.7f, 0.8f, 0.6f, 0.9f};  // of the shelf gap, cycling
   const float w = rng.uniform(0.8f, 1.0f), d = 0.45f, h = rng.uniform(1.8f, 2.1f);
   Item item = begin("cupboard", w, d, h);
-  addBox(item, -w / 2, w / 2, 0.f, h, 0.f, d - 0.02f, "body");
-  addBox(item, -w / 2 + 0.01f, -0.005f, 0.05f, h - 0.05f, d - 0.02f, d, "door");
-  addBox(item, 0.005f, w / 2 - 0.01f, 0.05f, h - 0.05f, d - 0.02f, d, "door");
+  addBox(item, -w / 2, w / 2, 0.f, kDoorsH, 0.f, d - 0.02f, "body");
+  addBox(item, -w / 2 + 0.01f, -0.005f, 0.05f, kDoorsH - 0.02f, d - 0.02f, d, "door");
+  addBox(item, 0.005f, w / 2 - 0.01f, 0.05f, kDoorsH - 0.02f, d - 0.02f, d, "door");
+  addBox(item, -w / 2, w / 2, kDoorsH, h, 0.f, kBoard, "back");
+  addBox(item, -w / 2, -w / 2 + kBoard, kDoorsH, h, 0.f, d - 0.02f, "side");
+  addBox(item, w / 2 - kBoard, w / 2, kDoorsH, h, 0.f, d - 0.02f, "side");
+  const int shelves = 3;
+  const float gap = (h - kDoorsH) / shelves;
+  for (int s = 0; s <= shelves; ++s) {
+    const float y = std::min(kDoorsH + s * gap, h - kBoard);
+    addBox(item, -w / 2 + kBoard, w / 2 - kBoard, y, y + kBoard, 0.f, d - 0.02f, "board");
+    if (s == shelves) break;
+    int i = s;  // binders from one side, fewer on each shelf up, so the row ends at a different place
+    for (float x = -w / 2 + kBoard; x + kBinderW < w / 2 - kBoard - 0.15f * (s + 1); x += kBinderW, ++i) {
+      const float share = kBinderShare[i % 5];
+      addBox(item, x, x + kBinderW - 0.005f, y + kBoard, y + kBoard + share * (gap - kBoard), kBoard,
+             (0.6f + 0.3f * share) * d, "binder");
+    }
+  }
   return item;
 }
 
@@ -227,6 +249,68 @@ Item makeWallPanel(Rng& rng, float width, float height, float bottomM, const std
   const float thickness = rng.uniform(0.02f, 0.04f);
   Item item = begin(kind, width, thickness, bottomM + height);
   addBox(item, -width / 2, width / 2, bottomM, bottomM + height, 0.f, thickness, "panel");
+  return item;
+}
+
+namespace {
+
+// Things standing on a board whose top is `topH` above the floor, spanning x [x0, x1], z [0, depth): books
+// and boxes (axis-aligned and turned) and round vases, leaving gaps.
+void addOrnaments(Rng& rng, Item& item, float x0, float x1, float topH, float depth, float maxHeightM) {
+  constexpr float kMinGapM = 0.03f, kMaxGapM = 0.2f;
+  float x = x0 + rng.uniform(0.f, kMaxGapM);
+  while (true) {
+    const int kind = rng.index(3);
+    const float w = kind == 2 ? rng.uniform(0.06f, 0.14f) : rng.uniform(0.08f, 0.3f);
+    if (x + w > x1) break;
+    const float h = rng.uniform(0.35f, 1.f) * maxHeightM;
+    if (kind == 0) {  // books / box against the back
+      addBox(item, x, x + w, topH, topH + h, 0.01f, rng.uniform(0.5f, 0.9f) * depth, "book");
+    } else if (kind == 1) {  // a box turned on the board
+      const float s = std::min(w, 0.8f * depth);
+      item.parts.push_back(makeBox(Eigen::Vector3f(x + w / 2, -(topH + h / 2), 0.5f * depth),
+                                   Eigen::Vector3f(s, h, s), rng.uniform(0.3f, 1.2f), item.kind + ".box"));
+    } else {  // a vase or jar
+      addCylinder(item, x + w / 2, 0.5f * depth, std::min(w / 2, 0.4f * depth), topH, topH + h, "vase");
+    }
+    x += w + rng.uniform(kMinGapM, kMaxGapM);
+  }
+}
+
+}  // namespace
+
+Item makeWallShelf(Rng& rng, float width, float bottomM) {
+  constexpr float kBoard = 0.03f, kBracketW = 0.03f, kBracketH = 0.15f;
+  const float d = rng.uniform(0.22f, kWallFixtureMaxDepthM);
+  const float top = bottomM + kBracketH + kBoard;
+  Item item = begin("wall_shelf", width, d, top + 0.35f);
+  addBox(item, -width / 2, width / 2, bottomM + kBracketH, top, 0.f, d, "board");
+  for (float x : {-width / 2 + 0.08f, width / 2 - 0.08f - kBracketW})
+    addBox(item, x, x + kBracketW, bottomM, bottomM + kBracketH, 0.f, 0.7f * d, "bracket");
+  addOrnaments(rng, item, -width / 2, width / 2, top, d, 0.32f);
+  return item;
+}
+
+Item makeWallCabinet(Rng& rng, float width, float bottomM) {
+  const float d = rng.uniform(0.28f, kWallFixtureMaxDepthM), h = rng.uniform(0.4f, 0.6f);
+  Item item = begin("wall_cabinet", width, d, bottomM + h + 0.3f);
+  addBox(item, -width / 2, width / 2, bottomM, bottomM + h, 0.f, d - 0.02f, "body");
+  addBox(item, -width / 2 + 0.01f, -0.005f, bottomM + 0.01f, bottomM + h - 0.01f, d - 0.02f, d, "door");
+  addBox(item, 0.005f, width / 2 - 0.01f, bottomM + 0.01f, bottomM + h - 0.01f, d - 0.02f, d, "door");
+  addOrnaments(rng, item, -width / 2, width / 2, bottomM + h, d - 0.02f, 0.28f);
+  return item;
+}
+
+Item makeFramedPicture(Rng& rng, float width, float bottomM) {
+  const float h = rng.uniform(0.35f, 0.7f), frameW = rng.uniform(0.05f, 0.09f),
+              frameD = rng.uniform(0.05f, 0.08f);
+  Item item = begin("picture", width, frameD, bottomM + h);
+  addBox(item, -width / 2, width / 2, bottomM, bottomM + frameW, 0.f, frameD, "frame");
+  addBox(item, -width / 2, width / 2, bottomM + h - frameW, bottomM + h, 0.f, frameD, "frame");
+  addBox(item, -width / 2, -width / 2 + frameW, bottomM + frameW, bottomM + h - frameW, 0.f, frameD, "frame");
+  addBox(item, width / 2 - frameW, width / 2, bottomM + frameW, bottomM + h - frameW, 0.f, frameD, "frame");
+  addBox(item, -width / 2 + frameW, width / 2 - frameW, bottomM + frameW, bottomM + h - frameW, 0.f, 0.015f,
+         "canvas");
   return item;
 }
 

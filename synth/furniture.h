@@ -34,12 +34,19 @@ Item makeCoffeeTable(Rng& rng);  // low: may stand where cameras pass above it
 // Office.
 Item makeDesk(Rng& rng);  // with monitor(s), a tower and a chair in front
 Item makeFilingCabinet(Rng& rng);
-Item makeCupboard(Rng& rng);
+Item makeCupboard(Rng& rng);  // doors below, open shelves of binders above
 Item makeBin(Rng& rng);
 Item makeLowCabinet(Rng& rng);  // low
 // Either room.
 Item makeColumn(float radius, float height);
 // A thin panel hung on the wall (picture, whiteboard): bottom edge at `bottomM` above the floor.
 Item makeWallPanel(Rng& rng, float width, float height, float bottomM, const std::string& kind);
+// Wall fixtures, `width` metres along the wall, lowest edge `bottomM` above the floor. Unlike
+// a panel they stand out from the wall (up to kWallFixtureMaxDepthM), so their sides, undersides and the
+// round things on them face along the wall and up or down: what ICP needs to see motion along a wall.
+constexpr float kWallFixtureMaxDepthM = 0.32f;
+Item makeWallShelf(Rng& rng, float width, float bottomM);      // a board on brackets with books, vases, boxes
+Item makeWallCabinet(Rng& rng, float width, float bottomM);    // a hung cupboard with doors and things on top
+Item makeFramedPicture(Rng& rng, float width, float bottomM);  // a deep frame around a recessed canvas
 
 }  // namespace sb::synth

@@ -166,8 +166,9 @@ float blankStartOf(const Wall& wall, Rng& rng) {
   return rng.chance(0.5) ? rng.uniform(0.f, kCornerSlackM) : wall.length - kBlankWallM - rng.uniform(0.f, kCornerSlackM);
 }
 
-void furnishWall(const Wall& wall, float blankStart, const RoomSpec& spec, ItemBuilder anchor, Rng& rng,
-                 Placer& placer) {
+// Furniture along the wall and one or two panels above it; returns the panels' spans along the wall (metres).
+std::vector<Eigen::Vector2f> furnishWall(const Wall& wall, float blankStart, const RoomSpec& spec,
+                                         ItemBuilder anchor, Rng& rng, Placer& placer) {
   const float blankEnd = blankStart + kBlankWallM;
   float pos = rng.uniform(0.f, 0.4f);
   constexpr int kTriesPerSlot = 8;
@@ -186,6 +187,7 @@ void furnishWall(const Wall& wall, float blankStart, const RoomSpec& spec, ItemB
     pos += placed ? rng.uniform(0.1f, 0.6f) : rng.uniform(0.3f, 0.8f);
   }
   // Panels on the wall above low furniture, away from the blank stretch.
+  std::vector<Eigen::Vector2f> spans;
   const int panels = 1 + rng.index(2);
   for (int i = 0; i < panels; ++i) {
     const float w = rng.uniform(spec.panelMinWidth, spec.panelMaxWidth);
@@ -198,6 +200,67 @@ void furnishWall(const Wall& wall, float blankStart, const RoomSpec& spec, ItemB
     const Item panel = makeWallPanel(rng, w, h, bottom, spec.panelKind);
     const Eigen::Vector2f p = wall.start + (at + w / 2) * wall.along;
     placer.place(panel, p.x(), p.y(), wall.inward, Placer::Mode::OnWall);
+    spans.emplace_back(at, at + w);
+  }
+  return spans;
+}
+
+// Fixtures hung on the wall one after another along it: framed pictures, shelves and hung cabinets, at
+// heights from below to above eye level, so that their undersides, tops and sides are seen. None on the blank
+// stretch or over the panels (`panels`: spans along the wall, metres), none reaching into the camera space;
+// raised over the furniture below them, left out where that leaves no room below the ceiling. Run after every
+// wall is furnished (the side walls' furniture reaches into the corners).
+void decorateWall(const Wall& wall, float blankStart, const std::vector<Eigen::Vector2f>& panels,
+                  float roomHeight, Rng& rng, Placer& placer) {
+  constexpr float kCornerGapM = 0.35f;                 // fixtures keep this far from the corners
+  constexpr float kMinGapM = 0.05f, kMaxGapM = 0.35f;  // between neighbouring fixtures
+  // Lowest edge above the floor, before furniture: shelves and cabinets below or above the cameras' eye level
+  // (about 1.1-1.6 m), so that their tops or undersides are seen rather than their edges; pictures at any
+  // height.
+  constexpr float kLowBandM[2] = {0.85f, 1.0f}, kHighBandM[2] = {1.75f, 2.0f},
+                  kPictureBandM[2] = {1.1f, 1.7f};
+  constexpr float kOverFurnitureM = 0.12f;  // lowest edge above the furniture below
+  constexpr float kCeilingGapM = 0.05f;     // top (ornaments included) below the ceiling
+  constexpr float kClearanceM = 0.05f;      // in front of a fixture, over furniture below
+  constexpr float kSkipM = 0.1f;            // moved on this far when a fixture does not fit
+  const float blankEnd = blankStart + kBlankWallM;
+  float at = kCornerGapM + rng.uniform(0.f, kMaxGapM);
+  while (at < wall.length - kCornerGapM) {
+    enum Kind { kPicture, kShelf, kCabinet };
+    constexpr Kind kKinds[] = {kPicture, kShelf, kShelf, kCabinet};  // shelves twice as often
+    constexpr float kWidthsM[][2] = {{0.3f, 0.8f}, {0.6f, 1.2f}, {0.5f, 1.f}};
+    const Kind kind = kKinds[rng.index(4)];
+    const float w = rng.uniform(kWidthsM[kind][0], kWidthsM[kind][1]);
+    const float* band = kind == kPicture ? kPictureBandM : rng.chance(0.5) ? kLowBandM : kHighBandM;
+    float bottom = rng.uniform(band[0], band[1]);
+    const bool onPanel = std::any_of(panels.begin(), panels.end(), [&](const Eigen::Vector2f& span) {
+      return at < span.y() + kMinGapM && at + w + kMinGapM > span.x();
+    });
+    if (at + w > wall.length - kCornerGapM || (at < blankEnd && at + w > blankStart) || onPanel) {
+      at += kSkipM;
+      continue;
+    }
+    const Rect space = planRect(wall, at, at + w, kWallFixtureMaxDepthM + kClearanceM);
+    bottom = std::max(bottom, placer.heightUnder(space) + kOverFurnitureM);
+    Item item;
+    switch (kind) {
+      case kPicture:
+        item = makeFramedPicture(rng, w, bottom);
+        break;
+      case kShelf:
+        item = makeWallShelf(rng, w, bottom);
+        break;
+      case kCabinet:
+        item = makeWallCabinet(rng, w, bottom);
+        break;
+    }
+    if (space.overlaps(kCameraSpace) || item.height > roomHeight - kCeilingGapM) {
+      at += kSkipM;
+      continue;
+    }
+    const Eigen::Vector2f p = wall.start + (at + w / 2) * wall.along;
+    placer.place(item, p.x(), p.y(), wall.inward, Placer::Mode::OnWall);
+    at += w + rng.uniform(kMinGapM, kMaxGapM);
   }
 }
 
@@ -249,7 +312,9 @@ Scene generateScene(const std::string& name, uint64_t seed) {
     scene.blankWalls.push_back(
         {wall.start + start * wall.along, wall.start + (start + kBlankWallM) * wall.along, wall.inward, wall.depth});
   }
-  for (size_t w = 0; w < walls.size(); ++w) furnishWall(walls[w], blankStarts[w], spec, anchors[w], rng, placer);
+  std::vector<std::vector<Eigen::Vector2f>> panels;
+  for (size_t w = 0; w < walls.size(); ++w)
+    panels.push_back(furnishWall(walls[w], blankStarts[w], spec, anchors[w], rng, placer));
 
   // One or two low pieces in the camera space, south of the column.
   const int lowCount = 1 + rng.index(2);
@@ -260,6 +325,9 @@ Scene generateScene(const std::string& name, uint64_t seed) {
     const float z = rng.uniform(kCameraSpace.z0 + 0.8f, kIsland.z0 - 1.0f);
     if (placer.place(item, x, z, rotated({0.f, 1.f}, rng.uniform(-0.5f, 0.5f)))) ++i;
   }
+  // Wall fixtures last, so the layout above is the same as before they were added.
+  for (size_t w = 0; w < walls.size(); ++w)
+    decorateWall(walls[w], blankStarts[w], panels[w], roomHeight, rng, placer);
   return scene;
 }
 
