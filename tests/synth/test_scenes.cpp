@@ -10,6 +10,7 @@
 #include "synth/builtin_trajectory.h"
 #include "synth/renderer.h"
 #include "synth/scene_generator.h"
+#include "synth/stress_views.h"
 #include "synth/synth_sequence.h"
 #include "tests/support/test_data.h"
 
@@ -151,6 +152,35 @@ TEST_CASE("the ICL-NUIM living-room trajectories fit both scenes", "[synth][scen
         CHECK(mean > 0.5);
         CHECK(lowest > 0.15);
       }
+    }
+  }
+}
+
+// The seed-0 sequences the benchmark renders: no view along the ICL-NUIM trajectories may leave a motion that
+// ICP cannot see. Before the wall fixtures, livingroom traj1 faced a bare wall (smallest constraint 1e-5 ..
+// 1e-10, DEFAULT drifted 42 cm) and the office's traj1/traj2 views reached 7e-4 .. 2e-3 (8-13 cm); with them
+// the smallest value over every 4th frame of the 8 sequences is 2.4e-3. Seeds other than 0 are not held to
+// this (seed 1 still has such views in livingroom traj1 and office traj1).
+TEST_CASE("seed 0: every view along the ICL-NUIM trajectories constrains every ICP motion",
+          "[synth][scene][data]") {
+  constexpr double kMinConstraint = 1e-3;  // measureView's smallest eigenvalue
+  constexpr size_t kStep = 8;              // frames
+  const std::string dir = test::sharedDataDir() + "/icl-nuim-trajectories";
+  for (const std::string& name : sceneNames()) {
+    const Scene scene = generateScene(name, 0);
+    const Renderer renderer(scene, iclNuimIntrinsics());
+    for (int t = 0; t < 4; ++t) {
+      const std::string path = dir + "/livingroom" + std::to_string(t) + ".tum";
+      REQUIRE(std::filesystem::exists(path));
+      const Trajectory trajectory = readTumTrajectory(path);
+      double lowest = 1e9;
+      size_t lowestFrame = 0;
+      for (size_t i = 0; i < trajectory.size(); i += kStep) {
+        const double c = measureView(renderer, trajectory[i].T_camera_to_world).minConstraint;
+        if (c < lowest) lowest = c, lowestFrame = i;
+      }
+      INFO(name << " along " << path << ": smallest constraint " << lowest << " at frame " << lowestFrame);
+      CHECK(lowest > kMinConstraint);
     }
   }
 }
