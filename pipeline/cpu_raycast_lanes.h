@@ -10,7 +10,7 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #elif defined(__ARM_NEON)
-#include <arm_neon.h>
+#include "pipeline/neon_f4.h"
 #endif
 
 namespace sb {
@@ -107,26 +107,14 @@ inline int lane(I4 a) {
   return _mm_cvtsi128_si32(_mm_shuffle_epi32(a.v, _MM_SHUFFLE(i, i, i, i)));
 }
 #elif defined(__ARM_NEON)
-struct F4 {
-  float32x4_t v;
-};
+using neon4::F4;  // and its arithmetic (pipeline/neon_f4.h)
+using neon4::splat;
 struct I4 {
   int32x4_t v;
 };
-inline F4 splat(float s) { return {vdupq_n_f32(s)}; }
 inline F4 make4(float x, float y, float z, float w) {
   const float a[4] = {x, y, z, w};
   return {vld1q_f32(a)};
-}
-inline F4 operator+(F4 a, F4 b) { return {vaddq_f32(a.v, b.v)}; }
-inline F4 operator-(F4 a, F4 b) { return {vsubq_f32(a.v, b.v)}; }
-inline F4 operator*(F4 a, F4 b) { return {vmulq_f32(a.v, b.v)}; }
-inline F4 operator/(F4 a, F4 b) {  // ARMv7 NEON has no division: one VFP division per lane
-  float x[4], y[4];
-  vst1q_f32(x, a.v);
-  vst1q_f32(y, b.v);
-  for (int i = 0; i < 4; ++i) x[i] /= y[i];
-  return {vld1q_f32(x)};
 }
 inline void store4(float* p, F4 a) { vst1q_f32(p, a.v); }
 template <int i>

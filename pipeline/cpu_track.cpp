@@ -6,9 +6,7 @@
 
 #include "kernels/track.h"
 
-#if defined(__ARM_NEON)
-#include <arm_neon.h>
-#endif
+#include "pipeline/neon_f4.h"
 
 namespace sb {
 
@@ -19,26 +17,14 @@ namespace {
 // armhf takes the NEON intrinsics. Every operation is one rounded operation per lane, never contracted: lane
 // results equal the scalar kernel's (on NEON up to denormals).
 #if defined(__ARM_NEON)
-struct F4 {
-  float32x4_t v;
-};
+using neon4::F4;
+using neon4::splat;
 struct M4 {
   uint32x4_t v;  // all ones (true) or zero per lane
 };
 using I4 = int32x4_t;
-inline F4 splat(float s) { return {vdupq_n_f32(s)}; }
 inline F4 load(const float* p) { return {vld1q_f32(p)}; }
 inline void store(float* p, F4 a) { vst1q_f32(p, a.v); }
-inline F4 operator+(F4 a, F4 b) { return {vaddq_f32(a.v, b.v)}; }
-inline F4 operator-(F4 a, F4 b) { return {vsubq_f32(a.v, b.v)}; }
-inline F4 operator*(F4 a, F4 b) { return {vmulq_f32(a.v, b.v)}; }
-inline F4 operator/(F4 a, F4 b) {  // ARMv7 NEON has no division: one VFP division per lane
-  float x[4], y[4];
-  vst1q_f32(x, a.v);
-  vst1q_f32(y, b.v);
-  for (int i = 0; i < 4; ++i) x[i] /= y[i];
-  return {vld1q_f32(x)};
-}
 inline M4 operator<(F4 a, F4 b) { return {vcltq_f32(a.v, b.v)}; }
 inline M4 operator>(F4 a, F4 b) { return {vcgtq_f32(a.v, b.v)}; }
 inline M4 operator>=(F4 a, F4 b) { return {vcgeq_f32(a.v, b.v)}; }
