@@ -37,9 +37,12 @@ void ThreadPool::runChunks(const Job& job) {
   }
 }
 
-// Every worker takes part in every generation: it copies the job under the lock, runs chunks until none
-// are left, and checks in. parallelFor returns only after all workers checked in, so no worker can still be
-// looking at a finished job when the next one is posted.
+// A worker joins a generation only while its job is still posted: it registers (active_) and copies the job
+// under the lock, runs chunks until none are left, and checks out. parallelFor retires the job, under the
+// lock, once every chunk is taken and no registered worker is still running one; a worker that wakes after
+// that finds no job and goes back to sleep. So a small job never waits for a worker to wake up (on a
+// board or VM a sleeping core can take a millisecond to answer), and no worker can still be looking at a
+// finished job when the next one is posted.
 void ThreadPool::workerLoop() {
   unsigned seen = 0;
   for (;;) {
@@ -49,12 +52,14 @@ void ThreadPool::workerLoop() {
       wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
       if (stop_) return;
       seen = generation_;
+      if (job_.fn == nullptr) continue;  // retired before this worker woke
       job = job_;
+      ++active_;
     }
     runChunks(job);
     {
       std::lock_guard<std::mutex> lock(mutex_);
-      if (++finished_ == workers_.size()) done_.notify_all();
+      if (--active_ == 0) done_.notify_all();
     }
   }
 }
@@ -72,7 +77,6 @@ void ThreadPool::parallelFor(int begin, int end, int chunk, const std::function<
     std::lock_guard<std::mutex> lock(mutex_);
     job_ = job;
     next_ = 0;
-    finished_ = 0;
     error_ = nullptr;
     ++generation_;
   }
@@ -81,7 +85,8 @@ void ThreadPool::parallelFor(int begin, int end, int chunk, const std::function<
   std::exception_ptr err;
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    done_.wait(lock, [&] { return finished_ == workers_.size(); });
+    // Every chunk is taken (runChunks above returned); wait only for workers still running one.
+    done_.wait(lock, [&] { return active_ == 0; });
     job_ = Job{};
     err = error_;
     error_ = nullptr;

@@ -49,7 +49,7 @@ class ThreadPool {
   std::condition_variable done_;
   Job job_;                 // guarded by mutex_; workers copy it when they wake
   std::atomic<int> next_{0};  // next chunk to take
-  size_t finished_ = 0;       // workers done with the current generation (guarded by mutex_)
+  unsigned active_ = 0;       // workers running chunks of the posted job (guarded by mutex_)
   unsigned generation_ = 0;
   bool stop_ = false;
   std::exception_ptr error_;

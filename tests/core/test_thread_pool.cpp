@@ -2,7 +2,10 @@
 // ThreadSanitizer (test_thread_pool_tsan) so that races in the pool itself are caught.
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <numeric>
+#include <thread>
 #include <vector>
 
 #include "core/error.h"
@@ -41,4 +44,27 @@ TEST_CASE("thread pool chunk reductions are identical for any thread count", "[c
   CHECK_THROWS_AS(pool.parallelFor(0, 10, 1, [](int c, int, int) {
     if (c == 5) throw Error("boom");
   }), Error);
+}
+
+// A job retires as soon as its chunks are done and no worker is inside one; a worker that wakes later must
+// find nothing to do. Pauses between jobs let the workers fall asleep, so most jobs are finished by the
+// caller alone while the workers are still waking: every chunk must still run exactly once, and a slow
+// chunk taken by a worker must hold the caller until it ends.
+TEST_CASE("thread pool jobs retire without waiting for sleeping workers", "[core][thread_pool]") {
+  ThreadPool pool(3);
+  std::atomic<int> slowDone{0};
+  for (int round = 0; round < 300; ++round) {
+    std::vector<int> hits(4, 0);
+    const bool slow = round % 3 == 0;
+    pool.parallelFor(0, 4, 1, [&](int c, int b, int e) {
+      if (slow && c == 3) {
+        std::this_thread::sleep_for(std::chrono::microseconds(300));
+        slowDone.fetch_add(1);
+      }
+      for (int i = b; i < e; ++i) ++hits[i];
+    });
+    REQUIRE(std::all_of(hits.begin(), hits.end(), [](int h) { return h == 1; }));
+    REQUIRE(slowDone.load() == (round / 3) + 1);
+    if (round % 2) std::this_thread::sleep_for(std::chrono::microseconds(200 + 37 * (round % 11)));
+  }
 }
