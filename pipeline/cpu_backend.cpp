@@ -55,6 +55,24 @@ void clipLinear(double a, double b, double& lo, double& hi) {
   }
 }
 
+// Or-s into masks[x / 4] the surface mask bits of voxels x in [x0, x1) of one row (int16 (tsdf, weight)
+// pairs) whose tsdf is below `below`: `faceBits` for a voxel on its block's lower x face (x % 4 == 0),
+// `innerBits` for the others (the row's y and z faces are in both). Branch-free, one store per block: the
+// tsdf of a freshly integrated row is below the threshold in no predictable pattern.
+void orRowSurfaceMask(const int16_t* row, int x0, int x1, int16_t below, uint8_t innerBits, uint8_t faceBits,
+                      uint8_t* masks) {
+  static_assert(CpuBackend::kSkipShift == 2, "blocks of 4 voxels along x");
+  const auto bitsIf = [](bool set, uint8_t bits) { return static_cast<uint8_t>(-static_cast<int>(set) & bits); };
+  int x = x0;
+  for (; x < x1 && (x & 3) != 0; ++x) masks[x >> 2] |= bitsIf(row[2 * x] < below, innerBits);
+  for (; x + 4 <= x1; x += 4) {
+    const int16_t* v = row + 2 * x;
+    masks[x >> 2] |= static_cast<uint8_t>(bitsIf(v[0] < below, faceBits) |
+                                          bitsIf((v[2] < below) | (v[4] < below) | (v[6] < below), innerBits));
+  }
+  for (; x < x1; ++x) masks[x >> 2] |= bitsIf(row[2 * x] < below, (x & 3) == 0 ? faceBits : innerBits);
+}
+
 // The interior pixels x in [r, w - r) of row y (rows y - r .. y + r exist) of bilateralFilter, tap by tap (a
 // vectorisable loop over x) with the kernel's bilateralWeight and the kernel's summation order, so the result
 // is bit-identical to bilateralFilter(). ws, vs: w floats of scratch.
@@ -295,9 +313,8 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
             while (runEnd < x1 && live[runEnd >> kCullShift]) runEnd = ((runEnd >> kCullShift) + 1) << kCullShift;
             runEnd = std::min(runEnd, x1);
             integrateRow(rowVoxels, runStart, runEnd, base, step, depth, w, h, k, mu, maxWeight);
-            for (int x = runStart; x < runEnd; ++x)
-              if (rowVoxels[2 * x] < flagBelow)
-                mask[blockRow + (x >> kSkipShift)] |= maskBits[rowFaces + ((x & (kSide - 1)) == 0 ? 1 : 0)];
+            orRowSurfaceMask(rowVoxels, runStart, runEnd, flagBelow, maskBits[rowFaces], maskBits[rowFaces + 1],
+                             &mask[blockRow]);
             for (int bx = runStart >> kSkipShift; bx * kSide < runEnd; ++bx)
               visited[blockRow + bx] += std::min(runEnd, (bx + 1) * kSide) - std::max(runStart, bx * kSide);
             runStart = runEnd;
