@@ -27,7 +27,8 @@ class ThreadPool {
   static int chunkCount(int begin, int end, int chunk) { return end <= begin ? 0 : (end - begin + chunk - 1) / chunk; }
 
   // Calls fn(chunkIndex, chunkBegin, chunkEnd) for every chunk of [begin, end); returns when all are done.
-  // Exceptions thrown by fn are rethrown here (the first one).
+  // Chunks are started in increasing order, so a chunk may wait for an earlier one (it is running or done),
+  // never for a later one. Exceptions thrown by fn are rethrown here (the first one).
   void parallelFor(int begin, int end, int chunk, const std::function<void(int, int, int)>& fn);
 
   // The process-wide pool used by the CPU backend and tools.

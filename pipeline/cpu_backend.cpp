@@ -114,7 +114,7 @@ CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize,
   }
   const int blocks = config_.volumeResolution >> kSkipShift;
   blockSurfaceMask_.assign(static_cast<size_t>(blocks) * blocks * blocks, 0);
-  computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_);
+  computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_, pool_);
 }
 
 void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) {
@@ -326,7 +326,7 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
         masks[i] = visited[i] == kBlockVoxels ? mask[i] : (masks[i] | mask[i]);
     }
   });
-  computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_);
+  computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_, pool_);
 }
 
 void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) {

@@ -39,7 +39,8 @@ std::vector<uint8_t> distanceGrid(const int16_t* volume, int resolution, int shi
           const int faces = (x % side == 0 ? 1 : 0) + (y % side == 0 ? 2 : 0) + (z % side == 0 ? 4 : 0);
           masks[(x >> shift) + ((y >> shift) + (z >> shift) * size_t(n)) * n] |= sb::surfaceMaskBits(faces);
         }
-  sb::computeBlockDistance(masks, n, distance);
+  sb::ThreadPool pool(1);
+  sb::computeBlockDistance(masks, n, distance, pool);
   return distance;
 }
 
