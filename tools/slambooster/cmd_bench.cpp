@@ -196,8 +196,9 @@ void benchCommand(const BenchOptions& o) {
         c.joulesPerFrame = s["energy"]["joules_per_frame"].get<double>();
       try {
         c.ateM = computeAte(readTumTrajectory(c.dir + "/trajectory.tum"), reference).rmse;
-      } catch (const Error&) {
+      } catch (const Error& e) {
         c.ateM = NAN;
+        std::cerr << "slambooster bench: no ATE for " << c.dir << ": " << e.what() << "\n";
       }
       csv << name << "," << label << "," << c.frames << "," << c.tracked << "," << c.ms << "," << c.ateM << ","
           << (ownTruth ? "groundtruth" : "accurate") << "," << c.controllerMs << "," << c.joulesPerFrame
