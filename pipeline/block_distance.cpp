@@ -75,42 +75,32 @@ void computeBlockDistance(const std::vector<uint8_t>& masks, int n, std::vector<
   const auto at = [n, nn](std::vector<uint8_t>& grid, int y, int z) {
     return &grid[static_cast<size_t>(y) * n + static_cast<size_t>(z) * nn];
   };
-  // Forwards, slice z a chunk: seeds, then the 9 neighbours in the previous slice (rows y - 1 .. y + 1) and
-  // the 3 in the previous row through their dilations, then x - 1 in order. rowsDone[z]: rows 0 .. k - 1
-  // done.
-  for (int z = 0; z < n; ++z) rowsDone[z].store(0, std::memory_order_relaxed);
-  pool.parallelFor(0, n, 1, [&](int, int z, int) {
-    for (int y = 0; y < n; ++y) {
-      uint8_t* row = at(distance, y, z);
-      seedRow(masks.data(), n, y, z, row);
-      if (z > 0) {
-        waitRows(rowsDone[z - 1], std::min(y + 2, n));
-        for (int dy = -1; dy <= 1; ++dy)
-          if (y + dy >= 0 && y + dy < n) minInto(row, at(dilated, y + dy, z - 1), n);
+  // Pass `direction` (+1 forwards, -1 backwards), slices in that order, one chunk each: per row (in that
+  // order) the seeds (first pass only), the 9 neighbours in the previous slice (3 rows) and the 3 in the
+  // previous row through their dilations, then the x-neighbour already visited. rowsDone[z]: how many rows of
+  // slice z are done, counted in pass order.
+  const auto pass = [&](int direction) {
+    for (int z = 0; z < n; ++z) rowsDone[z].store(0, std::memory_order_relaxed);
+    pool.parallelFor(0, n, 1, [&](int, int c, int) {
+      const int z = direction > 0 ? c : n - 1 - c, previousSlice = z - direction;
+      for (int i = 0; i < n; ++i) {
+        const int y = direction > 0 ? i : n - 1 - i;
+        uint8_t* row = at(distance, y, z);
+        if (direction > 0) seedRow(masks.data(), n, y, z, row);
+        if (previousSlice >= 0 && previousSlice < n) {
+          waitRows(rowsDone[previousSlice], std::min(i + 2, n));
+          for (int dy = -1; dy <= 1; ++dy)
+            if (y + dy >= 0 && y + dy < n) minInto(row, at(dilated, y + dy, previousSlice), n);
+        }
+        if (i > 0) minInto(row, at(dilated, y - direction, z), n);
+        scanRow(row, n, direction);
+        dilateRow(row, n, at(dilated, y, z));
+        rowsDone[z].store(i + 1, std::memory_order_release);
       }
-      if (y > 0) minInto(row, at(dilated, y - 1, z), n);
-      scanRow(row, n, +1);
-      dilateRow(row, n, at(dilated, y, z));
-      rowsDone[z].store(y + 1, std::memory_order_release);
-    }
-  });
-  // Backwards: the mirror image, slices from the last; rowsDone[z]: rows n - k .. n - 1 done.
-  for (int z = 0; z < n; ++z) rowsDone[z].store(0, std::memory_order_relaxed);
-  pool.parallelFor(0, n, 1, [&](int, int c, int) {
-    const int z = n - 1 - c;
-    for (int y = n - 1; y >= 0; --y) {
-      uint8_t* row = at(distance, y, z);
-      if (z + 1 < n) {
-        waitRows(rowsDone[z + 1], std::min(n - y + 1, n));
-        for (int dy = -1; dy <= 1; ++dy)
-          if (y + dy >= 0 && y + dy < n) minInto(row, at(dilated, y + dy, z + 1), n);
-      }
-      if (y + 1 < n) minInto(row, at(dilated, y + 1, z), n);
-      scanRow(row, n, -1);
-      dilateRow(row, n, at(dilated, y, z));
-      rowsDone[z].store(n - y, std::memory_order_release);
-    }
-  });
+    });
+  };
+  pass(+1);
+  pass(-1);
 }
 
 }  // namespace sb
