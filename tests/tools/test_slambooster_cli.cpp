@@ -330,6 +330,60 @@ TEST_CASE("bench and dse run their matrix once, resume, and write their tables",
   CHECK(readJson(dir + "/offline/summary.json").at("controller") == "offline");
 }
 
+TEST_CASE("dse stops a run once it is slower than the fastest setting within the bound, and --no-prune does not",
+          "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_dse_prune");
+  const std::string seq = dir + "/seq";
+  REQUIRE(runCommand(kTool + " synth --out " + seq + " --builtin-frames 6 --no-noise").exitCode == 0);
+  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
+  // A finished csr=8 run within the bound whose 6 frames took 6e-6 ms in all: any real run is slower after
+  // its first frame, so the csr=4 run must stop there.
+  const std::string fast = dir + "/dse/runs/csr8_icp1e-05_pd4-5-4_tr1_ir1";
+  fs::create_directories(fast);
+  std::ofstream(fast + "/summary.json") << R"({"complete": true, "frames": 6, "tracked_percent": 100.0,
+      "computation_ms_per_frame": 1e-6, "ate": {"rmse_m": 0.001}})";
+  const std::string dse = kTool + " dse " + seq + " --out " + dir + "/dse --config " + dir +
+                          "/small.json --csr 4,8 --icp 1e-5 --pd0 4 --max-ate 1.0 --quiet";
+  const auto pruned = runCommand(dse);
+  INFO(pruned.output);
+  REQUIRE(pruned.exitCode == 0);
+  CHECK_THAT(pruned.output, Catch::Contains("1 of 2 settings stopped early"));
+  const auto slow = readJson(dir + "/dse/runs/csr4_icp1e-05_pd4-5-4_tr1_ir1/summary.json");
+  CHECK(slow.at("frames") == 1);
+  CHECK(slow.at("stopped").at("at_frame") == 1);
+  CHECK(slow.at("stopped").at("limit_ms").get<double>() == Approx(6e-6));
+  auto best = readJson(dir + "/dse/best.json");
+  CHECK(best.at("stopped_early") == 1);
+  CHECK(best.at("best").at("knobs").get<std::string>().rfind("csr=8", 0) == 0);
+  const std::string csv = readText(dir + "/dse/results.csv");
+  CHECK_THAT(csv, Catch::Contains(",within_bound,stopped_at_frame\n"));
+  CHECK_THAT(csv, Catch::Contains(",nan,0,1\n"));  // the stopped csr=4 run: no ATE, out of bound, frame 1
+  // Every row has the header's 7 fields: the knobs text holds commas, so it is quoted.
+  std::istringstream lines(csv);
+  size_t rows = 0;
+  for (std::string line; std::getline(lines, line); ++rows) {
+    size_t fields = 1;
+    bool quoted = false;
+    for (char c : line) {
+      if (c == '"') quoted = !quoted;
+      fields += c == ',' && !quoted;
+    }
+    INFO(line);
+    CHECK(fields == 7);
+  }
+  CHECK(rows == 3);
+
+  // --no-prune runs the stopped setting again, to the end.
+  const auto full = runCommand(dse + " --no-prune");
+  INFO(full.output);
+  REQUIRE(full.exitCode == 0);
+  CHECK_THAT(full.output, !Catch::Contains("stopped early"));
+  const auto whole = readJson(dir + "/dse/runs/csr4_icp1e-05_pd4-5-4_tr1_ir1/summary.json");
+  CHECK(whole.at("frames") == 6);
+  CHECK_FALSE(whole.contains("stopped"));
+  CHECK(readJson(dir + "/dse/best.json").at("stopped_early") == 0);
+}
+
 TEST_CASE("bench runs tc once per profiling set and reports each set in the TC table", "[tools][system]") {
   const std::string dir = sb::test::scratchDir("cli_bench_tc");
   const std::string seq = dir + "/seq";

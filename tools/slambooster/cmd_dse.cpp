@@ -1,15 +1,25 @@
 // `slambooster dse SEQ`: exhaustive design-space exploration of fixed knob settings on one sequence (the
 // `offline` baseline). Every combination of the given csr, icp, pd0 and ir values runs as its own
 // `slambooster run` (resumable, --jobs in parallel, several dse processes may share --out); results.csv
-// lists them all (ATE nan where it is undefined: such a setting is out of bound) and best.json holds the fastest setting whose ATE is under the bound with enough frames
-// tracked, ready for the `offline` controller ({"offline": {"result": ".../best.json"}}).
+// lists them all (ATE nan where it is undefined: such a setting is out of bound) and best.json holds the
+// fastest setting whose ATE is under the bound with enough frames tracked, ready for the `offline`
+// controller ({"offline": {"result": ".../best.json"}}).
+//
+// Branch and bound: the settings run cheapest-looking first, and each run starts with --stop-after-ms set
+// to the summed computation time of the fastest finished run within the bound so far. A run that passes it
+// cannot be the fastest (every further frame only adds time), so it stops there; the answer is the one the
+// full search would give from the same measurements. --no-prune runs every setting to the end.
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
+#include <limits>
 #include <memory>
+#include <numeric>
+#include <sstream>
+#include <tuple>
 
 #include "core/error.h"
 #include "tools/slambooster/commands.h"
@@ -30,8 +40,40 @@ struct DseOptions {
   size_t frames = 0;
   int jobs = 1;
   unsigned threads = 1;
+  bool noPrune = false;
   bool quiet = false;
 };
+
+// Within the bound: ATE defined and under it, enough frames tracked, and run to the end.
+bool withinBound(const nlohmann::json& s, const DseOptions& o) {
+  if (s.contains("stopped") || !s.contains("ate")) return false;
+  return s["ate"]["rmse_m"].get<double>() < o.maxAteM && s["tracked_percent"].get<double>() >= o.minTrackedPercent;
+}
+
+// The computation time summed over the frames of the fastest finished run within the bound (infinity: none).
+double fastestWithinBoundMs(const std::vector<Job>& jobs, const DseOptions& o) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Job& j : jobs) {
+    if (!jobDone(j.outDir)) continue;
+    const nlohmann::json s = readSummary(j.outDir);
+    if (withinBound(s, o))
+      best = std::min(best, s["computation_ms_per_frame"].get<double>() * s["frames"].get<double>());
+  }
+  return best;
+}
+
+// Coarser compute size, rarer integration, earlier ICP stop and fewer iterations first: the likely fast
+// settings, so that a bound is known early.
+std::vector<size_t> cheapestFirst(const std::vector<Knobs>& grid) {
+  std::vector<size_t> order(grid.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  const auto key = [&grid](size_t i) {
+    const Knobs& k = grid[i];
+    return std::make_tuple(-k.csr, -k.integrationRate, -k.icpThreshold, k.pyramidIterations[0]);
+  };
+  std::stable_sort(order.begin(), order.end(), [&key](size_t a, size_t b) { return key(a) < key(b); });
+  return order;
+}
 
 void dseCommand(const DseOptions& o) {
   const std::vector<Knobs> grid = knobGrid(o.csr, o.icp, o.pd0, o.ir);
@@ -43,30 +85,51 @@ void dseCommand(const DseOptions& o) {
     j.runArgs = {o.sequence, "--controller", "fixed", "--knobs", formatKnobs(k), "--threads", std::to_string(o.threads),
                  "--frames", std::to_string(o.frames)};
     if (!o.config.empty()) j.runArgs.insert(j.runArgs.end(), {"--config", o.config});
+    if (!o.noPrune) {
+      j.argsAtStart = [&jobs, &o]() -> std::vector<std::string> {
+        const double limit = fastestWithinBoundMs(jobs, o);
+        if (!std::isfinite(limit)) return {};
+        std::ostringstream text;
+        text << std::setprecision(17) << limit;
+        return {"--stop-after-ms", text.str()};
+      };
+    } else if (jobDone(j.outDir) && readSummary(j.outDir).contains("stopped")) {
+      std::filesystem::remove(j.outDir + "/summary.json");  // stopped by an earlier, pruning dse: run it again
+    }
     jobs.push_back(j);
   }
-  runJobs(jobs, o.jobs, o.quiet);
+  std::vector<Job> ordered;
+  for (size_t i : cheapestFirst(grid)) ordered.push_back(jobs[i]);
+  runJobs(ordered, o.jobs, o.quiet);
 
   std::ofstream csv(o.out + "/results.csv");
-  csv << "knobs,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,within_bound\n";
+  csv << "knobs,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,within_bound,stopped_at_frame\n";
   nlohmann::json best = nullptr;
+  size_t stopped = 0;
   for (size_t i = 0; i < grid.size(); ++i) {
     const nlohmann::json s = readSummary(jobs[i].outDir);
+    const bool wasStopped = s.contains("stopped");
+    stopped += wasStopped;
     // With ground truth, a run whose ATE is undefined (e.g. tracking never moved the camera) is out of bound.
-    if (!s.contains("ate") && !s.contains("ate_error"))
+    if (!wasStopped && !s.contains("ate") && !s.contains("ate_error"))
       throw Error("dse needs ground truth: '" + o.sequence + "' gave no ATE (" + jobs[i].outDir + ")");
-    const double ate = s.contains("ate") ? s["ate"]["rmse_m"].get<double>() : NAN;
+    // A stopped run's ATE covers only its first frames: not a result.
+    const double ate = s.contains("ate") && !wasStopped ? s["ate"]["rmse_m"].get<double>() : NAN;
     const double ms = s["computation_ms_per_frame"], tracked = s["tracked_percent"];
-    const bool ok = ate < o.maxAteM && tracked >= o.minTrackedPercent;  // false for NaN
-    csv << formatKnobs(grid[i]) << "," << s["frames"] << "," << tracked << "," << ms << "," << ate << "," << ok << "\n";
+    const bool ok = withinBound(s, o);
+    csv << '"' << formatKnobs(grid[i]) << "\"," << s["frames"] << "," << tracked << "," << ms << "," << ate << ","
+        << ok << "," << (wasStopped ? s["stopped"]["at_frame"].dump() : "") << "\n";
     if (ok && (best.is_null() || ms < best["computation_ms_per_frame"].get<double>()))
       best = {{"knobs", formatKnobs(grid[i])}, {"computation_ms_per_frame", ms}, {"ate_rmse_m", ate},
               {"tracked_percent", tracked}, {"run", jobs[i].outDir}};
   }
   const nlohmann::json result = {{"sequence", o.sequence}, {"max_ate_m", o.maxAteM},
                                  {"min_tracked_percent", o.minTrackedPercent}, {"frames", o.frames},
-                                 {"settings", grid.size()}, {"best", best}};
+                                 {"settings", grid.size()}, {"stopped_early", stopped}, {"best", best}};
   std::ofstream(o.out + "/best.json") << result.dump(2) << "\n";
+  if (stopped)
+    std::cout << stopped << " of " << grid.size()
+              << " settings stopped early, slower than a setting within the bound (--no-prune runs them to the end)\n";
   if (best.is_null())
     std::cout << "no setting keeps ATE < " << o.maxAteM * 100 << " cm with >= " << o.minTrackedPercent << "% tracked\n";
   else
@@ -93,6 +156,9 @@ void addDseCommand(CLI::App& app) {
   sub->add_option("--frames", o->frames, "frames per run (0 = all)");
   sub->add_option("--jobs", o->jobs, "runs in parallel")->check(CLI::Range(1, 256));
   sub->add_option("--threads", o->threads, "worker threads per run");
+  sub->add_flag("--no-prune", o->noPrune,
+                "run every setting to the end (default: stop a run once it is slower than the fastest setting\n"
+                "within the bound so far)");
   sub->add_flag("--quiet", o->quiet, "no progress");
   sub->callback([o] { dseCommand(*o); });
 }

@@ -63,6 +63,10 @@ bool claim(const std::string& dir) {
 pid_t spawn(const std::string& exe, const Job& job) {
   std::vector<std::string> args = {exe, "run"};
   args.insert(args.end(), job.runArgs.begin(), job.runArgs.end());
+  if (job.argsAtStart) {
+    const std::vector<std::string> more = job.argsAtStart();
+    args.insert(args.end(), more.begin(), more.end());
+  }
   args.insert(args.end(), {"--out", job.outDir, "--quiet"});
   const std::string log = job.outDir + "/run.log";
   const pid_t pid = fork();

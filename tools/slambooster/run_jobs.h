@@ -5,6 +5,7 @@
 // Several processes (even on other machines sharing the directory) may work on one job list: a job is
 // claimed with an exclusive `.claim` file, and a claim whose process is gone (same host) is taken over.
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -17,6 +18,8 @@ struct Job {
   std::string id;                    // shown in the progress, e.g. "kitchen / slambooster"
   std::string outDir;                // the run's --out
   std::vector<std::string> runArgs;  // arguments after `slambooster run` (sequence first), without --out
+  // More arguments, asked for when the job starts (dse: a time limit from the runs finished so far).
+  std::function<std::vector<std::string>()> argsAtStart;
 };
 
 // True when `outDir/summary.json` exists and says "complete": true.
