@@ -53,7 +53,7 @@ declare -A slow=(
 spawns="starts the built armhf tool as a child process: the host kernel cannot exec an armhf binary without
 binfmt_misc, which CI machines and containers lack (check_deb.sh runs the packaged tools through qemu-arm)"
 declare -A not_armhf=(
-  [test_eval_cli]=$spawns [test_energy_cli]=$spawns [test_slambooster_cli]=$spawns [test_run_report]=$spawns
+  [test_eval_cli]=$spawns [test_energy_cli]=$spawns [test_slambooster_cli]=$spawns [test_dse_cli]=$spawns [test_run_report]=$spawns
   [test_slamboosterd]=$spawns [test_openni2_record]=$spawns [test_openni2_daemon]=$spawns
   [test_openni2_source]="asserts frame arrival times (the last frame stamped under 0.5 s ago) that emulation on a
 busy host misses (1.4 s seen); the OpenNI2 code is the same natively, where it runs"

@@ -13,21 +13,18 @@
 
 #include "tests/report/markup_check.h"
 #include "tests/support/constant_power.h"
+#include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
 
 namespace fs = std::filesystem;
+using sb::test::readJson;
+using sb::test::readText;
 using sb::test::runCommand;
 
 namespace {
 
 const std::string kTool = SB_SLAMBOOSTER_BIN;
-
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  REQUIRE(in.good());
-  return nlohmann::json::parse(in);
-}
 
 size_t countLines(const std::string& path) {
   std::ifstream in(path);
@@ -37,11 +34,6 @@ size_t countLines(const std::string& path) {
   return n;
 }
 
-std::string readText(const std::string& path) {
-  std::ifstream in(path);
-  REQUIRE(in.good());
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
 
 // results.csv of bench: (sequence, controller) -> column -> value.
 std::map<std::pair<std::string, std::string>, std::map<std::string, double>> readResults(
@@ -330,60 +322,6 @@ TEST_CASE("bench and dse run their matrix once, resume, and write their tables",
   CHECK(readJson(dir + "/offline/summary.json").at("controller") == "offline");
 }
 
-TEST_CASE("dse stops a run once it is slower than the fastest setting within the bound, and --no-prune does not",
-          "[tools][system]") {
-  const std::string dir = sb::test::scratchDir("cli_dse_prune");
-  const std::string seq = dir + "/seq";
-  REQUIRE(runCommand(kTool + " synth --out " + seq + " --builtin-frames 6 --no-noise").exitCode == 0);
-  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
-  // A finished csr=8 run within the bound whose 6 frames took 6e-6 ms in all: any real run is slower after
-  // its first frame, so the csr=4 run must stop there.
-  const std::string fast = dir + "/dse/runs/csr8_icp1e-05_pd4-5-4_tr1_ir1";
-  fs::create_directories(fast);
-  std::ofstream(fast + "/summary.json") << R"({"complete": true, "frames": 6, "tracked_percent": 100.0,
-      "computation_ms_per_frame": 1e-6, "ate": {"rmse_m": 0.001}})";
-  const std::string dse = kTool + " dse " + seq + " --out " + dir + "/dse --config " + dir +
-                          "/small.json --csr 4,8 --icp 1e-5 --pd0 4 --max-ate 1.0 --quiet";
-  const auto pruned = runCommand(dse);
-  INFO(pruned.output);
-  REQUIRE(pruned.exitCode == 0);
-  CHECK_THAT(pruned.output, Catch::Contains("1 of 2 settings stopped early"));
-  const auto slow = readJson(dir + "/dse/runs/csr4_icp1e-05_pd4-5-4_tr1_ir1/summary.json");
-  CHECK(slow.at("frames") == 1);
-  CHECK(slow.at("stopped").at("at_frame") == 1);
-  CHECK(slow.at("stopped").at("limit_ms").get<double>() == Approx(6e-6));
-  auto best = readJson(dir + "/dse/best.json");
-  CHECK(best.at("stopped_early") == 1);
-  CHECK(best.at("best").at("knobs").get<std::string>().rfind("csr=8", 0) == 0);
-  const std::string csv = readText(dir + "/dse/results.csv");
-  CHECK_THAT(csv, Catch::Contains(",within_bound,stopped_at_frame\n"));
-  CHECK_THAT(csv, Catch::Contains(",nan,0,1\n"));  // the stopped csr=4 run: no ATE, out of bound, frame 1
-  // Every row has the header's 7 fields: the knobs text holds commas, so it is quoted.
-  std::istringstream lines(csv);
-  size_t rows = 0;
-  for (std::string line; std::getline(lines, line); ++rows) {
-    size_t fields = 1;
-    bool quoted = false;
-    for (char c : line) {
-      if (c == '"') quoted = !quoted;
-      fields += c == ',' && !quoted;
-    }
-    INFO(line);
-    CHECK(fields == 7);
-  }
-  CHECK(rows == 3);
-
-  // --no-prune runs the stopped setting again, to the end.
-  const auto full = runCommand(dse + " --no-prune");
-  INFO(full.output);
-  REQUIRE(full.exitCode == 0);
-  CHECK_THAT(full.output, !Catch::Contains("stopped early"));
-  const auto whole = readJson(dir + "/dse/runs/csr4_icp1e-05_pd4-5-4_tr1_ir1/summary.json");
-  CHECK(whole.at("frames") == 6);
-  CHECK_FALSE(whole.contains("stopped"));
-  CHECK(readJson(dir + "/dse/best.json").at("stopped_early") == 0);
-}
-
 TEST_CASE("bench runs tc once per profiling set and reports each set in the TC table", "[tools][system]") {
   const std::string dir = sb::test::scratchDir("cli_bench_tc");
   const std::string seq = dir + "/seq";
@@ -453,6 +391,12 @@ TEST_CASE("bench runs tc once per profiling set and reports each set in the TC t
     CHECK(shown["tc/real/" + v + "/error_violations"] != shown["tc/synth/" + v + "/error_violations"]);
   }
 
+  // Per sequence: SLAMBooster and every tc column as ms/frame / ATE cm, with % tracked where below 100.
+  CHECK_THAT(md, Catch::Contains("## TC vs SLAMBooster per sequence\n\nms/frame / ATE cm (% of frames tracked, "
+                                 "where below 100)\n\n| sequence | slambooster | tc-real@0.010 | tc-real@0.020 | "
+                                 "tc-synth@0.010 | tc-synth@0.020 |"));
+  CHECK_THAT(md, Catch::Contains(" / - (0.0%) |"));  // tc-real: tr=10 never tracks, no ATE
+
   // Resumed: nothing runs again.
   const auto again = runCommand(bench);
   REQUIRE(again.exitCode == 0);
@@ -475,34 +419,6 @@ TEST_CASE("bench runs tc once per profiling set and reports each set in the TC t
   const auto missing = runCommand(common + " --tc-table x=" + dir + "/nowhere.json");
   CHECK(missing.exitCode == 1);
   CHECK_THAT(missing.output, Catch::Contains("nowhere.json"));
-}
-
-TEST_CASE("dse and profile treat a run whose ATE is undefined as out of bound", "[tools][system]") {
-  const std::string dir = sb::test::scratchDir("cli_dse_static");
-  // A camera that never moves: ground truth exists, but ATE alignment is undefined for every run.
-  {
-    std::ofstream tum(dir + "/static.tum");
-    for (int i = 0; i < 4; ++i) tum << i / 30.0 << " 0 -0.1 -1.2 0 0.7071068 0 0.7071068\n";
-  }
-  const std::string seq = dir + "/seq";
-  REQUIRE(runCommand(kTool + " synth --out " + seq + " --trajectory " + dir + "/static.tum --no-noise").exitCode == 0);
-  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
-  const auto dse = runCommand(kTool + " dse " + seq + " --out " + dir + "/dse --config " + dir +
-                              "/small.json --csr 8 --icp 1e-5 --pd0 4 --quiet");
-  INFO(dse.output);
-  REQUIRE(dse.exitCode == 0);
-  CHECK_THAT(dse.output, Catch::Contains("no setting keeps"));
-  CHECK(readJson(dir + "/dse/best.json").at("best").is_null());
-  std::ifstream csv(dir + "/dse/results.csv");
-  std::string header, row;
-  std::getline(csv, header);
-  std::getline(csv, row);
-  CHECK_THAT(row, Catch::Contains(",nan,0"));
-
-  const auto profile = runCommand(kTool + " profile " + seq + " --out " + dir + "/profile --config " + dir +
-                                  "/small.json --csr 8 --icp 1e-5 --pd0 4 --ir 1 --quiet");
-  CHECK(profile.exitCode == 1);
-  CHECK_THAT(profile.output, Catch::Contains("no setting has a defined ATE"));
 }
 
 TEST_CASE("run --power accounts joules per frame that offline re-accounting reproduces", "[tools][system]") {

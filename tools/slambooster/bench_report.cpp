@@ -92,18 +92,20 @@ BenchSection mainSection(const BenchResults& r) {
   return s;
 }
 
-// ms/frame / ATE cm of each controller in `cols`, one row per sequence.
+// ms/frame / ATE cm of each controller in `cols` (and % tracked where below 100), one row per sequence.
 BenchSection study(const BenchResults& r, const std::string& title, const std::vector<std::string>& cols) {
   BenchSection s;
   s.title = title;
-  s.before = "ms/frame / ATE cm";
+  s.before = "ms/frame / ATE cm (% of frames tracked, where below 100)";
   s.table.header = {"sequence"};
   s.table.header.insert(s.table.header.end(), cols.begin(), cols.end());
   for (const std::string& name : r.sequences) {
     std::vector<TableCell> row{{name}};
     for (const auto& c : cols) {
       const BenchCell x = r.cell(name, c);
-      row.push_back({x.present ? benchNumber(x.ms) + " / " + benchCm(x.ateM) : "-", "", true});
+      std::string text = x.present ? benchNumber(x.ms) + " / " + benchCm(x.ateM) : "-";
+      if (x.present && benchNumber(x.tracked) != "100.0") text += " (" + benchNumber(x.tracked) + "%)";
+      row.push_back({text, "", true});
     }
     s.table.rows.push_back(row);
   }
@@ -206,7 +208,13 @@ std::vector<BenchSection> benchSections(const BenchResults& r) {
   sections.push_back(study(r, "PID vs step", {"default", "pid", "step", "slambooster"}));
   if (r.offline)
     sections.push_back(study(r, "Online vs offline best (dse)", {"default", "offline", "slambooster"}));
-  if (!r.tcSets.empty()) sections.push_back(tcSection(r));
+  if (!r.tcSets.empty()) {
+    sections.push_back(tcSection(r));
+    std::vector<std::string> cols{"slambooster"};
+    for (const BenchTcSet& t : r.tcSets)
+      for (double v : r.tcVelocities) cols.push_back(t.label(v));
+    sections.push_back(study(r, "TC vs SLAMBooster per sequence", cols));
+  }
   return sections;
 }
 

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <climits>
+#include <deque>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +15,7 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include "core/error.h"
 
@@ -113,28 +115,46 @@ nlohmann::json readSummary(const std::string& outDir) {
 
 void runJobs(const std::vector<Job>& jobs, int parallel, bool quiet) {
   const std::string exe = selfExecutable();
-  std::vector<const Job*> todo;
+  std::deque<const Job*> todo;
   for (const Job& j : jobs)
     if (!jobDone(j.outDir)) todo.push_back(&j);
-  const size_t total = jobs.size(), alreadyDone = total - todo.size();
+  const size_t total = jobs.size(), alreadyDone = total - todo.size(), toRun = todo.size();
   if (!quiet)
-    std::cerr << "jobs: " << total << " (" << alreadyDone << " already done, " << todo.size() << " to run, " << parallel
+    std::cerr << "jobs: " << total << " (" << alreadyDone << " already done, " << toRun << " to run, " << parallel
               << " at a time)\n";
   std::map<pid_t, const Job*> running;
+  std::vector<const Job*> elsewhere;  // claimed by another live process: waited for, taken over if it dies
   std::vector<std::string> failures;
-  size_t next = 0, finished = 0, skipped = 0;
+  size_t finished = 0;
+  bool toldWaiting = false;
   const auto start = std::chrono::steady_clock::now();
-  while (next < todo.size() || !running.empty()) {
-    while (next < todo.size() && static_cast<int>(running.size()) < parallel) {
-      const Job& job = *todo[next++];
+  while (!todo.empty() || !running.empty() || !elsewhere.empty()) {
+    while (!todo.empty() && static_cast<int>(running.size()) < parallel) {
+      const Job& job = *todo.front();
+      todo.pop_front();
       fs::create_directories(job.outDir);
       if (!claim(job.outDir)) {
-        ++skipped;  // another process works on it
-        continue;
+        elsewhere.push_back(&job);
+      } else if (jobDone(job.outDir)) {  // another process finished it and let go of it meanwhile
+        fs::remove(job.outDir + "/.claim");
+      } else {
+        running[spawn(exe, job)] = &job;
       }
-      running[spawn(exe, job)] = &job;
     }
-    if (running.empty()) break;
+    if (running.empty()) {
+      // Only other processes' runs are left: look again every second, and claim those whose process is gone.
+      for (const Job* job : elsewhere)
+        if (!jobDone(job->outDir)) todo.push_back(job);
+      elsewhere.clear();
+      if (todo.empty()) break;
+      if (!quiet && !toldWaiting)
+        std::cerr << "waiting for " << todo.size() << " runs that another process is running, e.g. "
+                  << todo.front()->outDir << " (taken over if that process stops; the claim of a process on "
+                  << "another host stays until its .claim file is removed)\n";
+      toldWaiting = true;
+      std::this_thread::sleep_for(std::chrono::seconds(1));
+      continue;
+    }
     int status = 0;
     const pid_t pid = waitpid(-1, &status, 0);
     if (pid < 0) break;
@@ -148,16 +168,15 @@ void runJobs(const std::vector<Job>& jobs, int parallel, bool quiet) {
     if (!ok) failures.push_back(job.id + " (log: " + job.outDir + "/run.log)");
     if (!quiet) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      const double eta = elapsed / double(finished) * double(todo.size() - skipped - finished);
+      const double eta = elapsed / double(finished) * double(todo.size() + running.size());
       std::cerr << "[" << alreadyDone + finished << "/" << total << "] " << job.id << (ok ? " done" : " FAILED")
                 << ", " << std::fixed << std::setprecision(0) << elapsed << " s elapsed, ~" << eta << " s left\n";
     }
   }
-  if (skipped && !quiet) std::cerr << skipped << " jobs were claimed by another process and left to it\n";
   if (!failures.empty()) {
     std::string list;
     for (const auto& f : failures) list += "\n  " + f;
-    throw Error(std::to_string(failures.size()) + " of " + std::to_string(todo.size()) + " runs failed:" + list);
+    throw Error(std::to_string(failures.size()) + " of " + std::to_string(toRun) + " runs failed:" + list);
   }
 }
 

@@ -4,6 +4,7 @@
 // whose summary.json says "complete" is skipped, so an interrupted command picks up where it stopped.
 // Several processes (even on other machines sharing the directory) may work on one job list: a job is
 // claimed with an exclusive `.claim` file, and a claim whose process is gone (same host) is taken over.
+// runJobs returns when every job is done, whoever ran it: it waits for the jobs other processes hold.
 
 #include <functional>
 #include <nlohmann/json.hpp>
