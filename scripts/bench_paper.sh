@@ -52,9 +52,10 @@
 # ~2.5 h (72 x 1,480 frames x ~170 ms / 2), bench ~3 h (per frame of the set: DEFAULT 350 + ACCURATE 420 +
 # 9 approximate columns x ~120 ms, / 2; the second tc set adds ~0.5 h), rendering ~10 min. (The CPU
 # backend got ~1.5-2x faster since, at the same results: these are upper bounds.) On a shared, loaded machine wall time was 3-4x
-# the CPU time. `--frames 20 --quick` took 20 minutes there. The dse figure is for running every setting to the
+# the CPU time. `--frames 20 --quick` took 20 minutes there (3 minutes on the idle machine at 15feaed). The dse figure is for running every setting to the
 # end: dse now stops a run once it is slower than the fastest setting within the bound so far, which took
-# 2.9-3.5x less computation time on 4 synthetic sequences with a 36-setting grid (session 9, README).
+# 3.0x less computation time (2.3-4.4x per sequence) on 8 synthetic sequences with a 36-setting grid
+# (session 9, README; scripts/dse_savings.py).
 # Expect more with the 96-setting grid, half of whose settings are at csr 1 and 2.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
