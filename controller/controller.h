@@ -8,6 +8,7 @@
 // thread-safe (one SLAM thread owns it).
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "core/image.h"
 #include "pipeline/knobs.h"
 #include "pipeline/stages.h"
+#include "pipeline/tracking_quality.h"
 
 namespace sb {
 
@@ -28,8 +30,14 @@ struct Observation {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();          // this frame's pose after tracking, volume frame
   Eigen::Isometry3d previousPose = Eigen::Isometry3d::Identity();  // the previous frame's final pose
   double velocity = 0.0;           // m/frame: |translation(pose) - translation(previousPose)|
+  double rotationDeg = 0.0;        // degrees/frame: angle of rotation(previousPose)^-1 * rotation(pose)
   double residual = 0.0;           // m: RMS point-to-plane residual of the last ICP pass
   double inlierFraction = 0.0;     // ICP inliers / pixels
+  std::array<int, 3> icpLevelIterations{};  // ICP iterations of the last pass per level: finest, mid, coarsest
+  double icpUpdateNorm = 0.0;      // norm of the last ICP update (m and rad)
+  TrackingQuality quality;         // conditioning of the ICP problem (pipeline/tracking_quality.h)
+  bool retracked = false;          // this observation is of the frame's second pass (Decision::retrack)
+  Knobs firstKnobs;                // when retracked: the knobs of the first pass
   StageTimes times;                // ms per stage of this frame so far (preprocessing and tracking)
   double previousComputationMs = 0.0;    // ms: the whole previous frame (0 before the first)
   std::optional<double> latestJoules;    // J per frame of the most recent frame whose energy is known
@@ -47,6 +55,10 @@ enum Trigger : uint32_t {
   kTriggerCorrection = 1u << 5,      // pose replaced by constant-velocity extrapolation
   kTriggerHold = 1u << 6,            // a move towards approximation waits for the hold time
   kTriggerBudget = 1u << 7,          // budget/tc: the time or energy target was missed
+  kTriggerRetrack = 1u << 8,         // adaptive: the frame was tracked again at a finer level
+  kTriggerUnconstrained = 1u << 9,   // adaptive: the geometry did not fix every motion
+  kTriggerDoubt = 1u << 10,          // adaptive: the tracking evidence was doubtful (see Decision::reason)
+  kTriggerSkipIntegrate = 1u << 11,  // adaptive: the frame added too little to be integrated
 };
 // The names of the set bits, e.g. {"surface", "correction"}.
 std::vector<std::string> triggerNames(uint32_t triggers);
@@ -57,6 +69,12 @@ struct Decision {
   bool halfPrecision = false;                       // wish: preprocessing and raycast in half precision
   uint32_t triggers = 0;                            // Trigger bits
   int level = -1;                                   // approximation level when the controller has one, else -1
+  // Track this frame again with these knobs before finishing it; the runner then calls decide() once more
+  // with the second pass's observation (retracked = true). Honoured once per frame.
+  std::optional<Knobs> retrack;
+  std::optional<bool> integrate;  // integrate this frame (if tracked) or not, instead of the knobs' rate
+  bool keepReference = false;     // a frame not integrated keeps the reference maps (pipeline FrameOverrides)
+  std::string reason;             // why the knobs changed, in words, for the per-frame log ("" = no change)
 };
 
 class Controller {

@@ -2,6 +2,7 @@
 
 #include <functional>
 
+#include "controller/adaptive_controller.h"
 #include "controller/budget_controller.h"
 #include "controller/fixed_controller.h"
 #include "controller/offline_controller.h"
@@ -62,6 +63,8 @@ const std::vector<Entry>& entries() {
       {"pid+surface", "slambooster", "PID + smooth-surface detection", slamBoosterVariant("pid+surface", 1)},
       {"pid+surface+correction", "slambooster", "PID + surface + pose correction (no half precision)",
        slamBoosterVariant("pid+surface+correction", 2)},
+      {"adaptive", "adaptive", "the product's controller: levels, re-tracking and integration from the tracker's evidence",
+       simple<AdaptiveConfig, AdaptiveController, parseAdaptiveConfig>("adaptive")},
       {"step", "step", "hierarchical step controller (csr, then icp, then pd0)",
        simple<StepConfig, StepController, parseStepConfig>("step")},
       {"budget", "budget", "least approximation meeting a target ms or J per frame",

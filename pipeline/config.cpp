@@ -34,6 +34,7 @@ const std::vector<FloatField>& floatFields() {
       {"icp_normal_threshold", &PipelineConfig::icpNormalThreshold, -1.0, 1.0},
       {"tracked_max_residual_m", &PipelineConfig::trackedMaxResidual, 0.0, 10.0},
       {"tracked_min_inliers", &PipelineConfig::trackedMinInliers, 0.0, 1.0},
+      {"constrained_min_conditioning", &PipelineConfig::constrainedMinConditioning, 0.0, 1.0},
       {"volume_size_m", &PipelineConfig::volumeSize, 0.1, 100.0},
       {"mu_m", &PipelineConfig::mu, 1e-4, 10.0},
       {"near_plane_m", &PipelineConfig::nearPlane, 0.0, 100.0},

@@ -29,6 +29,9 @@ struct PipelineConfig {
   float trackedMaxResidual = 0.02f;     // metres: RMS point-to-plane residual of a tracked frame
   float trackedMinInliers = 0.15f;      // fraction of the compute-size pixels that must be inliers
   int bootstrapFrames = 4;              // frames integrated at the initial pose before tracking starts
+  // Smallest normalised eigenvalue of the ICP normal matrix for a frame to count as "constrained"
+  // (pipeline/tracking_quality.h): below it some motion is fixed by noise, not by the geometry in view.
+  float constrainedMinConditioning = 0.002f;
 
   // --- volume (fixed per run) ---
   int volumeResolution = 256;                           // voxels per side (multiple of 8)

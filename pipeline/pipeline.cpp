@@ -28,9 +28,7 @@ std::unique_ptr<Pipeline> Pipeline::createCpu(const PipelineConfig& config, cons
   return std::make_unique<Pipeline>(config, intrinsics, std::make_unique<CpuBackend>(config, intrinsics, pool));
 }
 
-FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs) {
-  if (awaitingFinish_)
-    throw Error("Pipeline::trackFrame called twice without finishFrame (frame " + std::to_string(frameCount_) + ")");
+void Pipeline::checkInput(const DepthFrame& frame, double depthScale, const Knobs& knobs) const {
   validateKnobs(knobs);
   if (frame.depth.width() != intrinsics_.width || frame.depth.height() != intrinsics_.height)
     throw Error("frame " + std::to_string(frame.index) + " is " + std::to_string(frame.depth.width()) + "x" +
@@ -41,13 +39,41 @@ FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, con
   if ((minSide >> (kPyramidLevels - 1)) < 2)
     throw Error("knob csr=" + std::to_string(knobs.csr) + " leaves a " + std::to_string(intrinsics_.width / knobs.csr) +
                 "x" + std::to_string(intrinsics_.height / knobs.csr) + " image, too small for a 3-level pyramid");
+}
 
+FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs) {
+  if (awaitingFinish_)
+    throw Error("Pipeline::trackFrame called twice without finishFrame (frame " + std::to_string(frameCount_) + ")");
+  checkInput(frame, depthScale, knobs);
   FrameResult r;
   r.frame = frameCount_;
   r.timestamp = frame.timestamp;
   r.knobs = knobs;
-  backend_->preprocess(frame.depth, static_cast<float>(1.0 / depthScale), knobs.csr, r.times);
+  track(frame, depthScale, r);
+  awaitingFinish_ = true;
+  return r;
+}
 
+void Pipeline::retrackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs, FrameResult& r) {
+  if (!awaitingFinish_) throw Error("Pipeline::retrackFrame called without a preceding trackFrame");
+  checkInput(frame, depthScale, knobs);
+  if (!r.retracked) r.firstKnobs = r.knobs;
+  r.retracked = true;
+  r.knobs = knobs;
+  r.trackingAttempted = false;
+  r.tracked = false;
+  r.residual = 0.0;
+  r.inlierFraction = 0.0;
+  r.icpLevelIterations = {};
+  r.icpUpdateNorm = 0.0;
+  r.quality = TrackingQuality{};
+  pose_ = lastFinalPose_;  // the same starting pose as the first pass
+  track(frame, depthScale, r);
+}
+
+void Pipeline::track(const DepthFrame& frame, double depthScale, FrameResult& r) {
+  const Knobs& knobs = r.knobs;
+  backend_->preprocess(frame.depth, static_cast<float>(1.0 / depthScale), knobs.csr, r.times);
   const bool bootstrap = frameCount_ < static_cast<size_t>(config_.bootstrapFrames);
   if (!bootstrap && frameCount_ % knobs.trackingRate == 0 && referenceCsr_ != 0) {
     if (referenceCsr_ != knobs.csr || referenceStale_) {
@@ -60,8 +86,6 @@ FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, con
     r.tracked = runIcp(knobs, r);
   }
   r.T_camera_to_world = pose_;
-  awaitingFinish_ = true;
-  return r;
 }
 
 bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
@@ -75,8 +99,10 @@ bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
       last = backend_->track(level, estimate.cast<float>(), reference, r.times);
       lastLevel = level;
       ++r.icpIterations;
+      ++r.icpLevelIterations[level];
       Twist x;
       if (!solveIcpUpdate(last, x)) break;
+      r.icpUpdateNorm = x.norm();
       estimate = twistToTransform(x) * estimate;
       if (x.norm() < knobs.icpThreshold) break;
     }
@@ -88,11 +114,13 @@ bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
   r.residual = inliers > 0 ? std::sqrt(last[0] / inliers) : 0.0;
   const bool ok = inliers > 0 && r.residual <= config_.trackedMaxResidual &&
                   r.inlierFraction >= config_.trackedMinInliers && estimate.matrix().allFinite();
+  r.quality = trackingQuality(last, estimate, config_.constrainedMinConditioning);
   pose_ = ok ? estimate : previous;
   return ok;
 }
 
-void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d>& correctedPose) {
+void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d>& correctedPose,
+                           const FrameOverrides& overrides) {
   if (!awaitingFinish_) throw Error("Pipeline::finishFrame called without a preceding trackFrame");
   awaitingFinish_ = false;
   const Eigen::Isometry3d previous = lastFinalPose_;
@@ -102,13 +130,15 @@ void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d
   }
   r.T_camera_to_world = pose_;
   const bool bootstrap = r.frame < static_cast<size_t>(config_.bootstrapFrames);
-  if (bootstrap || (r.tracked && r.frame % r.knobs.integrationRate == 0)) {
+  const bool due = overrides.integrate ? *overrides.integrate : r.frame % r.knobs.integrationRate == 0;
+  if (bootstrap || (r.tracked && due)) {
     backend_->integrate(pose_.cast<float>(), r.times);
     r.integrated = true;
     referenceStale_ = true;
   }
   const bool poseMoved = pose_.matrix() != referencePose_.matrix();
-  if (referenceStale_ || poseMoved || referenceCsr_ != r.knobs.csr) {
+  const bool keep = overrides.keepReference && !referenceStale_ && referenceCsr_ == r.knobs.csr;
+  if (!keep && (referenceStale_ || poseMoved || referenceCsr_ != r.knobs.csr)) {
     backend_->raycast(pose_.cast<float>(), r.knobs.csr, r.times);
     referencePose_ = pose_;
     referenceCsr_ = r.knobs.csr;

@@ -7,7 +7,9 @@
 //   FrameResult r = pipeline.trackFrame(frame, depthScale, knobs);   // preprocess + track
 //   ... controller looks at r, may decide on a corrected pose ...
 //   pipeline.finishFrame(r, correctedPose);                          // integrate + raycast with that pose
-// processFrame() does both without a correction. Poses are T_camera_to_world in the volume frame (the
+// processFrame() does both without a correction. A controller that doubts a coarse result may have the same
+// frame tracked again with other knobs before finishing it (retrackFrame), and may override the integration
+// rate and keep the current reference maps for the next frame (FrameOverrides). Poses are T_camera_to_world in the volume frame (the
 // cube [0, size]^3, metres); the first camera sits at initialPosition * size looking along +z.
 
 #include <Eigen/Geometry>
@@ -20,6 +22,7 @@
 #include "pipeline/backend.h"
 #include "pipeline/config.h"
 #include "pipeline/knobs.h"
+#include "pipeline/tracking_quality.h"
 
 namespace sb {
 
@@ -34,9 +37,22 @@ struct FrameResult {
   bool integrated = false;   // the frame was fused into the volume
   double residual = 0.0;     // metres: RMS point-to-plane residual of the last ICP pass (0 when not attempted)
   double inlierFraction = 0.0;  // inliers of the last ICP pass / pixels at the compute size
-  int icpIterations = 0;     // ICP iterations run, all levels
+  int icpIterations = 0;     // ICP iterations run, all levels (both passes when retracked)
+  std::array<int, 3> icpLevelIterations{};  // ICP iterations of the last pass per level: finest, mid, coarsest
+  double icpUpdateNorm = 0.0;  // norm of the last ICP update (twist: m and rad), 0 when not attempted
+  TrackingQuality quality;   // conditioning of the last ICP pass (tracking_quality.h)
+  bool retracked = false;    // the frame was tracked a second time (retrackFrame); knobs are the second pass's
+  Knobs firstKnobs;          // when retracked: the knobs of the first pass
   double velocity = 0.0;     // metres/frame: |translation - previous frame's translation| (after finishFrame)
   StageTimes times;          // ms per stage
+};
+
+// What a controller may change about how a frame is finished (Pipeline::finishFrame).
+struct FrameOverrides {
+  std::optional<bool> integrate;  // integrate this tracked frame or not, instead of the knobs' rate ir
+  // Skip the raycast when the frame is not integrated: the next frame tracks against the current reference
+  // maps (raycast from an earlier pose, which projective ICP handles like a larger motion).
+  bool keepReference = false;
 };
 
 class Pipeline {
@@ -54,8 +70,13 @@ class Pipeline {
   // Preprocessing and tracking of one frame. `depthScale`: raw units per metre. Throws sb::Error on invalid
   // knobs or a frame whose size differs from the intrinsics, and when the previous frame was not finished.
   FrameResult trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs);
+  // Tracks the frame of the last trackFrame again, from the same starting pose, with other knobs (preprocessing
+  // at their compute size included). Times add to `result`'s; its tracking fields are replaced. Throws
+  // sb::Error like trackFrame, and when no frame awaits finishing.
+  void retrackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs, FrameResult& result);
   // Integration (when due) and raycast with the tracked pose, or `correctedPose` when given. Completes `result`.
-  void finishFrame(FrameResult& result, const std::optional<Eigen::Isometry3d>& correctedPose = std::nullopt);
+  void finishFrame(FrameResult& result, const std::optional<Eigen::Isometry3d>& correctedPose = std::nullopt,
+                   const FrameOverrides& overrides = {});
   // trackFrame + finishFrame.
   FrameResult processFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs);
 
@@ -74,6 +95,8 @@ class Pipeline {
   ComputeBackend& backend() { return *backend_; }
 
  private:
+  void checkInput(const DepthFrame& frame, double depthScale, const Knobs& knobs) const;
+  void track(const DepthFrame& frame, double depthScale, FrameResult& result);
   bool runIcp(const Knobs& knobs, FrameResult& result);
 
   PipelineConfig config_;

@@ -39,6 +39,17 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                       {"t_start_mono_ns", rec.startMonoNs},
                       {"t_end_mono_ns", rec.endMonoNs}};
   if (rec.decision.level >= 0) j["level"] = rec.decision.level;
+  if (r.trackingAttempted) {
+    j["icp_level_iterations"] = {r.icpLevelIterations[0], r.icpLevelIterations[1], r.icpLevelIterations[2]};
+    j["icp_update_norm"] = r.icpUpdateNorm;
+  }
+  if (r.quality.known) {
+    j["conditioning"] = r.quality.conditioning;
+    j["weakest_motion"] = weakDirectionName(r.quality.weakest);
+    j["constrained"] = r.quality.constrained;
+  }
+  if (r.retracked) j["retracked_from"] = knobsToJson(r.firstKnobs);
+  if (!rec.decision.reason.empty()) j["reason"] = rec.decision.reason;
   // Device (OpenCL profiling event) times per stage, beside the host times; absent on the cpu backend.
   if (r.times.deviceMs != decltype(r.times.deviceMs){}) {
     nlohmann::json device = nlohmann::json::object();

@@ -35,13 +35,7 @@ void SlamRunner::pinKnobs(const std::optional<Knobs>& knobs) {
   pinned_ = knobs;
 }
 
-FrameRecord SlamRunner::step(const DepthFrame& frame) {
-  FrameRecord rec;
-  rec.startMonoNs = power::monotonicClock().nowNs();
-  rec.knobsPinned = pinned_.has_value();
-  rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs());
-  const FrameResult& r = rec.result;
-
+Observation SlamRunner::observe(const FrameResult& r, const DepthFrame& frame) const {
   Observation obs;
   obs.frame = r.frame;
   obs.timestamp = r.timestamp;
@@ -51,31 +45,65 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   obs.pose = r.T_camera_to_world;
   obs.previousPose = previousPose_;
   obs.velocity = (r.T_camera_to_world.translation() - previousPose_.translation()).norm();
+  obs.rotationDeg = Eigen::AngleAxisd(previousPose_.linear().transpose() * r.T_camera_to_world.linear()).angle() *
+                    180.0 / 3.141592653589793;
   obs.residual = r.residual;
   obs.inlierFraction = r.inlierFraction;
+  obs.icpLevelIterations = r.icpLevelIterations;
+  obs.icpUpdateNorm = r.icpUpdateNorm;
+  obs.quality = r.quality;
+  obs.retracked = r.retracked;
+  obs.firstKnobs = r.firstKnobs;
   obs.times = r.times;
   obs.previousComputationMs = previousComputationMs_;
   obs.latestJoules = latestJoules_;
   obs.depth = &frame.depth;
   obs.depthScale = depthScale_;
-  rec.trackedVelocity = obs.velocity;
+  return obs;
+}
 
+Decision SlamRunner::decide(const Observation& obs, FrameRecord& rec) {
   const auto start = std::chrono::steady_clock::now();
-  rec.decision = controller_->decide(obs);
-  rec.controllerMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  rec.controller = controller_->name();
-  try {
-    validateKnobs(rec.decision.next);
-  } catch (const Error& e) {
-    throw Error("controller '" + controller_->name() + "' chose invalid knobs at frame " + std::to_string(r.frame) +
-                ": " + e.what());
+  Decision d = controller_->decide(obs);
+  rec.controllerMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  for (const Knobs* k : {&d.next, d.retrack ? &*d.retrack : nullptr}) {
+    if (!k) continue;
+    try {
+      validateKnobs(*k);
+    } catch (const Error& e) {
+      throw Error("controller '" + controller_->name() + "' chose invalid knobs at frame " + std::to_string(obs.frame) +
+                  ": " + e.what());
+    }
   }
+  return d;
+}
 
-  pipeline_.finishFrame(rec.result, rec.decision.correctedPose);
+FrameRecord SlamRunner::step(const DepthFrame& frame) {
+  FrameRecord rec;
+  rec.startMonoNs = power::monotonicClock().nowNs();
+  rec.knobsPinned = pinned_.has_value();
+  rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs());
+  Observation obs = observe(rec.result, frame);
+  rec.decision = decide(obs, rec);
+  // A controller may have the frame tracked once more (at other knobs) before it is finished; pinned knobs
+  // are never replaced.
+  if (rec.decision.retrack && !pinned_) {
+    pipeline_.retrackFrame(frame, depthScale_, *rec.decision.retrack, rec.result);
+    obs = observe(rec.result, frame);
+    const uint32_t firstTriggers = rec.decision.triggers;
+    rec.decision = decide(obs, rec);
+    rec.decision.retrack.reset();
+    rec.decision.triggers |= firstTriggers | kTriggerRetrack;
+  }
+  rec.trackedVelocity = obs.velocity;
+  rec.controller = controller_->name();
+  const FrameResult& r = rec.result;
+  pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
+                        FrameOverrides{rec.decision.integrate, rec.decision.keepReference});
   next_ = rec.decision.next;
   if (pinned_) rec.decision.next = *pinned_;
-  previousPose_ = rec.result.T_camera_to_world;
-  previousComputationMs_ = rec.result.times.computationMs();
+  previousPose_ = r.T_camera_to_world;
+  previousComputationMs_ = r.times.computationMs();
   ++frames_;
   rec.endMonoNs = power::monotonicClock().nowNs();
   for (auto& sink : sinks_) sink->onFrame(rec);

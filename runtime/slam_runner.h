@@ -49,6 +49,10 @@ class SlamRunner {
   Pipeline& pipeline() { return pipeline_; }
 
  private:
+  Observation observe(const FrameResult& result, const DepthFrame& frame) const;
+  // Controller::decide, timed into rec.controllerMs, its knobs validated (throws sb::Error naming it).
+  Decision decide(const Observation& observation, FrameRecord& rec);
+
   Pipeline& pipeline_;
   std::unique_ptr<Controller> controller_;
   double depthScale_;

@@ -172,3 +172,53 @@ TEST_CASE("a controller that chooses invalid knobs is named in the error", "[run
   CHECK_THROWS_WITH(runner.step(f.frame(0)), Catch::Matchers::Contains("controller 'broken'") &&
                                                  Catch::Matchers::Contains("csr"));
 }
+
+TEST_CASE("a re-track runs the same frame again with the asked knobs and asks the controller once more", "[runtime]") {
+  Fixture f;
+  // Frames 0-1: csr=4. Frame 1's first decision asks for a re-track at csr=2; the second keeps csr=4, skips
+  // integration and keeps the reference.
+  std::vector<sb::Decision> script = {decision("csr=4,ir=1"), decision("csr=4,ir=1"), decision("csr=4,ir=1")};
+  script[1].retrack = sb::parseKnobs("csr=2,ir=1");
+  script[2].integrate = false;
+  script[2].keepReference = true;
+  script[2].reason = "because";
+  auto owned = std::make_unique<ScriptedController>("scripted", script, sb::parseKnobs("csr=4,ir=1"));
+  ScriptedController& controller = *owned;
+  sb::SlamRunner runner(*f.pipeline, std::move(owned), sb::test::kRoomDepthScale);
+  const std::string dir = sb::test::scratchDir("runtime_retrack");
+  sb::addStandardOutputs(runner, dir, "", {{"sequence", "room"}}, "test");
+  runner.step(f.frame(0));
+  const sb::FrameRecord r = runner.step(f.frame(1));
+  REQUIRE(controller.observed.size() == 3);
+  CHECK_FALSE(controller.observed[1].retracked);
+  CHECK(controller.observed[1].knobs.csr == 4);
+  CHECK(controller.observed[2].retracked);
+  CHECK(controller.observed[2].knobs.csr == 2);
+  CHECK(controller.observed[2].firstKnobs.csr == 4);
+  CHECK(controller.observed[2].tracked);
+  CHECK(controller.observed[2].quality.known);
+  CHECK(r.result.retracked);
+  CHECK(r.result.knobs.csr == 2);
+  CHECK(r.result.firstKnobs.csr == 4);
+  CHECK((r.decision.triggers & sb::kTriggerRetrack) != 0);
+  CHECK_FALSE(r.decision.retrack);
+  CHECK_FALSE(r.result.integrated);  // the second decision said no
+  // The second pass is exactly what tracking the frame at csr=2 in the first place gives.
+  Fixture g;
+  g.pipeline->processFrame(g.frame(0), sb::test::kRoomDepthScale, sb::parseKnobs("csr=4,ir=1"));
+  const sb::FrameResult direct = g.pipeline->trackFrame(g.frame(1), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1"));
+  CHECK(r.result.T_camera_to_world.matrix() == direct.T_camera_to_world.matrix());
+  CHECK(r.result.residual == direct.residual);
+  runner.flush();
+  std::ifstream log(dir + "/frames.jsonl");
+  std::string line;
+  std::getline(log, line);
+  std::getline(log, line);
+  const auto j = nlohmann::json::parse(line);
+  CHECK(j.at("retracked_from").at("csr") == 4);
+  CHECK(j.at("knobs").at("csr") == 2);
+  CHECK(j.at("reason") == "because");
+  CHECK(j.at("constrained") == true);
+  CHECK(j.at("conditioning").get<double>() > 0.0);
+  CHECK(j.at("triggers") == nlohmann::json::array({"retrack"}));
+}

@@ -1,0 +1,116 @@
+#include "controller/adaptive_controller.h"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+namespace sb {
+
+AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::string& where) {
+  ConfigReader r(section, where);
+  AdaptiveConfig c;
+  r.integer("bootstrap_frames", c.bootstrapFrames, 0, 100000);
+  r.integer("retrack_levels", c.retrackLevels, 0, 16);
+  r.integer("hold_frames", c.holdFrames, 0, 100000);
+  r.integer("relax_frames", c.relaxFrames, 1, 100000);
+  r.integer("correction_max_extrapolated_frames", c.maxExtrapolatedFrames, 0, 1000);
+  r.number("confirm_translation_m", c.confirmTranslationM, 0.0, 10.0);
+  r.number("confirm_rotation_deg", c.confirmRotationDeg, 0.0, 180.0);
+  c.evidence.read(r);
+  c.integration.read(r);
+  c.ladder.read(r);
+  r.finish();
+  return c;
+}
+
+AdaptiveController::AdaptiveController(std::string name, const AdaptiveConfig& config)
+    : name_(std::move(name)), config_(config), evidence_(config.evidence), gate_(config.integration) {}
+
+void AdaptiveController::setLevel(int level, const std::string& reason, Decision& d) {
+  level = std::clamp(level, 0, config_.ladder.maxLevel);
+  if (level == level_) return;
+  const Knobs from = config_.ladder.coupled(level_), to = config_.ladder.coupled(level);
+  d.reason = reason + ": csr " + std::to_string(from.csr) + " -> " + std::to_string(to.csr);
+  level_ = level;
+  undoubted_ = 0;
+}
+
+Decision AdaptiveController::decide(const Observation& o) {
+  Decision d;
+  if (!o.retracked) ++seen_;
+  if (!o.trackingAttempted) {  // the pipeline's bootstrap (always fused) or a frame skipped by tr
+    d.triggers |= kTriggerBootstrap;
+    d.level = level_;
+    d.next = config_.ladder.coupled(level_);
+    return d;
+  }
+  const Eigen::Isometry3d predicted = motion_.predict(o.previousPose);
+  const Doubt doubt = evidence_.judge(o, predicted, motion_.known());
+  // A doubted coarse result is tracked again finer before anything is accepted.
+  const int finer = std::max(0, level_ - config_.retrackLevels);
+  if (doubt.doubtful() && !o.retracked && config_.retrackLevels > 0 && finer < level_ &&
+      o.knobs == config_.ladder.coupled(level_)) {
+    firstPass_ = doubt;
+    firstPassPose_ = o.pose;
+    d.retrack = config_.ladder.coupled(finer);
+    d.triggers |= kTriggerDoubt;
+    d.level = level_;
+    d.next = config_.ladder.coupled(level_);
+    d.reason = "retrack: " + doubt.why;
+    return d;
+  }
+  return finish(o, doubt, d);
+}
+
+Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, Decision d) {
+  // Pose: corrected only when ICP failed.
+  bool corrected = false;
+  if (!o.tracked) {
+    ++failedInARow_;
+    if (failedInARow_ <= config_.maxExtrapolatedFrames && motion_.known()) {
+      d.correctedPose = motion_.predict(o.previousPose);
+      d.triggers |= kTriggerCorrection;
+      corrected = true;
+    } else {
+      motion_.forget();  // lost for too long: the pipeline holds the previous pose
+    }
+  } else {
+    failedInARow_ = 0;
+    motion_.learn(o.previousPose, o.pose);
+    evidence_.accept(o);
+  }
+  if (o.quality.known && !o.quality.constrained) d.triggers |= kTriggerUnconstrained;
+
+  // Level: finer on doubt, unless a re-track confirmed the coarse pose; else relax.
+  // Both levels disagreeing with the prediction but agreeing with each other: the motion is real.
+  const bool secondDoubted = doubt.doubtful() && !(o.retracked && doubt.kind == Doubt::prediction);
+  const bool confirmed = o.retracked && !secondDoubted && firstPass_.kind != Doubt::failed &&
+                         translationBetween(firstPassPose_, o.pose) <= config_.confirmTranslationM &&
+                         rotationBetweenDeg(firstPassPose_, o.pose) <= config_.confirmRotationDeg;
+  const bool doubted = secondDoubted || (o.retracked && !confirmed) || (!o.retracked && doubt.doubtful());
+  if (doubted || o.retracked) d.triggers |= kTriggerDoubt;
+  if (seen_ <= static_cast<size_t>(config_.bootstrapFrames)) {
+    d.triggers |= kTriggerBootstrap;
+  } else if (doubted) {
+    const int target = std::max(0, level_ - std::max(1, config_.retrackLevels));
+    setLevel(target, "doubt (" + (o.retracked ? firstPass_.why : doubt.why) + ")", d);
+    holdUntil_ = o.frame + static_cast<size_t>(config_.holdFrames);
+    undoubted_ = 0;
+  } else if (confirmed) {
+    d.reason = "coarse pose confirmed (" + firstPass_.why + ")";
+  } else if (++undoubted_ >= config_.relaxFrames && o.frame > holdUntil_ && level_ < config_.ladder.maxLevel) {
+    setLevel(level_ + 1, "relax (" + std::to_string(config_.relaxFrames) + " frames without doubt)", d);
+  }
+
+  // Integration: only frames that bring something new and whose pose is trusted.
+  const bool trusted = o.tracked && !corrected && (doubt.kind == Doubt::none || doubt.kind == Doubt::prediction);
+  d.integrate = gate_.decide(corrected ? *d.correctedPose : o.pose, trusted);
+  if (!*d.integrate) {
+    d.triggers |= kTriggerSkipIntegrate;
+    d.keepReference = true;
+  }
+  d.level = level_;
+  d.next = config_.ladder.coupled(level_);
+  return d;
+}
+
+}  // namespace sb

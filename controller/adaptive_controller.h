@@ -1,0 +1,75 @@
+#pragma once
+// `adaptive`: the product's controller (issue 21; DESIGN section 4, beyond the paper). It decides from the
+// tracker's own evidence, not from speed:
+//   1. run at the coarsest level the evidence allows: after the bootstrap, one level coarser every
+//      `relax_frames` frames without doubt, up to the ladder's max_level;
+//   2. judge each tracking result (tracking_evidence.h: failed, unconstrained, not converged, lost overlap,
+//      far from the constant-velocity prediction); a doubted result at a coarse level is tracked again,
+//      `retrack_levels` finer, before anything is accepted. When the finer pass lands on the coarse pose
+//      (within confirm_translation_m / confirm_rotation_deg) the coarse result is confirmed and the level
+//      stays; otherwise, or when the frame stays doubtful, the level goes finer for `hold_frames`;
+//   3. correct a pose only when ICP failed (even after the re-track): constant-velocity extrapolation for at
+//      most `correction_max_extrapolated_frames` frames, then the previous pose is held. Fast motion that ICP
+//      tracks is never replaced;
+//   4. fuse a frame only when it brings something new (integration_gate.h); a doubted or corrected frame is
+//      never fused, and a frame not fused keeps the reference maps.
+// Every decision is visible per frame: triggers (retrack, doubt, unconstrained, correction, skip_integrate)
+// and a reason whenever the level changes.
+
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+
+#include "controller/controller.h"
+#include "controller/integration_gate.h"
+#include "controller/knob_ladder.h"
+#include "controller/tracking_evidence.h"
+
+namespace sb {
+
+struct AdaptiveConfig {
+  int bootstrapFrames = 8;         // frames [0, bootstrapFrames) run level 0
+  int retrackLevels = 1;           // a doubted frame is tracked again this many levels finer (0 = never)
+  int holdFrames = 15;             // frames at the finer level after a doubt before relaxing
+  int relaxFrames = 5;             // undoubted frames per level towards approximation
+  int maxExtrapolatedFrames = 5;   // failed frames in a row extrapolated; later ones hold the previous pose
+  // A re-track that lands within these of the coarse pose confirms it: the level stays. Farther, the coarse
+  // level was wrong here and the level goes finer for hold_frames.
+  double confirmTranslationM = 0.01;  // m
+  double confirmRotationDeg = 1.0;    // degrees
+  EvidenceParams evidence;
+  IntegrationParams integration;
+  KnobLadder ladder;
+};
+
+// Section keys: bootstrap_frames, retrack_levels, hold_frames, relax_frames,
+// correction_max_extrapolated_frames, confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams, IntegrationParams and KnobLadder.
+AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::string& where);
+
+class AdaptiveController final : public Controller {
+ public:
+  AdaptiveController(std::string name, const AdaptiveConfig& config);
+  const std::string& name() const override { return name_; }
+  Knobs initialKnobs() const override { return config_.ladder.coupled(0); }
+  Decision decide(const Observation& observation) override;
+
+  int level() const { return level_; }
+
+ private:
+  Decision finish(const Observation& o, const Doubt& doubt, Decision d);
+  void setLevel(int level, const std::string& reason, Decision& d);
+
+  std::string name_;
+  AdaptiveConfig config_;
+  TrackingEvidence evidence_;
+  MotionModel motion_;
+  IntegrationGate gate_;
+  int level_ = 0;
+  size_t seen_ = 0;          // observations of distinct frames
+  size_t holdUntil_ = 0;     // the last frame whose decision may not relax the level
+  int undoubted_ = 0;        // undoubted frames since the last level change or doubt
+  int failedInARow_ = 0;
+  Doubt firstPass_;          // the doubt that asked for the pending re-track
+  Eigen::Isometry3d firstPassPose_ = Eigen::Isometry3d::Identity();  // the coarse pose of that frame
+};
+
+}  // namespace sb

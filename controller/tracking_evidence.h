@@ -1,0 +1,74 @@
+#pragma once
+// The tracker's own evidence about one ICP result (issue 21): is this pose doubtful? A coarse result is
+// doubted when
+//   - tracking failed (residual or inlier test of the pipeline),
+//   - the geometry did not fix every motion (tracking quality: not constrained),
+//   - ICP used every iteration at the finest level and was still moving (update norm above a bound),
+//   - the inlier fraction fell far below its recent median (the view lost its overlap with the model),
+//   - the tracked motion disagrees with the constant-velocity prediction by more than a hand or a robot can
+//     change its motion in one frame (translation and rotation separately).
+// Speed alone is never a reason: a fast motion that ICP agrees with is accepted.
+
+#include <Eigen/Geometry>
+#include <deque>
+#include <string>
+
+#include "controller/config_reader.h"
+#include "controller/controller.h"
+
+namespace sb {
+
+struct EvidenceParams {
+  double maxUpdateNorm = 5e-3;           // twist norm (m, rad): ICP still moving this much after pd0 iterations
+  double inlierDropRatio = 0.5;          // doubt when inliers < ratio x the recent median
+  int inlierWindowFrames = 15;           // frames of the inlier median
+  double predictionTranslationM = 0.03;  // m: tracked vs predicted translation per frame
+  double predictionRotationDeg = 3.0;    // degrees: tracked vs predicted rotation per frame
+  bool doubtUnconstrained = true;        // an unconstrained frame is doubted
+
+  // Keys: doubt_update_norm, doubt_inlier_drop_ratio, doubt_inlier_window_frames,
+  // doubt_prediction_translation_m, doubt_prediction_rotation_deg, doubt_unconstrained.
+  void read(ConfigReader& reader);
+};
+
+struct Doubt {
+  enum Kind { none, failed, unconstrained, notConverged, inlierDrop, prediction };
+  Kind kind = none;
+  std::string why;  // e.g. "track failed", "unconstrained (tx)", "prediction off by 0.041 m"
+  bool doubtful() const { return kind != none; }
+};
+
+// The constant-velocity prediction: this frame's pose if the last accepted motion continued.
+class MotionModel {
+ public:
+  // The predicted pose of a frame whose previous final pose is `previousPose`.
+  Eigen::Isometry3d predict(const Eigen::Isometry3d& previousPose) const;
+  // Learns the motion between two accepted poses (world frame); forget() after a frame that was not tracked.
+  void learn(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose);
+  void forget() { motion_ = Eigen::Isometry3d::Identity(); known_ = false; }
+  bool known() const { return known_; }
+
+ private:
+  Eigen::Isometry3d motion_ = Eigen::Isometry3d::Identity();
+  bool known_ = false;
+};
+
+class TrackingEvidence {
+ public:
+  explicit TrackingEvidence(const EvidenceParams& params) : params_(params) {}
+  // Judges a tracking attempt against `predicted` (the motion model's pose; ignored when `usePrediction` is
+  // false). Does not learn: call accept() with the frames whose result was kept.
+  Doubt judge(const Observation& observation, const Eigen::Isometry3d& predicted, bool usePrediction) const;
+  // Adds a kept frame's inlier fraction to the recent history.
+  void accept(const Observation& observation);
+
+ private:
+  EvidenceParams params_;
+  std::deque<double> inliers_;  // inlier fractions of recent kept frames
+};
+
+// Translation (m) and rotation (degrees) between two poses.
+double translationBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
+double rotationBetweenDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b);
+
+}  // namespace sb

@@ -1,0 +1,41 @@
+#pragma once
+// Tracking quality: how well the geometry in view fixes the camera's motion (issue 21, DESIGN section 4).
+//
+// Point-to-plane ICP constrains a motion only along the normals it sees: in front of one plane (a blank wall)
+// it cannot see sliding along the plane or turning about its normal, and it "converges" there to whatever
+// the noise suggests. The 6x6 normal matrix J^T J of the last ICP pass says which motions are fixed:
+//   - rotations are taken about the camera centre (not the volume origin), so the number does not depend on
+//     where the volume happens to be;
+//   - the rotational columns are scaled so that the rotational block carries the same trace as the
+//     translational one (which is the inlier count, since normals have unit length): translation and rotation
+//     then weigh alike whatever the scene's depth, and the result is scale-free;
+//   - divided by the inlier count, the matrix has trace 2 and its smallest eigenvalue (the "conditioning") is
+//     the mean squared share of a point's constraint that lies along the weakest motion: 0 for an exactly
+//     unconstrained motion, about 0.3 for a room whose walls, floor and furniture face every way.
+// A frame is "constrained" when its conditioning is at least PipelineConfig::constrainedMinConditioning.
+
+#include <Eigen/Geometry>
+#include <string>
+
+#include "pipeline/backend.h"
+
+namespace sb {
+
+// The weakest motion, in camera axes (x right, y down, z forward): translation along or rotation about one.
+enum class WeakDirection { tx, ty, tz, rx, ry, rz };
+const char* weakDirectionName(WeakDirection d);  // "tx", "ty", "tz", "rx", "ry", "rz"
+
+struct TrackingQuality {
+  bool known = false;          // false when no ICP pass ran (bootstrap frames, frames skipped by tr)
+  double conditioning = 0.0;   // smallest eigenvalue of the normalised normal matrix (see above), [0, 1]
+  WeakDirection weakest = WeakDirection::tx;  // the camera axis the weakest motion lies along most
+  bool constrained = true;     // conditioning >= the configured minimum (true when not known)
+};
+
+// The quality of the ICP problem whose reduced sums are `sums` (kernels/track.h layout, Jacobian columns in
+// the volume frame), solved around the camera pose `T_camera_to_world`. `minConditioning`: the constrained
+// threshold. Fewer than kMinIcpInliers inliers or a non-finite matrix give conditioning 0, not constrained.
+TrackingQuality trackingQuality(const TrackSums& sums, const Eigen::Isometry3d& T_camera_to_world,
+                                double minConditioning);
+
+}  // namespace sb

@@ -1,0 +1,207 @@
+// adaptive on hand-made observation sequences: each decision rule (relax, re-track, confirm, correction only
+// on failure, integration gate, unconstrained frames) against exact expectations.
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "controller/adaptive_controller.h"
+#include "core/error.h"
+#include "tests/controller/observation_script.h"
+
+namespace {
+
+using sb::AdaptiveController;
+using sb::Decision;
+using sb::Observation;
+
+sb::AdaptiveConfig config(const char* json = "{}") {
+  return sb::parseAdaptiveConfig(nlohmann::json::parse(json), "test");
+}
+
+Eigen::Isometry3d moveX(double metres) {
+  Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
+  m.translation().x() = metres;
+  return m;
+}
+
+// Drives a controller the way SlamRunner does: the observation carries the knobs the controller chose, a
+// re-track request is answered by `second` (the finer pass's observation of the same frame).
+struct Driver {
+  AdaptiveController& c;
+  sb::test::ObservationScript script;
+  sb::Knobs knobs = c.initialKnobs();
+
+  Observation observe(const Eigen::Isometry3d& motion, bool tracked = true) {
+    Observation o = script.next(motion, tracked);
+    o.knobs = knobs;
+    o.icpLevelIterations = {1, 1, 1};
+    o.inlierFraction = 0.6;
+    if (o.trackingAttempted) o.quality = {true, 0.1, sb::WeakDirection::tx, true};
+    return o;
+  }
+  Decision finish(const Observation& o, Decision d) {
+    script.finish(o, d);
+    knobs = d.next;
+    return d;
+  }
+  // One frame without re-track (REQUIREs that none is asked).
+  Decision step(const Eigen::Isometry3d& motion, bool tracked = true) {
+    const Observation o = observe(motion, tracked);
+    const Decision d = c.decide(o);
+    REQUIRE_FALSE(d.retrack);
+    return finish(o, d);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("adaptive relaxes one level per relax_frames after its bootstrap, up to max_level", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 6, "relax_frames": 2})"));
+  Driver drive{c};
+  std::vector<int> levels;
+  for (int i = 0; i < 16; ++i) levels.push_back(drive.step(moveX(0.001)).level);
+  // Observations 1-6 are the bootstrap; then one level per 2 undoubted frames, up to 3.
+  CHECK(levels == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 3});
+  CHECK(drive.knobs == sb::Knobs{8, 1e-4, {4, 5, 4}, 1, 1});
+}
+
+TEST_CASE("adaptive never corrects fast motion that ICP tracks consistently", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
+  Driver drive{c};
+  // 0.06 m/frame (1.8 m/s) from the first tracked frame on, with a ramp-up the prediction follows.
+  for (int i = 0; i < 40; ++i) {
+    const double speed = i < 4 ? 0.0 : std::min(0.06, 0.01 * (i - 3));
+    const Decision d = drive.step(moveX(speed));
+    CHECK_FALSE(d.correctedPose);
+    CHECK((d.triggers & sb::kTriggerCorrection) == 0);
+  }
+  CHECK(c.level() == 3);  // well-tracked fast motion runs at the coarsest level
+}
+
+TEST_CASE("adaptive re-tracks a doubtful coarse frame finer and corrects only when that fails too", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "retrack_levels": 2,
+      "hold_frames": 5})"));
+  Driver drive{c};
+  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
+  REQUIRE(c.level() == 3);
+  // Tracking fails at csr=8: the frame is tracked again two levels finer.
+  Observation first = drive.observe(moveX(0.01), false);
+  Decision d = c.decide(first);
+  REQUIRE(d.retrack);
+  CHECK(d.retrack->csr == 2);
+  CHECK_FALSE(d.correctedPose);
+  // It fails there too: constant-velocity extrapolation, the level goes to the re-track's, no integration.
+  Observation second = first;
+  second.retracked = true;
+  second.firstKnobs = first.knobs;
+  second.knobs = *d.retrack;
+  d = c.decide(second);
+  CHECK_FALSE(d.retrack);
+  REQUIRE(d.correctedPose);
+  CHECK(d.correctedPose->translation().isApprox(first.previousPose.translation() + Eigen::Vector3d(0.01, 0, 0)));
+  CHECK((d.triggers & sb::kTriggerCorrection) != 0);
+  CHECK(d.level == 1);
+  CHECK(d.next.csr == 2);
+  REQUIRE(d.integrate);
+  CHECK_FALSE(*d.integrate);
+  CHECK(d.reason.find("track failed") != std::string::npos);
+  drive.finish(second, d);
+  // Held finer for hold_frames, then relaxing again.
+  std::vector<int> levels;
+  for (int i = 0; i < 9; ++i) levels.push_back(drive.step(moveX(0.01)).level);
+  CHECK(levels == std::vector<int>{1, 1, 1, 1, 1, 2, 3, 3, 3});
+}
+
+TEST_CASE("adaptive keeps its level when the re-track confirms the coarse pose", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "retrack_levels": 1})"));
+  Driver drive{c};
+  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
+  REQUIRE(c.level() == 3);
+  // The tracked motion jumps to 0.05 m/frame, 0.04 m off the prediction: doubted, re-tracked at csr=4.
+  Observation first = drive.observe(moveX(0.05));
+  Decision d = c.decide(first);
+  REQUIRE(d.retrack);
+  CHECK(d.retrack->csr == 4);
+  CHECK(d.reason.find("prediction off") != std::string::npos);
+  // The finer pass lands 2 mm from the coarse pose: confirmed, the motion is real.
+  Observation second = first;
+  second.retracked = true;
+  second.knobs = *d.retrack;
+  second.pose.translation().x() += 0.002;
+  d = c.decide(second);
+  CHECK_FALSE(d.correctedPose);
+  CHECK(d.level == 3);
+  CHECK(d.reason.find("confirmed") != std::string::npos);
+  drive.finish(second, d);
+  // A re-track 3 cm away from the coarse pose: the coarse level was wrong here, one level finer.
+  first = drive.observe(moveX(0.10));
+  d = c.decide(first);
+  REQUIRE(d.retrack);
+  second = first;
+  second.retracked = true;
+  second.knobs = *d.retrack;
+  second.pose.translation().x() -= 0.03;
+  d = c.decide(second);
+  CHECK_FALSE(d.correctedPose);
+  CHECK(d.level == 2);
+}
+
+TEST_CASE("adaptive fuses a frame when it brings something new, at least every max gap", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "retrack_levels": 0, "integrate_translation_m": 0.02,
+      "integrate_rotation_deg": 2, "integrate_max_gap_frames": 4})"));
+  Driver drive{c};
+  for (int i = 0; i < 4; ++i) drive.step(moveX(0.0));  // pipeline bootstrap: no override
+  std::vector<int> fused;
+  for (int i = 0; i < 9; ++i) {
+    const Decision d = drive.step(moveX(0.0));
+    REQUIRE(d.integrate);
+    fused.push_back(*d.integrate);
+    CHECK(d.keepReference == !*d.integrate);
+  }
+  CHECK(fused == std::vector<int>{1, 0, 0, 0, 1, 0, 0, 0, 1});  // still camera: every 4th frame
+  fused.clear();
+  for (int i = 0; i < 6; ++i) fused.push_back(*drive.step(moveX(0.011)).integrate);
+  CHECK(fused == std::vector<int>{0, 1, 0, 1, 0, 1});  // 1.1 cm/frame: every second frame passes 2 cm
+  fused.clear();
+  for (int i = 0; i < 4; ++i) fused.push_back(*drive.step(moveX(0.03)).integrate);
+  CHECK(fused == std::vector<int>{1, 1, 1, 1});  // fast: every frame
+  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+  turn.linear() = Eigen::AngleAxisd(2.5 * 3.141592653589793 / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  CHECK(*drive.step(turn).integrate);  // 2.5 degrees
+}
+
+TEST_CASE("adaptive flags unconstrained frames and never fuses them", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "hold_frames": 0})"));
+  Driver drive{c};
+  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
+  REQUIRE(c.level() == 3);
+  Observation first = drive.observe(moveX(0.01));
+  first.quality = {true, 0.0005, sb::WeakDirection::ty, false};
+  Decision d = c.decide(first);
+  REQUIRE(d.retrack);
+  CHECK(d.reason == "retrack: unconstrained (ty)");
+  Observation second = first;
+  second.retracked = true;
+  second.knobs = *d.retrack;
+  d = c.decide(second);
+  CHECK((d.triggers & sb::kTriggerUnconstrained) != 0);
+  CHECK_FALSE(d.correctedPose);  // ICP's pose is kept: nothing says it is wrong along the constrained motions
+  CHECK_FALSE(*d.integrate);
+  CHECK(d.level < 3);
+}
+
+TEST_CASE("adaptive holds the pose once a failure lasts longer than the extrapolation limit", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "retrack_levels": 0,
+      "correction_max_extrapolated_frames": 2})"));
+  Driver drive{c};
+  for (int i = 0; i < 8; ++i) drive.step(moveX(0.01));
+  CHECK(drive.step(moveX(0.01), false).correctedPose);
+  CHECK(drive.step(moveX(0.01), false).correctedPose);
+  CHECK_FALSE(drive.step(moveX(0.01), false).correctedPose);
+}
+
+TEST_CASE("adaptive's settings are checked by key", "[controller][adaptive]") {
+  CHECK_THROWS_WITH(config(R"({"integrate_max_gap_frames": 0})"), Catch::Contains("integrate_max_gap_frames"));
+  CHECK_THROWS_WITH(config(R"({"doubt_prediction_rotation_deg": -1})"), Catch::Contains("doubt_prediction_rotation_deg"));
+  CHECK_THROWS_WITH(config(R"({"retrack": 1})"), Catch::Contains("retrack"));
+}
