@@ -45,7 +45,7 @@ struct SlamConfig {
   std::string cpus = "auto";           // "auto" (big cores from sysfs), "all", or a list like "4-7" or "0,2"
   unsigned threads = 0;                // compute threads; 0 = one per CPU the SLAM thread is pinned to
   std::string pipelineConfig;          // pipeline JSON (config/pipeline.json keys); empty = built-in defaults
-  std::string controller = "default";  // controller name (see `slambooster run --help` for the list)
+  std::string controller = "adaptive";  // controller name (see `slambooster run --help` for the list)
   std::string controllerConfig;        // controller settings JSON, re-read on SIGHUP; empty = defaults
 };
 

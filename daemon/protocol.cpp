@@ -165,9 +165,14 @@ nlohmann::json versionMessage(const std::string& release) {
 }
 
 nlohmann::json poseMessage(const FrameReport& r) {
-  return {{"class", "POSE"},          {"frame", r.frame},           {"timestamp", r.timestamp},
-          {"position", r.position},   {"quaternion", r.quaternion}, {"tracked", r.tracked},
-          {"corrected", r.corrected}, {"velocity", r.velocity}};
+  nlohmann::json j = {{"class", "POSE"},          {"frame", r.frame},           {"timestamp", r.timestamp},
+                      {"position", r.position},   {"quaternion", r.quaternion}, {"tracked", r.tracked},
+                      {"corrected", r.corrected}, {"velocity", r.velocity},     {"constrained", r.constrained}};
+  if (r.conditioning) {
+    j["conditioning"] = *r.conditioning;
+    j["weakest_motion"] = r.weakestMotion;
+  }
+  return j;
 }
 
 nlohmann::json knobsMessage(const FrameReport& r) {

@@ -19,7 +19,7 @@
 namespace sb::daemon {
 
 constexpr int kProtoMajor = 1;
-constexpr int kProtoMinor = 0;
+constexpr int kProtoMinor = 1;  // 1: POSE carries constrained, conditioning, weakest_motion
 
 enum class Command { watch, poll, status, control, version };
 
@@ -59,6 +59,9 @@ struct FrameReport {
   bool tracked = false;
   bool corrected = false;           // the controller replaced the tracked pose
   double velocity = 0.0;            // metres/frame
+  bool constrained = true;          // the geometry in view fixed every motion (pipeline/tracking_quality.h)
+  std::optional<double> conditioning;  // when ICP ran: the smallest normalised eigenvalue of its normal matrix
+  std::string weakestMotion;        // when ICP ran: the weakest motion, "tx".."rz" in camera axes
   double computationMs = 0.0;       // preprocessing + tracking + integration + raycast
   Knobs knobs;                      // the knobs this frame ran with
   std::string controller;           // the controller that chose them

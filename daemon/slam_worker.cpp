@@ -41,6 +41,11 @@ FrameReport makeReport(const FrameRecord& record, const std::vector<std::string>
   report.tracked = r.tracked;
   report.corrected = r.poseOverridden;
   report.velocity = r.velocity;
+  report.constrained = r.quality.constrained;
+  if (r.quality.known) {
+    report.conditioning = r.quality.conditioning;
+    report.weakestMotion = weakDirectionName(r.quality.weakest);
+  }
   report.computationMs = r.times.computationMs();
   report.knobs = r.knobs;
   report.controller = record.controller;

@@ -95,6 +95,8 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   }
 
   log.level.push_back(number(j, {"level"}, where, problems));
+  log.conditioning.push_back(number(j, {"conditioning"}, where, problems));
+  log.constrained.push_back(number(j, {"constrained"}, where, problems));
   if (const json* triggers = find(j, {"triggers"})) {
     log.recordsTriggers = true;
     if (triggers->is_array()) {

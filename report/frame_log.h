@@ -22,6 +22,8 @@ struct FrameLog {
   std::vector<std::string> stageNames;         // keys of "ms", in first-seen order
   std::vector<std::vector<double>> stageMs;    // [stage][frame]
   std::vector<double> level;           // "level": the controller's approximation level, when it has one
+  std::vector<double> conditioning;    // "conditioning": tracking quality of the ICP problem (NaN: ICP did not run)
+  std::vector<double> constrained;     // "constrained": 1 or 0 (NaN: ICP did not run)
   // Frames where each controller trigger fired ("triggers": ["surface", ...]), in first-seen order; a frame
   // with "corrected": true counts as a "correction" trigger.
   struct Trigger {

@@ -47,6 +47,7 @@ std::string buildRunReport(const std::string& runDir, const RunReportOptions& op
   addTrajectorySection(page, run);
   addErrorSection(page, run);
   addKnobSection(page, run);
+  addTrackingQualitySection(page, run);
   addStageTimeSection(page, run);
   addEnergySection(page, run);
   addMapSection(page, run, reportDir);

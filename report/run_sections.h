@@ -17,6 +17,9 @@ void addTrajectorySection(HtmlPage& page, const RunData& run);
 void addErrorSection(HtmlPage& page, const RunData& run);
 // csr, icp and pd0 per frame with the controller's triggers and failed tracks marked.
 void addKnobSection(HtmlPage& page, const RunData& run);
+// Tracking quality per frame: the ICP problem's conditioning against the constrained threshold, the frames
+// whose geometry left a motion free marked.
+void addTrackingQualitySection(HtmlPage& page, const RunData& run);
 // Stacked per-stage time per frame and the mean per stage.
 void addStageTimeSection(HtmlPage& page, const RunData& run);
 // Joules and power per frame when a meter was used.

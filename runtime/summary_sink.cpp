@@ -16,6 +16,8 @@ void RunStats::add(const FrameRecord& rec) {
   integrated += r.integrated;
   corrected += r.poseOverridden;
   halfWishes += rec.decision.halfPrecision;
+  unconstrained += r.quality.known && !r.quality.constrained;
+  retracked += r.retracked;
   for (int s = 0; s < kStageCount; ++s) stageSums.ms[s] += r.times.ms[s];
   controllerMsSum += rec.controllerMs;
   for (const std::string& t : triggerNames(rec.decision.triggers)) ++triggerCounts[t];
@@ -31,6 +33,8 @@ nlohmann::json RunStats::toJson() const {
   j["integrated"] = integrated;
   j["corrected"] = corrected;
   j["half_wish_frames"] = halfWishes;
+  j["unconstrained"] = unconstrained;
+  j["retracked"] = retracked;
   j["computation_ms_per_frame"] = computationMsPerFrame();
   j["controller_ms_per_frame"] = frames ? controllerMsSum / frames : 0.0;
   nlohmann::json stages = nlohmann::json::object();

@@ -27,9 +27,10 @@ Eigen::Isometry3d moveX(double metres) {
 // Drives a controller the way SlamRunner does: the observation carries the knobs the controller chose, a
 // re-track request is answered by `second` (the finer pass's observation of the same frame).
 struct Driver {
+  explicit Driver(AdaptiveController& controller) : c(controller), knobs(controller.initialKnobs()) {}
   AdaptiveController& c;
   sb::test::ObservationScript script;
-  sb::Knobs knobs = c.initialKnobs();
+  sb::Knobs knobs;
 
   Observation observe(const Eigen::Isometry3d& motion, bool tracked = true) {
     Observation o = script.next(motion, tracked);
@@ -57,7 +58,7 @@ struct Driver {
 
 TEST_CASE("adaptive relaxes one level per relax_frames after its bootstrap, up to max_level", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 6, "relax_frames": 2})"));
-  Driver drive{c};
+  Driver drive(c);
   std::vector<int> levels;
   for (int i = 0; i < 16; ++i) levels.push_back(drive.step(moveX(0.001)).level);
   // Observations 1-6 are the bootstrap; then one level per 2 undoubted frames, up to 3.
@@ -67,7 +68,7 @@ TEST_CASE("adaptive relaxes one level per relax_frames after its bootstrap, up t
 
 TEST_CASE("adaptive never corrects fast motion that ICP tracks consistently", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
-  Driver drive{c};
+  Driver drive(c);
   // 0.06 m/frame (1.8 m/s) from the first tracked frame on, with a ramp-up the prediction follows.
   for (int i = 0; i < 40; ++i) {
     const double speed = i < 4 ? 0.0 : std::min(0.06, 0.01 * (i - 3));
@@ -81,7 +82,7 @@ TEST_CASE("adaptive never corrects fast motion that ICP tracks consistently", "[
 TEST_CASE("adaptive re-tracks a doubtful coarse frame finer and corrects only when that fails too", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "retrack_levels": 2,
       "hold_frames": 5})"));
-  Driver drive{c};
+  Driver drive(c);
   for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
   REQUIRE(c.level() == 3);
   // Tracking fails at csr=8: the frame is tracked again two levels finer.
@@ -114,7 +115,7 @@ TEST_CASE("adaptive re-tracks a doubtful coarse frame finer and corrects only wh
 
 TEST_CASE("adaptive keeps its level when the re-track confirms the coarse pose", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "retrack_levels": 1})"));
-  Driver drive{c};
+  Driver drive(c);
   for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
   REQUIRE(c.level() == 3);
   // The tracked motion jumps to 0.05 m/frame, 0.04 m off the prediction: doubted, re-tracked at csr=4.
@@ -149,7 +150,7 @@ TEST_CASE("adaptive keeps its level when the re-track confirms the coarse pose",
 TEST_CASE("adaptive fuses a frame when it brings something new, at least every max gap", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "retrack_levels": 0, "integrate_translation_m": 0.02,
       "integrate_rotation_deg": 2, "integrate_max_gap_frames": 4})"));
-  Driver drive{c};
+  Driver drive(c);
   for (int i = 0; i < 4; ++i) drive.step(moveX(0.0));  // pipeline bootstrap: no override
   std::vector<int> fused;
   for (int i = 0; i < 9; ++i) {
@@ -172,7 +173,7 @@ TEST_CASE("adaptive fuses a frame when it brings something new, at least every m
 
 TEST_CASE("adaptive flags unconstrained frames and never fuses them", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "hold_frames": 0})"));
-  Driver drive{c};
+  Driver drive(c);
   for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
   REQUIRE(c.level() == 3);
   Observation first = drive.observe(moveX(0.01));
@@ -193,7 +194,7 @@ TEST_CASE("adaptive flags unconstrained frames and never fuses them", "[controll
 TEST_CASE("adaptive holds the pose once a failure lasts longer than the extrapolation limit", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "retrack_levels": 0,
       "correction_max_extrapolated_frames": 2})"));
-  Driver drive{c};
+  Driver drive(c);
   for (int i = 0; i < 8; ++i) drive.step(moveX(0.01));
   CHECK(drive.step(moveX(0.01), false).correctedPose);
   CHECK(drive.step(moveX(0.01), false).correctedPose);
