@@ -13,6 +13,7 @@ AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::str
   r.integer("hold_frames", c.holdFrames, 0, 100000);
   r.integer("relax_frames", c.relaxFrames, 1, 100000);
   r.integer("correction_max_extrapolated_frames", c.maxExtrapolatedFrames, 0, 1000);
+  r.boolean("predict_start", c.predictStart);
   r.number("confirm_translation_m", c.confirmTranslationM, 0.0, 10.0);
   r.number("confirm_rotation_deg", c.confirmRotationDeg, 0.0, 180.0);
   c.evidence.read(r);
@@ -108,6 +109,8 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     d.triggers |= kTriggerSkipIntegrate;
     d.keepReference = true;
   }
+  if (config_.predictStart && motion_.known())
+    d.nextStartPose = motion_.predict(corrected ? *d.correctedPose : o.pose);
   d.level = level_;
   d.next = config_.ladder.coupled(level_);
   return d;

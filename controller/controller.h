@@ -74,6 +74,8 @@ struct Decision {
   std::optional<Knobs> retrack;
   std::optional<bool> integrate;  // integrate this frame (if tracked) or not, instead of the knobs' rate
   bool keepReference = false;     // a frame not integrated keeps the reference maps (pipeline FrameOverrides)
+  // Where ICP starts on the next frame (e.g. a motion model's prediction); unset: the final pose of this one.
+  std::optional<Eigen::Isometry3d> nextStartPose;
   std::string reason;             // why the knobs changed, in words, for the per-frame log ("" = no change)
 };
 

@@ -41,7 +41,8 @@ void Pipeline::checkInput(const DepthFrame& frame, double depthScale, const Knob
                 "x" + std::to_string(intrinsics_.height / knobs.csr) + " image, too small for a 3-level pyramid");
 }
 
-FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs) {
+FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs,
+                                 const std::optional<Eigen::Isometry3d>& startPose) {
   if (awaitingFinish_)
     throw Error("Pipeline::trackFrame called twice without finishFrame (frame " + std::to_string(frameCount_) + ")");
   checkInput(frame, depthScale, knobs);
@@ -49,6 +50,7 @@ FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, con
   r.frame = frameCount_;
   r.timestamp = frame.timestamp;
   r.knobs = knobs;
+  startPose_ = startPose ? *startPose : lastFinalPose_;
   track(frame, depthScale, r);
   awaitingFinish_ = true;
   return r;
@@ -67,12 +69,12 @@ void Pipeline::retrackFrame(const DepthFrame& frame, double depthScale, const Kn
   r.icpLevelIterations = {};
   r.icpUpdateNorm = 0.0;
   r.quality = TrackingQuality{};
-  pose_ = lastFinalPose_;  // the same starting pose as the first pass
-  track(frame, depthScale, r);
+  track(frame, depthScale, r);  // from the same start pose as the first pass
 }
 
 void Pipeline::track(const DepthFrame& frame, double depthScale, FrameResult& r) {
   const Knobs& knobs = r.knobs;
+  pose_ = lastFinalPose_;  // until ICP accepts a pose
   backend_->preprocess(frame.depth, static_cast<float>(1.0 / depthScale), knobs.csr, r.times);
   const bool bootstrap = frameCount_ < static_cast<size_t>(config_.bootstrapFrames);
   if (!bootstrap && frameCount_ % knobs.trackingRate == 0 && referenceCsr_ != 0) {
@@ -89,8 +91,8 @@ void Pipeline::track(const DepthFrame& frame, double depthScale, FrameResult& r)
 }
 
 bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
-  const Eigen::Isometry3d previous = pose_;
-  Eigen::Isometry3d estimate = pose_;
+  const Eigen::Isometry3d previous = lastFinalPose_;  // a failed track keeps it
+  Eigen::Isometry3d estimate = startPose_;
   const Eigen::Isometry3f reference = referencePose_.cast<float>();
   TrackSums last{};
   int lastLevel = -1;

@@ -69,7 +69,10 @@ class Pipeline {
 
   // Preprocessing and tracking of one frame. `depthScale`: raw units per metre. Throws sb::Error on invalid
   // knobs or a frame whose size differs from the intrinsics, and when the previous frame was not finished.
-  FrameResult trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs);
+  // ICP starts from `startPose` when given (e.g. a motion model's prediction), else from the previous frame's
+  // final pose; a failed track keeps the previous frame's final pose either way.
+  FrameResult trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs,
+                         const std::optional<Eigen::Isometry3d>& startPose = std::nullopt);
   // Tracks the frame of the last trackFrame again, from the same starting pose, with other knobs (preprocessing
   // at their compute size included). Times add to `result`'s; its tracking fields are replaced. Throws
   // sb::Error like trackFrame, and when no frame awaits finishing.
@@ -106,6 +109,7 @@ class Pipeline {
   Eigen::Isometry3d pose_;          // latest camera pose (volume frame)
   Eigen::Isometry3d referencePose_;  // pose of the last raycast
   Eigen::Isometry3d lastFinalPose_;  // pose at the end of the previous frame
+  Eigen::Isometry3d startPose_;      // where ICP starts for the frame in hand (trackFrame and retrackFrame)
   int referenceCsr_ = 0;            // csr of the last raycast (0 = none yet)
   bool referenceStale_ = false;     // the volume changed since the last raycast
   size_t frameCount_ = 0;

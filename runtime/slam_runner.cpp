@@ -28,6 +28,7 @@ void SlamRunner::setController(std::unique_ptr<Controller> controller) {
   }
   controller_ = std::move(controller);
   next_ = initial;
+  nextStart_.reset();
 }
 
 void SlamRunner::pinKnobs(const std::optional<Knobs>& knobs) {
@@ -82,7 +83,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   FrameRecord rec;
   rec.startMonoNs = power::monotonicClock().nowNs();
   rec.knobsPinned = pinned_.has_value();
-  rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs());
+  rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs(), nextStart_);
   Observation obs = observe(rec.result, frame);
   rec.decision = decide(obs, rec);
   // A controller may have the frame tracked once more (at other knobs) before it is finished; pinned knobs
@@ -101,6 +102,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
                         FrameOverrides{rec.decision.integrate, rec.decision.keepReference});
   next_ = rec.decision.next;
+  nextStart_ = rec.decision.nextStartPose;
   if (pinned_) rec.decision.next = *pinned_;
   previousPose_ = r.T_camera_to_world;
   previousComputationMs_ = r.times.computationMs();

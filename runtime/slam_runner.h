@@ -59,6 +59,7 @@ class SlamRunner {
   std::vector<std::unique_ptr<OutputSink>> sinks_;
   Knobs next_;
   std::optional<Knobs> pinned_;
+  std::optional<Eigen::Isometry3d> nextStart_;  // the controller's ICP start pose for the next frame
   std::optional<double> latestJoules_;
   Eigen::Isometry3d previousPose_;
   double previousComputationMs_ = 0.0;

@@ -22,6 +22,7 @@ void RunStats::add(const FrameRecord& rec) {
   controllerMsSum += rec.controllerMs;
   for (const std::string& t : triggerNames(rec.decision.triggers)) ++triggerCounts[t];
   ++knobCounts[formatKnobs(r.knobs)];
+  ++controllerCounts[rec.controller];
 }
 
 nlohmann::json RunStats::toJson() const {
@@ -43,6 +44,7 @@ nlohmann::json RunStats::toJson() const {
   j["stage_ms_per_frame"] = stages;
   j["triggers"] = triggerCounts;
   j["knob_frames"] = knobCounts;
+  j["controller_frames"] = controllerCounts;
   return j;
 }
 

@@ -24,6 +24,7 @@ struct RunStats {
   double controllerMsSum = 0.0;
   std::map<std::string, size_t> triggerCounts;
   std::map<std::string, size_t> knobCounts;  // formatKnobs(knobs) -> frames run with them
+  std::map<std::string, size_t> controllerCounts;  // controller name -> frames it decided (a daemon may switch)
 
   void add(const FrameRecord& record);
   double computationMsPerFrame() const { return frames ? stageSums.computationMs() / frames : 0.0; }

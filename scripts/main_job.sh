@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # Command (1) of the README: install what is missing, build, and run the main job on the default input.
 #
-# The main job is the daemon: slamboosterd replays the default input through KinectFusion (DEFAULT knobs),
-# publishing pose and knobs on its Unix socket while slamboosterctl shows progress, and exits when the
-# sequence ends. The default input is ../shared/data/7scenes-redkitchen-a (600 real Kinect frames) when that
+# The main job is the daemon: slamboosterd replays the default input through KinectFusion under the adaptive
+# controller (its default), publishing pose and knobs on its Unix socket while slamboosterctl shows progress,
+# and exits when the sequence ends. Then DEFAULT (SLAMBench's fixed knobs) runs on the same input, and one
+# line says how the two compare: frames, % tracked, ATE, ms/frame. The default input is ../shared/data/7scenes-redkitchen-a (600 real Kinect frames) when that
 # directory is present beside the checkout; otherwise a synthetic living-room sequence that the project
 # renders itself along its built-in handheld trajectory. Outputs go to out/ (or the directory given as $1):
-# out/run-NAME/{trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply, report.html} and slamboosterd.log.
+# out/run-NAME/{trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply, report.html}, slamboosterd.log,
+# and DEFAULT's run in out/default-NAME/.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 out=${1:-"$root/out"}
@@ -47,7 +49,7 @@ trap 'exit 130' INT TERM
 run="$out/run-$name"
 rm -rf "$run"
 echo "main_job: starting slamboosterd (socket $socket, log $out/slamboosterd.log)"
-"$daemon" --input "$seq" --out "$run" --socket "$socket" --pacing fast --at-end exit --controller default \
+"$daemon" --input "$seq" --out "$run" --socket "$socket" --pacing fast --at-end exit --controller adaptive \
   --set output.mesh=true --set output.model_png=true 2> "$out/slamboosterd.log" &
 pid=$!
 for _ in $(seq 200); do [ -S "$socket" ] || ! kill -0 "$pid" 2>/dev/null && break; sleep 0.05; done
@@ -68,3 +70,8 @@ if [ "$status" -ne 0 ]; then
 fi
 tail -3 "$out/slamboosterd.log"
 echo "main_job: outputs in $run (trajectory.tum, frames.jsonl, summary.json, model.png, mesh.ply, report.html)"
+baseline="$out/default-$name"
+echo "main_job: DEFAULT (fixed knobs, SLAMBench's settings) on the same input, for comparison: $baseline"
+rm -rf "$baseline"
+"$tool" run "$seq" --out "$baseline" --controller default --quiet > "$out/default.log"
+echo "main_job: $("$tool" compare "$run" --against "$baseline")"

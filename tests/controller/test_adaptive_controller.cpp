@@ -206,3 +206,17 @@ TEST_CASE("adaptive's settings are checked by key", "[controller][adaptive]") {
   CHECK_THROWS_WITH(config(R"({"doubt_prediction_rotation_deg": -1})"), Catch::Contains("doubt_prediction_rotation_deg"));
   CHECK_THROWS_WITH(config(R"({"retrack": 1})"), Catch::Contains("retrack"));
 }
+
+TEST_CASE("adaptive starts the next frame's ICP from the constant-velocity prediction", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0})"));
+  Driver drive(c);
+  for (int i = 0; i < 4; ++i) CHECK_FALSE(drive.step(moveX(0.0)).nextStartPose);  // no motion learnt yet
+  drive.step(moveX(0.05));
+  const Observation o = drive.observe(moveX(0.05));
+  const Decision d = c.decide(o);
+  REQUIRE(d.nextStartPose);
+  CHECK(d.nextStartPose->translation().isApprox(o.pose.translation() + Eigen::Vector3d(0.05, 0, 0)));
+  AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0, "predict_start": false})"));
+  Driver other(off);
+  for (int i = 0; i < 8; ++i) CHECK_FALSE(other.step(moveX(0.05)).nextStartPose);
+}

@@ -41,6 +41,7 @@ TEST_CASE("config/controller.json holds the defaults", "[controller][config]") {
   CHECK(adaptive.holdFrames == adaptiveDefaults.holdFrames);
   CHECK(adaptive.relaxFrames == adaptiveDefaults.relaxFrames);
   CHECK(adaptive.maxExtrapolatedFrames == adaptiveDefaults.maxExtrapolatedFrames);
+  CHECK(adaptive.predictStart == adaptiveDefaults.predictStart);
   CHECK(adaptive.confirmTranslationM == adaptiveDefaults.confirmTranslationM);
   CHECK(adaptive.confirmRotationDeg == adaptiveDefaults.confirmRotationDeg);
   CHECK(adaptive.evidence.maxUpdateNorm == adaptiveDefaults.evidence.maxUpdateNorm);

@@ -222,3 +222,26 @@ TEST_CASE("a re-track runs the same frame again with the asked knobs and asks th
   CHECK(j.at("conditioning").get<double>() > 0.0);
   CHECK(j.at("triggers") == nlohmann::json::array({"retrack"}));
 }
+
+TEST_CASE("the controller's start pose is where the next frame's ICP begins; a failure keeps the last pose", "[runtime]") {
+  Fixture f, g;
+  for (Fixture* x : {&f, &g}) x->pipeline->processFrame(x->frame(0), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1"));
+  // The same frame from two start poses: the last final pose (no start given) and one 2 cm further along.
+  Eigen::Isometry3d ahead = f.pipeline->pose();
+  ahead.translation().x() += 0.02;
+  sb::FrameResult r = f.pipeline->trackFrame(f.frame(1), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1,pd=1:0:0"), ahead);
+  const sb::FrameResult plain = g.pipeline->trackFrame(g.frame(1), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1,pd=1:0:0"));
+  REQUIRE(r.tracked);
+  REQUIRE(plain.tracked);
+  // One ICP iteration from each start: without the start pose the two would be identical bit for bit.
+  CHECK((r.T_camera_to_world.translation() - plain.T_camera_to_world.translation()).norm() > 0.002);
+  f.pipeline->finishFrame(r);
+  const Eigen::Isometry3d last = r.T_camera_to_world;
+  // Started 2 m away (outside the model) ICP finds nothing: the last final pose is kept, not the start.
+  Eigen::Isometry3d far = last;
+  far.translation().y() += 2.0;
+  r = f.pipeline->trackFrame(f.frame(2), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1"), far);
+  CHECK_FALSE(r.tracked);
+  CHECK(r.T_camera_to_world.matrix() == last.matrix());
+  f.pipeline->finishFrame(r);
+}

@@ -15,5 +15,6 @@ void addEnergyCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 void addReportCommand(CLI::App& app);
 void addRecordCommand(CLI::App& app);
+void addCompareCommand(CLI::App& app);
 
 }  // namespace sb::cli

@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   sb::cli::addSynthCommand(app);
   sb::cli::addReportCommand(app);
   sb::cli::addRecordCommand(app);
+  sb::cli::addCompareCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
