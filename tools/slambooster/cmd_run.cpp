@@ -26,6 +26,7 @@
 #include "mesh/marching_cubes.h"
 #include "mesh/ply_writer.h"
 #include "pipeline/config.h"
+#include "pipeline/cpu_backend.h"
 #include "pipeline/pipeline.h"
 #include "report/run_report.h"
 #include "power/power_config.h"
@@ -160,6 +161,15 @@ void printProgress(size_t done, size_t total, double msPerFrame) {
   std::cerr << "  " << std::fixed << std::setprecision(1) << msPerFrame << " ms/frame" << std::flush;
 }
 
+// Where this run is timed (summary.json "machine"): the CPU backend runs on this CPU; for OpenCL the device
+// is named by the config's selectors (the backend logs the device it picked in run.log).
+nlohmann::json machineOf(Pipeline& pipeline, const PipelineConfig& config, unsigned threads) {
+  if (dynamic_cast<CpuBackend*>(&pipeline.backend())) return machineJson(threads, "cpu", cpuModel());
+  const std::string platform = config.openclPlatform.empty() ? "first with a GPU" : config.openclPlatform;
+  const std::string device = config.openclDevice.empty() ? "first GPU" : config.openclDevice;
+  return machineJson(threads, "opencl", "platform " + platform + ", device " + device);
+}
+
 void runCommand(const RunOptions& o) {
   SequenceOptions seqOptions;
   seqOptions.maxFrames = o.frames;
@@ -178,6 +188,7 @@ void runCommand(const RunOptions& o) {
   extra["knobs"] = knobsToJson(runner.nextKnobs());
   extra["config"] = configToJson(config);
   extra["threads"] = pool.threadCount();
+  extra["machine"] = machineOf(*pipeline, config, pool.threadCount());
   const StandardOutputs outputs =
       addStandardOutputs(runner, o.out, info.groundTruthPath, extra,
                          "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
