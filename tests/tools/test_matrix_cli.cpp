@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -162,4 +163,74 @@ TEST_CASE("a claim from another host is respected while its heartbeat goes on an
   CHECK_FALSE(fs::exists(runDir + "/.claim"));
   for (const auto& entry : fs::directory_iterator(runDir))
     CHECK(entry.path().filename().string().rfind(".claim", 0) != 0);  // no stale claim left aside
+}
+
+TEST_CASE("dse --report-only ranks what finished, says what is missing and when machines were mixed",
+          "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_matrix_dse");
+  REQUIRE(runCommand(kTool + " synth --out " + dir + "/seq --builtin-frames 4 --no-noise --width 160 --height 120 "
+                             "--fx 131 --fy 131").exitCode == 0);
+  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
+  const std::string dse = kTool + " dse " + dir + "/seq --out " + dir + "/dse --config " + dir +
+                          "/small.json --csr 4,8 --icp 1e-5 --pd0 4 --max-ate 1.0 --no-prune --threads 1";
+  REQUIRE(runCommand(dse + " --plan " + dir + "/plan.txt").exitCode == 0);
+  REQUIRE(lines(dir + "/plan.txt").size() == 2);
+  const auto one = runCommand(dse + " --run-index 0");
+  INFO(one.output);
+  REQUIRE(one.exitCode == 0);
+  const auto partial = runCommand(dse + " --report-only");
+  INFO(partial.output);
+  REQUIRE(partial.exitCode == 0);
+  CHECK_THAT(partial.output, Catch::Contains("1 of 2 runs missing"));
+  CHECK_THAT(partial.output, Catch::Contains("incomplete: 1 of 2 settings have not finished"));
+  auto best = readJson(dir + "/dse/best.json");
+  CHECK(best.at("missing_runs").size() == 1);
+  CHECK(lines(dir + "/dse/results.csv").size() == 2);  // header + the finished setting
+  CHECK_FALSE(best.contains("mixed_machines"));
+
+  // Both settings done, one of them timed elsewhere: the ranking says it mixes machines.
+  REQUIRE(runCommand(dse + " --run-index 1").exitCode == 0);
+  const std::string runs = dir + "/dse/runs";
+  const fs::path first = fs::directory_iterator(runs)->path();
+  auto summary = readJson((first / "summary.json").string());
+  summary["machine"]["cpu_model"] = "Cortex-A15 (test)";
+  std::ofstream(first / "summary.json") << summary.dump(2);
+  const auto mixed = runCommand(dse + " --report-only");
+  INFO(mixed.output);
+  REQUIRE(mixed.exitCode == 0);
+  CHECK_THAT(mixed.output, Catch::Contains("Mixed machines: these runs were timed on 2 kinds of machine"));
+  best = readJson(dir + "/dse/best.json");
+  CHECK_THAT(best.at("mixed_machines").get<std::string>(), Catch::Contains("the settings' ranking"));
+  CHECK(best.at("machines").size() == 2);
+  CHECK_FALSE(best.contains("missing_runs"));
+  CHECK(lines(dir + "/dse/results.csv").size() == 3);
+}
+
+TEST_CASE("a worker's claim is kept alive by its heartbeat while its run goes on", "[tools][system]") {
+  const std::string dir = sb::test::scratchDir("cli_matrix_heartbeat");
+  // A run of about 4 s (on an idle 2-core machine): long enough for a heartbeat (every 2 s).
+  REQUIRE(runCommand(kTool + " synth --out " + dir + "/seq --builtin-frames 400 --no-noise --width 160 --height 120 "
+                             "--fx 131 --fy 131").exitCode == 0);
+  std::ofstream(dir + "/small.json") << R"({"volume_resolution": 64})";
+  const std::string bench = kTool + " bench " + dir + "/seq --out " + dir + "/bench --config " + dir +
+                            "/small.json --controllers default --threads 1";
+  const std::string claim = dir + "/bench/runs/seq/default/.claim";
+  sb::test::CommandResult result;
+  std::thread worker([&] { result = runCommand(bench + " --run-index 0"); });
+  bool refreshed = false;
+  std::optional<fs::file_time_type> seen;
+  for (int i = 0; i < 300 && !refreshed; ++i) {  // 30 s at most
+    std::error_code ec;
+    const auto t = fs::last_write_time(claim, ec);
+    if (!ec && !seen) seen = t;
+    if (!ec && seen && t > *seen) refreshed = true;
+    if (ec && seen) break;  // released: the run ended before a heartbeat
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  worker.join();
+  INFO(result.output);
+  REQUIRE(result.exitCode == 0);
+  REQUIRE(seen);
+  CHECK(refreshed);
+  CHECK_FALSE(fs::exists(claim));
 }

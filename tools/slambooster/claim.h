@@ -14,7 +14,7 @@ namespace sb::cli {
 // Seconds without a heartbeat after which any host takes a claim over.
 inline constexpr double kClaimLeaseS = 60.0;
 // Seconds between heartbeats of a held claim.
-inline constexpr double kClaimHeartbeatS = 5.0;
+inline constexpr double kClaimHeartbeatS = 2.0;
 
 // Claims the job directory `dir` (which must exist) for this process; false when a live process holds it.
 bool claimJob(const std::string& dir);
