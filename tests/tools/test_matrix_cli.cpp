@@ -71,7 +71,7 @@ TEST_CASE("bench --plan, --run-index, --shard and --report-only split the matrix
   for (size_t i = 0; i < planned.size(); ++i) {
     INFO(planned[i]);
     CHECK(planned[i].rfind("cd '", 0) == 0);  // self-contained: runs from any working directory
-    CHECK_THAT(planned[i], Catch::EndsWith(" --run-index " + std::to_string(i)));
+    CHECK_THAT(planned[i], Catch::Contains(" --run-index " + std::to_string(i) + " --run-dir '"));
     CHECK_THAT(planned[i], !Catch::Contains("--plan"));
   }
   CHECK_FALSE(fs::exists(runs));  // the plan runs nothing
@@ -114,6 +114,11 @@ TEST_CASE("bench --plan, --run-index, --shard and --report-only split the matrix
     CHECK_THAT(shard.output, Catch::Contains("expected I/N"));
   }
   CHECK(runCommand(bench + " --plan " + dir + "/p2.txt --run-index 0").exitCode == 2);
+  // A plan line whose index now means another run (the matrix changed since the plan) is refused.
+  const auto moved = runCommand(bench + " --run-index 0 --run-dir " + runs + runOne);
+  CHECK(moved.exitCode == 1);
+  CHECK_THAT(moved.output, Catch::Contains("the matrix changed since the plan was written"));
+  CHECK_FALSE(fs::exists(runs + runZero + "/run.log"));
 
   // --shard 0/1 runs the rest; the report is complete and says where the runs ran.
   const auto rest = runCommand(bench + " --shard 0/1");
@@ -204,6 +209,15 @@ TEST_CASE("dse --report-only ranks what finished, says what is missing and when 
   CHECK(best.at("machines").size() == 2);
   CHECK_FALSE(best.contains("missing_runs"));
   CHECK(lines(dir + "/dse/results.csv").size() == 3);
+
+  // profile cannot build its table from part of the runs: it says which are missing and fails.
+  const auto profile = runCommand(kTool + " profile " + dir + "/seq --out " + dir + "/profile --config " + dir +
+                                  "/small.json --csr 8 --icp 1e-5 --pd0 4 --ir 1 --report-only");
+  INFO(profile.output);
+  CHECK(profile.exitCode == 1);
+  CHECK_THAT(profile.output, Catch::Contains("2 of 2 runs missing"));
+  CHECK_THAT(profile.output, Catch::Contains("the table needs every setting on every profiling sequence"));
+  CHECK_FALSE(fs::exists(dir + "/profile/runs/seq"));  // nothing run
 }
 
 TEST_CASE("a worker's claim is kept alive by its heartbeat while its run goes on", "[tools][system]") {

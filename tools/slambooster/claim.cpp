@@ -70,11 +70,14 @@ bool claimJob(const std::string& dir) {
     if (rename(path.c_str(), aside.c_str()) != 0) continue;
     struct stat moved {};
     const bool same = stat(aside.c_str(), &moved) == 0 && readOwner(aside) == owner && stale(owner, moved);
-    if (!same && link(aside.c_str(), path.c_str()) != 0) {
-      // A fresh claim was moved and another one made meanwhile: the job has an owner either way.
+    if (!same) {
+      // A fresh claim, made between the look and the rename, was moved: put it back (unless yet another
+      // claim appeared meanwhile; the job has an owner either way).
+      (void)!link(aside.c_str(), path.c_str());
+      unlink(aside.c_str());
+      return false;
     }
     unlink(aside.c_str());
-    if (!same) return false;
   }
   return false;
 }

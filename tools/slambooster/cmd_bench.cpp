@@ -235,8 +235,7 @@ void benchCommand(const BenchOptions& o) {
   }
 
   const MachineMix machines = machineMix(summaries);
-  if (machines.mixed()) r.notes.push_back(machines.note("the tables and plots"));
-  else if (!machines.kinds.empty()) r.notes.push_back(machines.note(""));
+  if (!machines.kinds.empty()) r.notes.push_back(machines.note("the tables and plots"));
   if (!missing.empty())
     r.notes.push_back("Incomplete: " + std::to_string(missing.size()) + " of " + std::to_string(jobs.size()) +
                       " runs have not finished (shown as -): " + missingList(missing) + ".");

@@ -22,29 +22,27 @@ std::string shellQuote(const std::string& word) {
   return quoted + "'";
 }
 
-// The command line of run `index`: this invocation from its working directory, without the matrix options,
-// with --run-index.
-std::string runLine(const MatrixMode& mode, size_t index) {
+// This invocation from its working directory, without the matrix options.
+std::string baseLine(const MatrixMode& mode) {
   std::string line = "cd " + shellQuote(fs::current_path().string()) + " && " + shellQuote(selfExecutable());
   const std::vector<std::string>& args = mode.commandLine;
   for (size_t i = 1; i < args.size(); ++i) {
     const std::string& a = args[i];
-    if (a == "--plan" || a == "--run-index" || a == "--shard") {
+    if (a == "--plan" || a == "--run-index" || a == "--run-dir" || a == "--shard") {
       ++i;  // and its value
       continue;
     }
-    if (a == "--report-only" || a.rfind("--plan=", 0) == 0 || a.rfind("--run-index=", 0) == 0 ||
+    if (a == "--report-only" || a.rfind("--plan=", 0) == 0 || a.rfind("--run-index=", 0) == 0 || a.rfind("--run-dir=", 0) == 0 ||
         a.rfind("--shard=", 0) == 0)
       continue;
     line += " " + shellQuote(a);
   }
-  return line + " --run-index " + std::to_string(index);
+  return line;
 }
 
-// The command that builds the report once the plan's runs are done.
-std::string reportLine(const MatrixMode& mode) {
-  std::string line = runLine(mode, 0);
-  return line.substr(0, line.rfind(" --run-index ")) + " --report-only";
+// The command line of one run: --run-index, and --run-dir to check that the index still means that run.
+std::string runLine(const MatrixMode& mode, size_t index, const Job& job) {
+  return baseLine(mode) + " --run-index " + std::to_string(index) + " --run-dir " + shellQuote(job.outDir);
 }
 
 void parseShard(const std::string& text, size_t& index, size_t& count) {
@@ -71,29 +69,38 @@ void addMatrixOptions(CLI::App& sub, MatrixMode& mode, const std::vector<std::st
                               "nothing: for Slurm arrays and GNU parallel (scripts/slurm_matrix.sh, parallel_matrix.sh)");
   auto* index = sub.add_option("--run-index", mode.runIndex, "Run only run I of the matrix (0-based; see --plan)")
                     ->check(CLI::NonNegativeNumber);
+  auto* runDir = sub.add_option("--run-dir", mode.runDir,
+                                "With --run-index: the run's directory as the plan has it; refused when the index\n"
+                                "now means another run (the matrix changed since the plan)");
   auto* shard = sub.add_option("--shard", mode.shard, "I/N: run the runs whose index is I modulo N");
   auto* report = sub.add_flag("--report-only", mode.reportOnly,
                               "Run nothing: build the tables from the runs that finished and list the missing ones");
   plan->excludes(index)->excludes(shard)->excludes(report);
   index->excludes(shard)->excludes(report);
+  runDir->needs(index);
   shard->excludes(report);
 }
 
 bool runMatrixPart(const MatrixMode& mode, const std::vector<Job>& jobs, int parallel, bool quiet) {
   if (!mode.planPath.empty()) {
     std::string text;
-    for (size_t i = 0; i < jobs.size(); ++i) text += runLine(mode, i) + "\n";
+    for (size_t i = 0; i < jobs.size(); ++i) text += runLine(mode, i, jobs[i]) + "\n";
     if (fs::path(mode.planPath).has_parent_path()) fs::create_directories(fs::path(mode.planPath).parent_path());
     writeFileAtomically(mode.planPath, text);
     std::cout << jobs.size() << " runs in " << mode.planPath << " (run I is line I+1; Slurm: --array=0-"
-              << (jobs.empty() ? 0 : jobs.size() - 1) << ")\nthen the report: " << reportLine(mode) << "\n";
+              << (jobs.empty() ? 0 : jobs.size() - 1) << ")\nthen the report: " << baseLine(mode) << " --report-only\n";
     return true;
   }
   if (mode.runIndex >= 0) {
     if (static_cast<size_t>(mode.runIndex) >= jobs.size())
       throw Error("--run-index " + std::to_string(mode.runIndex) + ": the matrix has " + std::to_string(jobs.size()) +
                   " runs (0-" + std::to_string(jobs.size() - 1) + "); was the plan made with other options?");
-    runJobs({jobs[static_cast<size_t>(mode.runIndex)]}, 1, quiet);
+    const Job& job = jobs[static_cast<size_t>(mode.runIndex)];
+    if (!mode.runDir.empty() && mode.runDir != job.outDir)
+      throw Error("--run-index " + std::to_string(mode.runIndex) + " is now the run in '" + job.outDir +
+                  "', but the plan meant '" + mode.runDir + "': the matrix changed since the plan was written " +
+                  "(other options, or dse/profile results that appeared since); write the plan again");
+    runJobs({job}, 1, quiet);
     return true;
   }
   if (!mode.shard.empty()) {

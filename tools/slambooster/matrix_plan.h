@@ -17,6 +17,7 @@ namespace sb::cli {
 struct MatrixMode {
   std::string planPath;  // --plan: write the plan here, run nothing
   long runIndex = -1;    // --run-index: run only this one (-1: not given)
+  std::string runDir;    // --run-dir: the run directory the plan meant by --run-index (a check)
   std::string shard;     // --shard I/N ("": not given)
   bool reportOnly = false;
   std::vector<std::string> commandLine;  // this invocation's arguments (argv), for the plan's lines
