@@ -27,8 +27,11 @@ MachineMix machineMix(const std::vector<nlohmann::json>& summaries) {
       addOnce(mix.hosts, "unknown");
       continue;
     }
-    addOnce(mix.kinds, m.value("cpu_model", "?") + ", " + std::to_string(m.value("threads_used", 0)) + " threads, " +
-                           m.value("backend", "?") + " " + m.value("device", "?"));
+    const std::string backend = m.value("backend", "?"), device = m.value("device", "?");
+    const std::string cpu = m.value("cpu_model", "?");
+    // The CPU backend's device is the CPU itself: named once.
+    addOnce(mix.kinds, cpu + ", " + std::to_string(m.value("threads_used", 0)) + " threads, " + backend +
+                           (device == cpu ? " backend" : " " + device));
     addOnce(mix.hosts, m.value("host", "?"));
   }
   std::sort(mix.kinds.begin(), mix.kinds.end());
