@@ -170,7 +170,7 @@ TEST_CASE("a claim from another host is respected while its heartbeat goes on an
     CHECK(entry.path().filename().string().rfind(".claim", 0) != 0);  // no stale claim left aside
 }
 
-TEST_CASE("dse --report-only ranks what finished, says what is missing and when machines were mixed",
+TEST_CASE("dse and profile --report-only say what is missing and when machines were mixed",
           "[tools][system]") {
   const std::string dir = sb::test::scratchDir("cli_matrix_dse");
   REQUIRE(runCommand(kTool + " synth --out " + dir + "/seq --builtin-frames 4 --no-noise --width 160 --height 120 "
@@ -218,6 +218,29 @@ TEST_CASE("dse --report-only ranks what finished, says what is missing and when 
   CHECK_THAT(profile.output, Catch::Contains("2 of 2 runs missing"));
   CHECK_THAT(profile.output, Catch::Contains("the table needs every setting on every profiling sequence"));
   CHECK_FALSE(fs::exists(dir + "/profile/runs/seq"));  // nothing run
+
+  // Its table, once every run is done, says when its speedups were timed on different machines (20 frames:
+  // enough camera motion for a defined ATE).
+  REQUIRE(runCommand(kTool + " synth --out " + dir + "/seq20 --builtin-frames 20 --no-noise --width 160 --height "
+                             "120 --fx 131 --fy 131").exitCode == 0);
+  const std::string profileCmd = kTool + " profile " + dir + "/seq20 --out " + dir + "/profile20 --config " + dir +
+                                 "/small.json --csr 8 --icp 1e-5 --pd0 4 --ir 1 --threads 1";
+  const auto full = runCommand(profileCmd);
+  INFO(full.output);
+  REQUIRE(full.exitCode == 0);
+  CHECK_FALSE(readJson(dir + "/profile20/tc_table.json").contains("mixed_machines"));
+  const fs::path profiled = fs::directory_iterator(dir + "/profile20/runs/seq20")->path() / "summary.json";
+  auto timed = readJson(profiled.string());
+  timed["machine"]["backend"] = "opencl";
+  timed["machine"]["device"] = "Mali-T628 (test)";
+  std::ofstream(profiled) << timed.dump(2);
+  const auto table = runCommand(profileCmd + " --report-only");
+  INFO(table.output);
+  REQUIRE(table.exitCode == 0);
+  CHECK_THAT(table.output, Catch::Contains("Mixed machines"));
+  const auto tc = readJson(dir + "/profile20/tc_table.json");
+  CHECK_THAT(tc.at("mixed_machines").get<std::string>(), Catch::Contains("the speedups and the Pareto front"));
+  CHECK_THAT(tc.at("mixed_machines").get<std::string>(), Catch::Contains("opencl Mali-T628 (test)"));
 }
 
 TEST_CASE("a worker's claim is kept alive by its heartbeat while its run goes on", "[tools][system]") {
