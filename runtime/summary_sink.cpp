@@ -1,7 +1,10 @@
 #include "runtime/summary_sink.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <fstream>
+#include <thread>
 
 #include "core/error.h"
 #include "runtime/frame_log_sink.h"
@@ -46,6 +49,32 @@ nlohmann::json RunStats::toJson() const {
   j["knob_frames"] = knobCounts;
   j["controller_frames"] = controllerCounts;
   return j;
+}
+
+std::string cpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string fallback;
+  for (std::string line; std::getline(in, line);) {
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::string key = line.substr(0, colon), value = line.substr(colon + 1);
+    while (!key.empty() && (key.back() == ' ' || key.back() == '\t')) key.pop_back();
+    while (!value.empty() && value.front() == ' ') value.erase(0, 1);
+    if (key == "model name" && !value.empty()) return value;
+    if ((key == "Hardware" || key == "Processor") && fallback.empty()) fallback = value;
+  }
+  return fallback.empty() ? "unknown" : fallback;
+}
+
+nlohmann::json machineJson(unsigned threadsUsed, const std::string& backend, const std::string& device) {
+  char host[256] = {};
+  gethostname(host, sizeof(host) - 1);
+  return {{"host", std::string(host)},
+          {"cpu_model", cpuModel()},
+          {"cores_online", std::thread::hardware_concurrency()},
+          {"threads_used", threadsUsed},
+          {"backend", backend},
+          {"device", device}};
 }
 
 SummarySink::SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra)

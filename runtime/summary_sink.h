@@ -32,6 +32,14 @@ struct RunStats {
   nlohmann::json toJson() const;
 };
 
+// Where a run was timed, for summary.json's "machine": host name, CPU model (/proc/cpuinfo), cores online,
+// the worker threads the run used, and the compute backend and its device. Runs timed on different machines
+// are not comparable; bench, dse and profile say so when they mix them.
+nlohmann::json machineJson(unsigned threadsUsed, const std::string& backend, const std::string& device);
+// The CPU model of this machine ("model name" in /proc/cpuinfo, or the "Hardware"/"Processor" line on ARM;
+// "unknown" when none).
+std::string cpuModel();
+
 class SummarySink final : public OutputSink {
  public:
   // `groundTruthPath`: TUM trajectory to compute the ATE against ("" = none). `extra` keys are written as

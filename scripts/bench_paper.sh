@@ -15,6 +15,12 @@
 #   --jobs N   runs in parallel (default 2), each with one worker thread
 #   --quick    2-setting dse and profile grids instead of the full ones (with --frames: a smoke test)
 #   --plan     print the sequences and how many runs remain, then stop
+#   --emit-plan FILE  for a cluster (README "On a cluster"): render the sequences here, then write the
+#              runs of the next stage as one plan, one self-contained command per line, for Slurm
+#              (scripts/slurm_run.sbatch) or GNU parallel, and stop. Stage 1 is every dse and profile run
+#              (about 1,200 of the ~1,350); once they are all complete, the next call writes their
+#              results (best.json, tc_table.json) and stage 2, the bench runs. After stage 2 ran, the call
+#              without --emit-plan runs nothing more and writes the report.
 #
 # Resumable: rendered sequences are kept (each is rendered into NAME.partial and renamed when complete),
 # and dse, profile and bench skip the runs whose summary.json says complete; re-running the same command
@@ -60,7 +66,8 @@
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 
-frames=0 jobs=2 quick=0 plan=0
+frames=0 jobs=2 quick=0 plan=0 emit_plan=""
+bench_args=()
 positional=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -68,6 +75,7 @@ while [ $# -gt 0 ]; do
     --jobs) jobs=$2; shift 2 ;;
     --quick) quick=1; shift ;;
     --plan) plan=1; shift ;;
+    --emit-plan) emit_plan=$(realpath -m "$2"); shift 2 ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     -*) echo "bench_paper: unknown option '$1' (see --help)" >&2; exit 2 ;;
     *) positional+=("$1"); shift ;;
@@ -178,15 +186,43 @@ for name in "${to_render[@]}"; do
   mv "$dir.partial" "$dir"
 done
 
+# --emit-plan: the next stage's runs as one plan, instead of running them.
+dse_command() { echo "$bin" dse "${paths[$1]}" --out "$out/dse/${names[$1]}" "${dse_grid[@]}" --frames "$frames" --threads 1; }
+profile_command() {
+  local sequence=$profile_real
+  [ "$1" = synth ] && sequence=$profile_synth
+  echo "$bin" profile "$sequence" --out "$out/profile-$1" "${profile_grid[@]}" --frames "$frames" --threads 1
+}
+if [ -n "$emit_plan" ]; then
+  mkdir -p "$(dirname "$emit_plan")"
+  : > "$emit_plan.partial"
+  if [ "$dse_done" -lt "$dse_total" ] || [ "$profile_done" -lt "$profile_total" ]; then
+    stage="1 (dse and profile)"
+    for i in "${!names[@]}"; do
+      $(dse_command "$i") --plan "$out/plans/dse-${names[$i]}.txt" > /dev/null
+      cat "$out/plans/dse-${names[$i]}.txt" >> "$emit_plan.partial"
+    done
+    for set in real synth; do
+      $(profile_command "$set") --plan "$out/plans/profile-$set.txt" > /dev/null
+      cat "$out/plans/profile-$set.txt" >> "$emit_plan.partial"
+    done
+  else
+    stage="2 (bench)"
+    for i in "${!names[@]}"; do $(dse_command "$i") --report-only > /dev/null; done
+    for set in real synth; do $(profile_command "$set") --report-only > /dev/null; done
+    bench_args=(--plan "$out/plans/bench.txt")
+  fi
+fi
+
 # 2. The offline column: the best fixed setting per sequence.
-for i in "${!names[@]}"; do
+[ -n "$emit_plan" ] || for i in "${!names[@]}"; do
   echo "bench_paper: dse ${names[$i]}"
   "$bin" dse "${paths[$i]}" --out "$out/dse/${names[$i]}" "${dse_grid[@]}" --frames "$frames" --jobs "$jobs" \
     --threads 1
 done
 
 # 3. The tc controller's tables, one per profiling set.
-for set in real synth; do
+[ -n "$emit_plan" ] || for set in real synth; do
   sequence=$profile_real
   [ "$set" = synth ] && sequence=$profile_synth
   echo "bench_paper: profile set $set on ${sequence##*/}"
@@ -195,9 +231,22 @@ for set in real synth; do
 done
 
 # 4. Every sequence under every controller, and the report.
+if [ -n "$emit_plan" ] && [ "${bench_args[0]:-}" != --plan ]; then
+  mv "$emit_plan.partial" "$emit_plan"
+  echo "bench_paper: stage $stage: $(wc -l < "$emit_plan") runs in $emit_plan (Slurm: scripts/slurm_run.sbatch," \
+       "GNU parallel: parallel --will-cite < $emit_plan); when they are done, run the same --emit-plan again"
+  exit 0
+fi
 echo "bench_paper: bench"
 "$bin" bench "${paths[@]}" --out "$out/bench" --controllers "$controllers" --dse-dir "$out/dse" \
   --tc-table real="$out/profile-real/tc_table.json" --tc-table synth="$out/profile-synth/tc_table.json" \
   --tc-velocities "$tc_velocities" --plot-sequence stress-bursts \
-  --frames "$frames" --jobs "$jobs" --threads 1 > "$out/bench.log"
+  --frames "$frames" --jobs "$jobs" --threads 1 "${bench_args[@]}" > "$out/bench.log"
+if [ -n "$emit_plan" ]; then
+  mv "$out/plans/bench.txt" "$emit_plan" && rm -f "$emit_plan.partial"
+  echo "bench_paper: stage $stage: $(wc -l < "$emit_plan") runs in $emit_plan (Slurm: scripts/slurm_run.sbatch," \
+       "GNU parallel: parallel --will-cite < $emit_plan); when they are done, scripts/bench_paper.sh without" \
+       "--emit-plan writes the report"
+  exit 0
+fi
 echo "bench_paper: done; report in $out/bench/report.md and $out/bench/report.html (bench output: $out/bench.log)"

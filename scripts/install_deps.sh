@@ -14,6 +14,8 @@ packages=(
   libusb-1.0-0-dev                               # SmartPower (v1) HID meter
   libopenni2-dev                                 # live depth cameras
   chromium                                       # report tests: render the HTML run report headless
+  munge slurmctld slurmd slurm-client            # tests/tools/test_cluster.sh: the matrix as a Slurm array job
+  parallel                                       # the matrix on GNU parallel (scripts/parallel_matrix.sh, its test)
 )
 
 missing=()

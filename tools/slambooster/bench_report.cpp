@@ -220,6 +220,7 @@ std::vector<BenchSection> benchSections(const BenchResults& r) {
 
 std::string benchMarkdown(const BenchResults& r, const std::vector<BenchSection>& sections) {
   std::string md = "# slambooster bench\n\n" + intro(r) + "\n\n";
+  for (const std::string& note : r.notes) md += "> " + note + "\n\n";
   for (const BenchSection& s : sections) {
     md += "## " + s.title + "\n\n";
     if (!s.before.empty()) md += s.before + "\n\n";
@@ -241,6 +242,7 @@ std::string writeBenchHtml(const BenchResults& r, const std::vector<BenchSection
                            const BenchFigures& figures) {
   report::HtmlPage page("slambooster bench: " + fs::path(r.outDir).lexically_normal().filename().string());
   page.paragraph(intro(r));
+  for (const std::string& note : r.notes) page.paragraph(note);
   for (const BenchSection& s : sections) {
     page.heading(2, s.title);
     if (!s.before.empty()) page.paragraph(plain(s.before));

@@ -48,6 +48,8 @@ struct BenchResults {
   std::vector<BenchTcSet> tcSets;    // --tc-table, command-line order; empty = no TC table
   std::vector<double> tcVelocities;  // m/frame
   std::string plotSequence;          // the sequence of the per-frame trace
+  // Sentences above the tables: the machines the runs were timed on (mixed machines said so), missing runs.
+  std::vector<std::string> notes;
 
   // The cell, or an absent one.
   BenchCell cell(const std::string& sequence, const std::string& label) const;

@@ -15,6 +15,7 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "controller/tc_table.h"
@@ -26,6 +27,8 @@
 #include "tools/slambooster/bench_plots.h"
 #include "tools/slambooster/bench_report.h"
 #include "tools/slambooster/commands.h"
+#include "tools/slambooster/machines.h"
+#include "tools/slambooster/matrix_plan.h"
 #include "tools/slambooster/run_jobs.h"
 
 namespace sb::cli {
@@ -45,6 +48,7 @@ struct BenchOptions {
   int jobs = 1;
   unsigned threads = 1;
   bool quiet = false;
+  MatrixMode matrix;  // --plan, --run-index, --shard, --report-only
 };
 
 nlohmann::json readJsonFile(const std::string& path) {
@@ -72,7 +76,7 @@ std::string writeColumnConfig(const BenchOptions& o, const std::string& label, c
     if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '.') ch = '_';
   const std::string path = o.out + "/configs/" + file + ".json";
   fs::create_directories(o.out + "/configs");
-  std::ofstream(path) << j.dump(2) << "\n";
+  writeFileAtomically(path, j.dump(2) + "\n");  // array tasks write the same configs at once
   return path;
 }
 
@@ -113,6 +117,12 @@ void writeText(const std::string& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
   if (!out) throw Error("cannot write '" + path + "'");
+}
+
+std::string missingList(const std::vector<std::string>& missing) {
+  std::string text;
+  for (size_t i = 0; i < missing.size() && i < 20; ++i) text += (i ? ", " : "") + missing[i];
+  return missing.size() > 20 ? text + " and " + std::to_string(missing.size() - 20) + " more" : text;
 }
 
 void benchCommand(const BenchOptions& o) {
@@ -160,7 +170,10 @@ void benchCommand(const BenchOptions& o) {
   if (!o.powerConfig.empty() && o.jobs > 1)
     std::cerr << "slambooster bench: --power: running one job at a time (not " << o.jobs
               << "), so that each run's energy is its own\n";
-  runJobs(jobs, o.powerConfig.empty() ? o.jobs : 1, o.quiet);
+  const int parallel = o.powerConfig.empty() ? o.jobs : 1;
+  if (runMatrixPart(o.matrix, jobs, parallel, o.quiet)) return;
+  if (!o.matrix.reportOnly) runJobs(jobs, parallel, o.quiet);
+  const std::vector<std::string> missing = missingRuns(jobs, "slambooster bench");
 
   // Evaluate every run.
   BenchResults r;
@@ -175,19 +188,26 @@ void benchCommand(const BenchOptions& o) {
   std::vector<std::string> allLabels = labels;
   if (r.offline) allLabels.push_back("offline");
   std::map<std::string, std::string> referenceOf;
+  std::vector<nlohmann::json> summaries;
   std::ofstream csv(o.out + "/results.csv");
   csv << "sequence,controller,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,reference,controller_ms_per_frame,joules_per_frame\n";
   for (const std::string& name : r.sequences) {
     const bool ownTruth = !groundTruth[name].empty();
     r.ownTruth[name] = ownTruth;
     referenceOf[name] = ownTruth ? groundTruth[name] : dirOf[{name, "accurate"}] + "/trajectory.tum";
-    const Trajectory reference = readTumTrajectory(referenceOf[name]);
+    std::optional<Trajectory> reference;
+    try {
+      reference = readTumTrajectory(referenceOf[name]);
+    } catch (const Error& e) {  // --report-only before the ACCURATE run finished
+      std::cerr << "slambooster bench: no ATE for " << name << ": " << e.what() << "\n";
+    }
     for (const std::string& label : allLabels) {
-      if (!dirOf.count({name, label})) continue;
+      if (!dirOf.count({name, label}) || !jobDone(dirOf[{name, label}])) continue;  // missing: listed above
       BenchCell c;
       c.present = true;
       c.dir = dirOf[{name, label}];
       const nlohmann::json s = readSummary(c.dir);
+      summaries.push_back(s);
       c.frames = s["frames"];
       c.tracked = s["tracked_percent"];
       c.ms = s["computation_ms_per_frame"];
@@ -195,7 +215,8 @@ void benchCommand(const BenchOptions& o) {
       if (s.contains("energy") && s["energy"].value("joules_per_frame", nlohmann::json()).is_number())
         c.joulesPerFrame = s["energy"]["joules_per_frame"].get<double>();
       try {
-        c.ateM = computeAte(readTumTrajectory(c.dir + "/trajectory.tum"), reference).rmse;
+        if (!reference) throw Error("no reference trajectory");
+        c.ateM = computeAte(readTumTrajectory(c.dir + "/trajectory.tum"), *reference).rmse;
       } catch (const Error& e) {
         c.ateM = NAN;
         std::cerr << "slambooster bench: no ATE for " << c.dir << ": " << e.what() << "\n";
@@ -213,6 +234,11 @@ void benchCommand(const BenchOptions& o) {
     }
   }
 
+  const MachineMix machines = machineMix(summaries);
+  if (!machines.kinds.empty()) r.notes.push_back(machines.note("the tables and plots"));
+  if (!missing.empty())
+    r.notes.push_back("Incomplete: " + std::to_string(missing.size()) + " of " + std::to_string(jobs.size()) +
+                      " runs have not finished (shown as -): " + missingList(missing) + ".");
   const std::vector<BenchSection> sections = benchSections(r);
   const std::string md = benchMarkdown(r, sections);
   std::ofstream(o.out + "/report.md") << md;
@@ -236,7 +262,7 @@ void benchCommand(const BenchOptions& o) {
 
 }  // namespace
 
-void addBenchCommand(CLI::App& app) {
+void addBenchCommand(CLI::App& app, const std::vector<std::string>& commandLine) {
   auto o = std::make_shared<BenchOptions>();
   auto* sub = app.add_subcommand("bench", "Run sequences x controllers and write the paper's tables and plots");
   sub->add_option("sequences", o->sequences, "Sequences (TUM layout or .raw)")->required();
@@ -258,6 +284,7 @@ void addBenchCommand(CLI::App& app) {
                   "Power meter config (config/power.json keys) for every run: J/frame in results.csv and the main table\n"
                   "(runs then go one at a time: one meter cannot tell parallel runs apart)");
   sub->add_flag("--quiet", o->quiet, "No progress");
+  addMatrixOptions(*sub, o->matrix, commandLine);
   sub->callback([o] { benchCommand(*o); });
 }
 

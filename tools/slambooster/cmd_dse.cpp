@@ -23,6 +23,8 @@
 
 #include "core/error.h"
 #include "tools/slambooster/commands.h"
+#include "tools/slambooster/machines.h"
+#include "tools/slambooster/matrix_plan.h"
 #include "tools/slambooster/run_jobs.h"
 
 namespace sb::cli {
@@ -42,6 +44,7 @@ struct DseOptions {
   unsigned threads = 1;
   bool noPrune = false;
   bool quiet = false;
+  MatrixMode matrix;  // --plan, --run-index, --shard, --report-only
 };
 
 // Within the bound: ATE defined and under it, enough frames tracked, and run to the end.
@@ -100,14 +103,19 @@ void dseCommand(const DseOptions& o) {
   }
   std::vector<Job> ordered;
   for (size_t i : cheapestFirst(grid)) ordered.push_back(jobs[i]);
-  runJobs(ordered, o.jobs, o.quiet);
+  if (runMatrixPart(o.matrix, ordered, o.jobs, o.quiet)) return;
+  if (!o.matrix.reportOnly) runJobs(ordered, o.jobs, o.quiet);
+  const std::vector<std::string> missing = missingRuns(ordered, "slambooster dse");
 
+  std::vector<nlohmann::json> summaries;
   std::ofstream csv(o.out + "/results.csv");
   csv << "knobs,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,within_bound,stopped_at_frame\n";
   nlohmann::json best = nullptr;
   size_t stopped = 0;
   for (size_t i = 0; i < grid.size(); ++i) {
+    if (!jobDone(jobs[i].outDir)) continue;  // missing: listed above, and in best.json
     const nlohmann::json s = readSummary(jobs[i].outDir);
+    summaries.push_back(s);
     const bool wasStopped = s.contains("stopped");
     stopped += wasStopped;
     // With ground truth, a run whose ATE is undefined (e.g. tracking never moved the camera) is out of bound.
@@ -126,7 +134,21 @@ void dseCommand(const DseOptions& o) {
   const nlohmann::json result = {{"sequence", o.sequence}, {"max_ate_m", o.maxAteM},
                                  {"min_tracked_percent", o.minTrackedPercent}, {"frames", o.frames},
                                  {"settings", grid.size()}, {"stopped_early", stopped}, {"best", best}};
-  std::ofstream(o.out + "/best.json") << result.dump(2) << "\n";
+  nlohmann::json withContext = result;
+  // Where the settings were timed; ranking across kinds of machine is said, not hidden.
+  const MachineMix machines = machineMix(summaries);
+  withContext["machines"] = machines.kinds;
+  withContext["hosts"] = machines.hosts;
+  if (machines.mixed()) {
+    withContext["mixed_machines"] = machines.note("the settings' ranking and the best setting");
+    std::cout << withContext["mixed_machines"].get<std::string>() << "\n";
+  }
+  if (!missing.empty()) {
+    withContext["missing_runs"] = missing;
+    std::cout << "incomplete: " << missing.size() << " of " << grid.size()
+              << " settings have not finished; the best is the best of those that did\n";
+  }
+  std::ofstream(o.out + "/best.json") << withContext.dump(2) << "\n";
   if (stopped)
     std::cout << stopped << " of " << grid.size()
               << " settings stopped early, slower than a setting within the bound (--no-prune runs them to the end)\n";
@@ -141,7 +163,7 @@ void dseCommand(const DseOptions& o) {
 
 }  // namespace
 
-void addDseCommand(CLI::App& app) {
+void addDseCommand(CLI::App& app, const std::vector<std::string>& commandLine) {
   auto o = std::make_shared<DseOptions>();
   auto* sub = app.add_subcommand("dse", "Exhaustive search of fixed knob settings on one sequence (offline best)");
   sub->add_option("sequence", o->sequence, "Sequence with ground truth")->required();
@@ -160,6 +182,7 @@ void addDseCommand(CLI::App& app) {
                 "run every setting to the end (default: stop a run once it is slower than the fastest setting\n"
                 "within the bound so far)");
   sub->add_flag("--quiet", o->quiet, "no progress");
+  addMatrixOptions(*sub, o->matrix, commandLine);
   sub->callback([o] { dseCommand(*o); });
 }
 

@@ -12,6 +12,8 @@
 #include "controller/tc_table.h"
 #include "core/error.h"
 #include "tools/slambooster/commands.h"
+#include "tools/slambooster/machines.h"
+#include "tools/slambooster/matrix_plan.h"
 #include "tools/slambooster/run_jobs.h"
 
 namespace sb::cli {
@@ -29,6 +31,7 @@ struct ProfileOptions {
   int jobs = 1;
   unsigned threads = 1;
   bool quiet = false;
+  MatrixMode matrix;  // --plan, --run-index, --shard, --report-only
 };
 
 void profileCommand(const ProfileOptions& o) {
@@ -46,7 +49,12 @@ void profileCommand(const ProfileOptions& o) {
       if (!o.config.empty()) j.runArgs.insert(j.runArgs.end(), {"--config", o.config});
       jobs.push_back(j);
     }
-  runJobs(jobs, o.jobs, o.quiet);
+  if (runMatrixPart(o.matrix, jobs, o.jobs, o.quiet)) return;
+  if (!o.matrix.reportOnly) runJobs(jobs, o.jobs, o.quiet);
+  if (!missingRuns(jobs, "slambooster profile").empty())
+    throw Error("profile: the table needs every setting on every profiling sequence; run the missing runs (the "
+                "same command without --report-only, or the plan's lines for them), then report again");
+  std::vector<nlohmann::json> summaries;
 
   std::vector<TcEntry> candidates;
   double referenceMs = 0;
@@ -56,6 +64,7 @@ void profileCommand(const ProfileOptions& o) {
     bool ateDefined = true;
     for (size_t s = 0; s < o.sequences.size(); ++s) {
       const nlohmann::json summary = readSummary(jobs[s * grid.size() + g].outDir);
+      summaries.push_back(summary);
       if (!summary.contains("ate") && !summary.contains("ate_error"))
         throw Error("profile needs ground truth: '" + o.sequences[s] + "' gave no ATE");
       e.msPerFrame += summary["computation_ms_per_frame"].get<double>() / double(o.sequences.size());
@@ -81,7 +90,15 @@ void profileCommand(const ProfileOptions& o) {
   table.sequences = o.sequences;
   table.entries = paretoFront(candidates);
   const std::string path = o.out + "/tc_table.json";
-  std::ofstream(path) << tcTableToJson(table).dump(2) << "\n";
+  nlohmann::json tableJson = tcTableToJson(table);
+  const MachineMix machines = machineMix(summaries);
+  tableJson["machines"] = machines.kinds;  // where the speedups were timed (the tc controller ignores it)
+  tableJson["hosts"] = machines.hosts;
+  if (machines.mixed()) {
+    tableJson["mixed_machines"] = machines.note("the speedups and the Pareto front");
+    std::cout << tableJson["mixed_machines"].get<std::string>() << "\n";
+  }
+  std::ofstream(path) << tableJson.dump(2) << "\n";
   std::cout << std::fixed;
   for (const TcEntry& e : table.entries)
     std::cout << std::setprecision(2) << "speedup " << e.speedup << "  ATE " << e.ateM * 100 << " cm  "
@@ -91,7 +108,7 @@ void profileCommand(const ProfileOptions& o) {
 
 }  // namespace
 
-void addProfileCommand(CLI::App& app) {
+void addProfileCommand(CLI::App& app, const std::vector<std::string>& commandLine) {
   auto o = std::make_shared<ProfileOptions>();
   auto* sub = app.add_subcommand("profile", "Build the tc controller's configuration table from profiling sequences");
   sub->add_option("sequences", o->sequences, "Profiling sequences (with ground truth)")->required();
@@ -105,6 +122,7 @@ void addProfileCommand(CLI::App& app) {
   sub->add_option("--jobs", o->jobs, "runs in parallel")->check(CLI::Range(1, 256));
   sub->add_option("--threads", o->threads, "worker threads per run");
   sub->add_flag("--quiet", o->quiet, "no progress");
+  addMatrixOptions(*sub, o->matrix, commandLine);
   sub->callback([o] { profileCommand(*o); });
 }
 

@@ -2,10 +2,13 @@
 // knobs) and writes the trajectory, a per-frame log, a summary (with ATE when the sequence has ground truth),
 // a rendered model and, on request, a mesh. The frame loop and the outputs are runtime/'s.
 
+#include <fcntl.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -26,6 +29,7 @@
 #include "mesh/marching_cubes.h"
 #include "mesh/ply_writer.h"
 #include "pipeline/config.h"
+#include "pipeline/cpu_backend.h"
 #include "pipeline/pipeline.h"
 #include "report/run_report.h"
 #include "power/power_config.h"
@@ -160,6 +164,25 @@ void printProgress(size_t done, size_t total, double msPerFrame) {
   std::cerr << "  " << std::fixed << std::setprecision(1) << msPerFrame << " ms/frame" << std::flush;
 }
 
+// Writes the file's data through to its disk or file server (fsync; the page cache is the host's, so any
+// process of this host may do it for another's writes).
+void syncFile(const std::string& path) {
+  const int fd = open(path.c_str(), O_RDONLY);
+  if (fd < 0) throw Error("cannot open '" + path + "' to sync it: " + std::strerror(errno));
+  const int failed = fsync(fd);
+  close(fd);
+  if (failed != 0) throw Error("cannot sync '" + path + "' to disk: " + std::strerror(errno));
+}
+
+// Where this run is timed (summary.json "machine"): the CPU backend runs on this CPU; for OpenCL the device
+// is named by the config's selectors (the backend logs the device it picked in run.log).
+nlohmann::json machineOf(Pipeline& pipeline, const PipelineConfig& config, unsigned threads) {
+  if (dynamic_cast<CpuBackend*>(&pipeline.backend())) return machineJson(threads, "cpu", cpuModel());
+  const std::string platform = config.openclPlatform.empty() ? "first with a GPU" : config.openclPlatform;
+  const std::string device = config.openclDevice.empty() ? "first GPU" : config.openclDevice;
+  return machineJson(threads, "opencl", "platform " + platform + ", device " + device);
+}
+
 void runCommand(const RunOptions& o) {
   SequenceOptions seqOptions;
   seqOptions.maxFrames = o.frames;
@@ -178,6 +201,7 @@ void runCommand(const RunOptions& o) {
   extra["knobs"] = knobsToJson(runner.nextKnobs());
   extra["config"] = configToJson(config);
   extra["threads"] = pool.threadCount();
+  extra["machine"] = machineOf(*pipeline, config, pool.threadCount());
   const StandardOutputs outputs =
       addStandardOutputs(runner, o.out, info.groundTruthPath, extra,
                          "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
@@ -218,7 +242,6 @@ void runCommand(const RunOptions& o) {
   if (stopped)  // complete as asked, but not the whole sequence: its ATE and times cover the frames run
     outputs.summary->setExtra("stopped", {{"at_frame", count}, {"limit_ms", o.stopAfterMs},
                                           {"computation_ms", stats.stageSums.computationMs()}});
-  outputs.summary->setExtra("complete", true);  // `slambooster bench` / dse / profile skip complete runs
 
   const Image<uint8_t> model =
       o.modelView == "overview" ? pipeline->renderModel(overviewPose(config), 1) : pipeline->renderModel(1);
@@ -231,6 +254,12 @@ void runCommand(const RunOptions& o) {
     outputs.summary->setExtra("mesh_triangles", mesh.triangles.size());
   }
   runner.flush();
+  // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
+  // server), so that a run killed or a node lost at any point never leaves a complete summary beside a
+  // half-written trajectory. `slambooster bench` / dse / profile count (and skip) only complete runs.
+  for (const char* file : {"trajectory.tum", "frames.jsonl"}) syncFile((out / file).string());
+  outputs.summary->setExtra("complete", true);
+  outputs.summary->flush();
   const std::optional<AteResult>& ate = outputs.summary->ate();
   const nlohmann::json& summary = outputs.summary->summary();
 

@@ -3,13 +3,16 @@
 // callbacks throw sb::Error for user-facing failures (printed by main, exit code 1).
 
 #include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
 
 namespace sb::cli {
 
 void addRunCommand(CLI::App& app);
-void addBenchCommand(CLI::App& app);
-void addDseCommand(CLI::App& app);
-void addProfileCommand(CLI::App& app);
+// The matrix commands get the process's command line (argv) for the plans they write (matrix_plan.h).
+void addBenchCommand(CLI::App& app, const std::vector<std::string>& commandLine);
+void addDseCommand(CLI::App& app, const std::vector<std::string>& commandLine);
+void addProfileCommand(CLI::App& app, const std::vector<std::string>& commandLine);
 void addEvalCommand(CLI::App& app);
 void addEnergyCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);

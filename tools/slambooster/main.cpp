@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "tools/slambooster/commands.h"
@@ -13,9 +15,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string(SB_VERSION));
   sb::cli::addRunCommand(app);
-  sb::cli::addBenchCommand(app);
-  sb::cli::addDseCommand(app);
-  sb::cli::addProfileCommand(app);
+  const std::vector<std::string> commandLine(argv, argv + argc);
+  sb::cli::addBenchCommand(app, commandLine);
+  sb::cli::addDseCommand(app, commandLine);
+  sb::cli::addProfileCommand(app, commandLine);
   sb::cli::addEvalCommand(app);
   sb::cli::addEnergyCommand(app);
   sb::cli::addSynthCommand(app);

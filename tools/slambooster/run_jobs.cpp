@@ -1,6 +1,7 @@
 #include "tools/slambooster/run_jobs.h"
 
 #include <fcntl.h>
+#include <sys/prctl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,12 +19,11 @@
 #include <thread>
 
 #include "core/error.h"
+#include "tools/slambooster/claim.h"
 
 namespace sb::cli {
 
 namespace fs = std::filesystem;
-
-namespace {
 
 std::string selfExecutable() {
   char buffer[PATH_MAX];
@@ -32,35 +32,7 @@ std::string selfExecutable() {
   return std::string(buffer, static_cast<size_t>(n));
 }
 
-std::string hostName() {
-  char buffer[256] = {};
-  gethostname(buffer, sizeof(buffer) - 1);
-  return buffer;
-}
-
-// Claims `dir` for this process; false when another live process holds it.
-bool claim(const std::string& dir) {
-  const std::string path = dir + "/.claim";
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    const int fd = open(path.c_str(), O_CREAT | O_EXCL | O_WRONLY, 0644);
-    if (fd >= 0) {
-      const std::string owner = hostName() + " " + std::to_string(getpid()) + "\n";
-      (void)!write(fd, owner.data(), owner.size());
-      close(fd);
-      return true;
-    }
-    std::ifstream in(path);
-    std::string host;
-    long pid = 0;
-    in >> host >> pid;
-    if (host == hostName() && pid > 0 && kill(static_cast<pid_t>(pid), 0) != 0) {
-      fs::remove(path);  // stale claim of a process that is gone
-      continue;
-    }
-    return false;
-  }
-  return false;
-}
+namespace {
 
 pid_t spawn(const std::string& exe, const Job& job) {
   std::vector<std::string> args = {exe, "run"};
@@ -71,9 +43,14 @@ pid_t spawn(const std::string& exe, const Job& job) {
   }
   args.insert(args.end(), {"--out", job.outDir, "--quiet"});
   const std::string log = job.outDir + "/run.log";
+  const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) throw Error("cannot start a process for job " + job.id);
   if (pid == 0) {
+    // The run dies with its worker (killed, or its node's job cancelled): no orphan writes into a job
+    // directory whose claim another worker takes over.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);
     const int fd = open(log.c_str(), O_CREAT | O_TRUNC | O_WRONLY, 0644);
     if (fd >= 0) {
       dup2(fd, STDOUT_FILENO);
@@ -128,15 +105,16 @@ void runJobs(const std::vector<Job>& jobs, int parallel, bool quiet) {
   size_t finished = 0;
   bool toldWaiting = false;
   const auto start = std::chrono::steady_clock::now();
+  auto lastBeat = start;
   while (!todo.empty() || !running.empty() || !elsewhere.empty()) {
     while (!todo.empty() && static_cast<int>(running.size()) < parallel) {
       const Job& job = *todo.front();
       todo.pop_front();
       fs::create_directories(job.outDir);
-      if (!claim(job.outDir)) {
+      if (!claimJob(job.outDir)) {
         elsewhere.push_back(&job);
       } else if (jobDone(job.outDir)) {  // another process finished it and let go of it meanwhile
-        fs::remove(job.outDir + "/.claim");
+        releaseClaim(job.outDir);
       } else {
         running[spawn(exe, job)] = &job;
       }
@@ -149,20 +127,29 @@ void runJobs(const std::vector<Job>& jobs, int parallel, bool quiet) {
       if (todo.empty()) break;
       if (!quiet && !toldWaiting)
         std::cerr << "waiting for " << todo.size() << " runs that another process is running, e.g. "
-                  << todo.front()->outDir << " (taken over if that process stops; the claim of a process on "
-                  << "another host stays until its .claim file is removed)\n";
+                  << todo.front()->outDir << " (taken over if that process stops, or, on another host, if its "
+                  << "claim goes " << kClaimLeaseS << " s without a heartbeat)\n";
       toldWaiting = true;
       std::this_thread::sleep_for(std::chrono::seconds(1));
       continue;
     }
     int status = 0;
-    const pid_t pid = waitpid(-1, &status, 0);
+    const pid_t pid = waitpid(-1, &status, WNOHANG);
     if (pid < 0) break;
+    if (pid == 0) {  // all still running: keep their claims alive
+      const auto now = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(now - lastBeat).count() >= kClaimHeartbeatS) {
+        for (const auto& [child, job] : running) refreshClaim(job->outDir);
+        lastBeat = now;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      continue;
+    }
     const auto it = running.find(pid);
     if (it == running.end()) continue;
     const Job& job = *it->second;
     running.erase(it);
-    fs::remove(job.outDir + "/.claim");
+    releaseClaim(job.outDir);
     ++finished;
     const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0 && jobDone(job.outDir);
     if (!ok) failures.push_back(job.id + " (log: " + job.outDir + "/run.log)");

@@ -3,7 +3,8 @@
 // processes of this executable, `parallel` at a time, each writing into its own directory. Resumable: a job
 // whose summary.json says "complete" is skipped, so an interrupted command picks up where it stopped.
 // Several processes (even on other machines sharing the directory) may work on one job list: a job is
-// claimed with an exclusive `.claim` file, and a claim whose process is gone (same host) is taken over.
+// claimed with an exclusive `.claim` file kept alive by a heartbeat, and a claim whose process is gone or
+// whose heartbeat stopped is taken over (claim.h).
 // runJobs returns when every job is done, whoever ran it: it waits for the jobs other processes hold.
 
 #include <functional>
@@ -23,6 +24,8 @@ struct Job {
   std::function<std::vector<std::string>()> argsAtStart;
 };
 
+// The absolute path of this executable (/proc/self/exe).
+std::string selfExecutable();
 // True when `outDir/summary.json` exists and says "complete": true.
 bool jobDone(const std::string& outDir);
 // summary.json of a finished job (throws sb::Error naming the file when it is missing or broken).
