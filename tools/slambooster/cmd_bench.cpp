@@ -23,6 +23,7 @@
 #include "core/trajectory.h"
 #include "drivers/sequence.h"
 #include "eval/trajectory_eval.h"
+#include "pipeline/knobs.h"
 #include "report/run_report.h"
 #include "tools/slambooster/bench_plots.h"
 #include "tools/slambooster/bench_report.h"
@@ -41,8 +42,9 @@ struct BenchOptions {
   std::vector<std::string> sequences;
   std::string out, config, dseDir, plotSequence, powerConfig;
   std::vector<std::string> tcTables;  // --tc-table [NAME=]PATH, repeated
+  std::vector<std::string> fixedColumns;  // --fixed LABEL=KNOBS, repeated
   std::vector<std::string> controllers{"default", "accurate", "pid", "pid+surface", "pid+surface+correction",
-                                       "slambooster", "step"};
+                                       "slambooster", "adaptive", "step"};
   std::vector<double> tcVelocities{0.005, 0.01, 0.02};
   size_t frames = 0;
   int jobs = 1;
@@ -133,6 +135,17 @@ void benchCommand(const BenchOptions& o) {
   if (std::find(labels.begin(), labels.end(), "accurate") == labels.end()) labels.push_back("accurate");
   std::map<std::string, std::string> configOf;
   for (const std::string& c : labels) configOf[c] = writeColumnConfig(o, c, c, nlohmann::json::object());
+  // --fixed LABEL=KNOBS: a fixed setting as a column (e.g. the best single setting for a whole set).
+  for (const std::string& arg : o.fixedColumns) {
+    const size_t eq = arg.find('=');
+    const std::string label = eq == std::string::npos ? "" : arg.substr(0, eq);
+    if (label.empty() || eq + 1 >= arg.size())
+      throw Error("--fixed '" + arg + "': expected LABEL=KNOBS, e.g. best-single=csr=8,icp=1e-4,pd=4:5:4,ir=2");
+    if (configOf.count(label)) throw Error("--fixed '" + arg + "': the column '" + label + "' exists already");
+    const std::string knobs = formatKnobs(parseKnobs(arg.substr(eq + 1)));  // every knob, validated
+    labels.push_back(label);
+    configOf[label] = writeColumnConfig(o, label, "fixed", {{"fixed", {{"knobs", knobs}}}});
+  }
   for (const BenchTcSet& t : tables)
     for (double v : o.tcVelocities) {
       const std::string label = t.label(v);
@@ -270,6 +283,8 @@ void addBenchCommand(CLI::App& app, const std::vector<std::string>& commandLine)
   sub->add_option("--config", o->config, "Config (JSON): pipeline keys and a controller section for every run");
   sub->add_option("--controllers", o->controllers, "Controllers (columns)")->delimiter(',');
   sub->add_option("--dse-dir", o->dseDir, "Directory of `slambooster dse` outputs per sequence name (adds offline)");
+  sub->add_option("--fixed", o->fixedColumns,
+                  "LABEL=KNOBS: a column running these fixed knobs (repeatable), e.g. best-single=csr=8,icp=1e-4,ir=2");
   sub->add_option("--tc-table", o->tcTables,
                   "[NAME=]PATH: a tc configuration table from `slambooster profile` (adds the tc columns and the TC\n"
                   "table); repeat it for several profiling sets. NAME (default: the table's directory name) names\n"
