@@ -245,3 +245,25 @@ TEST_CASE("the controller's start pose is where the next frame's ICP begins; a f
   CHECK(r.T_camera_to_world.matrix() == last.matrix());
   f.pipeline->finishFrame(r);
 }
+
+TEST_CASE("a frame finished without integration keeps the reference maps when asked", "[runtime]") {
+  Fixture f;
+  const sb::Knobs k = sb::parseKnobs("csr=2,ir=1");
+  f.pipeline->processFrame(f.frame(0), sb::test::kRoomDepthScale, k);
+  sb::FrameResult r = f.pipeline->trackFrame(f.frame(1), sb::test::kRoomDepthScale, k);
+  REQUIRE(r.tracked);
+  f.pipeline->finishFrame(r, std::nullopt, sb::FrameOverrides{false, true});
+  CHECK_FALSE(r.integrated);
+  CHECK(r.times[sb::Stage::integrate] == 0.0);
+  CHECK(r.times[sb::Stage::raycast] == 0.0);  // the camera moved, but the reference stays
+  // Without keepReference a moved camera raycasts even when nothing was integrated.
+  sb::FrameResult s = f.pipeline->trackFrame(f.frame(2), sb::test::kRoomDepthScale, k);
+  REQUIRE(s.tracked);  // tracked against the reference of frame 0
+  f.pipeline->finishFrame(s, std::nullopt, sb::FrameOverrides{false, false});
+  CHECK_FALSE(s.integrated);
+  CHECK(s.times[sb::Stage::raycast] > 0.0);
+  // integrate = true fuses a frame the knobs' rate would skip (ir=1000).
+  sb::FrameResult t = f.pipeline->trackFrame(f.frame(3), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1000"));
+  f.pipeline->finishFrame(t, std::nullopt, sb::FrameOverrides{true, false});
+  CHECK(t.integrated);
+}
