@@ -14,6 +14,7 @@ AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::str
   r.integer("relax_frames", c.relaxFrames, 1, 100000);
   r.integer("correction_max_extrapolated_frames", c.maxExtrapolatedFrames, 0, 1000);
   r.boolean("predict_start", c.predictStart);
+  r.boolean("integrate_unconstrained", c.integrateUnconstrained);
   r.number("confirm_translation_m", c.confirmTranslationM, 0.0, 10.0);
   r.number("confirm_rotation_deg", c.confirmRotationDeg, 0.0, 180.0);
   c.evidence.read(r);
@@ -81,14 +82,27 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
   }
   if (o.quality.known && !o.quality.constrained) d.triggers |= kTriggerUnconstrained;
 
-  // Level: finer on doubt, unless a re-track confirmed the coarse pose; else relax.
-  // Both levels disagreeing with the prediction but agreeing with each other: the motion is real.
-  const bool secondDoubted = doubt.doubtful() && !(o.retracked && doubt.kind == Doubt::prediction);
-  const bool confirmed = o.retracked && !secondDoubted && firstPass_.kind != Doubt::failed &&
-                         translationBetween(firstPassPose_, o.pose) <= config_.confirmTranslationM &&
-                         rotationBetweenDeg(firstPassPose_, o.pose) <= config_.confirmRotationDeg;
-  const bool doubted = secondDoubted || (o.retracked && !confirmed) || (!o.retracked && doubt.doubtful());
-  if (doubted || o.retracked) d.triggers |= kTriggerDoubt;
+  // Level: finer on doubt, unless a re-track confirmed the coarse pose; else relax. An unconstrained view is
+  // a property of the scene, not of the level: it moves the level only when the finer re-track found the
+  // structure that the coarse images lost (the finer pass is constrained).
+  const auto counts = [&](const Doubt& x, bool second) {
+    if (x.kind == Doubt::unconstrained) return false;
+    // Both levels disagreeing with the prediction but agreeing with each other: the motion is real.
+    return x.doubtful() && !(second && x.kind == Doubt::prediction);
+  };
+  const bool secondDoubted = counts(doubt, o.retracked);
+  bool confirmed = false, doubted = false;
+  if (!o.retracked) {
+    doubted = counts(doubt, false);
+  } else if (firstPass_.kind == Doubt::unconstrained) {
+    doubted = secondDoubted || o.quality.constrained;
+    confirmed = !doubted;
+  } else {
+    confirmed = !secondDoubted && firstPass_.kind != Doubt::failed &&
+                translationBetween(firstPassPose_, o.pose) <= config_.confirmTranslationM &&
+                rotationBetweenDeg(firstPassPose_, o.pose) <= config_.confirmRotationDeg;
+    doubted = !confirmed;
+  }
   if (seen_ <= static_cast<size_t>(config_.bootstrapFrames)) {
     d.triggers |= kTriggerBootstrap;
   } else if (doubted) {
@@ -103,7 +117,11 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
   }
 
   // Integration: only frames that bring something new and whose pose is trusted.
-  const bool trusted = o.tracked && !corrected && (doubt.kind == Doubt::none || doubt.kind == Doubt::prediction);
+  // An unconstrained frame is fused too: its pose can be off only along motions that leave the visible
+  // geometry unchanged (sliding along the wall in view), so fusing it does not bend the model.
+  const bool trusted = o.tracked && !corrected &&
+                       (doubt.kind == Doubt::none || doubt.kind == Doubt::prediction ||
+                        (doubt.kind == Doubt::unconstrained && config_.integrateUnconstrained));
   d.integrate = gate_.decide(corrected ? *d.correctedPose : o.pose, trusted);
   if (!*d.integrate) {
     d.triggers |= kTriggerSkipIntegrate;

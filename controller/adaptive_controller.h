@@ -7,15 +7,18 @@
 //      far from the constant-velocity prediction); a doubted result at a coarse level is tracked again,
 //      `retrack_levels` finer, before anything is accepted. When the finer pass lands on the coarse pose
 //      (within confirm_translation_m / confirm_rotation_deg) the coarse result is confirmed and the level
-//      stays; otherwise, or when the frame stays doubtful, the level goes finer for `hold_frames`;
+//      stays; otherwise, or when the frame stays doubtful, the level goes finer for `hold_frames`. An
+//      unconstrained view (a blank wall) is re-tracked too, but moves the level only when the finer pass
+//      finds it constrained: finer images rarely add structure that a coarse one lacks;
 //   3. correct a pose only when ICP failed (even after the re-track): constant-velocity extrapolation for at
 //      most `correction_max_extrapolated_frames` frames, then the previous pose is held. Fast motion that ICP
 //      tracks is never replaced;
 //   4. start the next frame's ICP from the constant-velocity prediction (`predict_start`): at 0.06 m and 4
 //      degrees per frame the last pose is 10-20 cm from the truth at the scene's depth, beyond ICP's 0.1 m
 //      pairing distance, while the prediction misses only by the change of motion in one frame;
-//   5. fuse a frame only when it brings something new (integration_gate.h); a doubted or corrected frame is
-//      never fused, and a frame not fused keeps the reference maps.
+//   5. fuse a frame only when it brings something new (integration_gate.h); a corrected frame or one doubted
+//      for anything but its view or a confirmed fast motion is never fused, and a frame not fused keeps the
+//      reference maps.
 // Every decision is visible per frame: triggers (retrack, doubt, unconstrained, correction, skip_integrate)
 // and a reason whenever the level changes.
 
@@ -40,13 +43,14 @@ struct AdaptiveConfig {
   double confirmTranslationM = 0.01;  // m
   double confirmRotationDeg = 1.0;    // degrees
   bool predictStart = true;        // ICP starts from the constant-velocity prediction, not the last pose
+  bool integrateUnconstrained = true;  // fuse frames whose view left a motion free (see finish())
   EvidenceParams evidence;
   IntegrationParams integration;
   KnobLadder ladder;
 };
 
 // Section keys: bootstrap_frames, retrack_levels, hold_frames, relax_frames,
-// correction_max_extrapolated_frames, predict_start, confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams, IntegrationParams and KnobLadder.
+// correction_max_extrapolated_frames, predict_start, integrate_unconstrained, confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams, IntegrationParams and KnobLadder.
 AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::string& where);
 
 class AdaptiveController final : public Controller {

@@ -171,24 +171,36 @@ TEST_CASE("adaptive fuses a frame when it brings something new, at least every m
   CHECK(*drive.step(turn).integrate);  // 2.5 degrees
 }
 
-TEST_CASE("adaptive flags unconstrained frames and never fuses them", "[controller][adaptive]") {
-  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "hold_frames": 0})"));
+TEST_CASE("adaptive re-tracks an unconstrained view and goes finer only when that finds structure", "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "hold_frames": 0,
+      "integrate_max_gap_frames": 1})"));
   Driver drive(c);
   for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
   REQUIRE(c.level() == 3);
-  Observation first = drive.observe(moveX(0.01));
-  first.quality = {true, 0.0005, sb::WeakDirection::ty, false};
-  Decision d = c.decide(first);
-  REQUIRE(d.retrack);
-  CHECK(d.reason == "retrack: unconstrained (ty)");
-  Observation second = first;
-  second.retracked = true;
-  second.knobs = *d.retrack;
-  d = c.decide(second);
+  const auto wall = [&](bool secondConstrained) {
+    Observation first = drive.observe(moveX(0.01));
+    first.quality = {true, 0.0002, sb::WeakDirection::ty, false};
+    Decision d = c.decide(first);
+    REQUIRE(d.retrack);
+    CHECK(d.reason == "retrack: unconstrained (ty)");
+    Observation second = first;
+    second.retracked = true;
+    second.knobs = *d.retrack;
+    if (secondConstrained) second.quality = {true, 0.1, sb::WeakDirection::tx, true};
+    d = c.decide(second);
+    CHECK_FALSE(d.correctedPose);  // nothing says ICP is wrong along the motions the view does fix
+    REQUIRE(d.integrate);
+    CHECK(*d.integrate);  // off only along motions that leave the view unchanged: fused
+    return drive.finish(second, d);
+  };
+  // A blank wall at both levels: the finer level adds nothing, the level stays.
+  Decision d = wall(false);
   CHECK((d.triggers & sb::kTriggerUnconstrained) != 0);
-  CHECK_FALSE(d.correctedPose);  // ICP's pose is kept: nothing says it is wrong along the constrained motions
-  CHECK_FALSE(*d.integrate);
-  CHECK(d.level < 3);
+  CHECK(d.level == 3);
+  // Constrained at the finer level: the coarse images lost structure here, one level finer.
+  d = wall(true);
+  CHECK((d.triggers & sb::kTriggerUnconstrained) == 0);
+  CHECK(d.level == 2);
 }
 
 TEST_CASE("adaptive holds the pose once a failure lasts longer than the extrapolation limit", "[controller][adaptive]") {
