@@ -15,8 +15,9 @@ namespace sb::synth::stress {
 namespace {
 
 constexpr double kClearDepthM = 1.75;  // furniture is removed this far into the room from the stretch
-constexpr double kEdgeMarginM =
-    0.12;  // the view's edge keeps this far inside the stretch while sliding (sway, pitch)
+// While sliding, the view's edge keeps this far inside the stretch (hand sway and the pitched image corners
+// reach ~7 cm further).
+constexpr double kEdgeMarginM = 0.12;
 constexpr double kMinEndM = 1.0;                  // the stretch ends this far from a corner at least
 constexpr double kCandidateStepM = 0.2;           // spacing of the stretch positions tried along a wall
 constexpr double kEndTurnRad = 40.0 * kDegToRad;  // turned this far towards an end, furniture comes in view

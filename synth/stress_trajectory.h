@@ -22,18 +22,21 @@
 //   floor: three plane orientations, so point-to-plane ICP sees every motion. (Facing the middle of a blank
 //   wall, ICP slides along it at any precision: DEFAULT drifted 46 cm.) Then it walks back and turns to the
 //   furnished parts again.
-// - robot: a wheeled robot's camera, 1.0 m above the floor, pitched 0.15 rad down, with no sway (a 1 mm /
-//   0.002 rad chassis vibration): it drives a loop around the room's middle (two straights joined by half
-//   circles, clear of all furniture, low pieces included) at a steady 1.25 m/s (0.042 m/frame), turning
-//   with the path only (yaw, ~65 deg/s in the half circles); 1 s to start and to stop. 16 s.
-// - pan: standing at the built-in orbit's centre (hand sway only), the camera pans back and forth over the
-//   furnished south-east of the room: five yaw sweeps of 80-110 deg peaking at 63-90 deg/s (up to 3
-//   deg/frame; two reach it), with short holds between them.
-// - corridor: the camera slides sideways along a blank wall, facing it from 1.3 m, so that the wall is the
-//   only surface in view (one plane: point-to-plane ICP cannot see the slide), three times ~75 frames,
-//   between which it turns 30 deg towards the furniture beyond the stretch's end. It renders in a copy of
-//   the room with a 2.4 m stretch of wall cleared (stressScene; stress_corridor.h), and its segments name
-//   exactly the frames whose exact render sees the wall only `wall-only`.
+// - robot: a wheeled robot's camera, 1.0 m above the floor, pitched 0.3 rad down (the floor ahead and the
+//   furniture), with no sway (a 1 mm / 0.002 rad chassis vibration): it drives a loop around the room's
+//   middle (two straights joined by half circles of 0.85-1.1 m radius, the largest that keeps 0.3 m clear
+//   of all furniture, low pieces included) at 1.4 m/s (0.047 m/frame) on the straights and 1.05 m/s in the
+//   half circles (slowing over 0.5 m of straight, minimum-jerk), turning with the path only (yaw, 56-71
+//   deg/s); 1 s to start and to stop, 16 s in all.
+// - pan: standing in the free floor space 1-2 m from the furniture of the south-east corner (hand sway
+//   only), the camera pans back and forth over it: five yaw sweeps of 80-110 deg peaking at 63-90 deg/s
+//   (up to 3 deg/frame; two reach it), with short holds between them.
+// - corridor: the camera slides sideways along a blank wall, facing it from 1.3 m (level, so floor and
+//   ceiling stay out of view), so that the wall is the only surface in view (one plane: point-to-plane ICP
+//   cannot see the slide), three times for 70-80 frames; between the slides it turns 40 deg towards the
+//   furniture beyond the stretch's end and looks down at it. It renders in a copy of the room with a 2.4 m
+//   stretch of wall cleared (stressScene; stress_corridor.h), and its segments name `wall-only` exactly the
+//   frames whose exact full-size render sees that wall and nothing else.
 //
 // Every handheld motion is a minimum-jerk move between key states, so speeds are smooth and the peaks are
 // known: a move of distance d over T seconds peaks at 1.875 d / T.
@@ -73,7 +76,8 @@ struct StressParams {
   double blankSeconds = 6.0;  // seconds facing the blank stretch
   double panAlongM = 0.06;    // slide along the wall each way during the pan, metres
   // robot
-  double robotSpeedMps = 1.25;      // cruise speed, metres per second
+  double robotDriveSpeedMps = 1.4;  // on the straights, metres per second
+  double robotTurnSpeedMps = 1.05;  // in the half circles, metres per second
   double robotCameraHeightM = 1.0;  // above the floor, metres
   double robotPitchDownRad = 0.3;   // downward tilt, radians (the floor ahead and the furniture)
   double robotSeconds = 16.0;       // duration, seconds

@@ -121,7 +121,7 @@ void addSynthCommand(CLI::App& app) {
                                  "segments.csv names its parts): bursts (calm handheld motion with four 0.5 s "
                                  "bursts of up to 1.15 m/s or 55 deg/s), hard-bursts (the same with bursts of up to "
                                  "1.9 m/s or 126 deg/s), blank-wall (6 s facing a blank wall stretch at a corner), "
-                                 "robot (a wheeled robot's camera 1 m up driving a loop at 1.25 m/s), pan (yaw "
+                                 "robot (a wheeled robot's camera 1 m up driving a loop at 1.05-1.4 m/s), pan (yaw "
                                  "sweeps of up to 90 deg/s in place) or corridor (sliding along a blank wall with "
                                  "only the wall in view, three times ~75 frames; renders in the room with a 2.4 m "
                                  "stretch of wall cleared)")
