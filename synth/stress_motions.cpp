@@ -66,7 +66,7 @@ struct Loop {
 Loop robotLoop(const Scene& scene, double cameraHeightM) {
   constexpr double kRobotRadiusM = 0.3;
   constexpr double kStepM = 0.05;
-  constexpr double kMinRadiusM = 0.85;  // the half circles turn at under 85 deg/s at 1.25 m/s
+  constexpr double kMinRadiusM = 0.85;  // the half circles turn at under 71 deg/s at 1.05 m/s
   // Inside the generator's camera space (x -1.55..1.4, z -3..2.75), where only low furniture stands, around
   // the column at its north end; the largest first.
   std::vector<Loop> candidates;
