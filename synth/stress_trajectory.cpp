@@ -8,6 +8,9 @@
 #include "synth/builtin_trajectory.h"
 #include "synth/renderer.h"
 #include "synth/rng.h"
+#include "synth/stress_corridor.h"
+#include "synth/stress_motions.h"
+#include "synth/stress_moves.h"
 #include "synth/stress_views.h"
 #include "synth/synth_sequence.h"
 
@@ -15,80 +18,7 @@ namespace sb::synth {
 
 namespace {
 
-constexpr double kPi = 3.141592653589793;
-constexpr double kTwoPi = 2.0 * kPi;
-constexpr double kMinJerkPeak = 1.875;  // peak of d/dtau of the minimum-jerk profile 10t^3 - 15t^4 + 6t^5
-constexpr double kEyeHeightM = 1.35;    // camera height above the floor, metres (as the ICL-NUIM cameras)
-constexpr double kLevelPitchRad = 0.2;  // usual downward tilt of a handheld camera
-// Hand-sway frequencies (Hz), incommensurate: x, y, z, yaw, pitch, roll.
-constexpr double kSwayHz[6] = {0.37, 0.27, 0.21, 0.16, 0.23, 0.33};
-
-struct CameraState {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // metres, world
-  double yawRad = 0.0;                                 // forward (sin yaw, 0, cos yaw) before pitch
-  double pitchDownRad = kLevelPitchRad;
-};
-
-// A minimum-jerk move from the previous state to `target` over `durationS` seconds.
-struct Move {
-  const char* label;
-  double durationS;
-  CameraState target;
-};
-
-double minJerk(double tau) {
-  return tau * tau * tau * (10.0 + tau * (-15.0 + 6.0 * tau));
-}
-
-CameraState lerp(const CameraState& a, const CameraState& b, double s) {
-  return {a.position + s * (b.position - a.position), a.yawRad + s * (b.yawRad - a.yawRad),
-          a.pitchDownRad + s * (b.pitchDownRad - a.pitchDownRad)};
-}
-
-// Samples the moves at `fps` (frame i at t = i / fps, the last frame at the end of the last move) and adds
-// the hand sway (seeded phases).
-StressTrajectory play(const CameraState& start, const std::vector<Move>& moves, const StressParams& p,
-                      Rng& rng) {
-  double total = 0.0;
-  for (const Move& m : moves) total += m.durationS;
-  const size_t frames = static_cast<size_t>(std::floor(total * p.fps + 1e-9)) + 1;
-  double phase[6];
-  for (double& ph : phase) ph = rng.uniform(0.f, static_cast<float>(kTwoPi));
-  auto sway = [&](int axis, double t) { return std::sin(kTwoPi * kSwayHz[axis] * t + phase[axis]); };
-
-  StressTrajectory out;
-  out.poses.reserve(frames);
-  CameraState from = start;
-  size_t move = 0;
-  double moveStart = 0.0;
-  for (size_t i = 0; i < frames; ++i) {
-    const double t = static_cast<double>(i) / p.fps;
-    while (move + 1 < moves.size() && t >= moveStart + moves[move].durationS) {
-      from = moves[move].target;
-      moveStart += moves[move].durationS;
-      ++move;
-    }
-    const double tau = std::clamp((t - moveStart) / moves[move].durationS, 0.0, 1.0);
-    const CameraState s = lerp(from, moves[move].target, minJerk(tau));
-    TimedPose pose;
-    pose.timestamp = t;
-    pose.T_camera_to_world.linear() =
-        handheldRotation(s.yawRad + p.swayAngleRad * sway(3, t), s.pitchDownRad + p.swayAngleRad * sway(4, t),
-                         p.swayAngleRad * sway(5, t));
-    pose.T_camera_to_world.translation() =
-        s.position + p.swayPositionM * Eigen::Vector3d(sway(0, t), sway(1, t), sway(2, t));
-    out.poses.push_back(pose);
-    const std::string label = moves[move].label;
-    if (out.segments.empty() || out.segments.back().label != label) out.segments.push_back({label, i, i});
-    out.segments.back().end = i + 1;
-  }
-  return out;
-}
-
-// Camera right (image +x) in the horizontal plane for a camera facing `yaw`.
-Eigen::Vector3d lateralOf(double yaw) {
-  return {std::cos(yaw), 0.0, -std::sin(yaw)};
-}
+using namespace stress;  // CameraState, Move, play, ... (stress_moves.h)
 
 double signTowards(double offset, Rng& rng) {
   if (std::abs(offset) > 1e-9) return offset > 0 ? -1.0 : 1.0;
@@ -99,7 +29,6 @@ StressTrajectory burstsTrajectory(const Scene& scene, const StressParams& p, Rng
   constexpr int kBursts = 4;
   constexpr double kCalmDriftM = 0.08, kCalmDriftRad = 0.2, kCalmDriftPitchRad = 0.06;
   constexpr double kMaxOffsetM = 0.35, kMaxYawOffsetRad = 0.6;
-  constexpr double kFinalCalmS = 2.0;
   // The built-in orbit's centre: free floor space in every generated room; facing the south-east corner.
   const Eigen::Vector3d base(0.0, scene.roomMax.y() - kEyeHeightM, -1.2);
   const double baseYaw = 0.75 * kPi;
@@ -170,7 +99,7 @@ StressTrajectory burstsTrajectory(const Scene& scene, const StressParams& p, Rng
   last.position = 0.5 * (s.position + base);
   last.yawRad = 0.5 * (s.yawRad + baseYaw);
   last.pitchDownRad = kLevelPitchRad;
-  moves.push_back({"calm", kFinalCalmS, last});
+  moves.push_back({"calm", p.burstFinalCalmS, last});
   return play(start, moves, p, rng);
 }
 
@@ -182,18 +111,6 @@ double furnishedScore(const Renderer& renderer, const Eigen::Isometry3d& T_camer
   const ViewMetrics m = measureView(renderer, T_camera_to_world);
   if (m.validFraction < kMinValid) return -1.0;
   return m.minWindowStdM + (m.minConstraint >= kWellConstrained ? kConstrainedBonus : 0.0);
-}
-
-Eigen::Isometry3d poseOf(const CameraState& s) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = handheldRotation(s.yawRad, s.pitchDownRad, 0.0);
-  T.translation() = s.position;
-  return T;
-}
-
-// Yaw of a camera looking along the plan direction `d` (x, z).
-double yawOf(const Eigen::Vector2d& d) {
-  return std::atan2(d.x(), d.y());
 }
 
 // The blank-wall view: facing a blank stretch that ends at a room corner, from where the detector's windows
@@ -340,23 +257,50 @@ StressTrajectory blankWallTrajectory(const Scene& scene, const StressParams& p, 
 }  // namespace
 
 const std::vector<std::string>& stressNames() {
-  static const std::vector<std::string> names{"bursts", "blank-wall"};
+  static const std::vector<std::string> names{"bursts", "blank-wall", "hard-bursts",
+                                              "robot",  "pan",        "corridor"};
   return names;
 }
 
 StressKind parseStressKind(const std::string& name) {
-  if (name == "bursts") return StressKind::Bursts;
-  if (name == "blank-wall") return StressKind::BlankWall;
-  throw Error("synth: unknown stress trajectory '" + name + "'; use one of: bursts, blank-wall");
+  const std::vector<std::string>& names = stressNames();
+  const auto it = std::find(names.begin(), names.end(), name);
+  if (it != names.end()) return static_cast<StressKind>(it - names.begin());  // in StressKind's order
+  std::string known;
+  for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+  throw Error("synth: unknown stress trajectory '" + name + "'; use one of: " + known);
 }
 
 StressTrajectory stressTrajectory(StressKind kind, const Scene& scene, uint64_t seed,
                                   const StressParams& params) {
   if (!scene.hasRoom)
     throw Error("synth: stress trajectories need a generated room (scene '" + scene.name + "' has none)");
-  Rng rng(seed * 0x9E3779B97F4A7C15ull + (kind == StressKind::Bursts ? 0xB0257ull : 0xB1A4Cull));
-  return kind == StressKind::Bursts ? burstsTrajectory(scene, params, rng)
-                                    : blankWallTrajectory(scene, params, rng);
+  constexpr uint64_t kSalts[] = {0xB0257ull, 0xB1A4Cull, 0x4A2DB0257ull, 0x20B07ull, 0x9A4ull, 0xC022D02ull};
+  Rng rng(seed * 0x9E3779B97F4A7C15ull + kSalts[static_cast<int>(kind)]);
+  switch (kind) {
+    case StressKind::Bursts:
+      return burstsTrajectory(scene, params, rng);
+    case StressKind::BlankWall:
+      return blankWallTrajectory(scene, params, rng);
+    case StressKind::HardBursts: {
+      StressParams hard = params;
+      hard.burstSpeedMps = params.hardBurstSpeedMps;
+      hard.burstRateDegps = params.hardBurstRateDegps;
+      hard.burstFinalCalmS = params.hardBurstFinalCalmS;
+      return burstsTrajectory(scene, hard, rng);
+    }
+    case StressKind::Robot:
+      return stress::robotTrajectory(scene, params, rng);
+    case StressKind::Pan:
+      return stress::panTrajectory(scene, params, rng);
+    case StressKind::Corridor:
+      return stress::corridorTrajectory(scene, params, rng);
+  }
+  throw Error("synth: unknown stress kind " + std::to_string(static_cast<int>(kind)));
+}
+
+Scene stressScene(StressKind kind, const Scene& scene, const StressParams& params) {
+  return kind == StressKind::Corridor ? stress::corridorScene(scene, params) : scene;
 }
 
 }  // namespace sb::synth

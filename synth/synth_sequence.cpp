@@ -28,13 +28,18 @@ Intrinsics iclNuimIntrinsics() {
   return k;
 }
 
-SynthResult synthesizeSequence(const Trajectory& full, const SynthOptions& options,
+SynthResult synthesizeSequence(const Trajectory& trajectory, const SynthOptions& options,
+                               const std::function<void(size_t, size_t)>& progress) {
+  if (trajectory.empty()) throw Error("synth: the trajectory has no poses; give a TUM file with at least one pose");
+  return synthesizeSequence(generateScene(options.scene, options.seed), trajectory, options, progress);
+}
+
+SynthResult synthesizeSequence(const Scene& scene, const Trajectory& full, const SynthOptions& options,
                                const std::function<void(size_t, size_t)>& progress) {
   if (full.empty()) throw Error("synth: the trajectory has no poses; give a TUM file with at least one pose");
   Trajectory trajectory = full;
   if (options.maxFrames > 0 && trajectory.size() > options.maxFrames) trajectory.resize(options.maxFrames);
 
-  const Scene scene = generateScene(options.scene, options.seed);
   for (size_t i = 0; i < trajectory.size(); ++i) {
     const Eigen::Vector3f p = trajectory[i].position().cast<float>();
     if (!scene.insideRoom(p)) {

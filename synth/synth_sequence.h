@@ -11,6 +11,7 @@
 #include "core/intrinsics.h"
 #include "core/trajectory.h"
 #include "synth/noise_model.h"
+#include "synth/scene.h"
 #include "synth/volume_hints.h"
 
 namespace sb::synth {
@@ -39,6 +40,10 @@ struct SynthResult {
 // progress(framesDone, framesTotal) is called after each written batch. Throws sb::Error (empty trajectory,
 // camera outside the room, unwritable output, ...).
 SynthResult synthesizeSequence(const Trajectory& trajectory, const SynthOptions& options,
+                               const std::function<void(size_t, size_t)>& progress = {});
+// The same in `scene` (e.g. stressScene's copy of a generated room) instead of generating options.scene;
+// options.scene and options.seed still name the sequence and seed its noise.
+SynthResult synthesizeSequence(const Scene& scene, const Trajectory& trajectory, const SynthOptions& options,
                                const std::function<void(size_t, size_t)>& progress = {});
 
 }  // namespace sb::synth

@@ -9,7 +9,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "controller/surface_detector.h"
 #include "core/error.h"
 #include "synth/builtin_trajectory.h"
 #include "synth/renderer.h"
@@ -17,101 +16,26 @@
 #include "synth/stress_trajectory.h"
 #include "synth/stress_views.h"
 #include "synth/synth_sequence.h"
+#include "tests/synth/stress_test_util.h"
 
 using namespace sb;
 using namespace sb::synth;
-
-namespace {
-
-constexpr double kFps = 30.0;
-constexpr float kClearanceM = 0.15f;  // cameras keep at least this far from walls and furniture
-constexpr double kRadToDeg = 180.0 / 3.141592653589793;
-
-// Speed into frame i (from i-1): metres per second and degrees per second.
-double speedMps(const Trajectory& t, size_t i) {
-  return (t[i].position() - t[i - 1].position()).norm() * kFps;
-}
-double rateDegps(const Trajectory& t, size_t i) {
-  const Eigen::Matrix3d delta =
-      t[i - 1].T_camera_to_world.linear().transpose() * t[i].T_camera_to_world.linear();
-  return Eigen::AngleAxisd(delta).angle() * kRadToDeg * kFps;
-}
-
-struct Peak {
-  double speedMps = 0.0, rateDegps = 0.0;
-};
-Peak peakOf(const Trajectory& t, const StressSegment& s) {
-  Peak p;
-  for (size_t i = std::max<size_t>(s.begin, 1); i < s.end; ++i) {
-    p.speedMps = std::max(p.speedMps, speedMps(t, i));
-    p.rateDegps = std::max(p.rateDegps, rateDegps(t, i));
-  }
-  return p;
-}
-
-void requireInFreeSpace(const Scene& scene, const Trajectory& t) {
-  for (size_t i = 0; i < t.size(); ++i) {
-    const Eigen::Vector3f p = t[i].position().cast<float>();
-    INFO(scene.name << " seed " << scene.seed << " frame " << i << " at " << p.transpose());
-    REQUIRE(scene.insideRoom(p, kClearanceM));
-    REQUIRE(scene.objectContaining(p, kClearanceM) < 0);
-  }
-}
-
-void requireCoversFrames(const StressTrajectory& s) {
-  REQUIRE_FALSE(s.segments.empty());
-  REQUIRE(s.segments.front().begin == 0);
-  REQUIRE(s.segments.back().end == s.poses.size());
-  for (size_t k = 1; k < s.segments.size(); ++k) REQUIRE(s.segments[k].begin == s.segments[k - 1].end);
-  for (size_t i = 0; i < s.poses.size(); ++i) REQUIRE(s.poses[i].timestamp == Approx(i / kFps));
-}
-
-bool samePoses(const Trajectory& a, const Trajectory& b) {
-  if (a.size() != b.size()) return false;
-  for (size_t i = 0; i < a.size(); ++i)
-    if (!a[i].T_camera_to_world.isApprox(b[i].T_camera_to_world, 1e-12)) return false;
-  return true;
-}
-
-// Renders every `step`-th frame of [begin, end) at 160x120 with noise; returns the fraction of those frames
-// the surface detector calls smooth, and the lowest valid-pixel fraction.
-struct ViewStats {
-  double smoothFraction = 0.0, lowestValid = 1.0;
-  double lowestConstraint = 1e9;  // measureView's minConstraint, the least over the sampled frames
-};
-ViewStats viewStats(const Scene& scene, const Trajectory& t, size_t begin, size_t end, size_t step) {
-  constexpr int kScale = 4;
-  const Intrinsics k = iclNuimIntrinsics().scaled(kScale);
-  const Renderer renderer(scene, k);
-  const Renderer coarse(scene, iclNuimIntrinsics().scaled(2 * kScale));
-  SurfaceParams surface;
-  surface.sampleStridePx = 8 / kScale;  // the default stride of the full-size frame
-  DepthMeters meters;
-  DepthRaw raw;
-  ViewStats stats;
-  size_t frames = 0, smooth = 0;
-  for (size_t i = begin; i < end; i += step, ++frames) {
-    renderer.render(t[i].T_camera_to_world, SensorModel{}, frameSeed(scene.seed, i), meters);
-    toRaw(meters, kIclDepthScale, raw);
-    smooth += detectSmoothSurface(raw, kIclDepthScale, surface).smooth;
-    size_t valid = 0;
-    for (float z : meters.pixels()) valid += z > 0.f;
-    stats.lowestValid = std::min(stats.lowestValid, static_cast<double>(valid) / meters.size());
-    stats.lowestConstraint =
-        std::min(stats.lowestConstraint, measureView(coarse, t[i].T_camera_to_world).minConstraint);
-  }
-  stats.smoothFraction = frames ? static_cast<double>(smooth) / frames : 0.0;
-  return stats;
-}
-
-}  // namespace
+using namespace sb::synth::stress_test;
 
 TEST_CASE("stress trajectories are named and deterministic for a seed", "[synth][stress]") {
-  REQUIRE(stressNames() == std::vector<std::string>{"bursts", "blank-wall"});
+  REQUIRE(stressNames() ==
+          std::vector<std::string>{"bursts", "blank-wall", "hard-bursts", "robot", "pan", "corridor"});
   REQUIRE(parseStressKind("bursts") == StressKind::Bursts);
-  REQUIRE_THROWS_WITH(parseStressKind("spin"), Catch::Contains("bursts, blank-wall"));
+  REQUIRE(parseStressKind("blank-wall") == StressKind::BlankWall);
+  REQUIRE(parseStressKind("hard-bursts") == StressKind::HardBursts);
+  REQUIRE(parseStressKind("robot") == StressKind::Robot);
+  REQUIRE(parseStressKind("pan") == StressKind::Pan);
+  REQUIRE(parseStressKind("corridor") == StressKind::Corridor);
+  REQUIRE_THROWS_WITH(parseStressKind("spin"), Catch::Contains("bursts, blank-wall, hard-bursts"));
   const Scene scene = generateScene("livingroom", 3);
-  for (StressKind kind : {StressKind::Bursts, StressKind::BlankWall}) {
+  for (StressKind kind : {StressKind::Bursts, StressKind::BlankWall, StressKind::HardBursts,
+                          StressKind::Robot, StressKind::Pan, StressKind::Corridor}) {
+    INFO(stressNames()[static_cast<size_t>(kind)]);
     const StressTrajectory a = stressTrajectory(kind, scene, 3), b = stressTrajectory(kind, scene, 3);
     REQUIRE(samePoses(a.poses, b.poses));
     REQUIRE(a.segments.size() == b.segments.size());

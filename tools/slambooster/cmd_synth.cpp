@@ -24,6 +24,12 @@ namespace sb::cli {
 
 namespace {
 
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
 struct SynthArgs {
   synth::SynthOptions options;
   std::string trajectory, stress;
@@ -37,7 +43,7 @@ struct SynthArgs {
 void runSynth(SynthArgs& a) {
   if (int(!a.trajectory.empty()) + int(a.builtinFrames > 0) + int(!a.stress.empty()) != 1) {
     throw Error("synth: give exactly one of --trajectory FILE (a TUM trajectory), --builtin-frames N (N > 0) or "
-                "--stress bursts|blank-wall");
+                "--stress NAME (" + joined(synth::stressNames()) + ")");
   }
   synth::SynthOptions& o = a.options;
   Intrinsics& k = o.intrinsics;
@@ -60,22 +66,27 @@ void runSynth(SynthArgs& a) {
 
   std::vector<synth::StressSegment> segments;
   Trajectory trajectory;
+  std::optional<synth::Scene> stressScene;  // the scene a stress sequence renders in
   if (!a.trajectory.empty()) {
     trajectory = readTumTrajectory(a.trajectory);
   } else if (a.builtinFrames > 0) {
     trajectory = synth::builtinTrajectory(a.builtinFrames);
   } else {
-    synth::StressTrajectory stress = synth::stressTrajectory(synth::parseStressKind(a.stress),
-                                                             synth::generateScene(o.scene, o.seed), o.seed);
+    const synth::StressKind kind = synth::parseStressKind(a.stress);
+    const synth::Scene room = synth::generateScene(o.scene, o.seed);
+    synth::StressTrajectory stress = synth::stressTrajectory(kind, room, o.seed);
+    stressScene = synth::stressScene(kind, room);
     trajectory = std::move(stress.poses);
     segments = std::move(stress.segments);
   }
   const bool tty = isatty(STDERR_FILENO) != 0;
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  const synth::SynthResult r = synth::synthesizeSequence(trajectory, o, [&](size_t done, size_t total) {
+  auto report = [&](size_t done, size_t total) {
     if (tty) std::fprintf(stderr, "\rsynth: frame %zu/%zu (%.1f frames/s)", done, total, done / seconds());
-  });
+  };
+  const synth::SynthResult r = stressScene ? synth::synthesizeSequence(*stressScene, trajectory, o, report)
+                                           : synth::synthesizeSequence(trajectory, o, report);
   if (tty) std::fprintf(stderr, "\n");
   std::printf("synth: wrote %zu frames of scene '%s' (seed %llu, noise %s) to %s in %.1f s\n", r.frames,
               o.scene.c_str(), static_cast<unsigned long long>(o.seed), o.sensor.noise ? "on" : "off",
@@ -106,9 +117,14 @@ void addSynthCommand(CLI::App& app) {
   auto* builtin = sub->add_option("--builtin-frames", args->builtinFrames,
                                   "Use the built-in handheld-like orbit with this many frames (30 fps)");
   auto* stress = sub->add_option("--stress", args->stress,
-                                 "Render a stress trajectory for the controller experiments (seeded by --seed): "
-                                 "bursts (calm handheld motion with four 0.5 s bursts of ~1 m/s or ~110 deg/s) or "
-                                 "blank-wall (6 s facing the room's widest blank wall stretch)")
+                                 "Render a stress trajectory for the controller experiments (seeded by --seed; "
+                                 "segments.csv names its parts): bursts (calm handheld motion with four 0.5 s "
+                                 "bursts of up to 1.15 m/s or 55 deg/s), hard-bursts (the same with bursts of up to "
+                                 "1.9 m/s or 126 deg/s), blank-wall (6 s facing a blank wall stretch at a corner), "
+                                 "robot (a wheeled robot's camera 1 m up driving a loop at 1.05-1.4 m/s), pan (yaw "
+                                 "sweeps of up to 90 deg/s in place) or corridor (sliding along a blank wall with "
+                                 "only the wall in view, three times ~75 frames; renders in the room with a 2.4 m "
+                                 "stretch of wall cleared)")
                      ->check(CLI::IsMember(synth::stressNames()));
   traj->excludes(builtin);
   traj->excludes(stress);
