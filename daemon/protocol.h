@@ -20,6 +20,8 @@ namespace sb::daemon {
 
 constexpr int kProtoMajor = 1;
 constexpr int kProtoMinor = 0;
+// Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
+constexpr int kMaxRequestDepth = 8;
 
 enum class Command { watch, poll, status, control, version };
 

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/json_text.h"
 
 namespace sb {
 
@@ -53,14 +54,7 @@ std::optional<float> readPixels(const json& j, const std::string& path, const st
 }  // namespace
 
 Calibration readCalibration(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read calibration '" + path + "': check that it exists and is readable");
-  json j;
-  try {
-    in >> j;
-  } catch (const json::exception& e) {
-    throw Error("calibration '" + path + "' is not valid JSON (" + e.what() + "); fix the file");
-  }
+  const json j = readJsonFile(path, "calibration");  // a directory, bad JSON or deep nesting: names the file
   if (!j.is_object()) throw Error("calibration '" + path + "' must hold a JSON object");
 
   Calibration c;

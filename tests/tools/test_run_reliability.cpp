@@ -1,0 +1,206 @@
+// `slambooster run` and slamboosterd when things go wrong (issue 23): SIGTERM and Ctrl-C finish the frame
+// in hand and write every output; a full disk stops the run at the first failed write with the files
+// consistent; a bad frame still leaves a summary; and SIGKILL at random moments leaves every output a
+// line-complete prefix of the run, the files agreeing within one frame.
+
+#include <signal.h>
+#include <sys/mount.h>
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "tests/daemon/process.h"
+#include "tests/support/files.h"
+#include "tests/support/run_command.h"
+#include "tests/support/test_data.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using sb::test::ChildProcess;
+using sb::test::runCommand;
+
+namespace {
+
+const std::string kTool = SB_SLAMBOOSTER_BIN;
+const std::string kDaemon = SB_SLAMBOOSTERD_BIN;
+constexpr int kFrames = 60;
+
+// A synthetic sequence of kFrames frames (320x240, 64^3 volume: tens of ms per frame), rendered once.
+struct Sequence {
+  std::string dir, path, config;
+  Sequence() {
+    dir = sb::test::scratchDir("run_reliability_seq");
+    path = dir + "/seq";
+    const auto r = runCommand(kTool + " synth --out " + path + " --builtin-frames " + std::to_string(kFrames) +
+                              " --width 320 --height 240 --fx 240 --fy 240 --threads 1");
+    if (r.exitCode != 0) throw std::runtime_error("synth failed: " + r.output);
+    config = dir + "/pipeline.json";
+    std::ofstream(config) << R"({"volume_resolution": 64, "knobs": "csr=2,ir=1"})";
+  }
+};
+
+const Sequence& sequence() {
+  static const Sequence s;
+  return s;
+}
+
+std::vector<std::string> runArgs(const std::string& out) {
+  return {kTool, "run", sequence().path, "--out", out, "--config", sequence().config, "--threads", "1", "--quiet"};
+}
+
+// Lines of a file that must consist of whole lines (every line ends in '\n'); data lines only.
+size_t wholeLines(const std::string& path, bool jsonLines) {
+  if (!fs::exists(path)) return 0;
+  const std::string text = sb::test::readText(path);
+  INFO(path);
+  CHECK((text.empty() || text.back() == '\n'));
+  std::istringstream in(text);
+  size_t n = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    if (jsonLines) {
+      INFO(line.substr(0, 200));
+      CHECK(json::parse(line, nullptr, false).is_object());
+    } else {
+      std::istringstream fields(line);
+      double v;
+      int count = 0;
+      while (fields >> v) ++count;
+      CHECK(count == 8);
+    }
+    ++n;
+  }
+  return n;
+}
+
+struct Counts {
+  size_t trajectory = 0, frames = 0;
+  std::optional<size_t> summary;  // absent before the first frame
+};
+
+// Reads the outputs in `out` and checks that they are line-complete and agree within one frame.
+Counts checkConsistent(const std::string& out) {
+  Counts c;
+  c.trajectory = wholeLines(out + "/trajectory.tum", false);
+  c.frames = wholeLines(out + "/frames.jsonl", true);
+  if (fs::exists(out + "/summary.json")) {
+    const json s = json::parse(sb::test::readText(out + "/summary.json"), nullptr, false);
+    REQUIRE(s.is_object());
+    c.summary = s["frames"].get<size_t>();
+  }
+  INFO("trajectory " << c.trajectory << ", frames.jsonl " << c.frames << ", summary "
+                     << (c.summary ? std::to_string(*c.summary) : "absent"));
+  CHECK(c.trajectory <= c.frames + 1);
+  CHECK(c.frames <= c.trajectory);
+  if (c.summary) {
+    CHECK(*c.summary + 1 >= c.trajectory);
+    CHECK(*c.summary <= c.trajectory);
+  } else {
+    CHECK(c.trajectory <= 1);
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("slambooster run: SIGTERM and SIGINT finish the frame in hand and write every output", "[tools][run]") {
+  for (const int sig : {SIGTERM, SIGINT}) {
+    const std::string out = sb::test::scratchDir("run_signal_" + std::to_string(sig));
+    ChildProcess run(runArgs(out), {}, out + ".log");
+    // Signal once a few frames are on disk.
+    for (int i = 0; i < 600 && wholeLines(out + "/frames.jsonl", true) < 5; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    run.signal(sig);
+    const int rc = run.wait(60);
+    INFO(run.log());
+    CHECK(rc == 128 + sig);
+    CHECK(run.log().find("interrupted by") != std::string::npos);
+    const Counts c = checkConsistent(out);
+    CHECK(c.trajectory == c.frames);
+    REQUIRE(c.summary);
+    CHECK(*c.summary == c.trajectory);
+    CHECK(c.trajectory >= 5);
+    CHECK(c.trajectory < static_cast<size_t>(kFrames));
+    const json summary = sb::test::readJson(out + "/summary.json");
+    CHECK(summary["complete"] == false);
+    CHECK(summary["interrupted"]["signal"] == (sig == SIGTERM ? "SIGTERM" : "SIGINT"));
+  }
+}
+
+TEST_CASE("slambooster run: a full disk stops the run at the first failed write, files consistent",
+          "[tools][run]") {
+  const std::string out = sb::test::scratchDir("run_disk_full") + "/out";
+  fs::create_directories(out);
+  if (::mount("tmpfs", out.c_str(), "tmpfs", 0, "size=48k") != 0) {
+    WARN("cannot mount a 48 KiB tmpfs (needs root): skipped");
+    return;
+  }
+  struct Unmount {
+    std::string path;
+    ~Unmount() { ::umount2(path.c_str(), MNT_DETACH); }
+  } unmount{out};
+  std::string args;
+  for (const auto& a : runArgs(out)) args += a + " ";
+  const auto r = runCommand(args);
+  INFO(r.output);
+  CHECK(r.exitCode == 1);
+  CHECK(r.output.find("No space left on device") != std::string::npos);
+  CHECK(r.output.find(out) != std::string::npos);  // the error names the file
+  const Counts c = checkConsistent(out);
+  CHECK(c.trajectory > 0);
+  CHECK(c.trajectory < static_cast<size_t>(kFrames));  // stopped at the first failed write
+}
+
+TEST_CASE("slambooster run: a bad frame mid-sequence still leaves a summary of the frames before it",
+          "[tools][run]") {
+  const std::string dir = sb::test::scratchDir("run_bad_frame");
+  fs::copy(sequence().path, dir + "/seq", fs::copy_options::recursive);
+  std::vector<fs::path> depth;
+  for (const auto& e : fs::directory_iterator(dir + "/seq/depth")) depth.push_back(e.path());
+  std::sort(depth.begin(), depth.end());
+  REQUIRE(depth.size() > 20);
+  fs::resize_file(depth[20], 100);  // frame 20: a truncated PNG
+  const std::string out = dir + "/out";
+  const auto r = runCommand(kTool + " run " + dir + "/seq --out " + out + " --config " + sequence().config +
+                            " --threads 1 --quiet");
+  INFO(r.output);
+  CHECK(r.exitCode == 1);
+  const Counts c = checkConsistent(out);
+  REQUIRE(c.summary);
+  CHECK(*c.summary == c.trajectory);
+  const json summary = sb::test::readJson(out + "/summary.json");
+  CHECK(summary["complete"] == false);
+  CHECK(summary.contains("error"));
+}
+
+TEST_CASE("SIGKILL at 20 random moments: outputs are line-complete and agree within one frame",
+          "[tools][run][daemon]") {
+  std::mt19937 rng(2323);
+  const std::string dir = sb::test::scratchDir("run_sigkill");
+  for (const bool daemon : {false, true}) {
+    for (int i = 0; i < 20; ++i) {
+      const std::string out = dir + "/" + (daemon ? "d" : "r") + std::to_string(i);
+      std::vector<std::string> args = runArgs(out);
+      if (daemon)
+        args = {kDaemon, "--input", sequence().path, "--out", out, "--socket", dir + "/s" + std::to_string(i),
+                "--pacing", "fast", "--at-end", "exit", "--controller", "fixed", "--cpus", "all",
+                "--set", "slam.pipeline_config=" + sequence().config, "--set", "slam.threads=1",
+                "--set", "output.report=false"};
+      ChildProcess p(args, {}, out + ".log");
+      const int ms = static_cast<int>(rng() % 1500);
+      std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+      p.signal(SIGKILL);
+      p.wait(10);
+      INFO((daemon ? "slamboosterd" : "slambooster run") << " killed after " << ms << " ms");
+      checkConsistent(out);
+    }
+  }
+}
