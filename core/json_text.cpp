@@ -52,11 +52,17 @@ size_t tooDeepAt(std::string_view text, int maxDepth) {
   return std::string_view::npos;
 }
 
-// nlohmann's message without its "[json.exception.parse_error.101] parse error at line 1, column 2: " prefix.
+// Longest part of nlohmann's message kept: it quotes the last token read, which may be the whole input.
+constexpr size_t kMaxMessageBytes = 160;
+
+// nlohmann's message without its "[json.exception.parse_error.101] parse error at line 1, column 2: " prefix,
+// cut to kMaxMessageBytes.
 std::string parseMessage(const nlohmann::json::parse_error& e) {
   const std::string what = e.what();
   const auto colon = what.find(": ");
-  return colon == std::string::npos ? what : what.substr(colon + 2);
+  std::string message = colon == std::string::npos ? what : what.substr(colon + 2);
+  if (message.size() > kMaxMessageBytes) message = message.substr(0, kMaxMessageBytes) + "...";
+  return message;
 }
 
 }  // namespace
@@ -74,7 +80,7 @@ std::optional<nlohmann::json> tryParseJson(std::string_view text, std::string& e
     const size_t at = e.byte > 0 ? e.byte - 1 : 0;
     error = "not valid JSON at " + position(text, at) + ": " + parseMessage(e);
   } catch (const nlohmann::json::exception& e) {
-    error = std::string("not valid JSON: ") + e.what();
+    error = std::string("not valid JSON: ") + std::string(e.what()).substr(0, kMaxMessageBytes);
   }
   return std::nullopt;
 }

@@ -60,8 +60,9 @@ bool readControl(const nlohmann::json& args, ControlRequest& c, std::string& err
   for (auto it = args.begin(); it != args.end(); ++it) {
     const auto& v = it.value();
     if (it.key() == "controller") {
-      if (!v.is_string() || v.get<std::string>().empty()) {
-        error = "?CONTROL: 'controller' must be a controller name (a non-empty string)";
+      if (!v.is_string() || v.get<std::string>().empty() || v.get<std::string>().size() > kMaxNameBytes) {
+        error = "?CONTROL: 'controller' must be a controller name (a string of 1 to " +
+                std::to_string(kMaxNameBytes) + " bytes)";
         return false;
       }
       c.controller = v.get<std::string>();

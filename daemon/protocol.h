@@ -22,6 +22,8 @@ constexpr int kProtoMajor = 1;
 constexpr int kProtoMinor = 0;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
+// Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
+constexpr size_t kMaxNameBytes = 64;
 
 enum class Command { watch, poll, status, control, version };
 
