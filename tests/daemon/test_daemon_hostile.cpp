@@ -40,14 +40,15 @@ void checkRefused(const sb::test::CommandResult& r, const std::string& needle) {
   CHECK(r.output.find("internal error") == std::string::npos);
 }
 
-std::string deep(size_t levels) { return std::string(levels, '['); }
+// `levels` nested arrays, closed: valid JSON, so that only the depth bound refuses it.
+std::string deep(size_t levels) { return std::string(levels, '[') + std::string(levels, ']'); }
 
 }  // namespace
 
 TEST_CASE("slamboosterd: deep, non-object and directory configs exit 2 naming the file", "[daemon][system]") {
   TempDir tmp;
   const std::string d = kDaemon + " ";
-  std::ofstream(tmp.path + "/deep.json") << "{\"source\": " << deep(70000);
+  std::ofstream(tmp.path + "/deep.json") << "{\"source\": " << deep(70000) << "}";
   checkRefused(runCommand(d + "--config " + tmp.path + "/deep.json"), "deeper than 64 levels");
   checkRefused(runCommand(d + "--check-config --config " + tmp.path + "/deep.json"), "deep.json");
   // Not an object: refused with and without flags (a flag used to replace it with a valid object).
@@ -119,7 +120,8 @@ TEST_CASE("slamboosterd: SIGHUP with a deep or broken config keeps the daemon an
   args.insert(args.end(), {"--config", config});
   ChildProcess daemon(args, {}, tmp.path + "/daemon.log");
   REQUIRE(sb::test::waitForPath(socket, 20));
-  for (const std::string& bad : {"{\"slam\": " + deep(70000), std::string("[1,2]"), tmp.path}) {
+  // "power": no flag of daemonArgs touches that section (a flag used to replace a bad one with an object).
+  for (const std::string& bad : {"{\"power\": " + deep(70000) + "}", std::string("[1,2]"), tmp.path}) {
     if (bad != tmp.path) {
       std::ofstream(config, std::ios::trunc) << bad;
     } else {
@@ -146,8 +148,9 @@ TEST_CASE("slamboosterd: socket.max_clients must fit under the open-file limit",
   // Issue 23: under `prlimit --nofile=64` with max_clients=4096, 80 clients ran the daemon out of
   // descriptors: accept() spun on EMFILE and the replay could not open its next frame.
   TempDir tmp;
-  const auto r = runCommand("prlimit --nofile=64:64 " + kDaemon + " --input " + fixture().sequence +
-                            " --socket " + tmp.path + "/s.sock --out " + tmp.path + "/o --set socket.max_clients=4096");
+  const auto r = runCommand("timeout 60 prlimit --nofile=64:64 " + kDaemon + " --input " + fixture().sequence +
+                            " --socket " + tmp.path + "/s.sock --out " + tmp.path +
+                            "/o --pacing fast --at-end exit --set socket.max_clients=4096");
   checkRefused(r, "socket.max_clients = 4096 needs");
   CHECK(r.output.find("LimitNOFILE") != std::string::npos);
 
@@ -196,8 +199,8 @@ std::string fuzzRequest(std::mt19937& rng) {
   std::string nest;
   for (size_t i = 0; i < size / 5; ++i) nest += "{\"a\":";
   const std::string inserts[] = {
-      "?CONTROL={\"unpin\":" + deep(size),
-      "?CONTROL={\"unpin\":" + deep(size) + std::string(size, ']') + "}",
+      "?CONTROL={\"unpin\":" + std::string(size, '['),
+      "?CONTROL={\"unpin\":" + deep(size / 2) + "}",
       "?WATCH={\"enable\":false,\"x\":" + nest,
       "?CONTROL={\"controller\":\"" + std::string(size, 'x') + "\"}",
       "?CONTROL={\"pin\":{\"" + std::string(size, 'k') + "\":1}}",
