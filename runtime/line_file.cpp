@@ -28,7 +28,7 @@ void LineFile::append(std::string_view lines) {
       const int error = n < 0 ? errno : ENOSPC;
       (void)!::ftruncate(fd_.get(), size_);  // drop the part line: the file stays whole lines
       throw Error("writing " + what_ + " '" + path_ + "' failed: " + std::strerror(error) +
-                  "; it holds the lines written before (free disk space and run again)");
+                  "; the file keeps the lines before it (free disk space and run again)");
     }
     done += static_cast<size_t>(n);
   }

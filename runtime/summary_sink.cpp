@@ -80,9 +80,9 @@ void SummarySink::write(const nlohmann::json& summary) const {
   const std::string tmp = path_ + ".tmp";
   try {
     LineFile(tmp, "summary").append(summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
-  } catch (const Error&) {
+  } catch (const Error& e) {
     std::remove(tmp.c_str());
-    throw;
+    throw Error(std::string(e.what()) + "; '" + path_ + "' keeps the previous summary");
   }
   if (std::rename(tmp.c_str(), path_.c_str()) != 0) throw Error("cannot rename '" + tmp + "' to '" + path_ + "'");
 }

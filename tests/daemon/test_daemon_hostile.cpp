@@ -60,6 +60,9 @@ TEST_CASE("slamboosterd: deep, non-object and directory configs exit 2 naming th
     checkRefused(runCommand(d + "--check-config --set source.speed=2 --config " + tmp.path + "/shape.json"),
                  "a JSON object");
   }
+  // Syntax errors give the line and column.
+  std::ofstream(tmp.path + "/syntax.json") << "{\n  \"source\": {\n    \"pacing\": fast\n  }\n}\n";
+  checkRefused(runCommand(d + "--check-config --config " + tmp.path + "/syntax.json"), "line 3, column");
   // An unknown control group fails --check-config as it fails the real start.
   checkRefused(runCommand(d + "--check-config --input x --set socket.control_group=no-such-group-23"),
                "no such group");
