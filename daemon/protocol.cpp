@@ -146,7 +146,7 @@ ParseResult parseRequest(std::string_view line) {
     auto parsed = tryParseJson(rest, error, kMaxRequestDepth);
     if (!parsed || !parsed->is_object()) {
       result.error = "?" + std::string(command->name) + ": the argument must be one JSON object" +
-                     (parsed ? "" : " (" + error + ")");
+                     (parsed ? "" : " (argument: " + error + ")");
       return result;
     }
     args = std::move(*parsed);
