@@ -96,7 +96,8 @@ std::string readTextFile(const std::string& path, const std::string& what, size_
   const std::string name = what + " '" + path + "'";
   UniqueFd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
   if (!fd.valid())
-    throw Error("cannot open " + name + ": " + std::strerror(errno) + " (check the path and its permissions)");
+    throw Error("cannot open " + name + ": " + std::strerror(errno) +
+                " (check the path and its permissions)");
   struct stat st {};
   if (::fstat(fd.get(), &st) != 0) throw Error("cannot read " + name + ": " + std::strerror(errno));
   if (S_ISDIR(st.st_mode)) throw Error(name + " is a directory; give the path of a JSON file");
@@ -113,7 +114,8 @@ std::string readTextFile(const std::string& path, const std::string& what, size_
     if (n == 0) break;
     text.append(buf, static_cast<size_t>(n));
     if (text.size() > maxBytes)
-      throw Error(name + " is longer than " + std::to_string(maxBytes) + " bytes (the limit for settings files)");
+      throw Error(name + " is longer than " + std::to_string(maxBytes) +
+                  " bytes (the limit for settings files)");
   }
   return text;
 }

@@ -26,7 +26,8 @@ nlohmann::json parseJson(std::string_view text, const std::string& where, int ma
 
 // The whole of a regular file. Throws sb::Error naming `what` and the path when the path is missing,
 // unreadable, a directory or another non-regular file, or longer than `maxBytes`.
-std::string readTextFile(const std::string& path, const std::string& what, size_t maxBytes = kMaxJsonFileBytes);
+std::string readTextFile(const std::string& path, const std::string& what,
+                         size_t maxBytes = kMaxJsonFileBytes);
 
 // readTextFile + parseJson: errors read "<what> '<path>': not valid JSON at line L, column C: ...".
 nlohmann::json readJsonFile(const std::string& path, const std::string& what);

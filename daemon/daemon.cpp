@@ -14,9 +14,9 @@
 #include <thread>
 
 #include "core/error.h"
+#include "core/unique_fd.h"
 #include "daemon/event_loop.h"
 #include "daemon/fd_budget.h"
-#include "core/unique_fd.h"
 #include "daemon/frame_queue.h"
 #include "daemon/mailbox.h"
 #include "daemon/peer_auth.h"
@@ -380,7 +380,8 @@ void checkConfigFiles(const DaemonConfig& config) {
     ControllerContext context;
     context.baseKnobs = pipeline.knobs;
     loadControllerSettings(config.slam, context);
-    const ControlPolicy policy(::geteuid(), config.socket.controlGroup);  // an unknown group fails as at start
+    const ControlPolicy policy(::geteuid(),
+                               config.socket.controlGroup);  // an unknown group fails as at start
     (void)policy;
   } catch (const ConfigError&) {
     throw;

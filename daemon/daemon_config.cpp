@@ -161,7 +161,8 @@ void applyOverride(nlohmann::json& j, const std::string& assignment) {
   const std::string path = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
   std::string ignored;
-  nlohmann::json value = tryParseJson(text, ignored).value_or(nlohmann::json(text));  // a plain string needs no quotes
+  nlohmann::json value =
+      tryParseJson(text, ignored).value_or(nlohmann::json(text));  // a plain string needs no quotes
   nlohmann::json* node = &j;
   std::string at = "the configuration";
   size_t start = 0;
@@ -222,8 +223,11 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"pipeline_config", c.slam.pipelineConfig},
             {"controller", c.slam.controller},
             {"controller_config", c.slam.controllerConfig}}},
-          {"output", {{"dir", c.output.dir}, {"mesh", c.output.mesh}, {"model_png", c.output.modelPng},
-                      {"report", c.output.report}}},
+          {"output",
+           {{"dir", c.output.dir},
+            {"mesh", c.output.mesh},
+            {"model_png", c.output.modelPng},
+            {"report", c.output.report}}},
           {"socket",
            {{"path", c.socket.path},
             {"mode", formatMode(c.socket.mode)},

@@ -22,13 +22,13 @@ size_t ensureFdBudget(size_t maxClients) {
   }
   if (limit.rlim_cur != RLIM_INFINITY && limit.rlim_cur < needed) {
     const size_t fits = limit.rlim_cur > kReservedFds + 1 ? limit.rlim_cur - kReservedFds - 1 : 0;
-    throw ConfigError("socket.max_clients = " + std::to_string(maxClients) + " needs " +
-                      std::to_string(needed) + " open files (one per client plus " +
-                      std::to_string(kReservedFds + 1) + " for the pipeline), but RLIMIT_NOFILE is " +
-                      std::to_string(limit.rlim_cur) + " (hard " +
-                      (limit.rlim_max == RLIM_INFINITY ? std::string("unlimited") : std::to_string(limit.rlim_max)) +
-                      "); set socket.max_clients to at most " + std::to_string(fits) +
-                      " or raise the limit (LimitNOFILE= in the unit, ulimit -n)");
+    throw ConfigError(
+        "socket.max_clients = " + std::to_string(maxClients) + " needs " + std::to_string(needed) +
+        " open files (one per client plus " + std::to_string(kReservedFds + 1) +
+        " for the pipeline), but RLIMIT_NOFILE is " + std::to_string(limit.rlim_cur) + " (hard " +
+        (limit.rlim_max == RLIM_INFINITY ? std::string("unlimited") : std::to_string(limit.rlim_max)) +
+        "); set socket.max_clients to at most " + std::to_string(fits) +
+        " or raise the limit (LimitNOFILE= in the unit, ulimit -n)");
   }
   return limit.rlim_cur == RLIM_INFINITY ? static_cast<size_t>(-1) : static_cast<size_t>(limit.rlim_cur);
 }

@@ -13,7 +13,9 @@ namespace sb::daemon {
 inline constexpr size_t kReservedFds = 64;
 
 // Descriptors needed for `maxClients` clients.
-inline size_t fdsNeeded(size_t maxClients) { return maxClients + 1 + kReservedFds; }
+inline size_t fdsNeeded(size_t maxClients) {
+  return maxClients + 1 + kReservedFds;
+}
 
 // Raises the soft RLIMIT_NOFILE to fdsNeeded(maxClients) when lower (never above the hard limit). Throws
 // ConfigError naming socket.max_clients, the limit and LimitNOFILE= when it cannot. Returns the soft limit.

@@ -80,8 +80,8 @@ std::string SocketServer::refusal(const PeerCredentials& peer) const {
   // One user cannot lock out root: the last slots are kept for privileged clients.
   const size_t reserved = std::min<size_t>(kPrivilegedSlots, config_.maxClients / 4);
   if (clients_.size() + reserved >= config_.maxClients)
-    return "too many clients (limit " + std::to_string(config_.maxClients) + ", socket.max_clients; the last " +
-           std::to_string(reserved) + " are kept for privileged clients)";
+    return "too many clients (limit " + std::to_string(config_.maxClients) +
+           ", socket.max_clients; the last " + std::to_string(reserved) + " are kept for privileged clients)";
   size_t same = 0;
   for (const auto& [fd, client] : clients_) same += client->peer().uid == peer.uid;
   if (same >= config_.maxClientsPerUid)

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <fstream>
 #include <limits>
-#include <sstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "core/error.h"
 #include "core/json_text.h"
@@ -52,7 +52,8 @@ std::optional<float> readPixels(const json& j, const std::string& path, const st
       readNumber(j, path, key, lo, 1e6, positive ? "a positive number of pixels" : "a number of pixels");
   if (!d) return std::nullopt;
   if (positive && !(static_cast<float>(*d) > 0))  // 1e-300 is positive, and 0 as the float the pipeline uses
-    badKey(path, key, "a positive number of pixels (got " + describeJson(j.at(key)) + ", which is 0 as a float)");
+    badKey(path, key,
+           "a positive number of pixels (got " + describeJson(j.at(key)) + ", which is 0 as a float)");
   return static_cast<float>(*d);
 }
 
@@ -146,7 +147,8 @@ void resolveCamera(SequenceInfo& info, const Calibration* calibration, const Seq
   }
 }
 
-void checkIntrinsics(const SequenceInfo& info, const Calibration* calibration, const SequenceOptions& options) {
+void checkIntrinsics(const SequenceInfo& info, const Calibration* calibration,
+                     const SequenceOptions& options) {
   const Intrinsics& k = info.intrinsics;
   const double side = std::max(k.width, k.height);
   struct Check {
@@ -172,8 +174,8 @@ void checkIntrinsics(const SequenceInfo& info, const Calibration* calibration, c
     std::ostringstream msg;
     msg << "sequence '" << info.path << "': " << c.name << " = " << c.value << " pixels ("
         << (fromOption ? std::string("from the command line") : "from '" + calibration->path + "'")
-        << ") is not plausible for a " << k.width << "x" << k.height << " image; expected " << c.name << " in ["
-        << c.lo << ", " << c.hi << "]"
+        << ") is not plausible for a " << k.width << "x" << k.height << " image; expected " << c.name
+        << " in [" << c.lo << ", " << c.hi << "]"
         << (c.name[0] == 'f' ? " (a field of view between about 1 and 179 degrees)"
                              : " (the principal point lies near the image centre)");
     throw Error(msg.str());

@@ -46,7 +46,8 @@ void resolveCamera(SequenceInfo& info, const Calibration* calibration, const Seq
 // `calibration` is implausible for it (focal lengths outside [side/100, side*100] pixels, side = the longer
 // image side; a principal point more than one image size outside the image), naming the value, where it
 // came from and the range. Defaults are not checked.
-void checkIntrinsics(const SequenceInfo& info, const Calibration* calibration, const SequenceOptions& options);
+void checkIntrinsics(const SequenceInfo& info, const Calibration* calibration,
+                     const SequenceOptions& options);
 
 // The raw values that mean "no reading": always 0 and 65535 (a saturated or missing sample in every supported
 // format), plus the calibration's `invalid_depth_values`.

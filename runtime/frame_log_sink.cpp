@@ -49,7 +49,8 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
 FrameLogSink::FrameLogSink(const std::string& path) : out_(path, "per-frame log") {}
 
 void FrameLogSink::onFrame(const FrameRecord& record) {
-  out_.append(frameRecordToJson(record).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  out_.append(frameRecordToJson(record).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) +
+              "\n");
 }
 
 void FrameLogSink::flush() {}  // every line is written as its frame ends

@@ -22,7 +22,8 @@ LineFile::LineFile(const std::string& path, std::string what)
 void LineFile::append(std::string_view lines) {
   size_t done = 0;
   while (done < lines.size()) {
-    const ssize_t n = ::pwrite(fd_.get(), lines.data() + done, lines.size() - done, size_ + static_cast<off_t>(done));
+    const ssize_t n =
+        ::pwrite(fd_.get(), lines.data() + done, lines.size() - done, size_ + static_cast<off_t>(done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       const int error = n < 0 ? errno : ENOSPC;

@@ -79,7 +79,8 @@ void SummarySink::write(const nlohmann::json& summary) const {
   // Whole or not at all: a temporary file renamed over the old one (which stays as it was on failure).
   const std::string tmp = path_ + ".tmp";
   try {
-    LineFile(tmp, "summary").append(summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+    LineFile(tmp, "summary")
+        .append(summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   } catch (const Error& e) {
     std::remove(tmp.c_str());
     throw Error(std::string(e.what()) + "; '" + path_ + "' keeps the previous summary");

@@ -2,7 +2,8 @@
 
 namespace sb {
 
-TrajectorySink::TrajectorySink(const std::string& path, const std::string& comment) : out_(path, "trajectory") {
+TrajectorySink::TrajectorySink(const std::string& path, const std::string& comment)
+    : out_(path, "trajectory") {
   std::string header = "# timestamp tx ty tz qx qy qz qw\n";
   if (!comment.empty()) header += "# " + comment + "\n";
   out_.append(header);

@@ -25,10 +25,12 @@ std::string nested(char open, size_t depth) {
 
 }  // namespace
 
-TEST_CASE("json_text: nesting deeper than the bound is refused with its position, not parsed", "[core][json]") {
+TEST_CASE("json_text: nesting deeper than the bound is refused with its position, not parsed",
+          "[core][json]") {
   std::string error;
   CHECK(tryParseJson(std::string(kMaxJsonDepth, '[') + std::string(kMaxJsonDepth, ']'), error).has_value());
-  CHECK_FALSE(tryParseJson(std::string(kMaxJsonDepth + 1, '[') + std::string(kMaxJsonDepth + 1, ']'), error).has_value());
+  CHECK_FALSE(tryParseJson(std::string(kMaxJsonDepth + 1, '[') + std::string(kMaxJsonDepth + 1, ']'), error)
+                  .has_value());
   CHECK_THAT(error, Contains("deeper than 64 levels") && Contains("line 1, column 65"));
   // 100000 levels, closed or not: refused quickly, no stack overflow.
   CHECK_FALSE(tryParseJson("{\"unpin\":" + nested('[', 100000), error).has_value());
@@ -36,7 +38,8 @@ TEST_CASE("json_text: nesting deeper than the bound is refused with its position
   CHECK_THAT(error, Contains("deeper than"));
   // Brackets inside strings do not count.
   CHECK(tryParseJson("[\"" + std::string(1000, '[') + "\\\"[\"]", error).has_value());
-  CHECK_THROWS_WITH(parseJson("[[1]]", "x.json", 1), Contains("x.json: arrays and objects nest deeper than 1"));
+  CHECK_THROWS_WITH(parseJson("[[1]]", "x.json", 1),
+                    Contains("x.json: arrays and objects nest deeper than 1"));
 }
 
 TEST_CASE("json_text: syntax errors give line and column", "[core][json]") {

@@ -31,9 +31,9 @@ struct Fixture {
   Fixture() {
     dir = sb::test::scratchDir(SB_E2E_SCRATCH);
     sequence = dir + "/seq";
-    const auto synth =
-        sb::test::runCommand(kTool + " synth --out " + sequence + " --builtin-frames " + std::to_string(kFrames) +
-                             " --width 320 --height 240 --fx 240 --fy 240 --threads 1");
+    const auto synth = sb::test::runCommand(kTool + " synth --out " + sequence + " --builtin-frames " +
+                                            std::to_string(kFrames) +
+                                            " --width 320 --height 240 --fx 240 --fy 240 --threads 1");
     if (synth.exitCode != 0) throw std::runtime_error("synth failed: " + synth.output);
     pipelineConfig = dir + "/pipeline.json";
     std::ofstream(pipelineConfig) << R"({"volume_resolution": 64, "knobs": "csr=2,ir=1"})";

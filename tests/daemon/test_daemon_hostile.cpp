@@ -41,7 +41,9 @@ void checkRefused(const sb::test::CommandResult& r, const std::string& needle) {
 }
 
 // `levels` nested arrays, closed: valid JSON, so that only the depth bound refuses it.
-std::string deep(size_t levels) { return std::string(levels, '[') + std::string(levels, ']'); }
+std::string deep(size_t levels) {
+  return std::string(levels, '[') + std::string(levels, ']');
+}
 
 }  // namespace
 
@@ -85,10 +87,26 @@ TEST_CASE("slamboosterd: a config-file fuzz never crashes --check-config", "[dae
   for (auto s = base.begin(); s != base.end(); ++s)
     if (s->is_object())
       for (auto k = s->begin(); k != s->end(); ++k) keys.emplace_back(s.key(), k.key());
-  const std::vector<std::string> values = {
-      deep(100), deep(70000), "1e400", "-1e400", "18446744073709551616", "-9223372036854775809", "1e-300",
-      "null", "[]", "{}", "\"\"", "\"" + std::string(100000, 'x') + "\"", "true", "0", "-1", "4097",
-      "\"" + tmp.path + "\"", "[" + std::string(60, '{') + "]", "{\"a\":" + deep(64) + "}", "\"\\u0000\""};
+  const std::vector<std::string> values = {deep(100),
+                                           deep(70000),
+                                           "1e400",
+                                           "-1e400",
+                                           "18446744073709551616",
+                                           "-9223372036854775809",
+                                           "1e-300",
+                                           "null",
+                                           "[]",
+                                           "{}",
+                                           "\"\"",
+                                           "\"" + std::string(100000, 'x') + "\"",
+                                           "true",
+                                           "0",
+                                           "-1",
+                                           "4097",
+                                           "\"" + tmp.path + "\"",
+                                           "[" + std::string(60, '{') + "]",
+                                           "{\"a\":" + deep(64) + "}",
+                                           "\"\\u0000\""};
   std::mt19937 rng(23);
   int crashes = 0;
   for (int i = 0; i < 120; ++i) {
@@ -115,7 +133,8 @@ TEST_CASE("slamboosterd: a config-file fuzz never crashes --check-config", "[dae
   CHECK(crashes == 0);
 }
 
-TEST_CASE("slamboosterd: SIGHUP with a deep or broken config keeps the daemon and its pass", "[daemon][system]") {
+TEST_CASE("slamboosterd: SIGHUP with a deep or broken config keeps the daemon and its pass",
+          "[daemon][system]") {
   TempDir tmp;
   const std::string socket = tmp.path + "/s.sock", out = tmp.path + "/out", config = tmp.path + "/d.json";
   std::ofstream(config) << R"({"slam": {"controller": "fixed"}})";
@@ -151,8 +170,8 @@ TEST_CASE("slamboosterd: socket.max_clients must fit under the open-file limit",
   // Issue 23: under `prlimit --nofile=64` with max_clients=4096, 80 clients ran the daemon out of
   // descriptors: accept() spun on EMFILE and the replay could not open its next frame.
   TempDir tmp;
-  const auto r = runCommand("timeout 60 prlimit --nofile=64:64 " + kDaemon + " --input " + fixture().sequence +
-                            " --socket " + tmp.path + "/s.sock --out " + tmp.path +
+  const auto r = runCommand("timeout 60 prlimit --nofile=64:64 " + kDaemon + " --input " +
+                            fixture().sequence + " --socket " + tmp.path + "/s.sock --out " + tmp.path +
                             "/o --pacing fast --at-end exit --set socket.max_clients=4096");
   checkRefused(r, "socket.max_clients = 4096 needs");
   CHECK(r.output.find("LimitNOFILE") != std::string::npos);
@@ -220,7 +239,8 @@ std::string fuzzRequest(std::mt19937& rng) {
   };
   std::string r = inserts[pick(std::size(inserts))];
   if (pick(4) == 0) {  // mutate: random bytes at random places
-    for (size_t i = 0, n = 1 + pick(8); i < n && !r.empty(); ++i) r[pick(r.size())] = static_cast<char>(rng());
+    for (size_t i = 0, n = 1 + pick(8); i < n && !r.empty(); ++i)
+      r[pick(r.size())] = static_cast<char>(rng());
   }
   if (pick(8) == 0) {
     r.clear();
@@ -246,8 +266,9 @@ std::string fuzzConnectionOrThrow(const std::string& socket, unsigned seed, int 
     while (true) {
       const std::string line = c.readLine(10000);
       if (line.empty())
-        return "no reply to request " + std::to_string(i) + " (" + std::to_string(request.size()) + " bytes, " +
-               (c.closedWithin(0) ? "connection closed" : "timed out") + "): " + request.substr(0, 100) + "\n" + history;
+        return "no reply to request " + std::to_string(i) + " (" + std::to_string(request.size()) +
+               " bytes, " + (c.closedWithin(0) ? "connection closed" : "timed out") +
+               "): " + request.substr(0, 100) + "\n" + history;
       const json reply = json::parse(line, nullptr, false);
       if (!reply.is_object() || !reply.contains("class")) return "bad reply: " + line.substr(0, 200);
       const std::string cls = reply["class"];

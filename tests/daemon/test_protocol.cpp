@@ -102,5 +102,6 @@ TEST_CASE("deeply nested arguments are refused without recursion", "[daemon][pro
   // A control character in a long string: nlohmann's message quotes the whole token; the reply must not.
   CHECK(errorOf("?CONTROL={\"pin\":{\"" + std::string(100000, 'k') + "\x01\":1}}").size() < 400);
   // A reply quoting a 1 MiB controller name overflowed the client's buffer: the client got no answer.
-  CHECK_THAT(errorOf("?CONTROL={\"controller\":\"" + std::string(100000, 'x') + "\"}"), Contains("1 to 64 bytes"));
+  CHECK_THAT(errorOf("?CONTROL={\"controller\":\"" + std::string(100000, 'x') + "\"}"),
+             Contains("1 to 64 bytes"));
 }

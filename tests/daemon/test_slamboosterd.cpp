@@ -33,7 +33,6 @@ using sb::test::runCommand;
 
 using namespace sb::test::e2e;
 
-
 TEST_CASE("slamboosterd: watch, then SIGTERM mid-run: every processed frame is on disk, exit 0",
           "[daemon][system]") {
   TempDir tmp;

@@ -10,11 +10,11 @@
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
-#include <nlohmann/json.hpp>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <random>
-#include <tuple>
 #include <thread>
+#include <tuple>
 
 #include "tests/daemon/server_harness.h"
 

@@ -39,8 +39,9 @@ struct Sequence {
   Sequence() {
     dir = sb::test::scratchDir("run_reliability_seq");
     path = dir + "/seq";
-    const auto r = runCommand(kTool + " synth --out " + path + " --builtin-frames " + std::to_string(kFrames) +
-                              " --width 320 --height 240 --fx 240 --fy 240 --threads 1");
+    const auto r =
+        runCommand(kTool + " synth --out " + path + " --builtin-frames " + std::to_string(kFrames) +
+                   " --width 320 --height 240 --fx 240 --fy 240 --threads 1");
     if (r.exitCode != 0) throw std::runtime_error("synth failed: " + r.output);
     config = dir + "/pipeline.json";
     std::ofstream(config) << R"({"volume_resolution": 64, "knobs": "csr=2,ir=1"})";
@@ -53,7 +54,8 @@ const Sequence& sequence() {
 }
 
 std::vector<std::string> runArgs(const std::string& out) {
-  return {kTool, "run", sequence().path, "--out", out, "--config", sequence().config, "--threads", "1", "--quiet"};
+  return {kTool,       "run", sequence().path, "--out", out, "--config", sequence().config,
+          "--threads", "1",   "--quiet"};
 }
 
 // Lines of a file that must consist of whole lines (every line ends in '\n'); data lines only.
@@ -111,7 +113,8 @@ Counts checkConsistent(const std::string& out) {
 
 }  // namespace
 
-TEST_CASE("slambooster run: SIGTERM and SIGINT finish the frame in hand and write every output", "[tools][run]") {
+TEST_CASE("slambooster run: SIGTERM and SIGINT finish the frame in hand and write every output",
+          "[tools][run]") {
   for (const int sig : {SIGTERM, SIGINT}) {
     const std::string out = sb::test::scratchDir("run_signal_" + std::to_string(sig));
     ChildProcess run(runArgs(out), {}, out + ".log");
@@ -137,7 +140,8 @@ TEST_CASE("slambooster run: SIGTERM and SIGINT finish the frame in hand and writ
 
 TEST_CASE("slambooster run: a full disk stops the run at the first failed write, files consistent",
           "[tools][run]") {
-  const std::string dir = fs::path(sb::test::scratchDir("run_disk_full_probe")).parent_path() / "run_disk_full";
+  const std::string dir =
+      fs::path(sb::test::scratchDir("run_disk_full_probe")).parent_path() / "run_disk_full";
   ::umount2((dir + "/out").c_str(), MNT_DETACH);  // left over from a test run that was killed
   const std::string out = sb::test::scratchDir("run_disk_full") + "/out";
   fs::create_directories(out);
@@ -192,10 +196,27 @@ TEST_CASE("SIGKILL at 20 random moments: outputs are line-complete and agree wit
       const std::string out = dir + "/" + (daemon ? "d" : "r") + std::to_string(i);
       std::vector<std::string> args = runArgs(out);
       if (daemon)
-        args = {kDaemon, "--input", sequence().path, "--out", out, "--socket", dir + "/s" + std::to_string(i),
-                "--pacing", "fast", "--at-end", "exit", "--controller", "fixed", "--cpus", "all",
-                "--set", "slam.pipeline_config=" + sequence().config, "--set", "slam.threads=1",
-                "--set", "output.report=false"};
+        args = {kDaemon,
+                "--input",
+                sequence().path,
+                "--out",
+                out,
+                "--socket",
+                dir + "/s" + std::to_string(i),
+                "--pacing",
+                "fast",
+                "--at-end",
+                "exit",
+                "--controller",
+                "fixed",
+                "--cpus",
+                "all",
+                "--set",
+                "slam.pipeline_config=" + sequence().config,
+                "--set",
+                "slam.threads=1",
+                "--set",
+                "output.report=false"};
       ChildProcess p(args, {}, out + ".log");
       const int ms = static_cast<int>(rng() % 1500);
       std::this_thread::sleep_for(std::chrono::milliseconds(ms));

@@ -27,8 +27,8 @@
 #include "mesh/ply_writer.h"
 #include "pipeline/config.h"
 #include "pipeline/pipeline.h"
-#include "report/run_report.h"
 #include "power/power_config.h"
+#include "report/run_report.h"
 #include "runtime/energy_sink.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
@@ -229,7 +229,9 @@ void runCommand(const RunOptions& o) {
   if (progress) std::cerr << "\n";
   const RunStats& stats = outputs.summary->stats();
   const size_t count = stats.frames;
-  if (count == 0 && stopSignal) throw Interrupted(stopSignal, "interrupted by " + StopSignals::name(stopSignal) + " before the first frame");
+  if (count == 0 && stopSignal)
+    throw Interrupted(stopSignal,
+                      "interrupted by " + StopSignals::name(stopSignal) + " before the first frame");
   if (count == 0) throw Error("sequence '" + o.sequence + "' has no frames");
   // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
   // times to other load on the machine.
@@ -239,7 +241,8 @@ void runCommand(const RunOptions& o) {
     outputs.summary->setExtra("stopped", {{"at_frame", count}, {"limit_ms", o.stopAfterMs},
                                           {"computation_ms", stats.stageSums.computationMs()}});
   if (stopSignal)
-    outputs.summary->setExtra("interrupted", {{"signal", StopSignals::name(stopSignal)}, {"at_frame", count}});
+    outputs.summary->setExtra("interrupted",
+                              {{"signal", StopSignals::name(stopSignal)}, {"at_frame", count}});
   // `slambooster bench` / dse / profile skip complete runs (an interrupted one runs again).
   outputs.summary->setExtra("complete", stopSignal == 0);
 
@@ -294,8 +297,9 @@ void runCommand(const RunOptions& o) {
     std::cerr << "slambooster run: report not written: " << e.what() << "\n";
   }
   if (stopSignal)
-    throw Interrupted(stopSignal, "interrupted by " + StopSignals::name(stopSignal) + " after frame " + std::to_string(count) +
-                                  "; the outputs in " + out.string() + " cover the frames run");
+    throw Interrupted(stopSignal, "interrupted by " + StopSignals::name(stopSignal) + " after frame " +
+                                      std::to_string(count) + "; the outputs in " + out.string() +
+                                      " cover the frames run");
 }
 
 }  // namespace

@@ -31,6 +31,8 @@ StopSignals::~StopSignals() {
   sigaction(SIGTERM, &oldTerm_, nullptr);
 }
 
-int StopSignals::received() const { return g_received; }
+int StopSignals::received() const {
+  return g_received;
+}
 
 }  // namespace sb::cli

@@ -20,10 +20,13 @@ class StopSignals {
 
   // The signal received (SIGINT, SIGTERM), or 0.
   int received() const;
-  static std::string name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "signal"; }
+  static std::string name(int signal) {
+    return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "signal";
+  }
 
  private:
-  struct sigaction oldInt_ {}, oldTerm_ {};
+  struct sigaction oldInt_ {
+  }, oldTerm_{};
 };
 
 // Thrown after a command stopped early for a signal with its outputs written; main exits 128 + signal.
