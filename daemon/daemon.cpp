@@ -129,7 +129,7 @@ int Daemon::run() {
   Parts& p = *parts_;
   const size_t fdLimit = ensureFdBudget(config_.socket.maxClients);  // before any file is opened
   spdlog::debug("open-file limit {}: {} clients plus {} for the pipeline", fdLimit, config_.socket.maxClients,
-                kReservedFds);
+                kReservedFds + 1);
   p.source = createSource(config_.source);
   const SequenceInfo info = p.source->info();
   p.queue = std::make_unique<FrameQueue>(

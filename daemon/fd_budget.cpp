@@ -27,8 +27,10 @@ size_t ensureFdBudget(size_t maxClients) {
         " open files (one per client plus " + std::to_string(kReservedFds + 1) +
         " for the pipeline), but RLIMIT_NOFILE is " + std::to_string(limit.rlim_cur) + " (hard " +
         (limit.rlim_max == RLIM_INFINITY ? std::string("unlimited") : std::to_string(limit.rlim_max)) +
-        "); set socket.max_clients to at most " + std::to_string(fits) +
-        " or raise the limit (LimitNOFILE= in the unit, ulimit -n)");
+        "); " +
+        (fits > 0 ? "set socket.max_clients to at most " + std::to_string(fits) + " or raise the limit"
+                  : std::string("raise the limit")) +
+        " (LimitNOFILE= in the unit, ulimit -n)");
   }
   return limit.rlim_cur == RLIM_INFINITY ? static_cast<size_t>(-1) : static_cast<size_t>(limit.rlim_cur);
 }

@@ -9,7 +9,9 @@
 namespace sb::daemon {
 
 // Descriptors kept for the pipeline and the daemon itself, beyond one per client (and one for a refused
-// client in flight). The daemon uses about 20 with a meter and prefetching; the rest is headroom.
+// client in flight). A replay on the cpu backend without a meter holds 12 (measured: stdio, epoll, signal,
+// timer and event fds, the listener, trajectory and per-frame log); a meter, a camera or an OpenCL driver
+// add a few; the rest is headroom.
 inline constexpr size_t kReservedFds = 64;
 
 // Descriptors needed for `maxClients` clients.
