@@ -117,6 +117,10 @@ void SocketServer::onClientEvent(int fd, uint32_t events) {
 
 void SocketServer::handleLine(Client& client, std::string_view line) {
   if (line.empty() || line == "\r") return;  // blank lines are harmless keep-alives
+  // ?CONTROL from a client who may not send it is refused before its argument is parsed.
+  constexpr std::string_view kControl = "?CONTROL=";
+  if (line.substr(0, kControl.size()) == kControl && !policy_.allowed(client.peer()))
+    return reply(client, permissionDenied(client));
   ParseResult parsed = parseRequest(line);
   if (!parsed.request) return reply(client, errorMessage(parsed.error));
   const Request& r = *parsed.request;
@@ -143,10 +147,7 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
       return reply(client, statusMessage(std::move(s)));
     }
     case Command::control: {
-      if (!policy_.allowed(client.peer()))
-        return reply(client,
-                     errorMessage("?CONTROL: permission denied for uid " + std::to_string(client.peer().uid) +
-                                  "; allowed: " + policy_.describe() + " (socket.control_group)"));
+      if (!policy_.allowed(client.peer())) return reply(client, permissionDenied(client));
       try {
         nlohmann::json result = state_.control(r.control);
         result["class"] = "CONTROL";
@@ -158,6 +159,11 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
       }
     }
   }
+}
+
+nlohmann::json SocketServer::permissionDenied(const Client& client) const {
+  return errorMessage("?CONTROL: permission denied for uid " + std::to_string(client.peer().uid) +
+                      "; allowed: " + policy_.describe() + " (socket.control_group)");
 }
 
 nlohmann::json SocketServer::pollMessage() const {

@@ -59,6 +59,7 @@ class SocketServer {
   void updateInterest(Client& client);
   void close(int fd, const char* why, bool byServer);
   nlohmann::json pollMessage() const;
+  nlohmann::json permissionDenied(const Client& client) const;
 
   EventLoop& loop_;
   int listener_;

@@ -164,12 +164,14 @@ TEST_CASE("?CONTROL from a peer that is not root, the daemon's user or in the gr
     try {
       LineClient c(server.path());
       c.readLine();
-      c.send("?CONTROL={\"controller\":\"slambooster\"}\n");
-      const json e = json::parse(c.readLine());
-      _exit(e["class"] == "ERROR" &&
-                    e["message"].get<std::string>().find("permission denied") != std::string::npos
-                ? 0
-                : 1);
+      // A valid request, then one whose argument is never parsed for a client without permission.
+      c.send("?CONTROL={\"controller\":\"slambooster\"}\n?CONTROL={\"unpin\":" + std::string(3000, '[') + "\n");
+      for (int i = 0; i < 2; ++i) {
+        const json e = json::parse(c.readLine());
+        if (e["class"] != "ERROR" || e["message"].get<std::string>().find("permission denied") == std::string::npos)
+          _exit(1);
+      }
+      _exit(0);
     } catch (...) {
       _exit(2);
     }
