@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "tests/daemon/process.h"
+#include "tests/support/constant_power.h"
 #include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
@@ -199,14 +200,19 @@ TEST_CASE("SIGKILL at 20 random moments: outputs are line-complete and agree wit
           "[tools][run][daemon]") {
   std::mt19937 rng(2323);
   const std::string dir = sb::test::scratchDir("run_sigkill");
+  const std::string power = sb::test::writeConstantPowerMeter(dir, 4.0);  // energy.jsonl too
   for (const bool daemon : {false, true}) {
     const auto args = [&](const std::string& out, int i) {
-      if (!daemon) return runArgs(out);
+      if (!daemon) {
+        auto a = runArgs(out);
+        a.insert(a.end(), {"--power", power});
+        return a;
+      }
       return std::vector<std::string>{kDaemon, "--input", sequence().path, "--out", out, "--socket",
                                       dir + "/s" + std::to_string(i), "--pacing", "fast", "--at-end", "exit",
                                       "--controller", "fixed", "--cpus", "all", "--set",
                                       "slam.pipeline_config=" + sequence().config, "--set", "slam.threads=1",
-                                      "--set", "output.report=false"};
+                                      "--set", "output.report=false", "--set", "power.config=" + power};
     };
     // A whole run first: the kills land at random moments within its duration.
     const auto start = std::chrono::steady_clock::now();
@@ -237,6 +243,7 @@ TEST_CASE("SIGKILL at 20 random moments: outputs are line-complete and agree wit
       INFO((daemon ? "slamboosterd" : "slambooster run") << " killed after " << ms << " of " << wholeMs.count()
                                                           << " ms");
       const Counts c = checkConsistent(out);
+      CHECK(wholeLines(out + "/energy.jsonl", true) <= c.trajectory);  // whole lines; energy follows its frame
       midRun += c.trajectory > 0 && c.trajectory < static_cast<size_t>(kFrames);
     }
     INFO((daemon ? "slamboosterd" : "slambooster run") << ": " << midRun << " of 20 kills landed mid-run");
