@@ -14,10 +14,12 @@
 #include <thread>
 
 #include "core/error.h"
-#include "daemon/event_loop.h"
 #include "core/unique_fd.h"
+#include "daemon/event_loop.h"
+#include "daemon/fd_budget.h"
 #include "daemon/frame_queue.h"
 #include "daemon/mailbox.h"
+#include "daemon/peer_auth.h"
 #include "daemon/slam_worker.h"
 #include "daemon/socket_server.h"
 #include "daemon/source_registry.h"
@@ -125,6 +127,9 @@ int Daemon::run() {
 
   parts_ = std::make_unique<Parts>();
   Parts& p = *parts_;
+  const size_t fdLimit = ensureFdBudget(config_.socket.maxClients);  // before any file is opened
+  spdlog::debug("open-file limit {}: {} clients plus {} for the pipeline", fdLimit, config_.socket.maxClients,
+                kReservedFds + 1);
   p.source = createSource(config_.source);
   const SequenceInfo info = p.source->info();
   p.queue = std::make_unique<FrameQueue>(
@@ -279,6 +284,7 @@ void Daemon::onTimer() {
   uint64_t expirations = 0;
   (void)!::read(p.timer.get(), &expirations, sizeof expirations);
   p.server->dropStalledClients();
+  p.server->resumeAccepting();
   const auto now = Clock::now();
   const WorkerStats s = p.worker->stats();
   if (p.notifier.watchdogPeriod()) {
@@ -374,6 +380,9 @@ void checkConfigFiles(const DaemonConfig& config) {
     ControllerContext context;
     context.baseKnobs = pipeline.knobs;
     loadControllerSettings(config.slam, context);
+    const ControlPolicy policy(::geteuid(),
+                               config.socket.controlGroup);  // an unknown group fails as at start
+    (void)policy;
   } catch (const ConfigError&) {
     throw;
   } catch (const Error& e) {

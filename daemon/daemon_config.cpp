@@ -1,10 +1,10 @@
 #include "daemon/daemon_config.h"
 
 #include <algorithm>
-#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/json_text.h"
 #include "daemon/cpu_affinity.h"
 #include "daemon/json_reader.h"
 #include "daemon/source_registry.h"
@@ -108,6 +108,7 @@ void readSocket(const nlohmann::json& j, const std::string& where, SocketConfig&
   s.mode = parseMode(r.where(), mode);
   r.string("control_group", s.controlGroup);
   r.integer("max_clients", s.maxClients, 1, 4096);
+  r.integer("max_clients_per_uid", s.maxClientsPerUid, 1, 4096);
   r.integer("max_request_bytes", s.maxRequestBytes, 64, 1 << 20);
   size_t kib = s.clientBufferBytes / 1024;
   r.integer("client_buffer_kib", kib, 4, 65536);
@@ -159,30 +160,39 @@ void applyOverride(nlohmann::json& j, const std::string& assignment) {
   if (eq == std::string::npos || eq == 0) throw ConfigError(usage);
   const std::string path = assignment.substr(0, eq);
   const std::string text = assignment.substr(eq + 1);
-  nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
-  if (value.is_discarded()) value = text;  // a plain string needs no quotes on the command line
+  std::string ignored;
+  nlohmann::json value =
+      tryParseJson(text, ignored).value_or(nlohmann::json(text));  // a plain string needs no quotes
   nlohmann::json* node = &j;
+  std::string at = "the configuration";
   size_t start = 0;
   while (true) {
     const auto dot = path.find('.', start);
     const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
     if (key.empty()) throw ConfigError(usage);
-    if (!node->is_object()) *node = nlohmann::json::object();
+    // Never replace what the file says with an object: a config that is not an object stays an error.
+    if (!node->is_object())
+      throw ConfigError("'" + assignment + "': cannot set '" + key + "' because " + at + " is " +
+                        describeJson(*node) + ", not a JSON object; fix the config file");
     if (dot == std::string::npos) {
       (*node)[key] = value;
       return;
     }
+    if (!node->contains(key)) (*node)[key] = nlohmann::json::object();
     node = &(*node)[key];
+    at = "'" + path.substr(0, dot) + "'";
     start = dot + 1;
   }
 }
 
 nlohmann::json readJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ConfigError("cannot open config file '" + path + "' (check the path and its permissions)");
-  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-  if (j.is_discarded()) throw ConfigError("config file '" + path + "' is not valid JSON");
-  return j;
+  try {
+    return sb::readJsonFile(path, "config file");
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const Error& e) {
+    throw ConfigError(e.what());
+  }
 }
 
 nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
@@ -213,13 +223,17 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"pipeline_config", c.slam.pipelineConfig},
             {"controller", c.slam.controller},
             {"controller_config", c.slam.controllerConfig}}},
-          {"output", {{"dir", c.output.dir}, {"mesh", c.output.mesh}, {"model_png", c.output.modelPng},
-                      {"report", c.output.report}}},
+          {"output",
+           {{"dir", c.output.dir},
+            {"mesh", c.output.mesh},
+            {"model_png", c.output.modelPng},
+            {"report", c.output.report}}},
           {"socket",
            {{"path", c.socket.path},
             {"mode", formatMode(c.socket.mode)},
             {"control_group", c.socket.controlGroup},
             {"max_clients", c.socket.maxClients},
+            {"max_clients_per_uid", c.socket.maxClientsPerUid},
             {"max_request_bytes", c.socket.maxRequestBytes},
             {"client_buffer_kib", c.socket.clientBufferBytes / 1024},
             {"client_stall_s", c.socket.clientStallSeconds}}},

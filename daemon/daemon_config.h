@@ -69,6 +69,7 @@ struct SocketConfig {
   unsigned mode = 0660;                                    // permission bits of the socket file
   std::string controlGroup;           // members may send ?CONTROL (besides root and the daemon's user)
   size_t maxClients = 128;            // further connections get an ERROR and are closed
+  size_t maxClientsPerUid = 32;       // per unprivileged uid; privileged clients have reserved slots too
   size_t maxRequestBytes = 4096;      // longer request lines are refused with ERROR
   size_t clientBufferBytes = 262144;  // queued output per client; messages beyond it are dropped
   double clientStallSeconds = 5.0;    // a client that keeps its buffer full this long is disconnected

@@ -3,12 +3,13 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_text.h"
 
 namespace sb::daemon {
 
 JsonObjectReader::JsonObjectReader(const nlohmann::json& j, std::string where)
     : j_(j), where_(std::move(where)) {
-  if (!j_.is_object()) throw Error(where_ + ": must be a JSON object, got " + j_.dump());
+  if (!j_.is_object()) throw Error(where_ + ": must be a JSON object, got " + describeJson(j_));
 }
 
 const nlohmann::json* JsonObjectReader::find(const char* key) {
@@ -18,7 +19,7 @@ const nlohmann::json* JsonObjectReader::find(const char* key) {
 }
 
 void JsonObjectReader::fail(const char* key, const nlohmann::json& value, const std::string& allowed) const {
-  throw Error(where_ + ": '" + key + "' = " + value.dump() + " is not allowed; expected " + allowed);
+  throw Error(where_ + ": '" + key + "' = " + describeJson(value) + " is not allowed; expected " + allowed);
 }
 
 void JsonObjectReader::string(const char* key, std::string& out) {
@@ -84,7 +85,7 @@ void JsonObjectReader::finish() const {
     if (known_.count(it.key())) continue;
     std::string keys;
     for (const auto& k : known_) keys += (keys.empty() ? "" : ", ") + k;
-    throw Error(where_ + ": unknown key '" + it.key() + "' (known keys: " + keys + ")");
+    throw Error(where_ + ": unknown key '" + it.key().substr(0, 60) + "' (known keys: " + keys + ")");
   }
 }
 

@@ -62,7 +62,7 @@ int main(int argc, char** argv) {
   sb::daemon::DaemonConfig config;
   try {
     config = loadConfig(o);
-  } catch (const sb::Error& e) {
+  } catch (const std::exception& e) {
     std::cerr << "slamboosterd: configuration error: " << e.what() << "\n";
     return 2;
   }
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   if (o.checkOnly) {
     try {
       sb::daemon::checkConfigFiles(config);
-    } catch (const sb::Error& e) {
+    } catch (const std::exception& e) {  // sb::Error, or a library's exception on an unreadable file
       std::cerr << "slamboosterd: configuration error: " << e.what() << "\n";
       return 2;
     }

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/json_text.h"
+
 namespace sb::daemon {
 
 namespace {
@@ -40,7 +42,7 @@ bool readWatch(const nlohmann::json& args, WatchRequest& w, std::string& error) 
     else
       continue;  // unknown fields are ignored, as clients ignore unknown fields in reports
     if (!it.value().is_boolean()) {
-      error = "?WATCH: '" + it.key() + "' must be true or false";
+      error = "?WATCH: '" + it.key() + "' must be true or false";  // a known key: short
       return false;
     }
     *field = it.value().get<bool>();
@@ -58,8 +60,9 @@ bool readControl(const nlohmann::json& args, ControlRequest& c, std::string& err
   for (auto it = args.begin(); it != args.end(); ++it) {
     const auto& v = it.value();
     if (it.key() == "controller") {
-      if (!v.is_string() || v.get<std::string>().empty()) {
-        error = "?CONTROL: 'controller' must be a controller name (a non-empty string)";
+      if (!v.is_string() || v.get<std::string>().empty() || v.get<std::string>().size() > kMaxNameBytes) {
+        error = "?CONTROL: 'controller' must be a controller name (a string of 1 to " +
+                std::to_string(kMaxNameBytes) + " bytes)";
         return false;
       }
       c.controller = v.get<std::string>();
@@ -70,7 +73,7 @@ bool readControl(const nlohmann::json& args, ControlRequest& c, std::string& err
       }
       for (auto k = v.begin(); k != v.end(); ++k) {
         if (!isKnob(k.key())) {
-          error = "?CONTROL: cannot pin unknown knob '" + k.key() + "' (knobs: " + list + ")";
+          error = "?CONTROL: cannot pin unknown knob '" + k.key().substr(0, 60) + "' (knobs: " + list + ")";
           return false;
         }
         if (!k.value().is_number() || !std::isfinite(k.value().get<double>())) {
@@ -90,7 +93,7 @@ bool readControl(const nlohmann::json& args, ControlRequest& c, std::string& err
       }
       for (const auto& k : v) {
         if (!k.is_string() || !isKnob(k.get<std::string>())) {
-          error = "?CONTROL: cannot unpin " + k.dump() + " (knobs: " + list + ")";
+          error = "?CONTROL: cannot unpin " + describeJson(k) + " (knobs: " + list + ")";
           return false;
         }
         c.unpin.push_back(k.get<std::string>());
@@ -139,11 +142,14 @@ ParseResult parseRequest(std::string_view line) {
   } else if (rest.front() == '=' && command->takesObject) {
     rest.remove_prefix(1);
     if (!rest.empty() && rest.back() == ';') rest.remove_suffix(1);
-    args = nlohmann::json::parse(rest.begin(), rest.end(), nullptr, false);
-    if (args.is_discarded() || !args.is_object()) {
-      result.error = "?" + std::string(command->name) + ": the argument must be one JSON object";
+    std::string error;
+    auto parsed = tryParseJson(rest, error, kMaxRequestDepth);
+    if (!parsed || !parsed->is_object()) {
+      result.error = "?" + std::string(command->name) + ": the argument must be one JSON object" +
+                     (parsed ? "" : " (argument: " + error + ")");
       return result;
     }
+    args = std::move(*parsed);
   } else {
     result.error =
         "?" + std::string(command->name) +

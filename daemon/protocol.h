@@ -20,6 +20,10 @@ namespace sb::daemon {
 
 constexpr int kProtoMajor = 1;
 constexpr int kProtoMinor = 1;  // 1: POSE carries constrained, conditioning, weakest_motion
+// Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
+constexpr int kMaxRequestDepth = 8;
+// Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
+constexpr size_t kMaxNameBytes = 64;
 
 enum class Command { watch, poll, status, control, version };
 

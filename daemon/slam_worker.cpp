@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 
 #include "core/error.h"
 #include "core/png_io.h"
@@ -18,6 +19,7 @@
 #include "pipeline/pipeline.h"
 #include "power/energy_json.h"
 #include "report/run_report.h"
+#include "runtime/line_file.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 
@@ -166,8 +168,9 @@ void SlamWorker::runPasses() {
   auto lastFlush = Clock::now();
   SummarySink* summary = nullptr;  // of the pass
   std::map<std::string, size_t> unknownEnergy;  // reason -> frames, since the daemon started
-  std::ofstream energyLog;  // energy.jsonl of the pass (with a meter); results of a frame may land in the next pass's
-  std::string energyPath;
+  // energy.jsonl of the pass (with a meter), a line per frame as its energy is known; results of a frame may
+  // land in the next pass's.
+  std::optional<LineFile> energyLog;
 
   const auto flushEnergy = [&] {
     // summary.json carries the meter's totals since the daemon started (one pass: exactly this run's).
@@ -176,13 +179,10 @@ void SlamWorker::runPasses() {
       totals["meter"] = sampler_->meterInfo().name;
       summary->setExtra("energy", totals);
     }
-    if (!energyLog.is_open()) return;
-    energyLog.flush();
-    if (!energyLog) throw Error("writing per-frame energy log '" + energyPath + "' failed (disk full?)");
   };
   const auto handleEnergy = [&](const std::vector<power::FrameEnergy>& results) {
     for (const power::FrameEnergy& e : results) {
-      if (energyLog.is_open()) energyLog << power::frameEnergyJson(e).dump() << "\n";
+      if (energyLog) energyLog->append(power::frameEnergyJson(e).dump() + "\n");
       if (!e.known) {
         ++unknownEnergy[e.unknownReason];
         continue;
@@ -246,10 +246,8 @@ void SlamWorker::runPasses() {
         "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)")
                   .summary;
     if (sampler_) {
-      energyLog.close();
-      energyPath = (std::filesystem::path(dir) / "energy.jsonl").string();
-      energyLog.open(energyPath);
-      if (!energyLog) throw Error("cannot write per-frame energy log '" + energyPath + "' (check output.dir)");
+      energyLog.reset();
+      energyLog.emplace((std::filesystem::path(dir) / "energy.jsonl").string(), "per-frame energy log");
     }
   };
 

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 
@@ -42,16 +43,14 @@ void SocketServer::accept() {
     UniqueFd fd(accept4(listener_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC));
     if (!fd.valid()) {
       if (errno == EINTR || errno == ECONNABORTED) continue;
-      if (errno != EAGAIN && errno != EWOULDBLOCK)
-        spdlog::warn("socket: accept failed: {}", std::strerror(errno));
+      if (errno == EAGAIN || errno == EWOULDBLOCK) return;
+      // Out of descriptors (EMFILE, ENFILE) or memory: the connection stays queued and epoll would report it
+      // again at once. Stop listening until the next housekeeping tick or until a client leaves.
+      pauseAccepting(errno);
       return;
     }
     if (clients_.size() >= config_.maxClients) {
-      const std::string line =
-          toLine(errorMessage("too many clients (limit " + std::to_string(config_.maxClients) +
-                              ", socket.max_clients); try again later"));
-      (void)!::send(fd.get(), line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-      ++clientsDisconnected_;
+      refuse(fd, "too many clients (limit " + std::to_string(config_.maxClients) + ", socket.max_clients)");
       continue;  // fd closes here
     }
     PeerCredentials peer;
@@ -59,6 +58,10 @@ void SocketServer::accept() {
       peer = peerCredentials(fd.get());
     } catch (const Error& e) {
       spdlog::warn("socket: {}; connection refused", e.what());
+      continue;
+    }
+    if (const std::string why = refusal(peer); !why.empty()) {
+      refuse(fd, why);
       continue;
     }
     const int raw = fd.get();
@@ -70,6 +73,27 @@ void SocketServer::accept() {
     spdlog::debug("socket: client fd {} connected (pid {}, uid {})", raw, c.peer().pid, c.peer().uid);
     reply(c, versionMessage(release_));
   }
+}
+
+std::string SocketServer::refusal(const PeerCredentials& peer) const {
+  if (policy_.allowed(peer)) return "";  // privileged: only the total limit applies
+  // One user cannot lock out root: the last slots are kept for privileged clients.
+  const size_t reserved = std::min<size_t>(kPrivilegedSlots, config_.maxClients / 4);
+  if (clients_.size() + reserved >= config_.maxClients)
+    return "too many clients (limit " + std::to_string(config_.maxClients) +
+           ", socket.max_clients; the last " + std::to_string(reserved) + " are kept for privileged clients)";
+  size_t same = 0;
+  for (const auto& [fd, client] : clients_) same += client->peer().uid == peer.uid;
+  if (same >= config_.maxClientsPerUid)
+    return "too many clients for uid " + std::to_string(peer.uid) + " (limit " +
+           std::to_string(config_.maxClientsPerUid) + ", socket.max_clients_per_uid)";
+  return "";
+}
+
+void SocketServer::refuse(UniqueFd& fd, const std::string& why) {
+  const std::string line = toLine(errorMessage(why + "; try again later"));
+  (void)!::send(fd.get(), line.data(), line.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+  ++clientsDisconnected_;
 }
 
 void SocketServer::onClientEvent(int fd, uint32_t events) {
@@ -93,6 +117,10 @@ void SocketServer::onClientEvent(int fd, uint32_t events) {
 
 void SocketServer::handleLine(Client& client, std::string_view line) {
   if (line.empty() || line == "\r") return;  // blank lines are harmless keep-alives
+  // ?CONTROL from a client who may not send it is refused before its argument is parsed.
+  constexpr std::string_view kControl = "?CONTROL=";
+  if (line.substr(0, kControl.size()) == kControl && !policy_.allowed(client.peer()))
+    return reply(client, permissionDenied(client));
   ParseResult parsed = parseRequest(line);
   if (!parsed.request) return reply(client, errorMessage(parsed.error));
   const Request& r = *parsed.request;
@@ -115,13 +143,11 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
       s["clients"] = clients_.size();
       s["client_messages_dropped"] = messagesDropped_;
       s["clients_disconnected"] = clientsDisconnected_;
+      s["accept_pauses"] = acceptPauses_;
       return reply(client, statusMessage(std::move(s)));
     }
     case Command::control: {
-      if (!policy_.allowed(client.peer()))
-        return reply(client,
-                     errorMessage("?CONTROL: permission denied for uid " + std::to_string(client.peer().uid) +
-                                  "; allowed: " + policy_.describe() + " (socket.control_group)"));
+      if (!policy_.allowed(client.peer())) return reply(client, permissionDenied(client));
       try {
         nlohmann::json result = state_.control(r.control);
         result["class"] = "CONTROL";
@@ -133,6 +159,11 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
       }
     }
   }
+}
+
+nlohmann::json SocketServer::permissionDenied(const Client& client) const {
+  return errorMessage("?CONTROL: permission denied for uid " + std::to_string(client.peer().uid) +
+                      "; allowed: " + policy_.describe() + " (socket.control_group)");
 }
 
 nlohmann::json SocketServer::pollMessage() const {
@@ -178,6 +209,22 @@ void SocketServer::publishEnergy(const EnergyReport& report) {
     if (client->watching && client->watchEnergy) deliver(*client, energy);
 }
 
+void SocketServer::pauseAccepting(int error) {
+  if (acceptPaused_) return;
+  acceptPaused_ = true;
+  ++acceptPauses_;
+  loop_.modify(listener_, 0);
+  // One line per pause (the daemon resumes at most once per tick), never one per queued connection.
+  spdlog::warn("socket: accept failed: {}; not accepting clients for now ({} connected, {} pauses so far)",
+               std::strerror(error), clients_.size(), acceptPauses_);
+}
+
+void SocketServer::resumeAccepting() {
+  if (!acceptPaused_) return;
+  acceptPaused_ = false;
+  loop_.modify(listener_, EPOLLIN);
+}
+
 void SocketServer::dropStalledClients() {
   const auto now = SteadyClock::now();
   const auto limit = std::chrono::duration<double>(config_.clientStallSeconds);
@@ -195,6 +242,7 @@ void SocketServer::close(int fd, const char* why, bool byServer) {
   if (byServer) ++clientsDisconnected_;
   loop_.remove(fd);
   clients_.erase(it);  // closes the fd
+  resumeAccepting();   // a descriptor is free again
 }
 
 }  // namespace sb::daemon

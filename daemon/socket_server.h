@@ -21,6 +21,9 @@ namespace sb::daemon {
 
 class SocketServer {
  public:
+  // Client slots kept for privileged peers (at most a quarter of socket.max_clients).
+  static constexpr size_t kPrivilegedSlots = 4;
+
   // `listener`: a listening, non-blocking Unix stream socket (borrowed; see unix_socket.h).
   SocketServer(EventLoop& loop, int listener, const SocketConfig& config, ControlPolicy policy,
                ServiceState& state, std::string release);
@@ -32,13 +35,23 @@ class SocketServer {
   void publishEnergy(const EnergyReport& report);
   // Disconnects clients stalled longer than the configured limit. Call periodically.
   void dropStalledClients();
+  // Listens again after accept() failed for lack of descriptors (it pauses rather than spin). The daemon
+  // calls it once per housekeeping tick; a client leaving calls it too.
+  void resumeAccepting();
 
   size_t clientCount() const { return clients_.size(); }
   uint64_t messagesDropped() const { return messagesDropped_; }
   uint64_t clientsDisconnected() const { return clientsDisconnected_; }
+  // Times accept() failed for lack of descriptors or memory and the listener was paused.
+  uint64_t acceptPauses() const { return acceptPauses_; }
 
  private:
   void accept();
+  // Why an unprivileged `peer` may not connect now (the privileged reserve, the per-uid cap), or "".
+  std::string refusal(const PeerCredentials& peer) const;
+  // Sends ERROR "<why>; try again later" on `fd` without blocking (the caller closes it).
+  void refuse(UniqueFd& fd, const std::string& why);
+  void pauseAccepting(int error);
   void onClientEvent(int fd, uint32_t events);
   void handleLine(Client& client, std::string_view line);
   void reply(Client& client, const nlohmann::json& message);
@@ -46,6 +59,7 @@ class SocketServer {
   void updateInterest(Client& client);
   void close(int fd, const char* why, bool byServer);
   nlohmann::json pollMessage() const;
+  nlohmann::json permissionDenied(const Client& client) const;
 
   EventLoop& loop_;
   int listener_;
@@ -58,6 +72,8 @@ class SocketServer {
   uint64_t framesPublished_ = 0;
   uint64_t messagesDropped_ = 0;
   uint64_t clientsDisconnected_ = 0;
+  uint64_t acceptPauses_ = 0;
+  bool acceptPaused_ = false;
 };
 
 }  // namespace sb::daemon

@@ -6,8 +6,10 @@
 #include <fstream>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "core/error.h"
+#include "core/json_text.h"
 
 namespace sb {
 
@@ -17,6 +19,8 @@ using nlohmann::json;
 
 // Largest image side accepted from a file, pixels (guards allocations against corrupt values).
 constexpr int kMaxImageSide = 16384;
+// Volume hints, metres: the range of the pipeline config's volume_size_m.
+constexpr double kMinVolumeSize = 0.1, kMaxVolumeSize = 100.0;
 
 [[noreturn]] void badKey(const std::string& path, const std::string& key, const std::string& expected) {
   throw Error("calibration '" + path + "': key '" + key + "' must be " + expected + "; fix or remove it");
@@ -26,9 +30,9 @@ std::optional<double> readNumber(const json& j, const std::string& path, const s
                                  double minValue, double maxValue, const std::string& expected) {
   if (!j.contains(key)) return std::nullopt;
   const json& v = j.at(key);
-  if (!v.is_number()) badKey(path, key, expected);
+  if (!v.is_number()) badKey(path, key, expected + " (got " + describeJson(v) + ")");
   const double d = v.get<double>();
-  if (!(d >= minValue && d <= maxValue)) badKey(path, key, expected + " (got " + v.dump() + ")");
+  if (!(d >= minValue && d <= maxValue)) badKey(path, key, expected + " (got " + describeJson(v) + ")");
   return d;
 }
 
@@ -47,20 +51,16 @@ std::optional<float> readPixels(const json& j, const std::string& path, const st
   const auto d =
       readNumber(j, path, key, lo, 1e6, positive ? "a positive number of pixels" : "a number of pixels");
   if (!d) return std::nullopt;
+  if (positive && !(static_cast<float>(*d) > 0))  // 1e-300 is positive, and 0 as the float the pipeline uses
+    badKey(path, key,
+           "a positive number of pixels (got " + describeJson(j.at(key)) + ", which is 0 as a float)");
   return static_cast<float>(*d);
 }
 
 }  // namespace
 
 Calibration readCalibration(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read calibration '" + path + "': check that it exists and is readable");
-  json j;
-  try {
-    in >> j;
-  } catch (const json::exception& e) {
-    throw Error("calibration '" + path + "' is not valid JSON (" + e.what() + "); fix the file");
-  }
+  const json j = readJsonFile(path, "calibration");  // a directory, bad JSON or deep nesting: names the file
   if (!j.is_object()) throw Error("calibration '" + path + "' must hold a JSON object");
 
   Calibration c;
@@ -89,15 +89,20 @@ Calibration readCalibration(const std::string& path) {
     if (!j.at("format").is_string()) badKey(path, "format", "a string such as \"tum\" or \"icl-nuim\"");
     c.format = j.at("format").get<std::string>();
   }
-  c.volumeSize = readNumber(j, path, "volume_size_m", std::numeric_limits<double>::min(), 1e6,
-                            "a positive size in metres");
+  // The ranges of the pipeline config's volume_size_m and initial_position, checked here so that the error
+  // names this file and the value as written.
+  c.volumeSize = readNumber(j, path, "volume_size_m", kMinVolumeSize, kMaxVolumeSize,
+                            "a volume side in metres in [0.1, 100]");
   if (j.contains("volume_initial_position")) {
     const json& v = j.at("volume_initial_position");
-    const std::string expected = "an array [x, y, z] of numbers (fractions of the volume side)";
-    if (!v.is_array() || v.size() != 3) badKey(path, "volume_initial_position", expected);
+    const std::string expected = "an array [x, y, z] of fractions of the volume side, each in [0, 1]";
+    if (!v.is_array() || v.size() != 3)
+      badKey(path, "volume_initial_position", expected + " (got " + describeJson(v) + ")");
     std::array<double, 3> p{};
     for (size_t i = 0; i < 3; ++i) {
-      if (!v[i].is_number()) badKey(path, "volume_initial_position", expected);
+      if (!v[i].is_number() || !(v[i].get<double>() >= 0.0 && v[i].get<double>() <= 1.0))
+        badKey(path, "volume_initial_position",
+               expected + " (got " + describeJson(v[i]) + " at index " + std::to_string(i) + ")");
       p[i] = v[i].get<double>();
     }
     c.volumeInitialPosition = p;
@@ -139,6 +144,41 @@ void resolveCamera(SequenceInfo& info, const Calibration* calibration, const Seq
     for (const auto& n : defaulted) names += (names.empty() ? "" : ", ") + n;
     spdlog::warn("sequence '{}': {} not given by {} or the command line; using the defaults of {}", info.path,
                  names, c ? "'" + c->path + "'" : "a calibration.json", defaults.name);
+  }
+}
+
+void checkIntrinsics(const SequenceInfo& info, const Calibration* calibration,
+                     const SequenceOptions& options) {
+  const Intrinsics& k = info.intrinsics;
+  const double side = std::max(k.width, k.height);
+  struct Check {
+    const char* name;
+    const std::optional<float>& option;
+    const std::optional<float>* fromFile;
+    float value;
+    double lo, hi;
+  };
+  const auto file = [&](std::optional<float> Calibration::*member) {
+    return calibration ? &(calibration->*member) : nullptr;
+  };
+  const Check checks[] = {
+      {"fx", options.fx, file(&Calibration::fx), k.fx, side / 100, side * 100},
+      {"fy", options.fy, file(&Calibration::fy), k.fy, side / 100, side * 100},
+      {"cx", options.cx, file(&Calibration::cx), k.cx, -double(k.width), 2.0 * k.width},
+      {"cy", options.cy, file(&Calibration::cy), k.cy, -double(k.height), 2.0 * k.height},
+  };
+  for (const Check& c : checks) {
+    const bool fromOption = c.option.has_value();
+    if (!fromOption && !(c.fromFile && *c.fromFile)) continue;  // a default
+    if (c.value >= c.lo && c.value <= c.hi) continue;
+    std::ostringstream msg;
+    msg << "sequence '" << info.path << "': " << c.name << " = " << c.value << " pixels ("
+        << (fromOption ? std::string("from the command line") : "from '" + calibration->path + "'")
+        << ") is not plausible for a " << k.width << "x" << k.height << " image; expected " << c.name
+        << " in [" << c.lo << ", " << c.hi << "]"
+        << (c.name[0] == 'f' ? " (a field of view between about 1 and 179 degrees)"
+                             : " (the principal point lies near the image centre)");
+    throw Error(msg.str());
   }
 }
 

@@ -42,6 +42,13 @@ struct CameraDefaults {
 void resolveCamera(SequenceInfo& info, const Calibration* calibration, const SequenceOptions& options,
                    const CameraDefaults& defaults);
 
+// Once info.intrinsics has its image size: throws sb::Error when an intrinsic given by `options` or
+// `calibration` is implausible for it (focal lengths outside [side/100, side*100] pixels, side = the longer
+// image side; a principal point more than one image size outside the image), naming the value, where it
+// came from and the range. Defaults are not checked.
+void checkIntrinsics(const SequenceInfo& info, const Calibration* calibration,
+                     const SequenceOptions& options);
+
 // The raw values that mean "no reading": always 0 and 65535 (a saturated or missing sample in every supported
 // format), plus the calibration's `invalid_depth_values`.
 std::vector<uint16_t> invalidDepthValues(const Calibration* calibration);

@@ -127,6 +127,7 @@ RawReader::RawReader(const std::string& path, const SequenceOptions& options) {
   resolveCamera(info_, cal, options, iclNuimDefaults());
   info_.intrinsics.width = static_cast<int>(width_);
   info_.intrinsics.height = static_cast<int>(height_);
+  checkIntrinsics(info_, cal, options);
   info_.frameCount = end_ - first_;
   buffer_.resize(static_cast<size_t>(depthBytes));
 }

@@ -159,6 +159,7 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
   }
   info_.intrinsics.width = *width;
   info_.intrinsics.height = *height;
+  checkIntrinsics(info_, cal, options);
 }
 
 void TumReader::fail(const Entry& entry, const std::string& what) const {

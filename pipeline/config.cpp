@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/json_text.h"
 
 namespace sb {
 
@@ -191,15 +192,7 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
 }
 
 PipelineConfig loadConfigFile(const std::string& path, const PipelineConfig& base) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open config file '" + path + "' (check the path)");
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error("config file '" + path + "' is not valid JSON: " + e.what());
-  }
-  return parseConfig(j, base, path);
+  return parseConfig(readJsonFile(path, "config file"), base, path);  // bounded nesting, names the file
 }
 
 nlohmann::json configToJson(const PipelineConfig& c) {

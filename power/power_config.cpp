@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/json_text.h"
 #include "power/meter_registry.h"
 
 namespace sb::power {
@@ -171,15 +172,7 @@ PowerConfig parsePowerConfig(const nlohmann::json& j, const PowerConfig& base, c
 }
 
 PowerConfig loadPowerConfig(const std::string& path, const PowerConfig& base) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open power config '" + path + "' (check the path)");
-  json j;
-  try {
-    in >> j;
-  } catch (const json::exception& e) {
-    throw Error("power config '" + path + "' is not valid JSON: " + e.what());
-  }
-  return parsePowerConfig(j, base, path);
+  return parsePowerConfig(readJsonFile(path, "power config"), base, path);  // bounded nesting, names the file
 }
 
 nlohmann::json powerConfigToJson(const PowerConfig& c) {

@@ -10,7 +10,6 @@
 //   summary->setExtra("energy", sink.finish());                                   // waits for the last samples
 
 #include <functional>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -18,6 +17,7 @@
 
 #include "power/power_config.h"
 #include "power/power_sampler.h"
+#include "runtime/line_file.h"
 #include "runtime/output_sink.h"
 
 namespace sb {
@@ -47,7 +47,7 @@ class EnergySink : public OutputSink {
 
   std::unique_ptr<power::PowerSampler> sampler_;
   std::string path_;
-  std::ofstream out_;
+  LineFile out_;
   Callback callback_;
   std::map<std::string, size_t> unknownReasons_;
   bool finished_ = false;

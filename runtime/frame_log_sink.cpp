@@ -1,7 +1,5 @@
 #include "runtime/frame_log_sink.h"
 
-#include "core/error.h"
-
 namespace sb {
 
 nlohmann::json knobsToJson(const Knobs& k) {
@@ -59,15 +57,13 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   return j;
 }
 
-FrameLogSink::FrameLogSink(const std::string& path) : path_(path), out_(path) {
-  if (!out_) throw Error("cannot write per-frame log '" + path + "' (check the output directory)");
+FrameLogSink::FrameLogSink(const std::string& path) : out_(path, "per-frame log") {}
+
+void FrameLogSink::onFrame(const FrameRecord& record) {
+  out_.append(frameRecordToJson(record).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) +
+              "\n");
 }
 
-void FrameLogSink::onFrame(const FrameRecord& record) { out_ << frameRecordToJson(record).dump() << "\n"; }
-
-void FrameLogSink::flush() {
-  out_.flush();
-  if (!out_) throw Error("writing per-frame log '" + path_ + "' failed (disk full?)");
-}
+void FrameLogSink::flush() {}  // every line is written as its frame ends
 
 }  // namespace sb

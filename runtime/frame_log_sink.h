@@ -1,11 +1,12 @@
 #pragma once
 // The per-frame log, frames.jsonl: one JSON object per frame with the knobs it ran with, stage times (ms,
-// classic stage names), tracking result, velocity, the controller's triggers and next knobs.
+// classic stage names), tracking result, velocity, the controller's triggers and next knobs. Each line is
+// written as its frame ends (LineFile: a crash loses at most the frame in hand; a failed write throws).
 
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "runtime/line_file.h"
 #include "runtime/output_sink.h"
 
 namespace sb {
@@ -23,8 +24,7 @@ class FrameLogSink final : public OutputSink {
   void flush() override;
 
  private:
-  std::string path_;
-  std::ofstream out_;
+  LineFile out_;
 };
 
 }  // namespace sb

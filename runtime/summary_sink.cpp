@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "runtime/frame_log_sink.h"
+#include "runtime/line_file.h"
 
 namespace sb {
 
@@ -85,6 +86,11 @@ SummarySink::SummarySink(const std::string& path, const std::string& groundTruth
 void SummarySink::onFrame(const FrameRecord& record) {
   stats_.add(record);
   trajectory_.push_back(TimedPose{record.result.timestamp, record.result.T_camera_to_world});
+  // A snapshot per frame (without the ATE, computed at flush()): after a crash summary.json agrees with the
+  // trajectory and the per-frame log within one frame.
+  nlohmann::json snapshot = extra_;
+  snapshot.update(stats_.toJson());
+  write(snapshot);
 }
 
 void SummarySink::flush() {
@@ -102,11 +108,18 @@ void SummarySink::flush() {
       summary_["ate_error"] = e.what();
     }
   }
+  write(summary_);
+}
+
+void SummarySink::write(const nlohmann::json& summary) const {
+  // Whole or not at all: a temporary file renamed over the old one (which stays as it was on failure).
   const std::string tmp = path_ + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << summary_.dump(2) << "\n";
-    if (!out) throw Error("cannot write summary '" + tmp + "' (check the output directory)");
+  try {
+    LineFile(tmp, "summary")
+        .append(summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  } catch (const Error& e) {
+    std::remove(tmp.c_str());
+    throw Error(std::string(e.what()) + "; '" + path_ + "' keeps the previous summary");
   }
   if (std::rename(tmp.c_str(), path_.c_str()) != 0) throw Error("cannot rename '" + tmp + "' to '" + path_ + "'");
 }

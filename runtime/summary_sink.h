@@ -1,8 +1,9 @@
 #pragma once
 // summary.json of a run: frame counts, % tracked, mean computation time and stage times per frame,
 // controller cost, corrections and trigger counts, time per knob setting, and the ATE against the
-// sequence's ground truth when it has one. Rewritten atomically (temporary file + rename) on every flush,
-// so a reader never sees half a file and a killed run keeps the last flushed summary.
+// sequence's ground truth when it has one. Rewritten atomically (temporary file + rename) after every frame
+// (without the ATE) and on every flush (with it), so a reader never sees half a file and a killed run keeps
+// a summary of every frame but at most the one in hand.
 
 #include <map>
 #include <nlohmann/json.hpp>
@@ -55,6 +56,8 @@ class SummarySink final : public OutputSink {
   const nlohmann::json& summary() const { return summary_; }
 
  private:
+  void write(const nlohmann::json& summary) const;
+
   std::string path_;
   std::string groundTruthPath_;
   std::optional<Trajectory> groundTruth_;

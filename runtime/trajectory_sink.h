@@ -1,11 +1,12 @@
 #pragma once
-// Streams the final poses as a TUM trajectory (core/trajectory.h format), one line per frame, and keeps
-// them in memory for evaluation.
+// Streams the final poses as a TUM trajectory (core/trajectory.h format), one line per frame written as the
+// frame ends (LineFile: a crash loses at most the frame in hand; a failed write throws), and keeps them in
+// memory for evaluation.
 
-#include <fstream>
 #include <string>
 
 #include "core/trajectory.h"
+#include "runtime/line_file.h"
 #include "runtime/output_sink.h"
 
 namespace sb {
@@ -19,8 +20,7 @@ class TrajectorySink final : public OutputSink {
   const Trajectory& trajectory() const { return trajectory_; }
 
  private:
-  std::string path_;
-  std::ofstream out_;
+  LineFile out_;
   Trajectory trajectory_;
 };
 

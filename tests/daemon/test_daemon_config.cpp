@@ -1,10 +1,12 @@
 // The daemon's typed config: defaults, the documented default file, and one clear error per bad value.
 
 #include <catch2/catch.hpp>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "daemon/daemon_config.h"
+#include "tests/support/test_data.h"
 
 using namespace sb::daemon;
 using nlohmann::json;
@@ -91,4 +93,37 @@ TEST_CASE("daemon config: command-line overrides", "[daemon][config]") {
   CHECK_THROWS_AS(applyOverride(j, "a..b=1"), sb::Error);
   applyOverride(j, "socket.max_clients=\"8\"");
   CHECK_THROWS_AS(parseDaemonConfig(j), sb::Error);  // a quoted number stays a string: refused by type
+}
+
+TEST_CASE("daemon config: an override never replaces a config that is not an object", "[daemon][config]") {
+  // Issue 23: [1,2], "hello" or {"source":5} with --pacing fast used to become a valid config.
+  using Catch::Matchers::Contains;
+  for (const json& file : {json::array({1, 2}), json("hello"), json(5)}) {
+    json j = file;
+    CHECK_THROWS_WITH(applyOverride(j, "source.pacing=fast"),
+                      Contains("the configuration is") && Contains("not a JSON object"));
+  }
+  json j = {{"source", 5}};
+  CHECK_THROWS_WITH(applyOverride(j, "source.pacing=fast"), Contains("'source' is 5, not a JSON object"));
+  j = {{"source", {{"camera", "x"}}}};
+  CHECK_THROWS_WITH(applyOverride(j, "source.camera.fx=1"), Contains("'source.camera' is \"x\""));
+  j = json::object();
+  applyOverride(j, "source.camera.fx=1");  // absent sections are still created
+  CHECK(j["source"]["camera"]["fx"] == 1);
+}
+
+TEST_CASE("daemon config: deep nesting in a value or a file is an error, not a crash", "[daemon][config]") {
+  using Catch::Matchers::Contains;
+  // Issue 23: a 70000-deep config crashed the daemon (SIGSEGV) at start and on SIGHUP.
+  json j = json::object();
+  applyOverride(j, "source.path=" + std::string(70000, '['));  // not JSON within the bound: a plain string
+  CHECK(j["source"]["path"].is_string());
+  const std::string dir = sb::test::scratchDir("daemon_config_deep");
+  std::ofstream(dir + "/deep.json") << std::string(70000, '[');
+  CHECK_THROWS_AS(readJsonFile(dir + "/deep.json"), ConfigError);
+  CHECK_THROWS_WITH(readJsonFile(dir + "/deep.json"), Contains("deep.json") && Contains("deeper than"));
+  CHECK_THROWS_WITH(readJsonFile(dir), Contains("is a directory"));
+  // Deep but within the bound: the error quotes the value flat.
+  CHECK_THAT(errorOf({{"source", {{"path", json::parse(std::string(60, '[') + std::string(60, ']'))}}}}),
+             Contains("'path' = an array of 1 elements"));
 }

@@ -98,3 +98,20 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   // Invalid UTF-8 in a string never throws on the wire.
   CHECK(toLine(errorMessage("bad \xff byte")).find("ERROR") != std::string::npos);
 }
+
+TEST_CASE("deeply nested arguments are refused without recursion", "[daemon][protocol]") {
+  // Issue 23: ?CONTROL={"unpin":[ + 100000 x [ crashed the daemon while its error dumped the value.
+  const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+  CHECK_THAT(errorOf("?CONTROL={\"unpin\":" + deep + "}"), Contains("deeper than"));
+  CHECK_THAT(errorOf("?CONTROL={\"unpin\":" + std::string(100000, '[')), Contains("deeper than"));
+  CHECK_THAT(errorOf("?WATCH={\"x\":" + deep + "}"), Contains("deeper than"));
+  // Within the bound the refusal quotes the value flat.
+  CHECK_THAT(errorOf("?CONTROL={\"unpin\":[[[[1]]]]}"), Contains("cannot unpin an array of 1 elements"));
+  CHECK(errorOf("?CONTROL={\"unpin\":[\"" + std::string(100000, 'x') + "\"]}").size() < 400);
+  CHECK(errorOf("?CONTROL={\"pin\":{\"" + std::string(100000, 'x') + "\":1}}").size() < 400);
+  // A control character in a long string: nlohmann's message quotes the whole token; the reply must not.
+  CHECK(errorOf("?CONTROL={\"pin\":{\"" + std::string(100000, 'k') + "\x01\":1}}").size() < 400);
+  // A reply quoting a 1 MiB controller name overflowed the client's buffer: the client got no answer.
+  CHECK_THAT(errorOf("?CONTROL={\"controller\":\"" + std::string(100000, 'x') + "\"}"),
+             Contains("1 to 64 bytes"));
+}

@@ -20,6 +20,7 @@
 
 #include "core/unique_fd.h"
 #include "daemon/unix_socket.h"
+#include "tests/daemon/daemon_e2e.h"
 #include "tests/daemon/process.h"
 #include "tests/support/constant_power.h"
 #include "tests/support/run_command.h"
@@ -30,87 +31,7 @@ using nlohmann::json;
 using sb::test::ChildProcess;
 using sb::test::runCommand;
 
-namespace {
-
-const std::string kDaemon = SB_SLAMBOOSTERD_BIN;
-const std::string kCtl = SB_SLAMBOOSTERCTL_BIN;
-const std::string kTool = SB_SLAMBOOSTER_BIN;
-constexpr int kFrames = 30;
-
-// A short synthetic sequence (320x240, csr 2, 64^3 volume: a few tens of ms per frame), rendered once.
-struct Fixture {
-  std::string dir, sequence, pipelineConfig;
-  Fixture() {
-    dir = sb::test::scratchDir("slamboosterd_seq");
-    sequence = dir + "/seq";
-    const auto synth =
-        runCommand(kTool + " synth --out " + sequence + " --builtin-frames " + std::to_string(kFrames) +
-                   " --width 320 --height 240 --fx 240 --fy 240 --threads 1");
-    if (synth.exitCode != 0) throw std::runtime_error("synth failed: " + synth.output);
-    pipelineConfig = dir + "/pipeline.json";
-    std::ofstream(pipelineConfig) << R"({"volume_resolution": 64, "knobs": "csr=2,ir=1"})";
-  }
-};
-
-const Fixture& fixture() {
-  static const Fixture f;
-  return f;
-}
-
-// A private /tmp directory for one test's socket (socket paths must stay short).
-struct TempDir {
-  std::string path;
-  TempDir() {
-    char t[] = "/tmp/sbd-e2e-XXXXXX";
-    if (!mkdtemp(t)) throw std::runtime_error("mkdtemp");
-    path = t;
-  }
-  ~TempDir() { fs::remove_all(path); }
-};
-
-std::vector<std::string> daemonArgs(const std::string& socket, const std::string& out,
-                                    const std::string& pacing, const std::string& atEnd) {
-  return {kDaemon,
-          "--input",
-          fixture().sequence,
-          "--out",
-          out,
-          "--socket",
-          socket,
-          "--pacing",
-          pacing,
-          "--at-end",
-          atEnd,
-          "--set",
-          "slam.pipeline_config=" + fixture().pipelineConfig,
-          "--controller",
-          "fixed"};
-}
-
-size_t dataLines(const std::string& path) {
-  std::ifstream in(path);
-  size_t n = 0;
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty() && line[0] != '#') ++n;
-  return n;
-}
-
-std::set<std::string> trajectoryTimestamps(const std::string& path) {
-  std::ifstream in(path);
-  std::set<std::string> stamps;
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty() && line[0] != '#') stamps.insert(line.substr(0, line.find(' ')));
-  return stamps;
-}
-
-json ctlJson(const std::string& socket, const std::string& args) {
-  const auto r = runCommand(kCtl + " --json --socket " + socket + " " + args);
-  INFO(r.output);
-  REQUIRE(r.exitCode == 0);
-  return json::parse(r.output.substr(0, r.output.find('\n')));
-}
-
-}  // namespace
+using namespace sb::test::e2e;
 
 TEST_CASE("slamboosterd: watch, then SIGTERM mid-run: every processed frame is on disk, exit 0",
           "[daemon][system]") {

@@ -2,15 +2,19 @@
 // never read, too many clients, unauthorised ?CONTROL. The server must answer ERROR where a reply makes
 // sense, keep serving everyone else, and never block.
 
+#include <fcntl.h>
 #include <pwd.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <thread>
+#include <tuple>
 
 #include "tests/daemon/server_harness.h"
 
@@ -160,12 +164,14 @@ TEST_CASE("?CONTROL from a peer that is not root, the daemon's user or in the gr
     try {
       LineClient c(server.path());
       c.readLine();
-      c.send("?CONTROL={\"controller\":\"slambooster\"}\n");
-      const json e = json::parse(c.readLine());
-      _exit(e["class"] == "ERROR" &&
-                    e["message"].get<std::string>().find("permission denied") != std::string::npos
-                ? 0
-                : 1);
+      // A valid request, then one whose argument is never parsed for a client without permission.
+      c.send("?CONTROL={\"controller\":\"slambooster\"}\n?CONTROL={\"unpin\":" + std::string(3000, '[') + "\n");
+      for (int i = 0; i < 2; ++i) {
+        const json e = json::parse(c.readLine());
+        if (e["class"] != "ERROR" || e["message"].get<std::string>().find("permission denied") == std::string::npos)
+          _exit(1);
+      }
+      _exit(0);
     } catch (...) {
       _exit(2);
     }
@@ -195,4 +201,122 @@ TEST_CASE("control policy: root, the daemon's user and the configured group", "[
   sb::daemon::ControlPolicy noGroup(1000, "");
   CHECK_FALSE(noGroup.allowed(p));
   CHECK_THROWS_WITH(sb::daemon::ControlPolicy(1000, "no-such-group-sb"), Catch::Contains("no such group"));
+}
+
+TEST_CASE("out of descriptors, the server pauses accepting instead of spinning", "[daemon][socket]") {
+  // Issue 23: accept() failing with EMFILE left the connection queued, epoll reported it again at once, and
+  // the event loop spun (64,375 warnings in 0.2 s).
+  ServerHarness server;
+  rlimit saved{};
+  REQUIRE(getrlimit(RLIMIT_NOFILE, &saved) == 0);
+  // Fill the descriptor table up to a lowered soft limit, keeping one for the client's own socket.
+  std::vector<sb::UniqueFd> filler;
+  const rlimit low{256, saved.rlim_max};
+  REQUIRE(setrlimit(RLIMIT_NOFILE, &low) == 0);
+  while (true) {
+    sb::UniqueFd fd(::open("/dev/null", O_RDONLY | O_CLOEXEC));
+    if (!fd.valid()) break;
+    filler.push_back(std::move(fd));
+  }
+  REQUIRE(filler.size() > 2);
+  filler.pop_back();  // one free descriptor: the client's socket; the server's accept() gets EMFILE
+  auto client = std::make_unique<LineClient>(server.path());
+  const auto cpuSeconds = [] {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e6;
+  };
+  const double cpuBefore = cpuSeconds();
+  std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+  const double cpu = cpuSeconds() - cpuBefore;
+  uint64_t pauses = 0;
+  server.sync([&](sb::daemon::SocketServer& s) { pauses = s.acceptPauses(); });
+  filler.clear();
+  REQUIRE(setrlimit(RLIMIT_NOFILE, &saved) == 0);
+  CHECK(cpu < 0.3);  // a spinning loop burns a whole core
+  CHECK(pauses == 1);
+  // Descriptors are back: the next housekeeping tick listens again and the queued client is greeted.
+  server.sync([](sb::daemon::SocketServer& s) { s.resumeAccepting(); });
+  CHECK(readJson(*client)["class"] == "VERSION");
+  CHECK(clientCount(server) == 1);
+}
+
+TEST_CASE("one user cannot hold every slot: a per-uid cap and slots kept for root", "[daemon][socket]") {
+  // Issue 23: one unprivileged user could open socket.max_clients connections and lock out root.
+  const passwd* nobody = getpwnam("nobody");
+  if (::geteuid() != 0 || !nobody) {
+    WARN("needs root (to connect as nobody): skipped");
+    return;
+  }
+  // In a child as nobody: opens `count` clients, reports how many were greeted and what the first refusal
+  // said, then holds them until the parent closes the pipe.
+  const auto asNobody = [&](const std::string& path, int count, std::string& refusal) {
+    int report[2], hold[2];
+    REQUIRE(::pipe(report) == 0);
+    REQUIRE(::pipe(hold) == 0);
+    const pid_t child = fork();
+    REQUIRE(child >= 0);
+    if (child == 0) {
+      ::close(report[0]);
+      ::close(hold[1]);
+      if (setuid(nobody->pw_uid) != 0) _exit(3);
+      std::vector<std::unique_ptr<LineClient>> clients;
+      std::string first;
+      int greeted = 0;
+      for (int i = 0; i < count; ++i) {
+        clients.push_back(std::make_unique<LineClient>(path));
+        const std::string line = clients.back()->readLine();
+        if (line.find("\"VERSION\"") != std::string::npos)
+          ++greeted;
+        else if (first.empty())
+          first = line;
+      }
+      const std::string msg = std::to_string(greeted) + "\n" + first;
+      (void)!::write(report[1], msg.data(), msg.size());
+      ::close(report[1]);
+      char c;
+      (void)!::read(hold[0], &c, 1);  // until the parent closes it
+      _exit(0);
+    }
+    ::close(report[1]);
+    ::close(hold[0]);
+    std::string msg;
+    char buf[4096];
+    for (ssize_t n; (n = ::read(report[0], buf, sizeof buf)) > 0;) msg.append(buf, static_cast<size_t>(n));
+    ::close(report[0]);
+    refusal = msg.substr(msg.find('\n') + 1);
+    return std::make_tuple(std::stoi(msg.substr(0, msg.find('\n'))), hold[1], child);
+  };
+  const auto finish = [](int holdFd, pid_t child) {
+    ::close(holdFd);
+    int status = 0;
+    waitpid(child, &status, 0);
+    CHECK(WIFEXITED(status));
+  };
+
+  sb::daemon::SocketConfig config;
+  config.mode = 0666;
+  config.maxClients = 12;
+  config.maxClientsPerUid = 3;
+  {
+    ServerHarness server(config);
+    std::string refusal;
+    const auto [greeted, hold, child] = asNobody(server.path(), 5, refusal);
+    CHECK(greeted == 3);
+    CHECK_THAT(refusal, Catch::Contains("too many clients for uid " + std::to_string(nobody->pw_uid)) &&
+                            Catch::Contains("socket.max_clients_per_uid"));
+    finish(hold, child);
+  }
+  config.maxClients = 8;  // 2 slots kept for privileged clients
+  config.maxClientsPerUid = 8;
+  {
+    ServerHarness server(config);
+    std::string refusal;
+    const auto [greeted, hold, child] = asNobody(server.path(), 8, refusal);
+    CHECK(greeted == 6);
+    CHECK_THAT(refusal, Catch::Contains("kept for privileged clients"));
+    LineClient root(server.path());  // root still gets in
+    CHECK(readJson(root)["class"] == "VERSION");
+    finish(hold, child);
+  }
 }

@@ -115,8 +115,7 @@ TEST_CASE("TUM reader normalises invalid values to 0 and recognises 7-Scenes", "
   d.pixels() = {0, 65535, 1234, 7, 65535, 4000};
   writePng16(dir + "/depth/a.png", d);
   test::writeText(dir + "/depth.txt", "0.0 depth/a.png\n");
-  test::writeText(dir + "/calibration.json",
-                  R"({"fx": 585, "fy": 585, "cx": 320, "cy": 240, "invalid_depth_values": [0, 7, 65535]})");
+  test::writeText(dir + "/calibration.json", R"({"invalid_depth_values": [0, 7, 65535]})");
   auto source = openSequence(dir, direct());
   CHECK(source->info().format == "7scenes");
   CHECK(source->info().depthScale == 1000.0);  // 7-Scenes default when the file gives none
@@ -196,7 +195,46 @@ TEST_CASE("TUM reader reports structural errors at open", "[drivers][tum][errors
     test::writeText(dir + "/calibration.json", R"({"width": 0})");
     CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("'width'"));
     test::writeText(dir + "/calibration.json", "{ not json");
-    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("not valid JSON"));
+    CHECK_THROWS_WITH(openSequence(dir, direct()),
+                      Catch::Contains("not valid JSON") && Catch::Contains("line 1"));
+  }
+  SECTION("implausible intrinsics name the value, where it came from and the range") {
+    // Issue 23: fx = 1e-300 passed the "positive" check and ran with 0 frames tracked; cx = 999999 too.
+    test::writeText(dir + "/calibration.json", R"({"fx": 1e-300})");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("calibration.json") &&
+                                                       Catch::Contains("'fx'") && Catch::Contains("1e-300"));
+    test::writeText(dir + "/calibration.json", R"({"fx": 0.001})");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("fx = 0.001") &&
+                                                       Catch::Contains("calibration.json") &&
+                                                       Catch::Contains("not plausible"));
+    test::writeText(dir + "/calibration.json", R"({"cx": 999999})");
+    CHECK_THROWS_WITH(openSequence(dir, direct()),
+                      Catch::Contains("cx = 999999") && Catch::Contains("not plausible"));
+    fs::remove(dir + "/calibration.json");
+    SequenceOptions o = direct();
+    o.fy = 1e-20f;
+    CHECK_THROWS_WITH(openSequence(dir, o), Catch::Contains("fy = 1e-20") && Catch::Contains("command line"));
+  }
+  SECTION("volume hints out of the pipeline's range name the file and the value as written") {
+    // Issue 23: these failed later, in the pipeline config, naming neither the file nor the value.
+    test::writeText(dir + "/calibration.json", R"({"volume_size_m": 1e-300})");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("calibration.json") &&
+                                                       Catch::Contains("'volume_size_m'") &&
+                                                       Catch::Contains("1e-300"));
+    test::writeText(dir + "/calibration.json", R"({"volume_initial_position": [0.5, 7.25, 0.5]})");
+    CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("calibration.json") &&
+                                                       Catch::Contains("'volume_initial_position'") &&
+                                                       Catch::Contains("7.25"));
+  }
+  SECTION("a calibration.json that is a directory or deeply nested is named, not a crash") {
+    fs::remove(dir + "/calibration.json");
+    fs::create_directory(dir + "/calibration.json");
+    CHECK_THROWS_WITH(openSequence(dir, direct()),
+                      Catch::Contains("calibration.json") && Catch::Contains("is a directory"));
+    fs::remove(dir + "/calibration.json");
+    test::writeText(dir + "/calibration.json", "{\"fx\": " + std::string(70000, '['));
+    CHECK_THROWS_WITH(openSequence(dir, direct()),
+                      Catch::Contains("calibration.json") && Catch::Contains("deeper than"));
   }
   test::writeText(dir + "/depth.txt", index);
 }

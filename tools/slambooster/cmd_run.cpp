@@ -31,12 +31,13 @@
 #include "pipeline/config.h"
 #include "pipeline/cpu_backend.h"
 #include "pipeline/pipeline.h"
-#include "report/run_report.h"
 #include "power/power_config.h"
+#include "report/run_report.h"
 #include "runtime/energy_sink.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 #include "tools/slambooster/commands.h"
+#include "tools/slambooster/stop_signals.h"
 
 namespace sb::cli {
 
@@ -222,18 +223,39 @@ void runCommand(const RunOptions& o) {
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
   const double cpuStartMs = processCpuMs();
   bool stopped = false;
-  while (auto frame = source->next()) {
-    runner.step(*frame);
-    if (progress) printProgress(runner.frames(), total, outputs.summary->stats().computationMsPerFrame());
-    if (o.stopAfterMs > 0 && outputs.summary->stats().stageSums.computationMs() > o.stopAfterMs) {
-      stopped = true;
-      break;
+  StopSignals signals;  // Ctrl-C / SIGTERM: finish the frame in hand, then write every output
+  try {
+    while (!signals.received()) {
+      auto frame = source->next();
+      if (!frame) break;
+      runner.step(*frame);
+      if (progress) printProgress(runner.frames(), total, outputs.summary->stats().computationMsPerFrame());
+      if (o.stopAfterMs > 0 && outputs.summary->stats().stageSums.computationMs() > o.stopAfterMs) {
+        stopped = true;
+        break;
+      }
     }
+  } catch (const Error& e) {
+    // A bad frame or a failed write stops the run; the outputs keep every frame before it and the summary
+    // says why (best effort: on a full disk it may not be written).
+    if (progress) std::cerr << "\n";
+    outputs.summary->setExtra("error", e.what());
+    outputs.summary->setExtra("complete", false);
+    try {
+      runner.flush();
+    } catch (const Error&) {
+    }
+    throw Error(std::string(e.what()) + " (stopped after " + std::to_string(outputs.summary->stats().frames) +
+                " frames; the outputs in " + o.out + " cover them)");
   }
+  const int stopSignal = signals.received();
   const double cpuMs = processCpuMs() - cpuStartMs;
   if (progress) std::cerr << "\n";
   const RunStats& stats = outputs.summary->stats();
   const size_t count = stats.frames;
+  if (count == 0 && stopSignal)
+    throw Interrupted(stopSignal,
+                      "interrupted by " + StopSignals::name(stopSignal) + " before the first frame");
   if (count == 0) throw Error("sequence '" + o.sequence + "' has no frames");
   // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
   // times to other load on the machine.
@@ -242,6 +264,10 @@ void runCommand(const RunOptions& o) {
   if (stopped)  // complete as asked, but not the whole sequence: its ATE and times cover the frames run
     outputs.summary->setExtra("stopped", {{"at_frame", count}, {"limit_ms", o.stopAfterMs},
                                           {"computation_ms", stats.stageSums.computationMs()}});
+  if (stopSignal)
+    outputs.summary->setExtra("interrupted",
+                              {{"signal", StopSignals::name(stopSignal)}, {"at_frame", count}});
+  outputs.summary->setExtra("complete", false);  // until the outputs are on disk (below)
 
   const Image<uint8_t> model =
       o.modelView == "overview" ? pipeline->renderModel(overviewPose(config), 1) : pipeline->renderModel(1);
@@ -256,9 +282,10 @@ void runCommand(const RunOptions& o) {
   runner.flush();
   // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
   // server), so that a run killed or a node lost at any point never leaves a complete summary beside a
-  // half-written trajectory. `slambooster bench` / dse / profile count (and skip) only complete runs.
+  // half-written trajectory. `slambooster bench` / dse / profile count (and skip) only complete runs; an
+  // interrupted one (SIGTERM, SIGINT) runs again.
   for (const char* file : {"trajectory.tum", "frames.jsonl"}) syncFile((out / file).string());
-  outputs.summary->setExtra("complete", true);
+  outputs.summary->setExtra("complete", stopSignal == 0);
   outputs.summary->flush();
   const std::optional<AteResult>& ate = outputs.summary->ate();
   const nlohmann::json& summary = outputs.summary->summary();
@@ -299,6 +326,10 @@ void runCommand(const RunOptions& o) {
   } catch (const Error& e) {
     std::cerr << "slambooster run: report not written: " << e.what() << "\n";
   }
+  if (stopSignal)
+    throw Interrupted(stopSignal, "interrupted by " + StopSignals::name(stopSignal) + " after frame " +
+                                      std::to_string(count) + "; the outputs in " + out.string() +
+                                      " cover the frames run");
 }
 
 }  // namespace

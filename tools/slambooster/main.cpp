@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "tools/slambooster/commands.h"
+#include "tools/slambooster/stop_signals.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"slambooster: KinectFusion with an online approximation controller (offline tool)"};
@@ -29,6 +30,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
+  } catch (const sb::cli::Interrupted& e) {  // outputs written; exit as the shell reports a signal
+    std::cerr << "slambooster: " << e.what() << "\n";
+    return 128 + e.signal();
   } catch (const sb::Error& e) {
     std::cerr << "slambooster: error: " << e.what() << "\n";
     return 1;

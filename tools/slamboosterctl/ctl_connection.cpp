@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/json_text.h"
 #include "daemon/unix_socket.h"
 
 namespace sb::ctl {
@@ -15,7 +16,14 @@ namespace sb::ctl {
 Connection::Connection(const std::string& socketPath, double timeoutSeconds)
     : fd_(daemon::connectUnix(socketPath)) {
   auto greeting = next(timeoutSeconds);
-  if (!greeting || greeting->value("class", "") != "VERSION")
+  const auto field = [&](const char* key) {
+    const auto it = greeting->find(key);
+    return it != greeting->end() && it->is_string() ? it->get<std::string>() : std::string();
+  };
+  // A full daemon greets with ERROR ("too many clients ...") and closes: say that, not "no VERSION".
+  if (greeting && field("class") == "ERROR")
+    throw Error("slamboosterd at '" + socketPath + "' refused the connection: " + field("message"));
+  if (!greeting || field("class") != "VERSION")
     throw Error("'" + socketPath + "' did not greet with VERSION: is it a slamboosterd socket?");
   version_ = *greeting;
 }
@@ -41,10 +49,11 @@ std::optional<nlohmann::json> Connection::next(double timeoutSeconds) {
     if (nl != std::string::npos) {
       const std::string line = buffer_.substr(0, nl);
       buffer_.erase(0, nl + 1);
-      nlohmann::json j = nlohmann::json::parse(line, nullptr, false);
-      if (j.is_discarded() || !j.is_object())
-        throw Error("slamboosterd sent a line that is not a JSON object: " + line);
-      return j;
+      std::string error;
+      auto j = tryParseJson(line, error);
+      if (!j || !j->is_object())
+        throw Error("slamboosterd sent a line that is not a JSON object: " + line.substr(0, 200));
+      return std::move(*j);
     }
     int waitMs = -1;
     if (timeoutSeconds > 0) {

@@ -1,0 +1,39 @@
+#include "runtime/line_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace sb {
+
+LineFile::LineFile(const std::string& path, std::string what)
+    : fd_(::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)),
+      path_(path),
+      what_(std::move(what)) {
+  if (!fd_.valid())
+    throw Error("cannot write " + what_ + " '" + path + "': " + std::strerror(errno) +
+                " (check the output directory)");
+}
+
+void LineFile::append(std::string_view lines) {
+  size_t done = 0;
+  while (done < lines.size()) {
+    const ssize_t n =
+        ::pwrite(fd_.get(), lines.data() + done, lines.size() - done, size_ + static_cast<off_t>(done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = n < 0 ? errno : ENOSPC;
+      (void)!::ftruncate(fd_.get(), size_);  // drop the part line: the file stays whole lines
+      throw Error("writing " + what_ + " '" + path_ + "' failed: " + std::strerror(error) +
+                  "; the file keeps the lines before it (free disk space and run again)");
+    }
+    done += static_cast<size_t>(n);
+  }
+  size_ += static_cast<off_t>(done);
+}
+
+}  // namespace sb
