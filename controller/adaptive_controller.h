@@ -33,10 +33,10 @@
 namespace sb {
 
 struct AdaptiveConfig {
-  int bootstrapFrames = 8;         // frames [0, bootstrapFrames) run level 0
+  int bootstrapFrames = 4;         // frames [0, bootstrapFrames) run level 0
   int retrackLevels = 1;           // a doubted frame is tracked again this many levels finer (0 = never)
   int holdFrames = 15;             // frames at the finer level after a doubt before relaxing
-  int relaxFrames = 5;             // undoubted frames per level towards approximation
+  int relaxFrames = 3;             // undoubted frames per level towards approximation
   int maxExtrapolatedFrames = 5;   // failed frames in a row extrapolated; later ones hold the previous pose
   // A re-track that lands within these of the coarse pose confirms it: the level stays. Farther, the coarse
   // level was wrong here and the level goes finer for hold_frames.
