@@ -11,7 +11,8 @@
 //     then weigh alike whatever the scene's depth, and the result is scale-free;
 //   - divided by the inlier count, the matrix has trace 2 and its smallest eigenvalue (the "conditioning") is
 //     the mean squared share of a point's constraint that lies along the weakest motion: 0 for an exactly
-//     unconstrained motion, about 0.3 for a room whose walls, floor and furniture face every way.
+//     unconstrained motion, 1/3 at most (three orthogonal planes seen alike); the furnished rooms of the bench
+//     set give 0.001-0.03, a single plane under depth noise at most 0.0005.
 // A frame is "constrained" when its conditioning is at least PipelineConfig::constrainedMinConditioning.
 
 #include <Eigen/Geometry>
