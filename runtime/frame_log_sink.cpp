@@ -32,6 +32,8 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                       {"controller_ms", rec.controllerMs},
                       {"triggers", triggerNames(rec.decision.triggers)},
                       {"half_wish", rec.decision.halfPrecision},
+                      {"half", {{"requested", rec.halfRequested}, {"supported", rec.halfSupported},
+                                {"applied", rec.halfApplied}}},
                       {"next_knobs", knobsToJson(rec.decision.next)},
                       {"knobs_pinned", rec.knobsPinned},
                       {"t_start_mono_ns", rec.startMonoNs},

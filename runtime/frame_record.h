@@ -17,6 +17,9 @@ struct FrameRecord {
   bool knobsPinned = false;       // decision.next was overridden by pinned knobs
   double trackedVelocity = 0.0;   // m/frame: velocity of the tracked pose, before any correction
   double controllerMs = 0.0;      // time spent in Controller::decide (and reading the frame for it)
+  // Half precision of this frame: what the previous decision wished (or the config forced), whether the
+  // backend has it at all, and what it ran with (the CPU backend has no half path: never applied).
+  bool halfRequested = false, halfSupported = false, halfApplied = false;
   // CLOCK_MONOTONIC (ns) when the runner began the frame (frame in hand, before preprocessing) and finished it
   // (after integration/raycast and the controller, before the outputs): the interval the power meter's
   // ledger charges to this frame (power/power_sampler.h).

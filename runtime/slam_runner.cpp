@@ -29,11 +29,21 @@ void SlamRunner::setController(std::unique_ptr<Controller> controller) {
   controller_ = std::move(controller);
   next_ = initial;
   nextStart_.reset();
+  nextHalf_ = false;
 }
 
 void SlamRunner::pinKnobs(const std::optional<Knobs>& knobs) {
   if (knobs) validateKnobs(*knobs);
   pinned_ = knobs;
+}
+
+void SlamRunner::applyHalfPrecision(FrameRecord& rec) {
+  // The config's opencl_half_storage forces half for the whole run; a controller's wish adds to it.
+  ComputeBackend& backend = pipeline_.backend();
+  rec.halfRequested = nextHalf_ || pipeline_.config().openclHalfStorage;
+  rec.halfSupported = backend.supportsHalfPrecision();
+  if (rec.halfSupported && backend.halfPrecision() != rec.halfRequested) backend.setHalfPrecision(rec.halfRequested);
+  rec.halfApplied = backend.halfPrecision();
 }
 
 Observation SlamRunner::observe(const FrameResult& r, const DepthFrame& frame) const {
@@ -83,6 +93,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   FrameRecord rec;
   rec.startMonoNs = power::monotonicClock().nowNs();
   rec.knobsPinned = pinned_.has_value();
+  applyHalfPrecision(rec);
   rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs(), nextStart_);
   Observation obs = observe(rec.result, frame);
   rec.decision = decide(obs, rec);
@@ -103,6 +114,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
                         FrameOverrides{rec.decision.integrate, rec.decision.keepReference});
   next_ = rec.decision.next;
   nextStart_ = rec.decision.nextStartPose;
+  nextHalf_ = rec.decision.halfPrecision;
   if (pinned_) rec.decision.next = *pinned_;
   previousPose_ = r.T_camera_to_world;
   previousComputationMs_ = r.times.computationMs();

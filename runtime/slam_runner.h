@@ -49,6 +49,8 @@ class SlamRunner {
   Pipeline& pipeline() { return pipeline_; }
 
  private:
+  // Switches the backend's half precision to what the last decision wished (where the backend has it).
+  void applyHalfPrecision(FrameRecord& rec);
   Observation observe(const FrameResult& result, const DepthFrame& frame) const;
   // Controller::decide, timed into rec.controllerMs, its knobs validated (throws sb::Error naming it).
   Decision decide(const Observation& observation, FrameRecord& rec);
@@ -60,6 +62,7 @@ class SlamRunner {
   Knobs next_;
   std::optional<Knobs> pinned_;
   std::optional<Eigen::Isometry3d> nextStart_;  // the controller's ICP start pose for the next frame
+  bool nextHalf_ = false;                        // the controller's half-precision wish for the next frame
   std::optional<double> latestJoules_;
   Eigen::Isometry3d previousPose_;
   double previousComputationMs_ = 0.0;

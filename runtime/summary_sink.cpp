@@ -22,6 +22,7 @@ void RunStats::add(const FrameRecord& rec) {
   halfWishes += rec.decision.halfPrecision;
   unconstrained += r.quality.known && !r.quality.constrained;
   retracked += r.retracked;
+  halfApplied += rec.halfApplied;
   for (int s = 0; s < kStageCount; ++s) stageSums.ms[s] += r.times.ms[s];
   controllerMsSum += rec.controllerMs;
   for (const std::string& t : triggerNames(rec.decision.triggers)) ++triggerCounts[t];
@@ -40,6 +41,7 @@ nlohmann::json RunStats::toJson() const {
   j["half_wish_frames"] = halfWishes;
   j["unconstrained"] = unconstrained;
   j["retracked"] = retracked;
+  j["half_applied_frames"] = halfApplied;
   j["computation_ms_per_frame"] = computationMsPerFrame();
   j["controller_ms_per_frame"] = frames ? controllerMsSum / frames : 0.0;
   nlohmann::json stages = nlohmann::json::object();

@@ -21,6 +21,7 @@ struct RunStats {
   size_t frames = 0, trackingAttempted = 0, tracked = 0, integrated = 0, corrected = 0, halfWishes = 0;
   size_t unconstrained = 0;  // frames whose ICP geometry left a motion free (tracking quality)
   size_t retracked = 0;      // frames tracked a second time at other knobs
+  size_t halfApplied = 0;    // frames run with half-precision storage
   StageTimes stageSums;         // ms summed over frames
   double controllerMsSum = 0.0;
   std::map<std::string, size_t> triggerCounts;

@@ -12,6 +12,7 @@
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 #include "tests/pipeline/synthetic_room.h"
+#include "tests/support/files.h"
 #include "tests/support/test_data.h"
 
 namespace {
@@ -266,4 +267,30 @@ TEST_CASE("a frame finished without integration keeps the reference maps when as
   sb::FrameResult t = f.pipeline->trackFrame(f.frame(3), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1000"));
   f.pipeline->finishFrame(t, std::nullopt, sb::FrameOverrides{true, false});
   CHECK(t.integrated);
+}
+
+TEST_CASE("a half-precision wish on the CPU backend is reported as not supported, not pretended", "[runtime][half]") {
+  Fixture f;
+  sb::Decision half = decision("csr=2,ir=1");
+  half.halfPrecision = true;
+  sb::SlamRunner runner(*f.pipeline,
+                        std::make_unique<ScriptedController>("halfwish", std::vector<sb::Decision>{half},
+                                                             sb::parseKnobs("csr=2,ir=1")),
+                        sb::test::kRoomDepthScale);
+  const std::string dir = sb::test::scratchDir("runtime_half_cpu");
+  sb::addStandardOutputs(runner, dir, "", {{"sequence", "room"}}, "test");
+  const sb::FrameRecord first = runner.step(f.frame(0));
+  CHECK_FALSE(first.halfRequested);  // nothing wished before the first decision
+  const sb::FrameRecord second = runner.step(f.frame(1));
+  CHECK(second.halfRequested);
+  CHECK_FALSE(second.halfSupported);
+  CHECK_FALSE(second.halfApplied);
+  runner.flush();
+  std::ifstream log(dir + "/frames.jsonl");
+  std::string line;
+  std::getline(log, line);
+  std::getline(log, line);
+  CHECK(nlohmann::json::parse(line).at("half") ==
+        nlohmann::json({{"requested", true}, {"supported", false}, {"applied", false}}));
+  CHECK(sb::test::readJson(dir + "/summary.json").at("half_applied_frames") == 0);
 }
