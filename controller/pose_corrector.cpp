@@ -2,19 +2,11 @@
 
 namespace sb {
 
-namespace {
-
-// T with its rotation replaced by the nearest rotation (through the normalised quaternion). Isometry3d's
-// inverse() transposes the rotation, so a motion learnt from poses with rounding error carries about twice
-// their error, and a pose extrapolated with it three times: without this, repeated corrections blow the
-// rotation up geometrically (a quaternion of norm 0.9987 after ~800 frames of a step run).
-Eigen::Isometry3d rigid(const Eigen::Isometry3d& t) {
+Eigen::Isometry3d nearestRigid(const Eigen::Isometry3d& t) {
   Eigen::Isometry3d r = t;
   r.linear() = Eigen::Quaterniond(t.linear()).normalized().toRotationMatrix();
   return r;
 }
-
-}  // namespace
 
 void CorrectionParams::read(ConfigReader& r) {
   r.number("correction_velocity_threshold_m_per_frame", velocityThreshold, 0.0, 10.0);
@@ -33,10 +25,10 @@ std::optional<Eigen::Isometry3d> PoseCorrector::correct(const Observation& o) {
   }
   if (jump || failed) {
     ++correctedInARow_;
-    return rigid(motion_ * o.previousPose);
+    return nearestRigid(motion_ * o.previousPose);
   }
   if (!o.tracked) return std::nullopt;  // failed, correction of failures off: the pipeline keeps its pose
-  if (!afterCorrection) motion_ = rigid(o.pose * o.previousPose.inverse());
+  if (!afterCorrection) motion_ = nearestRigid(o.pose * o.previousPose.inverse());
   correctedInARow_ = 0;
   return std::nullopt;
 }

@@ -16,6 +16,12 @@
 
 namespace sb {
 
+// T with its rotation replaced by the nearest rotation (through the normalised quaternion). Isometry3d's
+// inverse() transposes the rotation, so a motion learnt from poses with rounding error carries about twice
+// their error, and a pose extrapolated with it three times: without this, repeated corrections blow the
+// rotation up geometrically (a quaternion of norm 0.9987 after ~800 frames of a step run).
+Eigen::Isometry3d nearestRigid(const Eigen::Isometry3d& t);
+
 struct CorrectionParams {
   double velocityThreshold = 0.035;  // m/frame: tracked velocity above this is a tracking glitch
   bool onTrackingFailure = true;     // also correct frames whose tracking failed

@@ -4,17 +4,13 @@
 #include <cstdio>
 #include <vector>
 
+#include "controller/pose_corrector.h"
+
 namespace sb {
 
 namespace {
 
 constexpr double kDegPerRad = 57.29577951308232;
-
-Eigen::Isometry3d rigid(const Eigen::Isometry3d& t) {
-  Eigen::Isometry3d r = t;
-  r.linear() = Eigen::Quaterniond(t.linear()).normalized().toRotationMatrix();
-  return r;
-}
 
 std::string format(const char* text, double value) {
   char buf[96];
@@ -42,11 +38,11 @@ double rotationBetweenDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b
 }
 
 Eigen::Isometry3d MotionModel::predict(const Eigen::Isometry3d& previousPose) const {
-  return rigid(motion_ * previousPose);
+  return nearestRigid(motion_ * previousPose);
 }
 
 void MotionModel::learn(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose) {
-  motion_ = rigid(pose * previousPose.inverse());
+  motion_ = nearestRigid(pose * previousPose.inverse());
   known_ = true;
 }
 
