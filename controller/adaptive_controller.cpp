@@ -8,6 +8,7 @@ namespace sb {
 AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::string& where) {
   ConfigReader r(section, where);
   AdaptiveConfig c;
+  r.integer("initial_level", c.initialLevel, 0, 16);
   r.integer("bootstrap_frames", c.bootstrapFrames, 0, 100000);
   r.integer("retrack_levels", c.retrackLevels, 0, 16);
   r.integer("hold_frames", c.holdFrames, 0, 100000);
@@ -25,7 +26,11 @@ AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::str
 }
 
 AdaptiveController::AdaptiveController(std::string name, const AdaptiveConfig& config)
-    : name_(std::move(name)), config_(config), evidence_(config.evidence), gate_(config.integration) {}
+    : name_(std::move(name)),
+      config_(config),
+      evidence_(config.evidence),
+      gate_(config.integration),
+      level_(std::clamp(config.initialLevel, 0, config.ladder.maxLevel)) {}
 
 void AdaptiveController::setLevel(int level, const std::string& reason, Decision& d) {
   level = std::clamp(level, 0, config_.ladder.maxLevel);
@@ -95,7 +100,7 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
   if (!o.retracked) {
     doubted = counts(doubt, false);
   } else if (firstPass_.kind == Doubt::unconstrained) {
-    doubted = secondDoubted || o.quality.constrained;
+    doubted = secondDoubted || evidence_.wellConstrained(o);
     confirmed = !doubted;
   } else {
     confirmed = !secondDoubted && firstPass_.kind != Doubt::failed &&

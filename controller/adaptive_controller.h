@@ -1,7 +1,7 @@
 #pragma once
 // `adaptive`: the product's controller (issue 21; DESIGN section 4, beyond the paper). It decides from the
 // tracker's own evidence, not from speed:
-//   1. run at the coarsest level the evidence allows: after the bootstrap, one level coarser every
+//   1. run at the coarsest level the evidence allows: from initial_level, after the bootstrap, one level coarser every
 //      `relax_frames` frames without doubt, up to the ladder's max_level;
 //   2. judge each tracking result (tracking_evidence.h: failed, unconstrained, not converged, lost overlap,
 //      far from the constant-velocity prediction); a doubted result at a coarse level is tracked again,
@@ -33,7 +33,8 @@
 namespace sb {
 
 struct AdaptiveConfig {
-  int bootstrapFrames = 4;         // frames [0, bootstrapFrames) run level 0
+  int initialLevel = 0;            // the level of the first frames (the pipeline's bootstrap builds the first map)
+  int bootstrapFrames = 4;         // frames [0, bootstrapFrames) stay at initial_level
   int retrackLevels = 1;           // a doubted frame is tracked again this many levels finer (0 = never)
   int holdFrames = 15;             // frames at the finer level after a doubt before relaxing
   int relaxFrames = 3;             // undoubted frames per level towards approximation
@@ -49,7 +50,7 @@ struct AdaptiveConfig {
   KnobLadder ladder;
 };
 
-// Section keys: bootstrap_frames, retrack_levels, hold_frames, relax_frames,
+// Section keys: initial_level, bootstrap_frames, retrack_levels, hold_frames, relax_frames,
 // correction_max_extrapolated_frames, predict_start, integrate_unconstrained, confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams, IntegrationParams and KnobLadder.
 AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::string& where);
 
@@ -57,7 +58,7 @@ class AdaptiveController final : public Controller {
  public:
   AdaptiveController(std::string name, const AdaptiveConfig& config);
   const std::string& name() const override { return name_; }
-  Knobs initialKnobs() const override { return config_.ladder.coupled(0); }
+  Knobs initialKnobs() const override { return config_.ladder.coupled(config_.initialLevel); }
   Decision decide(const Observation& observation) override;
 
   int level() const { return level_; }
@@ -71,7 +72,7 @@ class AdaptiveController final : public Controller {
   TrackingEvidence evidence_;
   MotionModel motion_;
   IntegrationGate gate_;
-  int level_ = 0;
+  int level_ = 0;  // set from initial_level
   size_t seen_ = 0;          // observations of distinct frames
   size_t holdUntil_ = 0;     // the last frame whose decision may not relax the level
   int undoubted_ = 0;        // undoubted frames since the last level change or doubt

@@ -26,7 +26,7 @@ void EvidenceParams::read(ConfigReader& r) {
   r.integer("doubt_inlier_window_frames", inlierWindowFrames, 1, 1000);
   r.number("doubt_prediction_translation_m", predictionTranslationM, 0.0, 10.0);
   r.number("doubt_prediction_rotation_deg", predictionRotationDeg, 0.0, 180.0);
-  r.boolean("doubt_unconstrained", doubtUnconstrained);
+  r.number("doubt_conditioning", weakConditioning, 0.0, 1.0);
 }
 
 double translationBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
@@ -48,8 +48,9 @@ void MotionModel::learn(const Eigen::Isometry3d& previousPose, const Eigen::Isom
 
 Doubt TrackingEvidence::judge(const Observation& o, const Eigen::Isometry3d& predicted, bool usePrediction) const {
   if (!o.tracked) return {Doubt::failed, "track failed"};
-  if (params_.doubtUnconstrained && o.quality.known && !o.quality.constrained)
-    return {Doubt::unconstrained, std::string("unconstrained (") + weakDirectionName(o.quality.weakest) + ")"};
+  if (o.quality.known && o.quality.conditioning < params_.weakConditioning)
+    return {Doubt::unconstrained, format("weakly constrained (conditioning %.2g", o.quality.conditioning) + ", " +
+                                      weakDirectionName(o.quality.weakest) + ")"};
   const int pd0 = o.knobs.pyramidIterations[0];
   if (o.icpLevelIterations[0] >= pd0 && o.icpUpdateNorm > params_.maxUpdateNorm)
     return {Doubt::notConverged, format("ICP not converged (update %.2g)", o.icpUpdateNorm)};

@@ -182,7 +182,7 @@ TEST_CASE("adaptive re-tracks an unconstrained view and goes finer only when tha
     first.quality = {true, 0.0002, sb::WeakDirection::ty, false};
     Decision d = c.decide(first);
     REQUIRE(d.retrack);
-    CHECK(d.reason == "retrack: unconstrained (ty)");
+    CHECK(d.reason == "retrack: weakly constrained (conditioning 0.0002, ty)");
     Observation second = first;
     second.retracked = true;
     second.knobs = *d.retrack;

@@ -36,6 +36,7 @@ TEST_CASE("config/controller.json holds the defaults", "[controller][config]") {
   CHECK(defaults.surface.stdThresholdM == 0.14);
   const sb::AdaptiveConfig adaptive = sb::parseAdaptiveConfig(file.at("adaptive"), "file");
   const sb::AdaptiveConfig adaptiveDefaults = sb::parseAdaptiveConfig(nlohmann::json::object(), "defaults");
+  CHECK(adaptive.initialLevel == adaptiveDefaults.initialLevel);
   CHECK(adaptive.bootstrapFrames == adaptiveDefaults.bootstrapFrames);
   CHECK(adaptive.retrackLevels == adaptiveDefaults.retrackLevels);
   CHECK(adaptive.holdFrames == adaptiveDefaults.holdFrames);
@@ -50,6 +51,7 @@ TEST_CASE("config/controller.json holds the defaults", "[controller][config]") {
   CHECK(adaptive.evidence.inlierWindowFrames == adaptiveDefaults.evidence.inlierWindowFrames);
   CHECK(adaptive.evidence.predictionTranslationM == adaptiveDefaults.evidence.predictionTranslationM);
   CHECK(adaptive.evidence.predictionRotationDeg == adaptiveDefaults.evidence.predictionRotationDeg);
+  CHECK(adaptive.evidence.weakConditioning == adaptiveDefaults.evidence.weakConditioning);
   CHECK(adaptive.integration.translationM == adaptiveDefaults.integration.translationM);
   CHECK(adaptive.integration.rotationDeg == adaptiveDefaults.integration.rotationDeg);
   CHECK(adaptive.integration.maxGapFrames == adaptiveDefaults.integration.maxGapFrames);
