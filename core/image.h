@@ -7,6 +7,12 @@
 
 namespace sb {
 
+// Largest depth-image side accepted from any file, header, calibration or option, pixels: a corrupt or hostile
+// header must not make us allocate gigabytes (an 8192x8192 frame of 151 KB took 2.5 GB through the pipeline
+// as the first frame of a sequence without calibration). Depth cameras stay far below: Kinect v1/v2, Azure
+// Kinect and RealSense at most 1280x1024, stereo cameras about 2208x1242.
+constexpr int kMaxDepthImageSide = 4096;
+
 template <typename T>
 class Image {
  public:

@@ -8,13 +8,13 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/image.h"
 
 namespace sb {
 
 namespace {
 
-// Largest image side accepted when reading: a corrupt header must not make us allocate gigabytes.
-constexpr int kMaxPngSide = 16384;
+constexpr int kMaxPngSide = kMaxDepthImageSide;
 
 struct FileCloser {
   void operator()(FILE* f) const {

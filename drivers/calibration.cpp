@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "core/image.h"
 #include "core/error.h"
 #include "core/json_text.h"
 
@@ -18,7 +19,7 @@ namespace {
 using nlohmann::json;
 
 // Largest image side accepted from a file, pixels (guards allocations against corrupt values).
-constexpr int kMaxImageSide = 16384;
+constexpr int kMaxImageSide = kMaxDepthImageSide;
 // Volume hints, metres: the range of the pipeline config's volume_size_m.
 constexpr double kMinVolumeSize = 0.1, kMaxVolumeSize = 100.0;
 

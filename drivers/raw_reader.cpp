@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "core/image.h"
 #include "core/error.h"
 #include "drivers/calibration.h"
 
@@ -15,7 +16,7 @@ namespace {
 // The format stores no timestamps; SLAMBench's recordings are 30 Hz.
 constexpr double kRawFrameRateHz = 30.0;
 // Largest image side accepted from a header, pixels (guards allocations against corrupt files).
-constexpr uint32_t kMaxSide = 16384;
+constexpr uint32_t kMaxSide = kMaxDepthImageSide;
 constexpr uint64_t kHeaderBytes = 8;  // uint32 width + uint32 height
 constexpr uint64_t kRgbChannels = 3;
 

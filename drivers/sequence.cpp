@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "core/image.h"
 #include "core/error.h"
 #include "drivers/prefetch_source.h"
 #include "drivers/raw_reader.h"
@@ -16,7 +17,7 @@ namespace sb {
 namespace {
 
 // Largest image side accepted from the command line, pixels.
-constexpr int kMaxSide = 16384;
+constexpr int kMaxSide = kMaxDepthImageSide;
 
 void checkOptions(const std::string& path, const SequenceOptions& o) {
   const auto bad = [&](const std::string& what) {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <utility>
 
+#include "core/image.h"
 #include "core/error.h"
 #include "core/png_io.h"
 #include "drivers/calibration.h"
@@ -48,7 +49,7 @@ CameraDefaults sevenScenesDefaults() {
 }
 
 // Largest image side accepted before decoding, pixels (guards allocations against corrupt headers).
-constexpr uint32_t kMaxSide = 16384;
+constexpr uint32_t kMaxSide = kMaxDepthImageSide;
 constexpr size_t kPngSignatureBytes = 8;
 constexpr size_t kIhdrSizeOffset = 16;  // signature, chunk length, "IHDR"
 constexpr size_t kIhdrSizeEnd = kIhdrSizeOffset + 8;

@@ -278,7 +278,11 @@ TEST_CASE("TUM reader checks a PNG's size before decoding it", "[drivers][tum][e
                     Catch::Contains("100000x100000") && Catch::Contains("6x4") && Catch::Contains("frame 0"));
   fs::remove(dir + "/calibration.json");  // now the first frame is probed at open
   CHECK_THROWS_WITH(openSequence(dir, direct()),
-                    Catch::Contains("100000x100000") && Catch::Contains("16384"));
+                    Catch::Contains("100000x100000") && Catch::Contains("4096"));
+  // The issue's case: a small file claiming 8192 x 8192 as the first frame of an uncalibrated sequence.
+  bytes.replace(16, 8, std::string("\x00\x00\x20\x00\x00\x00\x20\x00", 8));
+  test::writeText(png0, bytes);
+  CHECK_THROWS_WITH(openSequence(dir, direct()), Catch::Contains("8192x8192") && Catch::Contains("4096"));
 }
 
 TEST_CASE("TUM reader: ICL-NUIM archives with associations.txt and a .freiburg ground truth",
