@@ -55,6 +55,9 @@ binfmt_misc, which CI machines and containers lack (check_deb.sh runs the packag
 declare -A not_armhf=(
   [test_eval_cli]=$spawns [test_energy_cli]=$spawns [test_slambooster_cli]=$spawns [test_dse_cli]=$spawns [test_run_report]=$spawns
   [test_slamboosterd]=$spawns [test_openni2_record]=$spawns [test_openni2_daemon]=$spawns
+  [test_adaptive_cli]=$spawns [test_matrix_cli]=$spawns [test_run_reliability]=$spawns [test_daemon_hostile]=$spawns
+  [test_cluster_reference]=$spawns [test_cluster_parallel]=$spawns [test_cluster_kill]=$spawns
+  [test_cluster_slurm]="starts a Slurm cluster of the host's (amd64) daemons that run the armhf tool: $spawns"
   [test_openni2_source]="asserts frame arrival times (the last frame stamped under 0.5 s ago) that emulation on a
 busy host misses (1.4 s seen); the OpenNI2 code is the same natively, where it runs"
   [test_report_chromium]="renders HTML in the host's (amd64) chromium, and starts the armhf tool"
