@@ -16,6 +16,7 @@ AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::str
   r.integer("correction_max_extrapolated_frames", c.maxExtrapolatedFrames, 0, 1000);
   r.boolean("predict_start", c.predictStart);
   r.boolean("integrate_unconstrained", c.integrateUnconstrained);
+  r.number("icp_hold_conditioning", c.icpHoldConditioning, 0.0, 1.0);
   r.number("confirm_translation_m", c.confirmTranslationM, 0.0, 10.0);
   r.number("confirm_rotation_deg", c.confirmRotationDeg, 0.0, 180.0);
   c.evidence.read(r);
@@ -43,6 +44,7 @@ void AdaptiveController::setLevel(int level, const std::string& reason, Decision
 
 Decision AdaptiveController::decide(const Observation& o) {
   Decision d;
+  d.nextHoldBelowConditioning = config_.icpHoldConditioning;
   if (!o.retracked) ++seen_;
   if (!o.trackingAttempted) {  // the pipeline's bootstrap (always fused) or a frame skipped by tr
     d.triggers |= kTriggerBootstrap;
@@ -82,7 +84,16 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     }
   } else {
     failedInARow_ = 0;
-    motion_.learn(o.previousPose, o.pose);
+    // The motion model learns only motions that the geometry fixed, in this frame and the previous one. Along
+    // a motion the view leaves free (sliding along a blank wall) ICP's result is noise; extrapolating it would
+    // carry that noise on as a velocity into every following frame (start pose, corrections, prediction
+    // doubt). Without a motion model the next frame starts from this pose: no motion along what is not seen.
+    const bool constrained = evidence_.wellConstrained(o);
+    if (constrained && lastConstrained_)
+      motion_.learn(o.previousPose, o.pose);
+    else
+      motion_.forget();
+    lastConstrained_ = constrained;
     evidence_.accept(o);
   }
   if (o.quality.known && !o.quality.constrained) d.triggers |= kTriggerUnconstrained;

@@ -15,7 +15,9 @@
 //      tracks is never replaced;
 //   4. start the next frame's ICP from the constant-velocity prediction (`predict_start`): at 0.06 m and 4
 //      degrees per frame the last pose is 10-20 cm from the truth at the scene's depth, beyond ICP's 0.1 m
-//      pairing distance, while the prediction misses only by the change of motion in one frame;
+//      pairing distance, while the prediction misses only by the change of motion in one frame. The motion
+//      is learnt only from frames whose view fixed every motion (and whose previous one did): after a weakly
+//      constrained view there is no prediction until two constrained frames in a row;
 //   5. fuse a frame only when it brings something new (integration_gate.h); a corrected frame or one doubted
 //      for anything but its view or a confirmed fast motion is never fused, and a frame not fused keeps the
 //      reference maps.
@@ -45,13 +47,18 @@ struct AdaptiveConfig {
   double confirmRotationDeg = 1.0;    // degrees
   bool predictStart = true;        // ICP starts from the constant-velocity prediction, not the last pose
   bool integrateUnconstrained = true;  // fuse frames whose view left a motion free (see finish())
+  // ICP keeps its start pose along motions whose conditioning is below this (IcpStart): along a motion the
+  // view leaves free its update is noise over a near-zero eigenvalue. The default is the pipeline's flag (a
+  // single plane). 0: off.
+  double icpHoldConditioning = 0.0006;
   EvidenceParams evidence;
   IntegrationParams integration;
   KnobLadder ladder;
 };
 
 // Section keys: initial_level, bootstrap_frames, retrack_levels, hold_frames, relax_frames,
-// correction_max_extrapolated_frames, predict_start, integrate_unconstrained, confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams, IntegrationParams and KnobLadder.
+// correction_max_extrapolated_frames, predict_start, integrate_unconstrained, icp_hold_conditioning,
+// confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams, IntegrationParams and KnobLadder.
 AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::string& where);
 
 class AdaptiveController final : public Controller {
@@ -77,6 +84,7 @@ class AdaptiveController final : public Controller {
   size_t holdUntil_ = 0;     // the last frame whose decision may not relax the level
   int undoubted_ = 0;        // undoubted frames since the last level change or doubt
   int failedInARow_ = 0;
+  bool lastConstrained_ = true;  // the last kept frame's view fixed every motion (see finish())
   Doubt firstPass_;          // the doubt that asked for the pending re-track
   Eigen::Isometry3d firstPassPose_ = Eigen::Isometry3d::Identity();  // the coarse pose of that frame
 };

@@ -76,6 +76,8 @@ struct Decision {
   bool keepReference = false;     // a frame not integrated keeps the reference maps (pipeline FrameOverrides)
   // Where ICP starts on the next frame (e.g. a motion model's prediction); unset: the final pose of this one.
   std::optional<Eigen::Isometry3d> nextStartPose;
+  // The next frame's ICP keeps the start pose along motions whose conditioning is below this (0: off).
+  double nextHoldBelowConditioning = 0.0;
   std::string reason;             // why the knobs changed, in words, for the per-frame log ("" = no change)
 };
 

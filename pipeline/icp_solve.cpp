@@ -5,11 +5,17 @@
 
 namespace sb {
 
-bool solveIcpUpdate(const TrackSums& sums, Twist& x) {
-  x.setZero();
-  if (sums[28] < kMinIcpInliers) return false;
-  Eigen::Matrix<double, 6, 6> A;
-  Twist b;
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return S;
+}
+
+}  // namespace
+
+void icpNormalEquations(const TrackSums& sums, Matrix6& A, Twist& b) {
   int k = 7;
   for (int i = 0; i < 6; ++i) {
     b(i) = sums[1 + i];
@@ -19,9 +25,31 @@ bool solveIcpUpdate(const TrackSums& sums, Twist& x) {
       ++k;
     }
   }
+}
+
+bool qualityBasis(const Matrix6& A, const Eigen::Isometry3d& T_camera_to_world, Matrix6& T) {
+  // Jacobian row [n, p x n] about the origin -> [n, (p - c) x n] about the camera centre c: J_c = J M.
+  Matrix6 M = Matrix6::Identity();
+  M.block<3, 3>(0, 3) = skew(T_camera_to_world.translation());
+  const Matrix6 Ac = M.transpose() * A * M;
+  const double translationTrace = Ac.block<3, 3>(0, 0).trace();
+  const double rotationTrace = Ac.block<3, 3>(3, 3).trace();
+  if (!(translationTrace > 0) || !(rotationTrace > 0)) return false;
+  Matrix6 D = Matrix6::Identity();
+  D.block<3, 3>(3, 3) *= std::sqrt(translationTrace / rotationTrace);
+  T = M * D;
+  return true;
+}
+
+bool solveIcpUpdate(const TrackSums& sums, Twist& x) {
+  x.setZero();
+  if (sums[28] < kMinIcpInliers) return false;
+  Matrix6 A;
+  Twist b;
+  icpNormalEquations(sums, A, b);
   if (!A.allFinite() || !b.allFinite()) return false;
   // Symmetric positive semi-definite: solve in the eigenbasis, dropping near-null directions.
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(A);
+  Eigen::SelfAdjointEigenSolver<Matrix6> eig(A);
   if (eig.info() != Eigen::Success) return false;
   const auto& values = eig.eigenvalues();
   const double largest = values.maxCoeff();
@@ -30,6 +58,33 @@ bool solveIcpUpdate(const TrackSums& sums, Twist& x) {
   Twist scaled;
   for (int i = 0; i < 6; ++i) scaled(i) = values(i) > kIcpEigenCutoff * largest ? projected(i) / values(i) : 0.0;
   x = eig.eigenvectors() * scaled;
+  return x.allFinite();
+}
+
+bool solveIcpUpdateHolding(const TrackSums& sums, const Eigen::Isometry3d& T_camera_to_world, double holdBelow,
+                           Twist& x) {
+  if (!(holdBelow > 0)) return solveIcpUpdate(sums, x);
+  x.setZero();
+  const double inliers = sums[28];
+  if (inliers < kMinIcpInliers) return false;
+  Matrix6 A, T;
+  Twist b;
+  icpNormalEquations(sums, A, b);
+  if (!A.allFinite() || !b.allFinite()) return false;
+  if (!qualityBasis(A, T_camera_to_world, T)) return false;
+  // T^T A T x_n = T^T b, per inlier so that the eigenvalues are conditionings.
+  const Matrix6 An = T.transpose() * A * T / inliers;
+  const Twist bn = T.transpose() * b / inliers;
+  Eigen::SelfAdjointEigenSolver<Matrix6> eig(An);
+  if (eig.info() != Eigen::Success) return false;
+  const auto& values = eig.eigenvalues();
+  const double largest = values.maxCoeff();
+  if (!(largest > 0)) return false;
+  const Twist projected = eig.eigenvectors().transpose() * bn;
+  Twist scaled;
+  for (int i = 0; i < 6; ++i)
+    scaled(i) = values(i) >= holdBelow && values(i) > kIcpEigenCutoff * largest ? projected(i) / values(i) : 0.0;
+  x = T * (eig.eigenvectors() * scaled);
   return x.allFinite();
 }
 

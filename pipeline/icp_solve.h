@@ -8,6 +8,7 @@
 namespace sb {
 
 using Twist = Eigen::Matrix<double, 6, 1>;  // (translation m, rotation rad) in the world (volume) frame
+using Matrix6 = Eigen::Matrix<double, 6, 6>;
 
 // Minimum inliers for a solve (6 unknowns).
 constexpr double kMinIcpInliers = 6;
@@ -18,6 +19,22 @@ constexpr double kIcpEigenCutoff = 1e-6;
 // Solves J^T J x = J^T e from the reduced sums. Returns false (x = 0) when there are too few inliers or the
 // system is not finite.
 bool solveIcpUpdate(const TrackSums& sums, Twist& x);
+
+// The same, except that motions the view leaves free stay where they are: in the basis of
+// tracking_quality.h (rotations about the camera centre `T_camera_to_world`, scaled to weigh like
+// translations, per inlier), the update along every eigenvector whose eigenvalue is below `holdBelow` is 0.
+// Along a motion that the geometry does not fix (sliding along a blank wall) ICP's update is the noise
+// divided by a near-zero eigenvalue; holding it keeps the start pose there. holdBelow <= 0: solveIcpUpdate.
+bool solveIcpUpdateHolding(const TrackSums& sums, const Eigen::Isometry3d& T_camera_to_world, double holdBelow,
+                           Twist& x);
+
+// The reduced sums as J^T J (6x6) and J^T e.
+void icpNormalEquations(const TrackSums& sums, Matrix6& A, Twist& b);
+
+// The change of motion basis of tracking_quality.h for a camera at `T_camera_to_world`: twist x = T * x_n,
+// where x_n has its rotations about the camera centre, scaled so that J^T J's rotational block carries the
+// trace of the translational one. False when either trace is not positive (no usable constraint).
+bool qualityBasis(const Matrix6& A, const Eigen::Isometry3d& T_camera_to_world, Matrix6& T);
 
 // The rigid motion exp(x): rotation by the axis-angle x.tail<3>, translation V * x.head<3>.
 Eigen::Isometry3d twistToTransform(const Twist& x);

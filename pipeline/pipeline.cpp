@@ -42,7 +42,7 @@ void Pipeline::checkInput(const DepthFrame& frame, double depthScale, const Knob
 }
 
 FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs,
-                                 const std::optional<Eigen::Isometry3d>& startPose) {
+                                 const IcpStart& start) {
   if (awaitingFinish_)
     throw Error("Pipeline::trackFrame called twice without finishFrame (frame " + std::to_string(frameCount_) + ")");
   checkInput(frame, depthScale, knobs);
@@ -50,7 +50,8 @@ FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, con
   r.frame = frameCount_;
   r.timestamp = frame.timestamp;
   r.knobs = knobs;
-  startPose_ = startPose ? *startPose : lastFinalPose_;
+  startPose_ = start.pose ? *start.pose : lastFinalPose_;
+  holdBelowConditioning_ = start.holdBelowConditioning;
   track(frame, depthScale, r);
   awaitingFinish_ = true;
   return r;
@@ -103,7 +104,7 @@ bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
       ++r.icpIterations;
       ++r.icpLevelIterations[level];
       Twist x;
-      if (!solveIcpUpdate(last, x)) break;
+      if (!solveIcpUpdateHolding(last, estimate, holdBelowConditioning_, x)) break;
       r.icpUpdateNorm = x.norm();
       estimate = twistToTransform(x) * estimate;
       if (x.norm() < knobs.icpThreshold) break;

@@ -47,6 +47,14 @@ struct FrameResult {
   StageTimes times;          // ms per stage
 };
 
+// Where ICP starts on a frame, and what it may move (Pipeline::trackFrame).
+struct IcpStart {
+  std::optional<Eigen::Isometry3d> pose;  // e.g. a motion model's prediction; unset: the previous final pose
+  // Motions whose conditioning (tracking_quality.h) is below this keep the start pose: ICP does not move
+  // along what the view leaves free (solveIcpUpdateHolding). 0: off, ICP moves along every motion.
+  double holdBelowConditioning = 0.0;
+};
+
 // What a controller may change about how a frame is finished (Pipeline::finishFrame).
 struct FrameOverrides {
   std::optional<bool> integrate;  // integrate this tracked frame or not, instead of the knobs' rate ir
@@ -69,11 +77,10 @@ class Pipeline {
 
   // Preprocessing and tracking of one frame. `depthScale`: raw units per metre. Throws sb::Error on invalid
   // knobs or a frame whose size differs from the intrinsics, and when the previous frame was not finished.
-  // ICP starts from `startPose` when given (e.g. a motion model's prediction), else from the previous frame's
-  // final pose; a failed track keeps the previous frame's final pose either way.
-  FrameResult trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs,
-                         const std::optional<Eigen::Isometry3d>& startPose = std::nullopt);
-  // Tracks the frame of the last trackFrame again, from the same starting pose, with other knobs (preprocessing
+  // ICP starts from `start.pose` when given, else from the previous frame's final pose; a failed track keeps
+  // the previous frame's final pose either way.
+  FrameResult trackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs, const IcpStart& start = {});
+  // Tracks the frame of the last trackFrame again, from the same IcpStart, with other knobs (preprocessing
   // at their compute size included). Times add to `result`'s; its tracking fields are replaced. Throws
   // sb::Error like trackFrame, and when no frame awaits finishing.
   void retrackFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs, FrameResult& result);
@@ -110,6 +117,7 @@ class Pipeline {
   Eigen::Isometry3d referencePose_;  // pose of the last raycast
   Eigen::Isometry3d lastFinalPose_;  // pose at the end of the previous frame
   Eigen::Isometry3d startPose_;      // where ICP starts for the frame in hand (trackFrame and retrackFrame)
+  double holdBelowConditioning_ = 0.0;  // IcpStart's, for the frame in hand
   int referenceCsr_ = 0;            // csr of the last raycast (0 = none yet)
   bool referenceStale_ = false;     // the volume changed since the last raycast
   size_t frameCount_ = 0;

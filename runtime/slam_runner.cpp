@@ -28,7 +28,7 @@ void SlamRunner::setController(std::unique_ptr<Controller> controller) {
   }
   controller_ = std::move(controller);
   next_ = initial;
-  nextStart_.reset();
+  nextStart_ = IcpStart{};
   nextHalf_ = false;
 }
 
@@ -113,7 +113,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
                         FrameOverrides{rec.decision.integrate, rec.decision.keepReference});
   next_ = rec.decision.next;
-  nextStart_ = rec.decision.nextStartPose;
+  nextStart_ = IcpStart{rec.decision.nextStartPose, rec.decision.nextHoldBelowConditioning};
   nextHalf_ = rec.decision.halfPrecision;
   if (pinned_) rec.decision.next = *pinned_;
   previousPose_ = r.T_camera_to_world;

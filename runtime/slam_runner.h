@@ -61,7 +61,7 @@ class SlamRunner {
   std::vector<std::unique_ptr<OutputSink>> sinks_;
   Knobs next_;
   std::optional<Knobs> pinned_;
-  std::optional<Eigen::Isometry3d> nextStart_;  // the controller's ICP start pose for the next frame
+  IcpStart nextStart_;  // the controller's ICP start for the next frame
   bool nextHalf_ = false;                        // the controller's half-precision wish for the next frame
   std::optional<double> latestJoules_;
   Eigen::Isometry3d previousPose_;

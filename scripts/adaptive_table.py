@@ -5,10 +5,13 @@ safe (adaptive under 5 cm and >= 99% tracked wherever ACCURATE is under 5 cm; no
 passes), fast (mean cut against DEFAULT; mean time against offline's; beating the best single setting
 wherever that setting is safe) and the controller's own cost.
 
-    scripts/adaptive_table.py BENCH_DIR/results.csv [--single LABEL[,LABEL...]]
+    scripts/adaptive_table.py BENCH_DIR/results.csv [--single LABEL[,LABEL...]] [--grid LABEL[,LABEL...]]
 
 LABELs are bench --fixed columns (default best-single); with several, the best single setting is the one within
 the bound on the most sequences, then the fastest on average: what a user would pick for the whole set.
+--grid: the offline column is the fastest setting within the bound per sequence among these columns and
+DEFAULT (the search `slambooster dse` makes with the whole trajectory known, run side by side with the other
+columns; where no setting is within the bound, the most accurate one); --single defaults to the grid.
 """
 import csv
 import sys
@@ -57,6 +60,18 @@ def main(argv):
     if "--single" in argv:
         candidates = argv[argv.index("--single") + 1].split(",")
     runs, order = load(argv[0])
+    if "--grid" in argv:
+        grid = argv[argv.index("--grid") + 1].split(",")
+        if "--single" not in argv:
+            candidates = grid
+        for seq in order:
+            rs = [(label, runs[(seq, label)]) for label in grid + ["default"] if (seq, label) in runs]
+            within = [x for x in rs if safe(x[1])]
+            label, best = (min(within, key=lambda x: x[1]["ms"]) if within
+                           else min(rs, key=lambda x: x[1]["ate"] if x[1]["ate"] == x[1]["ate"] else 1e9))
+            runs[(seq, "offline")] = dict(best, label=label)
+            print(f"offline setting of {seq}: {label}")
+        print()
 
     def rank(label):
         rs = [runs.get((seq, label)) for seq in order]

@@ -44,6 +44,7 @@ TEST_CASE("config/controller.json holds the defaults", "[controller][config]") {
   CHECK(adaptive.maxExtrapolatedFrames == adaptiveDefaults.maxExtrapolatedFrames);
   CHECK(adaptive.predictStart == adaptiveDefaults.predictStart);
   CHECK(adaptive.integrateUnconstrained == adaptiveDefaults.integrateUnconstrained);
+  CHECK(adaptive.icpHoldConditioning == adaptiveDefaults.icpHoldConditioning);
   CHECK(adaptive.confirmTranslationM == adaptiveDefaults.confirmTranslationM);
   CHECK(adaptive.confirmRotationDeg == adaptiveDefaults.confirmRotationDeg);
   CHECK(adaptive.evidence.maxUpdateNorm == adaptiveDefaults.evidence.maxUpdateNorm);

@@ -4,20 +4,30 @@
 #include <catch2/catch.hpp>
 #include <random>
 
+#include "pipeline/icp_solve.h"
 #include "pipeline/tracking_quality.h"
 
 namespace {
 
 struct Point {
-  Eigen::Vector3d p, n;  // world position and unit normal
+  Eigen::Vector3d p, n;  // world position and unit normal as measured (noisy)
+  Eigen::Vector3d trueN;  // the plane's normal
 };
 
-// The reduced sums of point-to-plane rows [n, p x n] (kernels/track.h layout, zero residuals).
-sb::TrackSums sums(const std::vector<Point>& points) {
+// The reduced sums of point-to-plane rows [n, p x n] (kernels/track.h layout, measured normals) whose
+// residuals are those of the motion `truth` (twist) against the true planes plus a noise of `noise` metres.
+sb::TrackSums sums(const std::vector<Point>& points, const sb::Twist& truth = sb::Twist::Zero(), double noise = 0) {
+  std::mt19937 rng(11);
+  std::normal_distribution<double> g(0.0, noise > 0 ? noise : 1.0);
   sb::TrackSums s{};
   for (const Point& q : points) {
     Eigen::Matrix<double, 6, 1> j;
     j << q.n, q.p.cross(q.n);
+    Eigen::Matrix<double, 6, 1> jTrue;
+    jTrue << q.trueN, q.p.cross(q.trueN);
+    const double e = jTrue.dot(truth) + (noise > 0 ? g(rng) : 0.0);
+    s[0] += e * e;
+    for (int a = 0; a < 6; ++a) s[size_t(1 + a)] += j(a) * e;
     int k = 7;
     for (int a = 0; a < 6; ++a)
       for (int b = a; b < 6; ++b) s[size_t(k++)] += j(a) * j(b);
@@ -39,8 +49,9 @@ std::vector<Point> scene(const Eigen::Vector3d& c, int planes, double noise, dou
     if (which == 0) { p = {u(rng), u(rng) * 0.8, 2.0}; n = {0, 0, -1}; }
     if (which == 1) { p = {u(rng), 1.2, 1.0 + u(rng) * 0.8}; n = {0, -1, 0}; }
     if (which == 2) { p = {1.5, u(rng) * 0.8, 1.0 + u(rng) * 0.8}; n = {-1, 0, 0}; }
+    const Eigen::Vector3d trueN = n;
     n += Eigen::Vector3d(g(rng), g(rng), g(rng));
-    pts.push_back({c + scale * p, n.normalized()});
+    pts.push_back({c + scale * p, n.normalized(), trueN});
   }
   return pts;
 }
@@ -86,4 +97,40 @@ TEST_CASE("too few inliers are not constrained", "[pipeline][quality]") {
   CHECK(q.known);
   CHECK_FALSE(q.constrained);
   CHECK(q.conditioning == 0.0);
+}
+
+// Solution remapping along free motions (IcpStart::holdBelowConditioning): in front of a wall the update
+// along the wall is noise over a near-zero eigenvalue; holding it keeps the start pose there.
+TEST_CASE("holding free motions: no slide along a wall, the same update where every motion is fixed",
+          "[pipeline][quality]") {
+  const Eigen::Vector3d c(2.5, 2.5, 1.5);
+  sb::Twist approach;  // 2 cm towards the wall (world z) and 1 cm sideways (world x, along the wall)
+  approach << 0.01, 0.0, 0.02, 0.0, 0.0, 0.0;
+  const sb::TrackSums wall = sums(scene(c, 1, 0.02), approach, 0.003);
+  sb::Twist plain, held;
+  REQUIRE(sb::solveIcpUpdate(wall, plain));
+  REQUIRE(sb::solveIcpUpdateHolding(wall, at(c), 0.0006, held));
+  // The plain solve moves along the wall by noise: the sideways centimetre is not in the data, and what it
+  // finds there instead is the noise over the tiny eigenvalues of the wall's tangent directions.
+  const double plainSlide = std::hypot(plain(0), plain(1));
+  CHECK(plainSlide > 0.002);  // 4 mm per frame here: a drift of decimetres over a wall stretch
+  // Held: along the wall (x, y) and the rotation about its normal (z) nothing moves; towards it, the 2 cm.
+  CHECK(std::abs(held(0)) < 1e-3);
+  CHECK(std::abs(held(1)) < 1e-3);
+  CHECK(std::abs(held(5)) < 1e-3);
+  CHECK(held(2) == Approx(0.02).margin(2e-3));
+
+  // Three planes fix every motion: holding changes nothing but rounding.
+  sb::Twist motion;
+  motion << 0.01, -0.02, 0.015, 0.01, -0.005, 0.02;
+  const sb::TrackSums corner = sums(scene(c, 3, 0.02), motion, 0.001);
+  REQUIRE(sb::solveIcpUpdate(corner, plain));
+  REQUIRE(sb::solveIcpUpdateHolding(corner, at(c), 0.0006, held));
+  CHECK((plain - held).norm() < 1e-9);
+  CHECK((plain - motion).norm() < 2e-3);
+  // holdBelow 0 is the plain solve, bit for bit.
+  REQUIRE(sb::solveIcpUpdateHolding(wall, at(c), 0.0, held));
+  sb::Twist again;
+  REQUIRE(sb::solveIcpUpdate(wall, again));
+  CHECK(held == again);
 }

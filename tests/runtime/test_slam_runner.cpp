@@ -230,7 +230,7 @@ TEST_CASE("the controller's start pose is where the next frame's ICP begins; a f
   // The same frame from two start poses: the last final pose (no start given) and one 2 cm further along.
   Eigen::Isometry3d ahead = f.pipeline->pose();
   ahead.translation().x() += 0.02;
-  sb::FrameResult r = f.pipeline->trackFrame(f.frame(1), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1,pd=1:0:0"), ahead);
+  sb::FrameResult r = f.pipeline->trackFrame(f.frame(1), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1,pd=1:0:0"), sb::IcpStart{ahead});
   const sb::FrameResult plain = g.pipeline->trackFrame(g.frame(1), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1,pd=1:0:0"));
   REQUIRE(r.tracked);
   REQUIRE(plain.tracked);
@@ -241,7 +241,7 @@ TEST_CASE("the controller's start pose is where the next frame's ICP begins; a f
   // Started 2 m away (outside the model) ICP finds nothing: the last final pose is kept, not the start.
   Eigen::Isometry3d far = last;
   far.translation().y() += 2.0;
-  r = f.pipeline->trackFrame(f.frame(2), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1"), far);
+  r = f.pipeline->trackFrame(f.frame(2), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1"), sb::IcpStart{far});
   CHECK_FALSE(r.tracked);
   CHECK(r.T_camera_to_world.matrix() == last.matrix());
   f.pipeline->finishFrame(r);
