@@ -84,16 +84,7 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     }
   } else {
     failedInARow_ = 0;
-    // The motion model learns only motions that the geometry fixed, in this frame and the previous one. Along
-    // a motion the view leaves free (sliding along a blank wall) ICP's result is noise; extrapolating it would
-    // carry that noise on as a velocity into every following frame (start pose, corrections, prediction
-    // doubt). Without a motion model the next frame starts from this pose: no motion along what is not seen.
-    const bool constrained = evidence_.wellConstrained(o);
-    if (constrained && lastConstrained_)
-      motion_.learn(o.previousPose, o.pose);
-    else
-      motion_.forget();
-    lastConstrained_ = constrained;
+    motion_.learn(o.previousPose, o.pose);
     evidence_.accept(o);
   }
   if (o.quality.known && !o.quality.constrained) d.triggers |= kTriggerUnconstrained;

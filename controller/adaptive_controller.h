@@ -16,8 +16,8 @@
 //   4. start the next frame's ICP from the constant-velocity prediction (`predict_start`): at 0.06 m and 4
 //      degrees per frame the last pose is 10-20 cm from the truth at the scene's depth, beyond ICP's 0.1 m
 //      pairing distance, while the prediction misses only by the change of motion in one frame. The motion
-//      is learnt only from frames whose view fixed every motion (and whose previous one did): after a weakly
-//      constrained view there is no prediction until two constrained frames in a row;
+//      is learnt from every tracked frame, weakly constrained ones included: forgetting it there was measured
+//      worse (config/README.md, icp_hold_conditioning);
 //   5. fuse a frame only when it brings something new (integration_gate.h); a corrected frame or one doubted
 //      for anything but its view or a confirmed fast motion is never fused, and a frame not fused keeps the
 //      reference maps.
@@ -47,10 +47,11 @@ struct AdaptiveConfig {
   double confirmRotationDeg = 1.0;    // degrees
   bool predictStart = true;        // ICP starts from the constant-velocity prediction, not the last pose
   bool integrateUnconstrained = true;  // fuse frames whose view left a motion free (see finish())
-  // ICP keeps its start pose along motions whose conditioning is below this (IcpStart): along a motion the
-  // view leaves free its update is noise over a near-zero eigenvalue. The default is the pipeline's flag (a
-  // single plane). 0: off.
-  double icpHoldConditioning = 0.0006;
+  // ICP keeps its start pose along motions whose conditioning is below this (IcpStart): along a motion that
+  // a pure plane leaves free its update is noise over a near-zero eigenvalue. Off (0) by default: a weak view
+  // with a sliver of structure (conditioning 0.0002-0.0006) still carries the motion, and holding it there
+  // lost a new sequence (config/README.md); 0.0006 helps on a blank wall (stress-corridor).
+  double icpHoldConditioning = 0.0;
   EvidenceParams evidence;
   IntegrationParams integration;
   KnobLadder ladder;
@@ -84,7 +85,6 @@ class AdaptiveController final : public Controller {
   size_t holdUntil_ = 0;     // the last frame whose decision may not relax the level
   int undoubted_ = 0;        // undoubted frames since the last level change or doubt
   int failedInARow_ = 0;
-  bool lastConstrained_ = true;  // the last kept frame's view fixed every motion (see finish())
   Doubt firstPass_;          // the doubt that asked for the pending re-track
   Eigen::Isometry3d firstPassPose_ = Eigen::Isometry3d::Identity();  // the coarse pose of that frame
 };

@@ -27,17 +27,22 @@ void icpNormalEquations(const TrackSums& sums, Matrix6& A, Twist& b) {
   }
 }
 
-bool qualityBasis(const Matrix6& A, const Eigen::Isometry3d& T_camera_to_world, Matrix6& T) {
+bool normalisedNormalMatrix(const Matrix6& A, double inliers, const Eigen::Isometry3d& T_camera_to_world,
+                            Matrix6& An, Matrix6& T) {
   // Jacobian row [n, p x n] about the origin -> [n, (p - c) x n] about the camera centre c: J_c = J M.
   Matrix6 M = Matrix6::Identity();
   M.block<3, 3>(0, 3) = skew(T_camera_to_world.translation());
-  const Matrix6 Ac = M.transpose() * A * M;
-  const double translationTrace = Ac.block<3, 3>(0, 0).trace();
-  const double rotationTrace = Ac.block<3, 3>(3, 3).trace();
+  An = M.transpose() * A * M;
+  const double translationTrace = An.block<3, 3>(0, 0).trace();
+  const double rotationTrace = An.block<3, 3>(3, 3).trace();
   if (!(translationTrace > 0) || !(rotationTrace > 0)) return false;
-  Matrix6 D = Matrix6::Identity();
-  D.block<3, 3>(3, 3) *= std::sqrt(translationTrace / rotationTrace);
-  T = M * D;
+  const double s = std::sqrt(translationTrace / rotationTrace);
+  An.block<3, 3>(0, 3) *= s;
+  An.block<3, 3>(3, 0) *= s;
+  An.block<3, 3>(3, 3) *= s * s;
+  An /= inliers;
+  T = M;
+  T.block<6, 3>(0, 3) *= s;
   return true;
 }
 
@@ -71,9 +76,9 @@ bool solveIcpUpdateHolding(const TrackSums& sums, const Eigen::Isometry3d& T_cam
   Twist b;
   icpNormalEquations(sums, A, b);
   if (!A.allFinite() || !b.allFinite()) return false;
-  if (!qualityBasis(A, T_camera_to_world, T)) return false;
   // T^T A T x_n = T^T b, per inlier so that the eigenvalues are conditionings.
-  const Matrix6 An = T.transpose() * A * T / inliers;
+  Matrix6 An;
+  if (!normalisedNormalMatrix(A, inliers, T_camera_to_world, An, T)) return false;
   const Twist bn = T.transpose() * b / inliers;
   Eigen::SelfAdjointEigenSolver<Matrix6> eig(An);
   if (eig.info() != Eigen::Success) return false;

@@ -31,10 +31,12 @@ bool solveIcpUpdateHolding(const TrackSums& sums, const Eigen::Isometry3d& T_cam
 // The reduced sums as J^T J (6x6) and J^T e.
 void icpNormalEquations(const TrackSums& sums, Matrix6& A, Twist& b);
 
-// The change of motion basis of tracking_quality.h for a camera at `T_camera_to_world`: twist x = T * x_n,
-// where x_n has its rotations about the camera centre, scaled so that J^T J's rotational block carries the
-// trace of the translational one. False when either trace is not positive (no usable constraint).
-bool qualityBasis(const Matrix6& A, const Eigen::Isometry3d& T_camera_to_world, Matrix6& T);
+// The normal matrix in the motion basis of tracking_quality.h for a camera at `T_camera_to_world`:
+// An = T^T A T / inliers, with twist x = T * x_n, where x_n has its rotations about the camera centre, scaled
+// so that A's rotational block carries the trace of the translational one. False when either trace is not
+// positive (no usable constraint).
+bool normalisedNormalMatrix(const Matrix6& A, double inliers, const Eigen::Isometry3d& T_camera_to_world,
+                            Matrix6& An, Matrix6& T);
 
 // The rigid motion exp(x): rotation by the axis-angle x.tail<3>, translation V * x.head<3>.
 Eigen::Isometry3d twistToTransform(const Twist& x);

@@ -18,13 +18,12 @@ TrackingQuality trackingQuality(const TrackSums& sums, const Eigen::Isometry3d& 
   q.known = true;
   q.constrained = false;
   const double inliers = sums[28];
-  Matrix6 A, T;
+  Matrix6 A, An, T;
   Twist b;
   icpNormalEquations(sums, A, b);
   if (inliers < kMinIcpInliers || !A.allFinite()) return q;
-  if (!qualityBasis(A, T_camera_to_world, T)) return q;
-  A = T.transpose() * A * T / inliers;
-  Eigen::SelfAdjointEigenSolver<Matrix6> eig(A);
+  if (!normalisedNormalMatrix(A, inliers, T_camera_to_world, An, T)) return q;
+  Eigen::SelfAdjointEigenSolver<Matrix6> eig(An);
   if (eig.info() != Eigen::Success) return q;
   q.conditioning = std::max(0.0, eig.eigenvalues()(0));  // ascending order
   // The weakest motion in camera axes: translation part and rotation part rotated into the camera frame.
