@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 
 namespace sb {
 
@@ -46,14 +47,11 @@ bool normalisedNormalMatrix(const Matrix6& A, double inliers, const Eigen::Isome
   return true;
 }
 
-bool solveIcpUpdate(const TrackSums& sums, Twist& x) {
-  x.setZero();
-  if (sums[28] < kMinIcpInliers) return false;
-  Matrix6 A;
-  Twist b;
-  icpNormalEquations(sums, A, b);
-  if (!A.allFinite() || !b.allFinite()) return false;
-  // Symmetric positive semi-definite: solve in the eigenbasis, dropping near-null directions.
+namespace {
+
+// Solves A x = b (A symmetric positive semi-definite) in A's eigenbasis, dropping near-null directions
+// (eigenvalue below kIcpEigenCutoff of the largest) and those whose eigenvalue is below `holdBelow`.
+bool solveInEigenbasis(const Matrix6& A, const Twist& b, double holdBelow, Twist& x) {
   Eigen::SelfAdjointEigenSolver<Matrix6> eig(A);
   if (eig.info() != Eigen::Success) return false;
   const auto& values = eig.eigenvalues();
@@ -61,8 +59,22 @@ bool solveIcpUpdate(const TrackSums& sums, Twist& x) {
   if (!(largest > 0)) return false;
   const Twist projected = eig.eigenvectors().transpose() * b;
   Twist scaled;
-  for (int i = 0; i < 6; ++i) scaled(i) = values(i) > kIcpEigenCutoff * largest ? projected(i) / values(i) : 0.0;
+  for (int i = 0; i < 6; ++i)
+    scaled(i) = values(i) >= holdBelow && values(i) > kIcpEigenCutoff * largest ? projected(i) / values(i) : 0.0;
   x = eig.eigenvectors() * scaled;
+  return true;
+}
+
+}  // namespace
+
+bool solveIcpUpdate(const TrackSums& sums, Twist& x) {
+  x.setZero();
+  if (sums[28] < kMinIcpInliers) return false;
+  Matrix6 A;
+  Twist b;
+  icpNormalEquations(sums, A, b);
+  if (!A.allFinite() || !b.allFinite()) return false;
+  if (!solveInEigenbasis(A, b, -std::numeric_limits<double>::infinity(), x)) return false;
   return x.allFinite();
 }
 
@@ -72,24 +84,15 @@ bool solveIcpUpdateHolding(const TrackSums& sums, const Eigen::Isometry3d& T_cam
   x.setZero();
   const double inliers = sums[28];
   if (inliers < kMinIcpInliers) return false;
-  Matrix6 A, T;
+  Matrix6 A, An, T;
   Twist b;
   icpNormalEquations(sums, A, b);
   if (!A.allFinite() || !b.allFinite()) return false;
   // T^T A T x_n = T^T b, per inlier so that the eigenvalues are conditionings.
-  Matrix6 An;
   if (!normalisedNormalMatrix(A, inliers, T_camera_to_world, An, T)) return false;
-  const Twist bn = T.transpose() * b / inliers;
-  Eigen::SelfAdjointEigenSolver<Matrix6> eig(An);
-  if (eig.info() != Eigen::Success) return false;
-  const auto& values = eig.eigenvalues();
-  const double largest = values.maxCoeff();
-  if (!(largest > 0)) return false;
-  const Twist projected = eig.eigenvectors().transpose() * bn;
-  Twist scaled;
-  for (int i = 0; i < 6; ++i)
-    scaled(i) = values(i) >= holdBelow && values(i) > kIcpEigenCutoff * largest ? projected(i) / values(i) : 0.0;
-  x = T * (eig.eigenvectors() * scaled);
+  Twist xn;
+  if (!solveInEigenbasis(An, T.transpose() * b / inliers, holdBelow, xn)) return false;
+  x = T * xn;
   return x.allFinite();
 }
 
