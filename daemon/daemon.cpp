@@ -1,5 +1,7 @@
 #include "daemon/daemon.h"
 
+#include "runtime/energy_account.h"
+
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <sys/signalfd.h>
@@ -209,12 +211,7 @@ void Daemon::startPower() {
   if (pc.meter == "none") return;
   try {
     std::filesystem::create_directories(config_.output.dir);
-    p.sampler = std::make_unique<power::PowerSampler>(
-        power::openMeter(pc), power::samplerOptions(pc, config_.output.dir + "/power.csv"));
-    if (pc.idleBaselineS > 0) {
-      spdlog::info("measuring idle power for {} s", pc.idleBaselineS);
-      spdlog::info("idle baseline {:.3f} W", p.sampler->measureIdle(pc.idleBaselineS));
-    }
+    p.sampler = openSampler(pc, config_.output.dir);  // the same meter and trace as `slambooster run --power`
     p.sampler->start();
   } catch (const std::exception& e) {
     // SLAM without energy beats no SLAM (a robot needs its poses); STATUS and the log say why.

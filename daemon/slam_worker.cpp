@@ -6,22 +6,14 @@
 #include <cstdio>
 #include <deque>
 #include <filesystem>
-#include <fstream>
-#include <map>
 #include <optional>
 
 #include "core/error.h"
-#include "core/png_io.h"
 #include "core/thread_pool.h"
 #include "daemon/cpu_affinity.h"
-#include "mesh/marching_cubes.h"
-#include "mesh/ply_writer.h"
 #include "pipeline/pipeline.h"
-#include "power/energy_json.h"
-#include "report/run_report.h"
-#include "runtime/line_file.h"
-#include "runtime/slam_runner.h"
-#include "runtime/standard_outputs.h"
+#include "runtime/energy_account.h"
+#include "runtime/run.h"
 
 namespace sb::daemon {
 
@@ -159,63 +151,36 @@ void SlamWorker::run() {
 
 void SlamWorker::runPasses() {
   ThreadPool pool(stats().threads);
-  std::unique_ptr<Pipeline> pipeline;
-  std::unique_ptr<SlamRunner> runner;
+  std::unique_ptr<Run> run;  // of the pass
   const bool loop = config_.source.atEnd == "loop";
   uint32_t pass = 0;
   std::deque<Clock::time_point> recent;
   double computationSum = 0.0;
   auto lastFlush = Clock::now();
-  SummarySink* summary = nullptr;  // of the pass
-  std::map<std::string, size_t> unknownEnergy;  // reason -> frames, since the daemon started
-  // energy.jsonl of the pass (with a meter), a line per frame as its energy is known; results of a frame may
-  // land in the next pass's.
-  std::optional<LineFile> energyLog;
+  // The meter's account since the daemon started: the energy of a pass's last frames may land in the next
+  // pass's energy.jsonl, and summary.json carries the totals since the start (one pass: exactly this run's).
+  std::optional<EnergyAccount> energy;
+  if (sampler_) energy.emplace(*sampler_);
 
-  const auto flushEnergy = [&] {
-    // summary.json carries the meter's totals since the daemon started (one pass: exactly this run's).
-    if (sampler_ && summary) {
-      nlohmann::json totals = power::energyTotalsJson(sampler_->totals(), unknownEnergy);
-      totals["meter"] = sampler_->meterInfo().name;
-      summary->setExtra("energy", totals);
-    }
-  };
-  const auto handleEnergy = [&](const std::vector<power::FrameEnergy>& results) {
-    for (const power::FrameEnergy& e : results) {
-      if (energyLog) energyLog->append(power::frameEnergyJson(e).dump() + "\n");
-      if (!e.known) {
-        ++unknownEnergy[e.unknownReason];
-        continue;
-      }
-      if (runner) runner->setLatestJoules(e.joules);
-      if (publishEnergy_) publishEnergy_(e);
-    }
-  };
-
-  const auto finishPass = [&] {
-    if (!runner) return;
-    flushEnergy();
-    runner->flush();
-    if (config_.output.mesh) {
-      const VolumeView view{pipeline->volumeData(), pipelineConfig_.volumeResolution,
-                            pipelineConfig_.volumeSize};
-      writePly((std::filesystem::path(stats().outputDir) / "mesh.ply").string(),
-               extractMesh(view, MeshOptions{}, pool));
-    }
-    if (config_.output.modelPng)
-      writePng8((std::filesystem::path(stats().outputDir) / "model.png").string(), pipeline->renderModel(1));
+  const auto finishPass = [&](bool last) {
+    if (!run) return;
+    RunEnd end;
+    end.modelView = config_.output.modelPng ? "last" : "";
+    end.mesh = config_.output.mesh;
+    end.drainEnergy = last;
+    run->finish(end, pool);
     if (config_.output.report) {
       try {
-        spdlog::info("report {}", writeRunReport(stats().outputDir).path);
+        spdlog::info("report {}", run->writeReport());
       } catch (const std::exception& e) {
         spdlog::warn("report.html not written: {}", e.what());
       }
     }
-    spdlog::info("pass {}: {} frames; outputs in {}", pass, runner->frames(), stats().outputDir);
+    spdlog::info("pass {}: {} frames; outputs in {}", pass, run->runner().frames(), run->dir());
   };
   const auto startPass = [&] {
-    finishPass();
-    runner.reset();
+    finishPass(false);
+    run.reset();
     ++pass;
     std::string dir = config_.output.dir;
     if (loop) {
@@ -223,7 +188,6 @@ void SlamWorker::runPasses() {
       std::snprintf(name, sizeof name, "pass-%04u", pass);
       dir = (std::filesystem::path(dir) / name).string();
     }
-    pipeline = Pipeline::create(pipelineConfig_, sequence_.intrinsics, pool);
     ControllerSettings settings;
     {
       std::lock_guard lock(mutex_);
@@ -235,51 +199,48 @@ void SlamWorker::runPasses() {
       stats_.outputDir = dir;
       stats_.controller = settings.name;
     }
-    runner =
-        std::make_unique<SlamRunner>(*pipeline, createController(settings, context_), sequence_.depthScale);
     const nlohmann::json extra = {
         {"sequence", sequence_.path},
         {"daemon", {{"pass", pass}, {"cpus", stats().cpus}, {"threads", stats().threads}}},
         {"config", configToJson(pipelineConfig_)}};
-    summary = addStandardOutputs(
-        *runner, dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
-        "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)")
-                  .summary;
-    if (sampler_) {
-      energyLog.reset();
-      energyLog.emplace((std::filesystem::path(dir) / "energy.jsonl").string(), "per-frame energy log");
-    }
+    run = std::make_unique<Run>(
+        Pipeline::create(pipelineConfig_, sequence_.intrinsics, pool), createController(settings, context_),
+        sequence_.depthScale,
+        RunOutputs{dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
+                   "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)"},
+        energy ? &*energy : nullptr);
+    if (publishEnergy_)
+      run->setEnergyListener([this](const power::FrameEnergy& e) {
+        if (e.known) publishEnergy_(e);
+      });
   };
 
   while (!stop_) {
     std::optional<CapturedFrame> item = queue_.pop();
     if (!item || stop_) break;
-    if (!runner || item->restart) startPass();
+    if (!run || item->restart) startPass();
+    SlamRunner& runner = run->runner();
     std::vector<std::string> pinned;
     {
       std::lock_guard lock(mutex_);
       if (!pendingController_.empty()) {
-        runner->setController(createController(pendingController_, settings_, context_));
+        runner.setController(createController(pendingController_, settings_, context_));
         stats_.controller = pendingController_;
         pendingController_.clear();
         pinsChanged_ = true;
       }
       if (pinsChanged_ || !pins_.empty()) {
         // The controller's own choice, then the pins over it.
-        runner->pinKnobs(std::nullopt);
-        if (!pins_.empty()) runner->pinKnobs(pins_.apply(runner->nextKnobs()));
+        runner.pinKnobs(std::nullopt);
+        if (!pins_.empty()) runner.pinKnobs(pins_.apply(runner.nextKnobs()));
         pinsChanged_ = false;
       }
       pinned = pins_.names();
       stats_.pinned = pins_.toJson();
       stats_.busySince = Clock::now();
     }
-    const FrameRecord record = runner->step(item->frame);
+    const FrameRecord record = run->step(item->frame);
     publish_(makeReport(record, pinned));
-    if (sampler_) {
-      sampler_->addFrame({record.result.frame, record.startMonoNs, record.endMonoNs});
-      handleEnergy(sampler_->takeResults());
-    }
     const auto now = Clock::now();
     recent.push_back(now);
     if (recent.size() > kFpsWindow) recent.pop_front();
@@ -296,14 +257,17 @@ void SlamWorker::runPasses() {
                      std::chrono::duration<double>(recent.back() - recent.front()).count();
     }
     if (now - lastFlush > kFlushInterval) {
-      flushEnergy();
-      runner->flush();
+      run->flush();
       lastFlush = now;
     }
   }
-  // The energy of the last frames needs the samples after their end: waits up to the sampler's drain timeout.
-  if (sampler_) handleEnergy(sampler_->stop());
-  finishPass();
+  // The energy of the last frames needs the samples after their end: finishPass(true) waits up to the
+  // sampler's drain timeout.
+  if (run) {
+    finishPass(true);
+  } else if (energy) {
+    energy->drain();
+  }
 }
 
 }  // namespace sb::daemon

@@ -21,21 +21,16 @@
 
 #include "controller/registry.h"
 #include "core/error.h"
-#include "core/png_io.h"
 #include "core/thread_pool.h"
 #include "core/trajectory.h"
 #include "drivers/sequence.h"
 #include "eval/trajectory_eval.h"
-#include "mesh/marching_cubes.h"
-#include "mesh/ply_writer.h"
 #include "pipeline/config.h"
 #include "pipeline/cpu_backend.h"
 #include "pipeline/pipeline.h"
 #include "power/power_config.h"
-#include "report/run_report.h"
-#include "runtime/energy_sink.h"
-#include "runtime/slam_runner.h"
-#include "runtime/standard_outputs.h"
+#include "runtime/energy_account.h"
+#include "runtime/run.h"
 #include "tools/slambooster/commands.h"
 #include "tools/slambooster/stop_signals.h"
 
@@ -63,22 +58,6 @@ struct RunOptions {
   bool quiet = false;
   std::string modelView = "last";  // viewpoint of model.png: "last" camera pose or "overview"
 };
-
-// The "overview" viewpoint of model.png: above and behind the volume centre at 45 degrees, looking at the
-// centre along the first camera's +z (volume +y is down). The raycast reaches only far_plane_m along each
-// ray, so the camera sits within half of it from the centre (and within 0.6 of the volume side).
-Eigen::Isometry3d overviewPose(const PipelineConfig& c) {
-  const Eigen::Vector3d centre = Eigen::Vector3d::Constant(0.5 * c.volumeSize);
-  const double distance = std::min(0.6 * c.volumeSize, 0.5 * c.farPlane);  // metres
-  const Eigen::Vector3d forward = Eigen::Vector3d(0, 1, 1).normalized();
-  const Eigen::Vector3d right = Eigen::Vector3d::UnitY().cross(forward).normalized();
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear().col(0) = right;
-  pose.linear().col(1) = forward.cross(right);  // down in the image
-  pose.linear().col(2) = forward;
-  pose.translation() = centre - distance * forward;
-  return pose;
-}
 
 std::array<float, 3> parsePosition(const std::string& text) {
   std::array<float, 3> p{};
@@ -165,16 +144,6 @@ void printProgress(size_t done, size_t total, double msPerFrame) {
   std::cerr << "  " << std::fixed << std::setprecision(1) << msPerFrame << " ms/frame" << std::flush;
 }
 
-// Writes the file's data through to its disk or file server (fsync; the page cache is the host's, so any
-// process of this host may do it for another's writes).
-void syncFile(const std::string& path) {
-  const int fd = open(path.c_str(), O_RDONLY);
-  if (fd < 0) throw Error("cannot open '" + path + "' to sync it: " + std::strerror(errno));
-  const int failed = fsync(fd);
-  close(fd);
-  if (failed != 0) throw Error("cannot sync '" + path + "' to disk: " + std::strerror(errno));
-}
-
 // Where this run is timed (summary.json "machine"): the CPU backend runs on this CPU; for OpenCL the device
 // is named by the config's selectors (the backend logs the device it picked in run.log).
 nlohmann::json machineOf(Pipeline& pipeline, const PipelineConfig& config, unsigned threads) {
@@ -194,30 +163,34 @@ void runCommand(const RunOptions& o) {
 
   ThreadPool pool(o.threads);
   auto pipeline = Pipeline::create(config, info.intrinsics, pool);
-  SlamRunner runner(*pipeline, createController(setup.controller, ControllerContext{config.knobs}), info.depthScale);
+  auto controller = createController(setup.controller, ControllerContext{config.knobs});
+  const Knobs initial = controller->initialKnobs();
   nlohmann::json extra;
   extra["sequence"] = o.sequence;
   extra["controller"] = setup.controller.name;
   extra["controller_sections"] = setup.controller.sections;
-  extra["knobs"] = knobsToJson(runner.nextKnobs());
+  extra["knobs"] = knobsToJson(initial);
   extra["config"] = configToJson(config);
   extra["threads"] = pool.threadCount();
   extra["machine"] = machineOf(*pipeline, config, pool.threadCount());
-  const StandardOutputs outputs =
-      addStandardOutputs(runner, o.out, info.groundTruthPath, extra,
-                         "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
-                             formatKnobs(runner.nextKnobs()) + " (volume frame)");
-  const fs::path out(o.out);
-  EnergySink* energy = nullptr;
+  // Energy: the run borrows the account of a sampler this command owns.
+  std::unique_ptr<power::PowerSampler> sampler;
+  std::optional<EnergyAccount> energy;
   if (!o.powerConfig.empty()) {
-    if (auto sink = makeEnergySink(power::loadPowerConfig(o.powerConfig), o.out)) {
-      // The controller sees the newest known frame energy (budget mode in joules/frame needs it).
-      sink->setCallback([&runner](const power::FrameEnergy& e) {
-        if (e.known) runner.setLatestJoules(e.joules);
-      });
-      energy = static_cast<EnergySink*>(&runner.addSink(std::move(sink)));
+    fs::create_directories(o.out);
+    sampler = openSampler(power::loadPowerConfig(o.powerConfig), o.out);
+    if (sampler) {
+      sampler->start();
+      energy.emplace(*sampler);
     }
   }
+  Run run(std::move(pipeline), std::move(controller), info.depthScale,
+          RunOutputs{o.out, info.groundTruthPath, extra,
+                     "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
+                         formatKnobs(initial) + " (volume frame)"},
+          energy ? &*energy : nullptr);
+  SummarySink& summary = run.summary();
+  const fs::path out(o.out);
 
   const bool progress = !o.quiet && isatty(STDERR_FILENO);
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
@@ -228,9 +201,9 @@ void runCommand(const RunOptions& o) {
     while (!signals.received()) {
       auto frame = source->next();
       if (!frame) break;
-      runner.step(*frame);
-      if (progress) printProgress(runner.frames(), total, outputs.summary->stats().computationMsPerFrame());
-      if (o.stopAfterMs > 0 && outputs.summary->stats().stageSums.computationMs() > o.stopAfterMs) {
+      run.step(*frame);
+      if (progress) printProgress(run.runner().frames(), total, summary.stats().computationMsPerFrame());
+      if (o.stopAfterMs > 0 && summary.stats().stageSums.computationMs() > o.stopAfterMs) {
         stopped = true;
         break;
       }
@@ -239,19 +212,19 @@ void runCommand(const RunOptions& o) {
     // A bad frame or a failed write stops the run; the outputs keep every frame before it and the summary
     // says why (best effort: on a full disk it may not be written).
     if (progress) std::cerr << "\n";
-    outputs.summary->setExtra("error", e.what());
-    outputs.summary->setExtra("complete", false);
+    summary.setExtra("error", e.what());
+    summary.setExtra("complete", false);
     try {
-      runner.flush();
+      run.flush();
     } catch (const Error&) {
     }
-    throw Error(std::string(e.what()) + " (stopped after " + std::to_string(outputs.summary->stats().frames) +
+    throw Error(std::string(e.what()) + " (stopped after " + std::to_string(summary.stats().frames) +
                 " frames; the outputs in " + o.out + " cover them)");
   }
   const int stopSignal = signals.received();
   const double cpuMs = processCpuMs() - cpuStartMs;
   if (progress) std::cerr << "\n";
-  const RunStats& stats = outputs.summary->stats();
+  const RunStats& stats = summary.stats();
   const size_t count = stats.frames;
   if (count == 0 && stopSignal)
     throw Interrupted(stopSignal,
@@ -259,36 +232,18 @@ void runCommand(const RunOptions& o) {
   if (count == 0) throw Error("sequence '" + o.sequence + "' has no frames");
   // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
   // times to other load on the machine.
-  outputs.summary->setExtra("cpu_ms_per_frame", cpuMs / count);
-  if (energy) outputs.summary->setExtra("energy", energy->finish());
+  summary.setExtra("cpu_ms_per_frame", cpuMs / count);
   if (stopped)  // complete as asked, but not the whole sequence: its ATE and times cover the frames run
-    outputs.summary->setExtra("stopped", {{"at_frame", count}, {"limit_ms", o.stopAfterMs},
-                                          {"computation_ms", stats.stageSums.computationMs()}});
-  if (stopSignal)
-    outputs.summary->setExtra("interrupted",
-                              {{"signal", StopSignals::name(stopSignal)}, {"at_frame", count}});
-  outputs.summary->setExtra("complete", false);  // until the outputs are on disk (below)
-
-  const Image<uint8_t> model =
-      o.modelView == "overview" ? pipeline->renderModel(overviewPose(config), 1) : pipeline->renderModel(1);
-  outputs.summary->setExtra("model_view", o.modelView);
-  writePng8((out / "model.png").string(), model);
-  if (o.mesh) {
-    const VolumeView view{pipeline->volumeData(), config.volumeResolution, config.volumeSize};
-    const Mesh mesh = extractMesh(view, MeshOptions{}, pool);
-    writePly((out / "mesh.ply").string(), mesh);
-    outputs.summary->setExtra("mesh_triangles", mesh.triangles.size());
-  }
-  runner.flush();
-  // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
-  // server), so that a run killed or a node lost at any point never leaves a complete summary beside a
-  // half-written trajectory. `slambooster bench` / dse / profile count (and skip) only complete runs; an
-  // interrupted one (SIGTERM, SIGINT) runs again.
-  for (const char* file : {"trajectory.tum", "frames.jsonl"}) syncFile((out / file).string());
-  outputs.summary->setExtra("complete", stopSignal == 0);
-  outputs.summary->flush();
-  const std::optional<AteResult>& ate = outputs.summary->ate();
-  const nlohmann::json& summary = outputs.summary->summary();
+    summary.setExtra("stopped", {{"at_frame", count}, {"limit_ms", o.stopAfterMs},
+                                 {"computation_ms", stats.stageSums.computationMs()}});
+  if (stopSignal) summary.setExtra("interrupted", {{"signal", StopSignals::name(stopSignal)}, {"at_frame", count}});
+  RunEnd end;
+  end.modelView = o.modelView;
+  end.mesh = o.mesh;
+  end.complete = stopSignal == 0;  // an interrupted run runs again under bench / dse / profile
+  run.finish(end, pool);
+  const std::optional<AteResult>& ate = summary.ate();
+  const nlohmann::json& json = summary.summary();
 
   std::cout << std::fixed << std::setprecision(1);
   if (stopped)
@@ -308,10 +263,10 @@ void runCommand(const RunOptions& o) {
   if (ate)
     std::cout << "ATE rmse " << ate->rmse * 100 << " cm, mean " << ate->mean * 100 << " cm, max " << ate->max * 100
               << " cm, unaligned mean " << ate->unalignedMean * 100 << " cm (" << ate->matches << " matches)\n";
-  else if (summary.contains("ate_error"))
-    std::cout << "ATE not computed: " << summary["ate_error"].get<std::string>() << "\n";
+  else if (json.contains("ate_error"))
+    std::cout << "ATE not computed: " << json["ate_error"].get<std::string>() << "\n";
   if (energy) {
-    const nlohmann::json& e = summary["energy"];
+    const nlohmann::json& e = json["energy"];
     std::cout << "energy (" << e["meter"].get<std::string>() << "): " << e["known_frames"] << "/" << e["frames"]
               << " frames known";
     if (e["joules_per_frame"].is_number())
@@ -322,7 +277,7 @@ void runCommand(const RunOptions& o) {
   std::cout << "outputs in " << out.string() << "\n";
   // The HTML report is a convenience: a run whose outputs are written is not failed by it.
   try {
-    std::cout << "report " << writeRunReport(o.out).path << "\n";
+    std::cout << "report " << run.writeReport() << "\n";
   } catch (const Error& e) {
     std::cerr << "slambooster run: report not written: " << e.what() << "\n";
   }

@@ -1,0 +1,114 @@
+#include "runtime/run.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "core/error.h"
+#include "core/png_io.h"
+#include "mesh/marching_cubes.h"
+#include "mesh/ply_writer.h"
+#include "power/energy_json.h"
+#include "report/run_report.h"
+
+namespace sb {
+
+namespace {
+
+// Writes the file's data through to its disk or file server (fsync; the page cache is the host's, so any
+// process of this host may do it for another's writes).
+void syncFile(const std::string& path) {
+  const int fd = open(path.c_str(), O_RDONLY);
+  if (fd < 0) throw Error("cannot open '" + path + "' to sync it: " + std::strerror(errno));
+  const int failed = fsync(fd);
+  close(fd);
+  if (failed != 0) throw Error("cannot sync '" + path + "' to disk: " + std::strerror(errno));
+}
+
+}  // namespace
+
+// Above and behind the volume centre at 45 degrees, looking at the centre along the first camera's +z (volume
+// +y is down). The raycast reaches only far_plane_m along each ray, so the camera sits within half of it from
+// the centre (and within 0.6 of the volume side).
+Eigen::Isometry3d overviewPose(const PipelineConfig& c) {
+  const Eigen::Vector3d centre = Eigen::Vector3d::Constant(0.5 * c.volumeSize);
+  const double distance = std::min(0.6 * c.volumeSize, 0.5 * c.farPlane);  // metres
+  const Eigen::Vector3d forward = Eigen::Vector3d(0, 1, 1).normalized();
+  const Eigen::Vector3d right = Eigen::Vector3d::UnitY().cross(forward).normalized();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear().col(0) = right;
+  pose.linear().col(1) = forward.cross(right);  // down in the image
+  pose.linear().col(2) = forward;
+  pose.translation() = centre - distance * forward;
+  return pose;
+}
+
+Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> controller, double depthScale,
+         const RunOutputs& outputs, EnergyAccount* energy)
+    : pipeline_(std::move(pipeline)),
+      runner_(*pipeline_, std::move(controller), depthScale),
+      dir_(outputs.dir),
+      outputs_(addStandardOutputs(runner_, outputs.dir, outputs.groundTruthPath, outputs.extra, outputs.comment)),
+      energy_(energy) {
+  if (energy_) energyLog_.emplace((std::filesystem::path(dir_) / "energy.jsonl").string(), "per-frame energy log");
+}
+
+FrameRecord Run::step(const DepthFrame& frame) {
+  FrameRecord rec = runner_.step(frame);
+  if (energy_) record(energy_->add(rec));
+  return rec;
+}
+
+void Run::record(const std::vector<power::FrameEnergy>& results) {
+  for (const power::FrameEnergy& e : results) {
+    energyLog_->append(power::frameEnergyJson(e).dump() + "\n");  // one write: a crash leaves whole lines
+    // The controller sees the newest known frame energy (budget mode in joules per frame needs it).
+    if (e.known) runner_.setLatestJoules(e.joules);
+    if (listener_) listener_(e);
+  }
+}
+
+void Run::flush() {
+  if (energy_) outputs_.summary->setExtra("energy", energy_->totals());
+  runner_.flush();
+}
+
+void Run::finish(const RunEnd& end, ThreadPool& pool) {
+  if (energy_) {
+    // The energy of the last frames needs the samples after their end: waits up to the drain timeout.
+    if (end.drainEnergy) record(energy_->drain());
+    outputs_.summary->setExtra("energy", energy_->totals());
+  }
+  outputs_.summary->setExtra("complete", false);  // until the outputs are on disk (below)
+  const std::filesystem::path out(dir_);
+  const PipelineConfig& config = pipeline_->config();
+  if (!end.modelView.empty()) {
+    if (end.modelView != "last" && end.modelView != "overview")
+      throw Error("model view '" + end.modelView + "': expected last or overview");
+    const Image<uint8_t> model = end.modelView == "overview" ? pipeline_->renderModel(overviewPose(config), 1)
+                                                             : pipeline_->renderModel(1);
+    outputs_.summary->setExtra("model_view", end.modelView);
+    writePng8((out / "model.png").string(), model);
+  }
+  if (end.mesh) {
+    const VolumeView view{pipeline_->volumeData(), config.volumeResolution, config.volumeSize};
+    const Mesh mesh = extractMesh(view, MeshOptions{}, pool);
+    writePly((out / "mesh.ply").string(), mesh);
+    outputs_.summary->setExtra("mesh_triangles", mesh.triangles.size());
+  }
+  runner_.flush();
+  // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
+  // server). `slambooster bench` / dse / profile count (and skip) only complete runs; an interrupted one runs
+  // again.
+  for (const char* file : {"trajectory.tum", "frames.jsonl"}) syncFile((out / file).string());
+  outputs_.summary->setExtra("complete", end.complete);
+  outputs_.summary->flush();
+}
+
+std::string Run::writeReport() const { return writeRunReport(dir_).path; }
+
+}  // namespace sb

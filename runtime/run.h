@@ -1,0 +1,87 @@
+#pragma once
+// One run (issue 22): a pipeline and its controller runner, the standard outputs of one directory
+// (trajectory.tum, frames.jsonl, summary.json), the energy of its frames (energy.jsonl) and the end-of-run
+// outputs (model.png, mesh.ply, report.html). `slambooster run` is one Run, and with it every bench, dse and
+// profile run (they start `slambooster run`); every pass of the daemon is one.
+//
+//   Run run(Pipeline::create(config, intrinsics, pool), createController(settings, context), depthScale,
+//           RunOutputs{dir, groundTruth, extra, comment}, account);   // account: borrowed, may be null
+//   while (auto frame = source.next()) run.step(*frame);
+//   run.finish(RunEnd{}, pool);  run.writeReport();
+//
+// Frames and energy go one way: step() hands the frame's interval to the energy account, writes the frames
+// whose energy is now known to energy.jsonl, gives the newest to the controller and to the energy listener.
+// Not thread-safe: one thread drives a run.
+
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "core/thread_pool.h"
+#include "runtime/energy_account.h"
+#include "runtime/line_file.h"
+#include "runtime/slam_runner.h"
+#include "runtime/standard_outputs.h"
+
+namespace sb {
+
+// Where and what a run writes at its start.
+struct RunOutputs {
+  std::string dir;              // created when missing
+  std::string groundTruthPath;  // "" = no ATE in the summary
+  nlohmann::json extra = nlohmann::json::object();  // into summary.json as it is
+  std::string comment;          // heads trajectory.tum
+};
+
+// What a run writes at its end.
+struct RunEnd {
+  std::string modelView = "last";  // model.png from the "last" camera pose or an "overview"; "" = none
+  bool mesh = false;               // mesh.ply (marching cubes of the volume)
+  bool drainEnergy = true;         // wait for the energy of the last frames (false: they land in a later run)
+  bool complete = true;            // summary.json "complete" once every output is on disk
+};
+
+class Run {
+ public:
+  // Owns `pipeline` and `controller`; borrows `energy` (nullptr: no energy accounting; must outlive the run).
+  // Creates the output directory and files (throws sb::Error naming them).
+  Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> controller, double depthScale,
+      const RunOutputs& outputs, EnergyAccount* energy = nullptr);
+
+  // One frame (SlamRunner::step), then its energy. Throws sb::Error on bad input or a failed write.
+  FrameRecord step(const DepthFrame& frame);
+  // Called for every frame energy the run resolves (known or not), on the thread that drives the run.
+  void setEnergyListener(std::function<void(const power::FrameEnergy&)> listener) { listener_ = std::move(listener); }
+
+  // Every output on disk reflects every frame so far (the energy totals too).
+  void flush();
+  // The end of the run: energy totals, model.png, mesh.ply, then trajectory and frame log synced to disk and
+  // summary.json marked complete last (a run killed at any point never leaves a complete summary beside a
+  // half-written trajectory). Throws sb::Error naming a file that cannot be written.
+  void finish(const RunEnd& end, ThreadPool& pool);
+  // report.html from the outputs on disk; returns its path. Throws sb::Error when it cannot be written.
+  std::string writeReport() const;
+
+  SlamRunner& runner() { return runner_; }
+  Pipeline& pipeline() { return *pipeline_; }
+  SummarySink& summary() { return *outputs_.summary; }
+  const std::string& dir() const { return dir_; }
+
+ private:
+  void record(const std::vector<power::FrameEnergy>& results);
+
+  std::unique_ptr<Pipeline> pipeline_;
+  SlamRunner runner_;
+  std::string dir_;
+  StandardOutputs outputs_;
+  EnergyAccount* energy_ = nullptr;
+  std::optional<LineFile> energyLog_;  // energy.jsonl, with an energy account
+  std::function<void(const power::FrameEnergy&)> listener_;
+};
+
+// The "overview" viewpoint of model.png: above and behind the volume centre, looking at it.
+Eigen::Isometry3d overviewPose(const PipelineConfig& config);
+
+}  // namespace sb
