@@ -67,6 +67,7 @@ busy host misses (1.4 s seen); the OpenNI2 code is the same natively, where it r
   [test_opencl_wrappers_syntax_half]="the host's clang checks OpenCL C sources: no armhf code, runs natively"
   [fuzz_request_parser]="a host (clang, libFuzzer) binary: no armhf code, runs natively"
   [systemd_units_verify]="the host's systemd-analyze on systemd/: no armhf code, runs natively"
+  [test_ctl_needed]="the host's readelf on the built slamboosterctl: no armhf code, runs natively"
   [test_thread_pool_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
   [test_prefetch_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
   [test_power_sampler_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
