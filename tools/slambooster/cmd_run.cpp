@@ -29,7 +29,7 @@
 #include "mesh/marching_cubes.h"
 #include "mesh/ply_writer.h"
 #include "pipeline/config.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/pipeline.h"
 #include "power/power_config.h"
 #include "report/run_report.h"

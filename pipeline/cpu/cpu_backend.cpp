@@ -1,4 +1,4 @@
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,13 +7,13 @@
 #include "kernels/preprocess.h"
 #include "kernels/raycast.h"
 #include "kernels/track.h"
-#include "pipeline/block_distance.h"
-#include "pipeline/cpu_raycast.h"
-#include "pipeline/cpu_integrate.h"
-#include "pipeline/cpu_track.h"
-#include "pipeline/integrate_cull.h"
+#include "pipeline/cpu/block_distance.h"
+#include "pipeline/cpu/cpu_integrate.h"
+#include "pipeline/cpu/cpu_raycast.h"
+#include "pipeline/cpu/cpu_track.h"
+#include "pipeline/cpu/integrate_cull.h"
+#include "pipeline/cpu/simd4.h"
 #include "pipeline/kernel_args.h"
-#include "pipeline/simd_clones.h"
 
 namespace sb {
 
@@ -197,7 +197,7 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
 TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                             StageTimes& times) {
   const Level& in = levels_[level];
-  // pipeline/cpu_track.h: track() and reduce() four pixels at a time. Per chunk of rows, track fills the
+  // pipeline/cpu/cpu_track.h: track() and reduce() four pixels at a time. Per chunk of rows, track fills the
   // band (in cache), then reduce sums it into the chunk's partial (double); the partials are summed in chunk
   // order: deterministic for any thread count.
   TrackInputs args;
