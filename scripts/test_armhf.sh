@@ -48,6 +48,8 @@ declare -A slow=(
   [test_drivers_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_drivers"
   [test_eval_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_eval"
   [test_synth_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_synth"
+  [test_cpu_portable]="the lane layer's portable C++ path (no NEON), the same on every target: runs natively;
+test_pipeline checks the NEON path here"
   [test_pipeline_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_pipeline"
 )
 spawns="starts the built armhf tool as a child process: the host kernel cannot exec an armhf binary without
