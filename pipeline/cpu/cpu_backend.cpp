@@ -75,7 +75,9 @@ void orRowSurfaceMask(const int16_t* row, int x0, int x1, int16_t below, uint8_t
 
 // The interior pixels x in [r, w - r) of row y (rows y - r .. y + r exist) of bilateralFilter, tap by tap (a
 // vectorisable loop over x) with the kernel's bilateralWeight and the kernel's summation order, so the result
-// is bit-identical to bilateralFilter(). ws, vs: w floats of scratch.
+// is bit-identical to bilateralFilter() (tests/pipeline/test_kernels.cpp checks it). It stays beside the
+// kernel for speed: GCC vectorises this loop over x, not the kernel's per-pixel taps. ws, vs: w floats of
+// scratch.
 SB_SIMD_CLONES void bilateralInteriorRow(float* out, const float* in, int w, int y, const float* g, int r,
                                          float rangeFactor, float* ws, float* vs) {
   std::fill(ws, ws + w, 0.0f);

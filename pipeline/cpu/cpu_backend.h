@@ -1,7 +1,7 @@
 #pragma once
 // The CPU backend (pipeline/cpu/): runs the stages over images and the volume with a ThreadPool, each with
 // the per-pixel math of kernels/. Where the scalar kernel is too slow, a hand-vectorised version over the
-// four-lane layer (simd4.h) stays beside it and is bit-identical to it (tests/pipeline/test_cpu_*.cpp):
+// four-lane layer (simd4.h) stays beside it and is bit-identical to it (tests/pipeline/cpu/test_cpu_*.cpp):
 // the bilateral filter's interior rows, track + reduce (cpu_track.h), integrate (cpu_integrate.h, with the
 // blocks the frame cannot change culled by integrate_cull.h) and raycast (cpu_raycast.h, skipping empty
 // space by the 4^3 block-distance grid of block_distance.h). Deterministic: work is split into chunks whose

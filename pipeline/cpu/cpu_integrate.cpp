@@ -14,7 +14,7 @@ namespace {
 // (SB_SIMD_CLONES below) gains from them, and on armhf GCC lowers them to scalar VFP, which is exact where
 // NEON would flush denormals. One IEEE operation per lane and operator, never contracted
 // (-ffp-contract=off), so every lane computes what kernels/volume.h's integrateVoxel computes
-// (tests/pipeline/test_cpu_integrate.cpp checks the bits). This hand-vectorised row stays for speed: GCC
+// (tests/pipeline/cpu/test_cpu_integrate.cpp checks the bits). This hand-vectorised row stays for speed: GCC
 // does not vectorise the scalar kernel.
 typedef float F4 __attribute__((vector_size(16)));
 typedef int32_t I4 __attribute__((vector_size(16)));  // lane masks are all ones (true) or 0

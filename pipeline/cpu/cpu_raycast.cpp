@@ -14,7 +14,7 @@ namespace {
 // f and 1 - f are multiples of 2^-23, so every product and sum of their three blending levels is a multiple
 // of 2^-69 (0 or far above the denormal range); the ray's s = sOrigin + t sDirection would need a direction
 // component below 1e-37 to reach it. This hand-vectorised march stays for speed beside kernels/raycast.h's
-// sbRaycastPixel, which it must match bit for bit (tests/pipeline/test_cpu_raycast.cpp).
+// sbRaycastPixel, which it must match bit for bit (tests/pipeline/cpu/test_cpu_raycast.cpp).
 using namespace simd4;  // NOLINT: the lane layer is this file's vocabulary
 
 inline float3 toFloat3(F4 a) { return sbMakeFloat3(lane<0>(a), lane<1>(a), lane<2>(a)); }

@@ -13,7 +13,7 @@ namespace {
 
 // The four-lane layer (simd4.h). Lane results equal the scalar kernel's (kernels/track.h) bit for bit,
 // on NEON too: NEON flushes denormals, and none arise here from camera-space vertices and unit normals
-// (tests/pipeline/test_cpu_track.cpp checks the bits against the scalar kernel on every target). This
+// (tests/pipeline/cpu/test_cpu_track.cpp checks the bits against the scalar kernel on every target). This
 // hand-vectorised version of kernels/track.h's sbTrackPixel stays for speed: the compiler does not vectorise
 // the scalar kernel's gathers and branches.
 using namespace simd4;  // NOLINT: the lane layer is this file's vocabulary

@@ -7,7 +7,7 @@
 // VFP code (it keeps NEON, which flushes denormals, for -ffast-math), hence the intrinsics. Every float
 // operation is one rounded IEEE operation per lane and never contracted (-ffp-contract=off): a lane's value
 // equals the scalar kernel's (kernels/) for the same operations in the same order, which the bit-identity
-// tests check (tests/pipeline/test_cpu_track.cpp, test_cpu_raycast.cpp). NEON flushes denormals to zero;
+// tests check (tests/pipeline/cpu/test_cpu_track.cpp, test_cpu_raycast.cpp). NEON flushes denormals to zero;
 // cpu_track.cpp and cpu_raycast.cpp say why that changes nothing in their use.
 // cpu_integrate.cpp keeps GCC's generic vectors (see there), as the one exception. SB_SIMD4_PORTABLE selects
 // the plain C++ path on any target (test_cpu_portable runs the bit-identity tests over it).
