@@ -106,7 +106,10 @@ run=("${subset[@]}")
 registered=$(cd "$build" && ctest -N | sed -n 's/^ *Test *#[0-9]*: //p')
 unclassified=()
 for t in $registered; do
-  if ! printf '%s\n' "${subset[@]}" "${!slow[@]}" "${!not_armhf[@]}" | grep -qx "$t"; then unclassified+=("$t"); fi
+  # grep reads the whole list (no -q): with pipefail, -q's early exit can fail printf with SIGPIPE.
+  if ! printf '%s\n' "${subset[@]}" "${!slow[@]}" "${!not_armhf[@]}" | grep -x "$t" >/dev/null; then
+    unclassified+=("$t")
+  fi
 done
 if [ ${#unclassified[@]} -gt 0 ]; then
   echo "test_armhf: tests in neither list of scripts/test_armhf.sh: ${unclassified[*]}" >&2
