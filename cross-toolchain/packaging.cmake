@@ -1,6 +1,7 @@
 # The slambooster Debian package (DESIGN.md section 9): install rules for what the package ships besides the
 # targets that install themselves, and the CPack DEB configuration. Included at the end of the top-level
-# CMakeLists.txt, so every target exists by then; parts not built yet are left out, never faked.
+# CMakeLists.txt, so every target exists by then. Every part listed below is built and shipped; a missing
+# file fails the install step, naming it.
 #
 #   cross-toolchain/build_deb.sh        # cross-build for armhf and write slambooster_<version>_armhf.deb
 #   cpack -G DEB --config <build>/CPackConfig.cmake   # the same for any configured build (its architecture)
@@ -19,29 +20,22 @@ set(SB_PKG_DIR ${CMAKE_CURRENT_LIST_DIR})
 set(SB_DEB_MAINTAINER "SLAMBooster maintainers <slambooster@example.org>" CACHE STRING
   "Maintainer field of the .deb (name <email>)")
 
-# Executables that do not install themselves.
-foreach(tool slambooster slamboosterctl)
-  if(TARGET ${tool})
-    install(TARGETS ${tool} RUNTIME DESTINATION bin)
-  endif()
-endforeach()
+# Executables that do not install themselves (slamboosterd does: daemon/CMakeLists.txt).
+install(TARGETS slambooster slamboosterctl RUNTIME DESTINATION bin)
 
 # Default configuration: conffiles, so dpkg keeps a user-edited copy on upgrade (and asks when both changed).
+# config/controller.json is not shipped: the daemon's controllers run on their built-in defaults unless
+# slam.controller_config names a file.
 set(SB_CONFFILES "")
 foreach(cfg slamboosterd.json power.json pipeline.json)
-  if(EXISTS ${PROJECT_SOURCE_DIR}/config/${cfg})
-    install(FILES ${PROJECT_SOURCE_DIR}/config/${cfg} DESTINATION /etc/slambooster)
-    string(APPEND SB_CONFFILES "/etc/slambooster/${cfg}\n")
-  endif()
+  install(FILES ${PROJECT_SOURCE_DIR}/config/${cfg} DESTINATION /etc/slambooster)
+  string(APPEND SB_CONFFILES "/etc/slambooster/${cfg}\n")
 endforeach()
 file(WRITE ${CMAKE_BINARY_DIR}/deb/conffiles "${SB_CONFFILES}")
 
-# systemd units: written and owned by the daemon (systemd/); shipped only when present.
-foreach(unit slambooster.service slambooster.socket)
-  if(EXISTS ${PROJECT_SOURCE_DIR}/systemd/${unit})
-    install(FILES ${PROJECT_SOURCE_DIR}/systemd/${unit} DESTINATION /lib/systemd/system)
-  endif()
-endforeach()
+# systemd units (systemd/): the daemon's service and its socket.
+install(FILES ${PROJECT_SOURCE_DIR}/systemd/slambooster.service
+  ${PROJECT_SOURCE_DIR}/systemd/slambooster.socket DESTINATION /lib/systemd/system)
 
 install(FILES ${SB_PKG_DIR}/udev/60-slambooster.rules DESTINATION /lib/udev/rules.d)
 
@@ -61,14 +55,11 @@ install(FILES ${SB_PKG_DIR}/debian/copyright ${CMAKE_BINARY_DIR}/deb/changelog.g
 install(FILES ${SB_PKG_DIR}/debian/lintian-overrides DESTINATION share/lintian/overrides
   RENAME slambooster)
 
-# Manual pages of the executables the package ships.
+# Manual pages of the three executables.
 foreach(page slambooster.1 slamboosterctl.1 slamboosterd.8)
-  string(REGEX REPLACE "\\.[0-9]$" "" program ${page})
   string(REGEX REPLACE "^.*\\." "" section ${page})
-  if(TARGET ${program})
-    sb_gzip_for_deb(${SB_PKG_DIR}/man/${page} ${CMAKE_BINARY_DIR}/deb/${page}.gz)
-    install(FILES ${CMAKE_BINARY_DIR}/deb/${page}.gz DESTINATION share/man/man${section})
-  endif()
+  sb_gzip_for_deb(${SB_PKG_DIR}/man/${page} ${CMAKE_BINARY_DIR}/deb/${page}.gz)
+  install(FILES ${CMAKE_BINARY_DIR}/deb/${page}.gz DESTINATION share/man/man${section})
 endforeach()
 
 # The package's architecture is the target's: armhf for the cross build, the host's otherwise.

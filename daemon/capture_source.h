@@ -1,7 +1,8 @@
 #pragma once
 // The daemon's frame-source interface: a FrameSource that also knows whether it is live, can be stopped from
-// another thread, and reports its state. Implementations: replay_source.h (recorded sequences). A new one
-// (e.g. OpenNI2) is one file pair plus one line in source_registry.cpp.
+// another thread, and reports its state. Implementations: replay_source.h (recorded sequences, source.type
+// "replay") and openni2_capture.h (an OpenNI2 depth camera, "openni2"). A new one is one file pair plus one
+// entry in source_registry.cpp; its settings, if any, go in SourceConfig (daemon_config.h).
 
 #include <nlohmann/json.hpp>
 #include <optional>

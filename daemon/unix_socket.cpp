@@ -86,16 +86,4 @@ ListeningSocket openListeningSocket(const std::string& path, unsigned mode) {
   return s;
 }
 
-UniqueFd connectUnix(const std::string& path) {
-  UniqueFd fd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
-  if (!fd.valid()) throw Error(std::string("socket(AF_UNIX) failed: ") + std::strerror(errno));
-  const sockaddr_un addr = address(path);
-  if (connect(fd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0)
-    throw Error("cannot connect to '" + path + "': " + std::strerror(errno) +
-                (errno == ENOENT || errno == ECONNREFUSED ? " (is slamboosterd running?)"
-                 : errno == EACCES                        ? " (are you in the socket's group?)"
-                                                          : ""));
-  return fd;
-}
-
 }  // namespace sb::daemon

@@ -23,7 +23,6 @@ struct ListeningSocket {
 // naming the path and what to do.
 ListeningSocket openListeningSocket(const std::string& path, unsigned mode);
 
-// A client connection to `path` (blocking). Throws sb::Error naming the path.
-UniqueFd connectUnix(const std::string& path);
+// The client's side (connectUnix) is in the client library, client/connection.h.
 
 }  // namespace sb::daemon

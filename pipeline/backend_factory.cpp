@@ -3,7 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "core/error.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #ifdef SB_HAVE_OPENCL
 #include "pipeline/opencl/device.h"
 #include "pipeline/opencl/opencl_backend.h"

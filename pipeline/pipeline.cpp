@@ -4,7 +4,7 @@
 
 #include "core/error.h"
 #include "pipeline/backend_factory.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/icp_solve.h"
 
 namespace sb {

@@ -1,7 +1,10 @@
 // OpenCL wrappers of kernels/volume.h: volume initialisation, integrate (one voxel per work-item) and the
 // empty-space skipping grids (kernels/raycast.h's sbSkipTo): a block's flag is set by any of its voxels that
 // integrate leaves near a surface (every writer stores the same 1: no atomics, so nothing depends on
-// cross-device coherence), a coarse cell's flag by any of its blocks. Flags are never cleared, as on the CPU.
+// cross-device coherence), a coarse cell's flag by any of its blocks. Flags are never cleared: a block whose
+// surface has gone keeps its flag (fewer skips, never a wrong one). The CPU backend differs: it recomputes a
+// block's surface mask whenever an integration visits all of the block's voxels, and skips by the distance to
+// the nearest block with surface (pipeline/cpu/block_distance.h).
 #include "kernels/volume.h"
 
 __kernel void initVolumeKernel(__global short* volume, int voxels) {

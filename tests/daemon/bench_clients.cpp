@@ -16,8 +16,8 @@
 #include <thread>
 #include <vector>
 
+#include "client/connection.h"
 #include "core/unique_fd.h"
-#include "daemon/unix_socket.h"
 
 namespace {
 
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   std::vector<sb::UniqueFd> ss;
   for (int attempt = 0;; ++attempt) {  // the daemon creates the socket a moment after it starts
     try {
-      rs[0].fd = sb::daemon::connectUnix(path);
+      rs[0].fd = sb::client::connectUnix(path);
       break;
     } catch (const std::exception&) {
       if (attempt > 2000) return 1;
@@ -49,10 +49,10 @@ int main(int argc, char** argv) {
     }
   }
   const std::string watch = "?WATCH={\"enable\":true,\"knobs\":false}\n";
-  for (int i = 1; i < readers; ++i) rs[static_cast<size_t>(i)].fd = sb::daemon::connectUnix(path);
+  for (int i = 1; i < readers; ++i) rs[static_cast<size_t>(i)].fd = sb::client::connectUnix(path);
   for (auto& r : rs) (void)!::send(r.fd.get(), watch.data(), watch.size(), MSG_NOSIGNAL);
   for (int i = 0; i < sleepers; ++i) {
-    ss.push_back(sb::daemon::connectUnix(path));
+    ss.push_back(sb::client::connectUnix(path));
     const int small = 4096;
     setsockopt(ss.back().get(), SOL_SOCKET, SO_RCVBUF, &small, sizeof small);
     const std::string all = "?WATCH={\"enable\":true}\n";

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <future>
 
+#include "client/connection.h"
 #include "core/error.h"
 
 namespace sb::test {
@@ -93,7 +94,7 @@ void ServerHarness::sync(const std::function<void(daemon::SocketServer&)>& fn) {
   done.get_future().wait();
 }
 
-LineClient::LineClient(const std::string& path) : fd_(daemon::connectUnix(path)) {}
+LineClient::LineClient(const std::string& path) : fd_(client::connectUnix(path)) {}
 
 void LineClient::send(const std::string& bytes) {
   size_t off = 0;

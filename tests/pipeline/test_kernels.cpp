@@ -6,7 +6,7 @@
 
 #include "kernels/preprocess.h"
 #include "kernels/volume.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 
 namespace {
 

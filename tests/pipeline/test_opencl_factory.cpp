@@ -11,7 +11,7 @@
 
 #include "core/error.h"
 #include "pipeline/backend_factory.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/opencl/kernel_sources.h"
 #include "pipeline/opencl/opencl_backend.h"
 #include "tests/pipeline/test_opencl_support.h"

@@ -9,7 +9,7 @@
 #include "core/trajectory.h"
 #include "drivers/sequence.h"
 #include "eval/trajectory_eval.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/opencl/opencl_backend.h"
 #include "pipeline/pipeline.h"
 #include "synth/builtin_trajectory.h"

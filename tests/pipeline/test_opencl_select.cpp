@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "pipeline/backend_factory.h"
 #include "pipeline/config.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/opencl/device.h"
 #include "pipeline/opencl/kernel_sources.h"
 

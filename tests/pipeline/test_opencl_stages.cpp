@@ -15,7 +15,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/icp_solve.h"
 #include "pipeline/opencl/opencl_backend.h"
 #include "tests/pipeline/synthetic_room.h"

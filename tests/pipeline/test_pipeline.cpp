@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "kernels/common.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/pipeline.h"
 #include "tests/pipeline/synthetic_room.h"
 

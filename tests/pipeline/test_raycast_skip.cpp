@@ -8,7 +8,7 @@
 #include <cstdint>
 
 #include "kernels/common.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "tests/pipeline/synthetic_room.h"
 
 using sb::test::kRoomDepthScale;

@@ -26,7 +26,7 @@
 #include "drivers/sequence.h"
 #include "eval/trajectory_eval.h"
 #include "pipeline/config.h"
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/pipeline.h"
 #include "power/power_config.h"
 #include "runtime/energy_account.h"

@@ -10,8 +10,8 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "client/connection.h"
 #include "core/error.h"
-#include "tools/slamboosterctl/ctl_connection.h"
 #include "tools/slamboosterctl/human_format.h"
 
 namespace {
@@ -33,7 +33,7 @@ void print(const Options& o, const nlohmann::json& m) {
 }
 
 int requestReply(const Options& o, const std::string& request, const std::string& cls) {
-  sb::ctl::Connection c(o.socket, o.timeout);
+  sb::client::Connection c(o.socket, o.timeout);
   c.send(request);
   const nlohmann::json reply = c.reply(cls, o.timeout);
   if (reply.value("class", "") == "ERROR") {
@@ -57,7 +57,7 @@ int requestReply(const Options& o, const std::string& request, const std::string
 }
 
 int watch(const Options& o) {
-  sb::ctl::Connection c(o.socket, o.timeout);
+  sb::client::Connection c(o.socket, o.timeout);
   const nlohmann::json w = {
       {"enable", true}, {"pose", !o.noPose}, {"knobs", !o.noKnobs}, {"energy", !o.noEnergy}};
   c.send("?WATCH=" + w.dump());

@@ -1,4 +1,4 @@
-// The CPU backend's vectorised track + reduce (pipeline/cpu_track.h) against kernels/track.h's scalar
+// The CPU backend's vectorised track + reduce (pipeline/cpu/cpu_track.h) against kernels/track.h's scalar
 // track() and reduce() on the synthetic room: the same per-pixel terms and counts, sums within float
 // rounding, at every pyramid level of every csr (widths 328 down to 10, most not multiples of 4), with
 // rejected pixels of every kind; and CpuBackend::track bit-identical for any thread count.
@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "kernels/track.h"
-#include "pipeline/cpu_backend.h"
-#include "pipeline/cpu_track.h"
+#include "pipeline/cpu/cpu_backend.h"
+#include "pipeline/cpu/cpu_track.h"
 #include "pipeline/kernel_args.h"
 #include "tests/pipeline/synthetic_room.h"
 

@@ -1,4 +1,4 @@
-// The CPU backend's raycast (pipeline/cpu_raycast.h) against kernels/raycast.h's sbRaycastPixel: bit-identical
+// The CPU backend's raycast (pipeline/cpu/cpu_raycast.h) against kernels/raycast.h's sbRaycastPixel: bit-identical
 // vertex and normal maps (memcmp) on integrated room volumes (camera inside the volume, outside it looking
 // in and looking away, surfaces cut by the volume's faces, grazing rays along the floor, rays with direction
 // components exactly 0) and on a noise volume, at the sizes of csr 1, 2, 4 and 8, with skipping grids of 4^3
@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "kernels/raycast.h"
-#include "pipeline/block_distance.h"
-#include "pipeline/cpu_backend.h"
-#include "pipeline/cpu_raycast.h"
+#include "pipeline/cpu/block_distance.h"
+#include "pipeline/cpu/cpu_backend.h"
+#include "pipeline/cpu/cpu_raycast.h"
 #include "pipeline/kernel_args.h"
 #include "tests/pipeline/synthetic_room.h"
 

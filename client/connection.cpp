@@ -1,7 +1,8 @@
-#include "tools/slamboosterctl/ctl_connection.h"
+#include "client/connection.h"
 
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/un.h>
 
 #include <cerrno>
 #include <chrono>
@@ -9,12 +10,27 @@
 
 #include "core/error.h"
 #include "core/json_text.h"
-#include "daemon/unix_socket.h"
 
-namespace sb::ctl {
+namespace sb::client {
 
-Connection::Connection(const std::string& socketPath, double timeoutSeconds)
-    : fd_(daemon::connectUnix(socketPath)) {
+UniqueFd connectUnix(const std::string& path) {
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  if (path.size() >= sizeof addr.sun_path)
+    throw Error("socket path '" + path + "' is longer than " + std::to_string(sizeof addr.sun_path - 1) +
+                " bytes");
+  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  UniqueFd fd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
+  if (!fd.valid()) throw Error(std::string("socket(AF_UNIX) failed: ") + std::strerror(errno));
+  if (connect(fd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0)
+    throw Error("cannot connect to '" + path + "': " + std::strerror(errno) +
+                (errno == ENOENT || errno == ECONNREFUSED ? " (is slamboosterd running?)"
+                 : errno == EACCES                        ? " (are you in the socket's group?)"
+                                                          : ""));
+  return fd;
+}
+
+Connection::Connection(const std::string& socketPath, double timeoutSeconds) : fd_(connectUnix(socketPath)) {
   auto greeting = next(timeoutSeconds);
   const auto field = [&](const char* key) {
     const auto it = greeting->find(key);
@@ -85,4 +101,4 @@ nlohmann::json Connection::reply(const std::string& cls, double timeoutSeconds) 
   }
 }
 
-}  // namespace sb::ctl
+}  // namespace sb::client

@@ -1,7 +1,7 @@
-// pipeline/cpu_integrate.h against kernels/volume.h's integrateVoxel(): every row of voxels must end
+// pipeline/cpu/cpu_integrate.h against kernels/volume.h's integrateVoxel(): every row of voxels must end
 // bit-identical, over rows that cross free space, the truncation band, the space behind the surface and the
 // outside of the view, from voxels in every state (unobserved, partly and fully weighted, negative tsdf).
-// And the CPU backend's whole integrate (rows, block culling of pipeline/integrate_cull.h) against
+// And the CPU backend's whole integrate (rows, block culling of pipeline/cpu/integrate_cull.h) against
 // integrateVoxel() on every voxel.
 
 #include <catch2/catch.hpp>
@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "kernels/volume.h"
-#include "pipeline/cpu_backend.h"
-#include "pipeline/cpu_integrate.h"
+#include "pipeline/cpu/cpu_backend.h"
+#include "pipeline/cpu/cpu_integrate.h"
 #include "pipeline/kernel_args.h"
 #include "tests/pipeline/synthetic_room.h"
 

@@ -1,122 +1,22 @@
-#include "pipeline/cpu_track.h"
+#include "pipeline/cpu/cpu_track.h"
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 
 #include "kernels/track.h"
-
-#include "pipeline/neon_f4.h"
+#include "pipeline/cpu/simd4.h"
 
 namespace sb {
 
 namespace {
 
-// Four float lanes and their masks. GCC's generic vectors give SSE2 on x86-64, but on armhf GCC splits
-// their float arithmetic into scalar VFP code (it keeps NEON, which flushes denormals, for -ffast-math), so
-// armhf takes the NEON intrinsics. Every operation is one rounded operation per lane, never contracted: lane
-// results equal the scalar kernel's (on NEON up to denormals).
-#if defined(__ARM_NEON)
-using neon4::F4;
-using neon4::splat;
-struct M4 {
-  uint32x4_t v;  // all ones (true) or zero per lane
-};
-using I4 = int32x4_t;
-inline F4 load(const float* p) { return {vld1q_f32(p)}; }
-inline void store(float* p, F4 a) { vst1q_f32(p, a.v); }
-inline M4 operator<(F4 a, F4 b) { return {vcltq_f32(a.v, b.v)}; }
-inline M4 operator>(F4 a, F4 b) { return {vcgtq_f32(a.v, b.v)}; }
-inline M4 operator>=(F4 a, F4 b) { return {vcgeq_f32(a.v, b.v)}; }
-inline M4 operator!=(F4 a, F4 b) { return {vmvnq_u32(vceqq_f32(a.v, b.v))}; }
-inline M4 operator&(M4 a, M4 b) { return {vandq_u32(a.v, b.v)}; }
-inline M4 andNot(M4 a, M4 b) { return {vbicq_u32(a.v, b.v)}; }  // a and not b
-inline F4 keep(M4 m, F4 a) { return {vreinterpretq_f32_u32(vandq_u32(vreinterpretq_u32_f32(a.v), m.v))}; }
-inline bool any(M4 m) {
-  const uint32x2_t halves = vorr_u32(vget_low_u32(m.v), vget_high_u32(m.v));
-  return (vget_lane_u32(halves, 0) | vget_lane_u32(halves, 1)) != 0;
-}
-inline I4 zeroCount() { return vdupq_n_s32(0); }
-inline I4 count(I4 c, M4 m) { return vsubq_s32(c, vreinterpretq_s32_u32(m.v)); }  // true lanes are -1
-inline int laneSum(I4 c) {
-  return vgetq_lane_s32(c, 0) + vgetq_lane_s32(c, 1) + vgetq_lane_s32(c, 2) + vgetq_lane_s32(c, 3);
-}
-// Pixel indices v * w + u of in-bounds lanes (u, v >= 0, integral floats), 0 elsewhere.
-inline void pixelIndices(M4 m, F4 u, F4 v, int w, int32_t out[4]) {
-  const int32x4_t iu = vcvtq_s32_f32(keep(m, u).v), iv = vcvtq_s32_f32(keep(m, v).v);
-  vst1q_s32(out, vaddq_s32(vmulq_n_s32(iv, w), iu));
-}
-// Four float3 (12 floats) as x, y and z lanes.
-inline void load3(const float* p, F4& x, F4& y, F4& z) {
-  const float32x4x3_t t = vld3q_f32(p);
-  x = {t.val[0]};
-  y = {t.val[1]};
-  z = {t.val[2]};
-}
-// The float3 at four indices as x, y and z lanes.
-inline void gather3(const float* p, const int32_t index[4], F4& x, F4& y, F4& z) {
-  float32x4x3_t t = {{vdupq_n_f32(0.0f), vdupq_n_f32(0.0f), vdupq_n_f32(0.0f)}};
-  t = vld3q_lane_f32(p + 3 * index[0], t, 0);
-  t = vld3q_lane_f32(p + 3 * index[1], t, 1);
-  t = vld3q_lane_f32(p + 3 * index[2], t, 2);
-  t = vld3q_lane_f32(p + 3 * index[3], t, 3);
-  x = {t.val[0]};
-  y = {t.val[1]};
-  z = {t.val[2]};
-}
-#else
-typedef float VF __attribute__((vector_size(16)));
-typedef int32_t VI __attribute__((vector_size(16)));
-struct F4 {
-  VF v;
-};
-struct M4 {
-  VI v;  // -1 (true) or 0 per lane
-};
-using I4 = VI;
-inline F4 splat(float s) { return {VF{s, s, s, s}}; }
-inline F4 load(const float* p) {
-  VF v;
-  std::memcpy(&v, p, sizeof v);
-  return {v};
-}
-inline void store(float* p, F4 a) { std::memcpy(p, &a.v, sizeof a.v); }
-inline F4 operator+(F4 a, F4 b) { return {a.v + b.v}; }
-inline F4 operator-(F4 a, F4 b) { return {a.v - b.v}; }
-inline F4 operator*(F4 a, F4 b) { return {a.v * b.v}; }
-inline F4 operator/(F4 a, F4 b) { return {a.v / b.v}; }
-inline M4 operator<(F4 a, F4 b) { return {a.v < b.v}; }
-inline M4 operator>(F4 a, F4 b) { return {a.v > b.v}; }
-inline M4 operator>=(F4 a, F4 b) { return {a.v >= b.v}; }
-inline M4 operator!=(F4 a, F4 b) { return {a.v != b.v}; }
-inline M4 operator&(M4 a, M4 b) { return {a.v & b.v}; }
-inline M4 andNot(M4 a, M4 b) { return {a.v & ~b.v}; }
-inline F4 keep(M4 m, F4 a) { return {reinterpret_cast<VF>(reinterpret_cast<VI>(a.v) & m.v)}; }
-inline bool any(M4 m) {
-  uint64_t halves[2];
-  std::memcpy(halves, &m.v, sizeof halves);
-  return (halves[0] | halves[1]) != 0;
-}
-inline I4 zeroCount() { return VI{0, 0, 0, 0}; }
-inline I4 count(I4 c, M4 m) { return c - m.v; }
-inline int laneSum(I4 c) { return c[0] + c[1] + c[2] + c[3]; }
-inline void pixelIndices(M4 m, F4 u, F4 v, int w, int32_t out[4]) {
-  const VI iu = __builtin_convertvector(keep(m, u).v, VI), iv = __builtin_convertvector(keep(m, v).v, VI);
-  const VI index = iv * w + iu;
-  std::memcpy(out, &index, sizeof index);
-}
-inline void load3(const float* p, F4& x, F4& y, F4& z) {
-  x = {VF{p[0], p[3], p[6], p[9]}};
-  y = {VF{p[1], p[4], p[7], p[10]}};
-  z = {VF{p[2], p[5], p[8], p[11]}};
-}
-inline void gather3(const float* p, const int32_t index[4], F4& x, F4& y, F4& z) {
-  const float *a = p + 3 * index[0], *b = p + 3 * index[1], *c = p + 3 * index[2], *d = p + 3 * index[3];
-  x = {VF{a[0], b[0], c[0], d[0]}};
-  y = {VF{a[1], b[1], c[1], d[1]}};
-  z = {VF{a[2], b[2], c[2], d[2]}};
-}
-#endif
+// The four-lane layer (simd4.h). Lane results equal the scalar kernel's (kernels/track.h) bit for bit,
+// on NEON too: NEON flushes denormals, and none arise here from camera-space vertices and unit normals
+// (tests/pipeline/cpu/test_cpu_track.cpp checks the bits against the scalar kernel on every target). This
+// hand-vectorised version of kernels/track.h's sbTrackPixel stays for speed: the compiler does not vectorise
+// the scalar kernel's gathers and branches.
+using namespace simd4;  // NOLINT: the lane layer is this file's vocabulary
 
 struct Mat4 {
   F4 m[12];
@@ -138,7 +38,7 @@ inline void rotate(const Mat4& a, F4 x, F4 y, F4 z, F4& ox, F4& oy, F4& oz) {
 }
 
 struct Counts {
-  I4 inliers = zeroCount(), tooFar = zeroCount(), badNormal = zeroCount(), noCorrespondence = zeroCount();
+  I4 inliers = splatInt(0), tooFar = splatInt(0), badNormal = splatInt(0), noCorrespondence = splatInt(0);
 };
 
 // The per-call constants of track().

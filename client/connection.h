@@ -1,5 +1,7 @@
 #pragma once
-// slamboosterctl's side of the socket: connect, send one request line, read reply lines (with a timeout).
+// The client library (sb_client): the client's side of slamboosterd's socket (docs/protocol.md): connect,
+// read the VERSION greeting, send request lines, read reply and report lines (with a timeout). Used by
+// slamboosterctl and the tests; it needs neither the daemon's code nor libsystemd.
 
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -7,7 +9,11 @@
 
 #include "core/unique_fd.h"
 
-namespace sb::ctl {
+namespace sb::client {
+
+// A blocking connection to the Unix stream socket at `path`. Throws sb::Error naming the path and what to
+// check (is slamboosterd running? are you in the socket's group?).
+UniqueFd connectUnix(const std::string& path);
 
 class Connection {
  public:
@@ -28,4 +34,4 @@ class Connection {
   nlohmann::json version_;
 };
 
-}  // namespace sb::ctl
+}  // namespace sb::client

@@ -1,15 +1,21 @@
-#include "pipeline/cpu_raycast.h"
+#include "pipeline/cpu/cpu_raycast.h"
 
 #include <cstring>
 
 #include "kernels/raycast.h"
-#include "pipeline/cpu_raycast_lanes.h"
+#include "pipeline/cpu/simd4.h"
 
 namespace sb {
 
 namespace {
 
-using namespace raycast_lanes;  // NOLINT: the lane layer is this file's vocabulary
+// The four-lane layer (simd4.h). NEON flushes denormals to zero, which changes nothing here: the
+// interpolation and gradient take their vector path only 1 voxel or more inside the volume, where the weights
+// f and 1 - f are multiples of 2^-23, so every product and sum of their three blending levels is a multiple
+// of 2^-69 (0 or far above the denormal range); the ray's s = sOrigin + t sDirection would need a direction
+// component below 1e-37 to reach it. This hand-vectorised march stays for speed beside kernels/raycast.h's
+// sbRaycastPixel, which it must match bit for bit (tests/pipeline/cpu/test_cpu_raycast.cpp).
+using namespace simd4;  // NOLINT: the lane layer is this file's vocabulary
 
 inline float3 toFloat3(F4 a) { return sbMakeFloat3(lane<0>(a), lane<1>(a), lane<2>(a)); }
 
@@ -200,7 +206,7 @@ struct Camera {
   }
   static void store4Xyz(float* out, F4 a) {
     float all[4];
-    store4(all, a);
+    store(all, a);
     for (int i = 0; i < 3; ++i) out[i] = all[i];
   }
 };
@@ -212,13 +218,13 @@ inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam,
                   float* outNormal, int width, int x, int y) {
   r.index = y * width + x;
   float q[4];
-  store4(q, make4((float)x - cam.k.cx, (float)y - cam.k.cy, 1.0f, 1.0f) / make4(cam.k.fx, cam.k.fy, 1.0f, 1.0f));
+  store(q, make4((float)x - cam.k.cx, (float)y - cam.k.cy, 1.0f, 1.0f) / make4(cam.k.fx, cam.k.fy, 1.0f, 1.0f));
   // sbRotate(pose, (q0, q1, 1)): m0 * q0 + m1 * q1 + m2 * 1 per row (m2 * 1 is m2; lane 3 gets 1).
   const F4 d4 = cam.rotation[0] * splat(q[0]) + cam.rotation[1] * splat(q[1]) + cam.rotation[2];
   float dir[4], t0[4], t1[4];
-  store4(dir, d4);
-  store4(t0, cam.zeroMinusO / d4);
-  store4(t1, cam.sizeMinusO / d4);
+  store(dir, d4);
+  store(t0, cam.zeroMinusO / d4);
+  store(t1, cam.sizeMinusO / d4);
   // Entry and exit of the volume's box.
   float tEnter = in.nearPlane;
   float tExit = in.farPlane;
@@ -246,9 +252,9 @@ inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam,
       r.lookupHi = -1e30f;
       if (vol.distance != nullptr) {
         float ds[4], v0[4], v1[4];
-        store4(ds, sd4);
-        store4(v0, cam.marginMinusSo / sd4);
-        store4(v1, cam.topMinusSo / sd4);
+        store(ds, sd4);
+        store(v0, cam.marginMinusSo / sd4);
+        store(v1, cam.topMinusSo / sd4);
         float lo = -1e30f, hi = 1e30f;
         for (int a = 0; a < 3; ++a) {
           if (ds[a] != 0.0f) {

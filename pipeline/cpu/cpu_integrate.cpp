@@ -1,17 +1,21 @@
-#include "pipeline/cpu_integrate.h"
+#include "pipeline/cpu/cpu_integrate.h"
 
 #include <cmath>
 #include <cstring>
 
 #include "kernels/volume.h"
-#include "pipeline/simd_clones.h"
+#include "pipeline/cpu/simd4.h"
 
 namespace sb {
 
 namespace {
 
-// Four lanes (GCC generic vectors): one IEEE operation per lane and operator, never contracted
-// (-ffp-contract=off), so every lane computes what the scalar kernel computes.
+// Four lanes as GCC generic vectors, the one exception to the four-lane layer (simd4.h): its AVX2 clone
+// (SB_SIMD_CLONES below) gains from them, and on armhf GCC lowers them to scalar VFP, which is exact where
+// NEON would flush denormals. One IEEE operation per lane and operator, never contracted
+// (-ffp-contract=off), so every lane computes what kernels/volume.h's integrateVoxel computes
+// (tests/pipeline/cpu/test_cpu_integrate.cpp checks the bits). This hand-vectorised row stays for speed: GCC
+// does not vectorise the scalar kernel.
 typedef float F4 __attribute__((vector_size(16)));
 typedef int32_t I4 __attribute__((vector_size(16)));  // lane masks are all ones (true) or 0
 
@@ -77,8 +81,8 @@ inline void integrateFour(int16_t* row, int x, float3 base, float3 step, const f
 
 }  // namespace
 
-// Built for AVX2 too (pipeline/simd_clones.h): 8% less integrate time, measured; the four-lane arithmetic is
-// the same IEEE operations either way.
+// Built for AVX2 too (SB_SIMD_CLONES, simd4.h): 8% less integrate time, measured; the four-lane arithmetic
+// is the same IEEE operations either way.
 SB_SIMD_CLONES void integrateRow(int16_t* row, int x0, int x1, float3 base, float3 step, const float* depth, int width, int height,
                   SbCamera k, float mu, int maxWeight) {
   int x = x0;

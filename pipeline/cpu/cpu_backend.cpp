@@ -1,4 +1,4 @@
-#include "pipeline/cpu_backend.h"
+#include "pipeline/cpu/cpu_backend.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,13 +7,13 @@
 #include "kernels/preprocess.h"
 #include "kernels/raycast.h"
 #include "kernels/track.h"
-#include "pipeline/block_distance.h"
-#include "pipeline/cpu_raycast.h"
-#include "pipeline/cpu_integrate.h"
-#include "pipeline/cpu_track.h"
-#include "pipeline/integrate_cull.h"
+#include "pipeline/cpu/block_distance.h"
+#include "pipeline/cpu/cpu_integrate.h"
+#include "pipeline/cpu/cpu_raycast.h"
+#include "pipeline/cpu/cpu_track.h"
+#include "pipeline/cpu/integrate_cull.h"
+#include "pipeline/cpu/simd4.h"
 #include "pipeline/kernel_args.h"
-#include "pipeline/simd_clones.h"
 
 namespace sb {
 
@@ -75,7 +75,9 @@ void orRowSurfaceMask(const int16_t* row, int x0, int x1, int16_t below, uint8_t
 
 // The interior pixels x in [r, w - r) of row y (rows y - r .. y + r exist) of bilateralFilter, tap by tap (a
 // vectorisable loop over x) with the kernel's bilateralWeight and the kernel's summation order, so the result
-// is bit-identical to bilateralFilter(). ws, vs: w floats of scratch.
+// is bit-identical to bilateralFilter() (tests/pipeline/test_kernels.cpp checks it). It stays beside the
+// kernel for speed: GCC vectorises this loop over x, not the kernel's per-pixel taps. ws, vs: w floats of
+// scratch.
 SB_SIMD_CLONES void bilateralInteriorRow(float* out, const float* in, int w, int y, const float* g, int r,
                                          float rangeFactor, float* ws, float* vs) {
   std::fill(ws, ws + w, 0.0f);
@@ -197,7 +199,7 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
 TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                             StageTimes& times) {
   const Level& in = levels_[level];
-  // pipeline/cpu_track.h: track() and reduce() four pixels at a time. Per chunk of rows, track fills the
+  // pipeline/cpu/cpu_track.h: track() and reduce() four pixels at a time. Per chunk of rows, track fills the
   // band (in cache), then reduce sums it into the chunk's partial (double); the partials are summed in chunk
   // order: deterministic for any thread count.
   TrackInputs args;

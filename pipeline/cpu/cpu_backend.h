@@ -1,7 +1,12 @@
 #pragma once
-// The CPU backend: runs the kernels/ functions over images and the volume with a ThreadPool. Deterministic:
-// work is split into chunks whose boundaries do not depend on the thread count, and reductions sum one
-// partial per chunk in chunk order (in double), so results are bit-identical for any number of threads.
+// The CPU backend (pipeline/cpu/): runs the stages over images and the volume with a ThreadPool, each with
+// the per-pixel math of kernels/. Where the scalar kernel is too slow, a hand-vectorised version over the
+// four-lane layer (simd4.h) stays beside it and is bit-identical to it (tests/pipeline/cpu/test_cpu_*.cpp):
+// the bilateral filter's interior rows, track + reduce (cpu_track.h), integrate (cpu_integrate.h, with the
+// blocks the frame cannot change culled by integrate_cull.h) and raycast (cpu_raycast.h, skipping empty
+// space by the 4^3 block-distance grid of block_distance.h). Deterministic: work is split into chunks whose
+// boundaries do not depend on the thread count, and reductions sum one partial per chunk in chunk order (in
+// double), so results are bit-identical for any number of threads.
 
 #include <vector>
 
@@ -9,7 +14,7 @@
 #include "core/thread_pool.h"
 #include "pipeline/backend.h"
 #include "pipeline/config.h"
-#include "pipeline/integrate_cull.h"
+#include "pipeline/cpu/integrate_cull.h"
 
 namespace sb {
 
@@ -60,7 +65,7 @@ class CpuBackend : public ComputeBackend {
   std::vector<float> referenceVertex_, referenceNormal_;
 
   std::vector<int16_t> volume_;            // 2 * R^3: (tsdf, weight) pairs
-  // Empty-space skipping (pipeline/block_distance.h), blocks of (1 << kSkipShift)^3 voxels:
+  // Empty-space skipping (pipeline/cpu/block_distance.h), blocks of (1 << kSkipShift)^3 voxels:
   std::vector<uint8_t> blockSurfaceMask_;  // per block: where its voxels below the small-step tsdf lie
   std::vector<uint8_t> blockDistance_;     // per block: Chebyshev distance to a block with surface
   IntegrateCull cull_;                     // integrate's blocks that the current frame cannot change
