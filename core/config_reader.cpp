@@ -124,11 +124,13 @@ void ConfigReader::string(const std::string& key, std::string& out, const std::v
 }
 
 void ConfigReader::numbers(const std::string& key, std::vector<double>& out, double minimum, double maximum,
-                           size_t minSize, size_t maxSize) {
+                           size_t minSize, size_t maxSize, const std::string& meaning) {
   const json* v = find(key);
   if (!v) return;
-  const std::string expected = "a list of " + std::to_string(minSize) + ".." + std::to_string(maxSize) +
-                               " numbers, each in " + rangeText(minimum, maximum);
+  const std::string count =
+      minSize == maxSize ? std::to_string(minSize) : std::to_string(minSize) + ".." + std::to_string(maxSize);
+  const std::string expected = "a list of " + count + " numbers" + (meaning.empty() ? "" : " (" + meaning + ")") +
+                               ", each in " + rangeText(minimum, maximum);
   const std::string current = keptText(json(out));
   if (!v->is_array() || v->size() < minSize || v->size() > maxSize) reject(key, *v, expected, current);
   std::vector<double> values;

@@ -40,8 +40,9 @@ class ConfigReader {
   // A string; when `allowed` is not empty, one of those.
   void string(const std::string& key, std::string& out, const std::vector<std::string>& allowed = {});
   // Lists with minSize..maxSize entries, each in range (or, for strings, one of `allowed` when given).
+  // `meaning` (e.g. "fractions of the volume side") is added to what the error says is expected.
   void numbers(const std::string& key, std::vector<double>& out, double minimum, double maximum, size_t minSize,
-               size_t maxSize);
+               size_t maxSize, const std::string& meaning = {});
   void integers(const std::string& key, std::vector<int>& out, int minimum, int maximum, size_t minSize,
                 size_t maxSize);
   void strings(const std::string& key, std::vector<std::string>& out, const std::vector<std::string>& allowed = {},

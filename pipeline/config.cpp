@@ -117,7 +117,7 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
   for (const auto& f : floatFields()) r.number(f.key, c.*(f.member), f.minimum, f.maximum);
   for (const auto& f : intFields()) r.integer(f.key, c.*(f.member), f.minimum, f.maximum);
   std::vector<double> position(c.initialPosition.begin(), c.initialPosition.end());
-  r.numbers("initial_position", position, 0.0, 1.0, 3, 3);  // fractions of the volume side
+  r.numbers("initial_position", position, 0.0, 1.0, 3, 3, "[x, y, z], fractions of the volume side");
   for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>(position[i]);
   r.boolean("empty_space_skipping", c.emptySpaceSkipping);
   std::string backend = backendKindName(c.backend);

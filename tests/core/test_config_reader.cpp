@@ -98,6 +98,9 @@ TEST_CASE("config reader: each error names the file, the key, the value, the ran
   CHECK_THAT(message(R"({"levels": [1, 20]})", [&](sb::ConfigReader& r) { r.numbers("levels", v, 0, 8, 1, 4); }),
              Contains("'controller.step.levels' = an array of 2 elements") && Contains("each in [0, 8]") &&
                  Contains("entry 20"));
+  CHECK_THAT(message(R"({"at": [0.5, 2, 0.3]})", [&](sb::ConfigReader& r) { r.numbers("at", v, 0, 1, 3, 3, "fractions"); }),
+             Contains("'controller.step.at' = an array of 3 elements") &&
+                 Contains("expected a list of 3 numbers (fractions), each in [0, 1] (entry 2 is not)"));
   CHECK_THAT(message(R"({"rails": ["p", "cpu"]})", [&](sb::ConfigReader& r) { r.strings("rails", names, {"p", "q"}); }),
              Contains("'controller.step.rails'") && Contains("entry \"cpu\"") && Contains("\"p\", \"q\""));
   CHECK_THAT(message(R"({"sub": 5})", [&](sb::ConfigReader& r) { r.section("sub", [](sb::ConfigReader&) {}); }),

@@ -125,5 +125,5 @@ TEST_CASE("daemon config: deep nesting in a value or a file is an error, not a c
   CHECK_THROWS_WITH(readJsonFile(dir), Contains("is a directory"));
   // Deep but within the bound: the error quotes the value flat.
   CHECK_THAT(errorOf({{"source", {{"path", json::parse(std::string(60, '[') + std::string(60, ']'))}}}}),
-             Contains("'path' = an array of 1 elements"));
+             Contains("'source.path' = an array of 1 elements"));
 }
