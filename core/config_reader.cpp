@@ -32,7 +32,9 @@ std::string quotedList(const std::vector<std::string>& items) {
 }
 
 // The value kept when the key is removed, for the message's hint (lists and long strings as a description).
-std::string keptText(const json& value) { return describeJson(value); }
+std::string keptText(const json& value) {
+  return describeJson(value);
+}
 
 }  // namespace
 
@@ -44,9 +46,13 @@ ConfigReader::ConfigReader(const json& j, std::string where, std::string path)
                 " must be a JSON object {\"key\": value, ...}, got " + describeJson(j_));
 }
 
-std::string ConfigReader::path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+std::string ConfigReader::path(const std::string& key) const {
+  return path_.empty() ? key : path_ + "." + key;
+}
 
-std::string ConfigReader::at(const std::string& key) const { return where_ + ": '" + path(key) + "'"; }
+std::string ConfigReader::at(const std::string& key) const {
+  return where_ + ": '" + path(key) + "'";
+}
 
 const json* ConfigReader::find(const std::string& key) {
   if (std::find(known_.begin(), known_.end(), key) == known_.end()) known_.push_back(key);
@@ -57,16 +63,20 @@ const json* ConfigReader::find(const std::string& key) {
 void ConfigReader::reject(const std::string& key, const json& value, const std::string& expected,
                           const std::string& current) const {
   throw Error(at(key) + " = " + describeJson(value) + " is not allowed: expected " + expected +
-              "; fix the value" + (current.empty() ? std::string() : " or remove the key to keep " + current));
+              "; fix the value" +
+              (current.empty() ? std::string() : " or remove the key to keep " + current));
 }
 
 void ConfigReader::fail(const std::string& key, const std::string& expected) const {
   const auto it = j_.find(key);
   if (it == j_.end()) throw Error(at(key) + " is not set: expected " + expected + "; add it");
-  throw Error(at(key) + " = " + describeJson(*it) + " is not allowed: expected " + expected + "; fix the value");
+  throw Error(at(key) + " = " + describeJson(*it) + " is not allowed: expected " + expected +
+              "; fix the value");
 }
 
-const json* ConfigReader::raw(const std::string& key) { return find(key); }
+const json* ConfigReader::raw(const std::string& key) {
+  return find(key);
+}
 
 const json* ConfigReader::object(const std::string& key) {
   const json* v = find(key);
@@ -94,7 +104,8 @@ void ConfigReader::number(const std::string& key, float& out, double minimum, do
 bool ConfigReader::readInteger(const std::string& key, int64_t& out, int64_t minimum, int64_t maximum) {
   const json* v = find(key);
   if (!v) return false;
-  const std::string expected = "an integer in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]";
+  const std::string expected =
+      "an integer in [" + std::to_string(minimum) + ", " + std::to_string(maximum) + "]";
   const std::string current = std::to_string(out);
   if (!v->is_number_integer()) reject(key, *v, expected, current);
   if (v->is_number_unsigned() && v->get<uint64_t>() > static_cast<uint64_t>(maximum))
@@ -129,8 +140,9 @@ void ConfigReader::numbers(const std::string& key, std::vector<double>& out, dou
   if (!v) return;
   const std::string count =
       minSize == maxSize ? std::to_string(minSize) : std::to_string(minSize) + ".." + std::to_string(maxSize);
-  const std::string expected = "a list of " + count + " numbers" + (meaning.empty() ? "" : " (" + meaning + ")") +
-                               ", each in " + rangeText(minimum, maximum);
+  const std::string expected = "a list of " + count + " numbers" +
+                               (meaning.empty() ? "" : " (" + meaning + ")") + ", each in " +
+                               rangeText(minimum, maximum);
   const std::string current = keptText(json(out));
   if (!v->is_array() || v->size() < minSize || v->size() > maxSize) reject(key, *v, expected, current);
   std::vector<double> values;
@@ -142,8 +154,8 @@ void ConfigReader::numbers(const std::string& key, std::vector<double>& out, dou
   out = std::move(values);
 }
 
-void ConfigReader::integers(const std::string& key, std::vector<int>& out, int minimum, int maximum, size_t minSize,
-                            size_t maxSize) {
+void ConfigReader::integers(const std::string& key, std::vector<int>& out, int minimum, int maximum,
+                            size_t minSize, size_t maxSize) {
   const json* v = j_.contains(key) ? &j_.at(key) : nullptr;
   if (v && v->is_array())
     for (const json& e : *v)
@@ -160,7 +172,8 @@ void ConfigReader::strings(const std::string& key, std::vector<std::string>& out
   if (!v) return;
   std::string expected = "a list of strings";
   if (!allowed.empty()) expected += ", each one of " + quotedList(allowed);
-  if (minSize > 0) expected += ", at least " + std::to_string(minSize) + (minSize == 1 ? " entry" : " entries");
+  if (minSize > 0)
+    expected += ", at least " + std::to_string(minSize) + (minSize == 1 ? " entry" : " entries");
   if (maxSize != std::numeric_limits<size_t>::max()) expected += ", at most " + std::to_string(maxSize);
   const std::string current = keptText(json(out));
   if (!v->is_array() || v->size() < minSize || v->size() > maxSize) reject(key, *v, expected, current);
@@ -188,8 +201,8 @@ void ConfigReader::finish() const {
 json readJsonConfig(const std::string& path, const std::string& what) {
   json j = readJsonFile(path, what);  // bounded nesting; names the file, the line and the column
   if (!j.is_object())
-    throw Error(what + " '" + path + "' must hold a JSON object {\"key\": value, ...}, not " + describeJson(j) +
-                "; fix the file");
+    throw Error(what + " '" + path + "' must hold a JSON object {\"key\": value, ...}, not " +
+                describeJson(j) + "; fix the file");
   return j;
 }
 

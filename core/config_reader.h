@@ -1,8 +1,8 @@
 #pragma once
-// The one reader of JSON settings (pipeline, controller, daemon, power and calibration files). Each call names a
-// key and where its value goes; absent keys leave the value as it is (the default, or what a base config set);
-// finish() refuses keys nobody asked for. Every error has one shape, naming the file, the dotted key, the value,
-// what is allowed and what to do:
+// The one reader of JSON settings (pipeline, controller, daemon, power and calibration files). Each call
+// names a key and where its value goes; absent keys leave the value as it is (the default, or what a base
+// config set); finish() refuses keys nobody asked for. Every error has one shape, naming the file, the dotted
+// key, the value, what is allowed and what to do:
 //   slamboosterd.json: 'socket.max_clients' = 0 is not allowed: expected an integer in [1, 4096]; fix the
 //   value or remove the key to keep 128
 //
@@ -23,9 +23,9 @@ namespace sb {
 
 class ConfigReader {
  public:
-  // `j` must be an object (null reads as an empty object), else sb::Error. `where` (the file, or the file and a
-  // section, e.g. "config.json: controller.step") starts every message; `path` is the dotted path of `j` in its
-  // file ("" at the top level) and prefixes the keys the messages name.
+  // `j` must be an object (null reads as an empty object), else sb::Error. `where` (the file, or the file and
+  // a section, e.g. "config.json: controller.step") starts every message; `path` is the dotted path of `j` in
+  // its file ("" at the top level) and prefixes the keys the messages name.
   ConfigReader(const nlohmann::json& j, std::string where, std::string path = {});
 
   // Each reads `key` when present (leaving `out` unchanged otherwise) and checks the type and closed range.
@@ -41,12 +41,13 @@ class ConfigReader {
   void string(const std::string& key, std::string& out, const std::vector<std::string>& allowed = {});
   // Lists with minSize..maxSize entries, each in range (or, for strings, one of `allowed` when given).
   // `meaning` (e.g. "fractions of the volume side") is added to what the error says is expected.
-  void numbers(const std::string& key, std::vector<double>& out, double minimum, double maximum, size_t minSize,
-               size_t maxSize, const std::string& meaning = {});
+  void numbers(const std::string& key, std::vector<double>& out, double minimum, double maximum,
+               size_t minSize, size_t maxSize, const std::string& meaning = {});
   void integers(const std::string& key, std::vector<int>& out, int minimum, int maximum, size_t minSize,
                 size_t maxSize);
-  void strings(const std::string& key, std::vector<std::string>& out, const std::vector<std::string>& allowed = {},
-               size_t minSize = 0, size_t maxSize = std::numeric_limits<size_t>::max());
+  void strings(const std::string& key, std::vector<std::string>& out,
+               const std::vector<std::string>& allowed = {}, size_t minSize = 0,
+               size_t maxSize = std::numeric_limits<size_t>::max());
 
   // Marks `key` as known and returns its value, or nullptr when absent (for values read by the caller).
   const nlohmann::json* raw(const std::string& key);

@@ -70,6 +70,8 @@ const std::vector<std::string>& meterNames() {
   return names;
 }
 
-bool isMeterName(const std::string& name) { return findMeterType(name) != nullptr; }
+bool isMeterName(const std::string& name) {
+  return findMeterType(name) != nullptr;
+}
 
 }  // namespace sb::power

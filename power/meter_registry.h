@@ -18,11 +18,12 @@ namespace sb::power {
 struct MeterType {
   std::string name;  // the config's "meter" value and the name of its settings section
   // Reads and checks the meter's section (`reader` stands on it; the caller calls finish()) and returns the
-  // complete settings, defaults filled in. `selected`: this is the meter the config chooses (settings it cannot
-  // run without are required then). Empty for a meter without settings.
+  // complete settings, defaults filled in. `selected`: this is the meter the config chooses (settings it
+  // cannot run without are required then). Empty for a meter without settings.
   std::function<nlohmann::json(ConfigReader& reader, bool selected)> readSettings;
   // Opens the meter from its section. Throws sb::Error (naming the device and the fix) when it cannot.
-  std::function<std::unique_ptr<Meter>(ConfigReader& settings, const MeterHostSettings& host, const Clock& clock)>
+  std::function<std::unique_ptr<Meter>(ConfigReader& settings, const MeterHostSettings& host,
+                                       const Clock& clock)>
       open;
 };
 

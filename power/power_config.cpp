@@ -26,10 +26,12 @@ void validateHost(const PowerConfig& c, const std::string& where) {
   if (!(c.idleBaselineS >= 0.0 && c.idleBaselineS <= 600.0))
     fail("'idle_baseline_s' = " + std::to_string(c.idleBaselineS) + " is not allowed: expected [0, 600] s");
   if (c.maxSampleGapMs < 0)
-    fail("'max_sample_gap_ms' = " + std::to_string(c.maxSampleGapMs) + " is not allowed: expected >= 0 (0 = automatic)");
+    fail("'max_sample_gap_ms' = " + std::to_string(c.maxSampleGapMs) +
+         " is not allowed: expected >= 0 (0 = automatic)");
   if (c.reopenMinMs < 1 || c.reopenMaxMs < c.reopenMinMs)
-    fail("'reopen_max_ms' = " + std::to_string(c.reopenMaxMs) + " is not allowed: expected 'reopen_min_ms' (" +
-         std::to_string(c.reopenMinMs) + ", at least 1) or more; fix the values");
+    fail("'reopen_max_ms' = " + std::to_string(c.reopenMaxMs) +
+         " is not allowed: expected 'reopen_min_ms' (" + std::to_string(c.reopenMinMs) +
+         ", at least 1) or more; fix the values");
 }
 
 }  // namespace
@@ -73,7 +75,8 @@ PowerConfig parsePowerConfig(const json& j, const PowerConfig& base, const std::
 }
 
 PowerConfig loadPowerConfig(const std::string& path, const PowerConfig& base) {
-  return parsePowerConfig(readJsonConfig(path, "power config"), base, path);  // bounded nesting, names the file
+  return parsePowerConfig(readJsonConfig(path, "power config"), base,
+                          path);  // bounded nesting, names the file
 }
 
 json powerConfigToJson(const PowerConfig& c) {

@@ -63,7 +63,8 @@ TEST_CASE("config reader: present keys are read, absent ones keep their value", 
   CHECK_NOTHROW(sb::ConfigReader(json(), "null reads as empty").finish());
 }
 
-TEST_CASE("config reader: each error names the file, the key, the value, the range and the fix", "[core][config]") {
+TEST_CASE("config reader: each error names the file, the key, the value, the range and the fix",
+          "[core][config]") {
   const auto message = [](const char* text, auto read) {
     return errorOf([&] {
       sb::ConfigReader r(json::parse(text), "c.json", "controller.step");
@@ -89,28 +90,43 @@ TEST_CASE("config reader: each error names the file, the key, the value, the ran
                  Contains("keep 3"));
   CHECK_THAT(message(R"({"frames": 11})", [&](sb::ConfigReader& r) { r.integer("frames", n, 0, 10); }),
              Contains("'controller.step.frames' = 11") && Contains("[0, 10]"));
-  CHECK_THAT(message(R"({"frames": 18446744073709551615})", [&](sb::ConfigReader& r) { r.integer("frames", n, 0, 10); }),
+  CHECK_THAT(message(R"({"frames": 18446744073709551615})",
+                     [&](sb::ConfigReader& r) { r.integer("frames", n, 0, 10); }),
              Contains("= 18446744073709551615") && Contains("[0, 10]"));
-  CHECK_THAT(message(R"({"on": 1})", [&](sb::ConfigReader& r) { r.boolean("on", b); }),
-             Contains("'controller.step.on' = 1") && Contains("expected true or false") && Contains("keep false"));
-  CHECK_THAT(message(R"({"mode": "c"})", [&](sb::ConfigReader& r) { r.string("mode", s, {"a", "b"}); }),
-             Contains("'controller.step.mode' = \"c\"") && Contains("one of \"a\", \"b\"") && Contains("keep \"a\""));
-  CHECK_THAT(message(R"({"levels": [1, 20]})", [&](sb::ConfigReader& r) { r.numbers("levels", v, 0, 8, 1, 4); }),
-             Contains("'controller.step.levels' = an array of 2 elements") && Contains("each in [0, 8]") &&
-                 Contains("entry 20"));
-  CHECK_THAT(message(R"({"at": [0.5, 2, 0.3]})", [&](sb::ConfigReader& r) { r.numbers("at", v, 0, 1, 3, 3, "fractions"); }),
+  CHECK_THAT(
+      message(R"({"on": 1})", [&](sb::ConfigReader& r) { r.boolean("on", b); }),
+      Contains("'controller.step.on' = 1") && Contains("expected true or false") && Contains("keep false"));
+  CHECK_THAT(message(R"({"mode": "c"})",
+                     [&](sb::ConfigReader& r) {
+                       r.string("mode", s, {"a", "b"});
+                     }),
+             Contains("'controller.step.mode' = \"c\"") && Contains("one of \"a\", \"b\"") &&
+                 Contains("keep \"a\""));
+  CHECK_THAT(
+      message(R"({"levels": [1, 20]})", [&](sb::ConfigReader& r) { r.numbers("levels", v, 0, 8, 1, 4); }),
+      Contains("'controller.step.levels' = an array of 2 elements") && Contains("each in [0, 8]") &&
+          Contains("entry 20"));
+  CHECK_THAT(message(R"({"at": [0.5, 2, 0.3]})",
+                     [&](sb::ConfigReader& r) { r.numbers("at", v, 0, 1, 3, 3, "fractions"); }),
              Contains("'controller.step.at' = an array of 3 elements") &&
                  Contains("expected a list of 3 numbers (fractions), each in [0, 1] (entry 2 is not)"));
-  CHECK_THAT(message(R"({"rails": ["p", "cpu"]})", [&](sb::ConfigReader& r) { r.strings("rails", names, {"p", "q"}); }),
+  CHECK_THAT(message(R"({"rails": ["p", "cpu"]})",
+                     [&](sb::ConfigReader& r) {
+                       r.strings("rails", names, {"p", "q"});
+                     }),
              Contains("'controller.step.rails'") && Contains("entry \"cpu\"") && Contains("\"p\", \"q\""));
-  CHECK_THAT(message(R"({"sub": 5})", [&](sb::ConfigReader& r) { r.section("sub", [](sb::ConfigReader&) {}); }),
-             Contains("c.json: 'controller.step.sub' = 5") && Contains("a JSON object"));
+  CHECK_THAT(
+      message(R"({"sub": 5})", [&](sb::ConfigReader& r) { r.section("sub", [](sb::ConfigReader&) {}); }),
+      Contains("c.json: 'controller.step.sub' = 5") && Contains("a JSON object"));
   // Unknown keys, at any depth, with the known ones and the fix.
   CHECK_THAT(message(R"({"gain": 0.5, "typo": 1})", [&](sb::ConfigReader& r) { r.number("gain", x, 0, 1); }),
-             Contains("c.json: unknown key 'controller.step.typo'") && Contains("known keys of 'controller.step': gain") &&
+             Contains("c.json: unknown key 'controller.step.typo'") &&
+                 Contains("known keys of 'controller.step': gain") &&
                  Contains("fix its spelling or remove it"));
   CHECK_THAT(message(R"({"sub": {"kk": 1}})",
-                     [&](sb::ConfigReader& r) { r.section("sub", [&](sb::ConfigReader& s2) { s2.integer("k", n, 0, 9); }); }),
+                     [&](sb::ConfigReader& r) {
+                       r.section("sub", [&](sb::ConfigReader& s2) { s2.integer("k", n, 0, 9); });
+                     }),
              Contains("unknown key 'controller.step.sub.kk'") && Contains("k"));
   // A check the caller makes.
   CHECK_THAT(message(R"({"max": 1})", [&](sb::ConfigReader& r) { r.fail("max", "a value >= 'min'"); }),
@@ -122,17 +138,20 @@ TEST_CASE("config reader: each error names the file, the key, the value, the ran
              Contains("w.json: the settings must be a JSON object") && Contains("an array of 1 elements"));
 }
 
-TEST_CASE("config reader: readJsonConfig keeps the file protections and refuses non-objects", "[core][config]") {
+TEST_CASE("config reader: readJsonConfig keeps the file protections and refuses non-objects",
+          "[core][config]") {
   const std::string dir = sb::test::scratchDir("config_reader");
   std::ofstream(dir + "/ok.json") << R"({"a": 1})";
   CHECK(sb::readJsonConfig(dir + "/ok.json", "config file")["a"] == 1);
   std::ofstream(dir + "/list.json") << "[1, 2]";
-  CHECK_THAT(errorOf([&] { sb::readJsonConfig(dir + "/list.json", "config file"); }),
-             Contains("config file '" + dir + "/list.json' must hold a JSON object") && Contains("fix the file"));
+  CHECK_THAT(
+      errorOf([&] { sb::readJsonConfig(dir + "/list.json", "config file"); }),
+      Contains("config file '" + dir + "/list.json' must hold a JSON object") && Contains("fix the file"));
   std::ofstream(dir + "/bad.json") << "{\n  \"a\": 1,\n}";
   CHECK_THAT(errorOf([&] { sb::readJsonConfig(dir + "/bad.json", "power config"); }),
              Contains("power config '" + dir + "/bad.json': not valid JSON at line 3"));
   std::ofstream(dir + "/deep.json") << std::string(100, '[') << std::string(100, ']');
-  CHECK_THAT(errorOf([&] { sb::readJsonConfig(dir + "/deep.json", "config file"); }), Contains("deeper than 64"));
+  CHECK_THAT(errorOf([&] { sb::readJsonConfig(dir + "/deep.json", "config file"); }),
+             Contains("deeper than 64"));
   CHECK_THAT(errorOf([&] { sb::readJsonConfig(dir, "calibration"); }), Contains("is a directory"));
 }
