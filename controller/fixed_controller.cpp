@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 #include "core/error.h"
 
 namespace sb {

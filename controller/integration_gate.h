@@ -7,7 +7,7 @@
 
 #include <Eigen/Geometry>
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 
 namespace sb {
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 #include "pipeline/knobs.h"
 
 namespace sb {

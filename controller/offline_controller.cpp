@@ -3,8 +3,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "controller/config_reader.h"
 #include "controller/fixed_controller.h"
+#include "core/config_reader.h"
 #include "core/error.h"
 
 namespace sb {

@@ -11,7 +11,7 @@
 #include <Eigen/Geometry>
 #include <optional>
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 #include "controller/controller.h"
 
 namespace sb {

@@ -3,7 +3,7 @@
 // `precision_step_levels` per frame; towards approximation only after the target has stayed above the
 // current level for `approximation_hold_frames` consecutive frames, then `approximation_step_levels`.
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 
 namespace sb {
 

@@ -7,7 +7,7 @@
 
 #include <array>
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 #include "core/image.h"
 
 namespace sb {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 #include "core/error.h"
 
 namespace sb {

@@ -13,7 +13,7 @@
 #include <deque>
 #include <string>
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 #include "controller/controller.h"
 
 namespace sb {

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <deque>
 
-#include "controller/config_reader.h"
+#include "core/config_reader.h"
 
 namespace sb {
 

@@ -3,22 +3,23 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "core/config_reader.h"
 #include "core/error.h"
 #include "core/json_text.h"
 #include "daemon/cpu_affinity.h"
-#include "daemon/json_reader.h"
 #include "daemon/source_registry.h"
 
 namespace sb::daemon {
 
 namespace {
 
-unsigned parseMode(const std::string& where, const std::string& text) {
+// "0660" -> 0660; anything but 1-4 octal digits up to 0777 is refused.
+unsigned parseMode(const ConfigReader& r, const std::string& text) {
   const std::string allowed = "an octal permission string like \"0660\" (at most 0777)";
   if (text.empty() || text.size() > 4 || text.find_first_not_of("01234567") != std::string::npos)
-    throw Error(where + ": 'mode' = \"" + text + "\" is not allowed; expected " + allowed);
+    r.fail("mode", allowed);
   const unsigned mode = static_cast<unsigned>(std::stoul(text, nullptr, 8));
-  if (mode > 0777) throw Error(where + ": 'mode' = \"" + text + "\" is not allowed; expected " + allowed);
+  if (mode > 0777) r.fail("mode", allowed);
   return mode;
 }
 
@@ -28,8 +29,7 @@ std::string formatMode(unsigned mode) {
   return buf;
 }
 
-void readCamera(const nlohmann::json& j, const std::string& where, CameraConfig& c) {
-  JsonObjectReader r(j, where + ": source: camera");
+void readCamera(ConfigReader& r, CameraConfig& c) {
   r.string("uri", c.uri);
   r.integer("width", c.width, 1, 8192);
   r.integer("height", c.height, 1, 8192);
@@ -41,71 +41,57 @@ void readCamera(const nlohmann::json& j, const std::string& where, CameraConfig&
   r.number("frame_timeout_s", c.frameTimeoutSeconds, 0.05, 3600.0);
   r.number("reconnect_min_s", c.reconnectMinSeconds, 0.01, 3600.0);
   r.number("reconnect_max_s", c.reconnectMaxSeconds, 0.01, 3600.0);
-  r.finish();
   if (c.reconnectMaxSeconds < c.reconnectMinSeconds)
-    throw Error(r.where() + ": 'reconnect_max_s' must be >= 'reconnect_min_s'");
+    r.fail("reconnect_max_s", "a value >= 'reconnect_min_s' (" + std::to_string(c.reconnectMinSeconds) + " s)");
 }
 
-void readSource(const nlohmann::json& j, const std::string& where, SourceConfig& s) {
-  JsonObjectReader r(j, where + ": source");
+void readSource(ConfigReader& r, SourceConfig& s) {
   r.string("type", s.type);
   r.string("path", s.path);
-  r.choice("pacing", s.pacing, {"recorded", "fast"});
+  r.string("pacing", s.pacing, {"recorded", "fast"});
   r.number("speed", s.speed, 0.01, 100.0);
-  r.choice("at_end", s.atEnd, {"stop", "loop", "exit"});
+  r.string("at_end", s.atEnd, {"stop", "loop", "exit"});
   r.integer("max_frames", s.maxFrames, 0, 100000000);
   r.number("depth_scale", s.depthScale, 0.0, 1e6);
   r.integer("queue_frames", s.queueFrames, 1, 256);
-  if (const auto* c = r.object("camera")) readCamera(*c, where, s.camera);
-  r.finish();
+  r.section("camera", [&](ConfigReader& camera) { readCamera(camera, s.camera); });
   const auto types = sourceTypes();
   if (std::find(types.begin(), types.end(), s.type) == types.end()) {
     std::string known;
     for (const auto& t : types) known += (known.empty() ? "\"" : ", \"") + t + "\"";
-    throw Error(r.where() + ": 'type' = \"" + s.type + "\" is not allowed; expected one of " + known);
+    r.fail("type", "one of " + known);
   }
 }
 
-void readSlam(const nlohmann::json& j, const std::string& where, SlamConfig& s) {
-  JsonObjectReader r(j, where + ": slam");
+void readSlam(ConfigReader& r, SlamConfig& s) {
   r.string("cpus", s.cpus);
   r.integer("threads", s.threads, 0, 1024);
   r.string("pipeline_config", s.pipelineConfig);
   r.string("controller", s.controller);
   r.string("controller_config", s.controllerConfig);
-  r.finish();
   try {
     validateCpuSpec(s.cpus);
   } catch (const Error& e) {
-    throw Error(r.where() + ": 'cpus': " + e.what());
+    r.fail("cpus", std::string("\"auto\", \"all\" or a CPU list like \"4-7\" (") + e.what() + ")");
   }
-  if (s.controller.empty())
-    throw Error(where + ": slam: 'controller' must name a controller, e.g. \"default\"");
+  if (s.controller.empty()) r.fail("controller", "a controller name, e.g. \"default\"");
 }
 
-void readOutput(const nlohmann::json& j, const std::string& where, OutputConfig& o) {
-  JsonObjectReader r(j, where + ": output");
+void readOutput(ConfigReader& r, OutputConfig& o) {
   r.string("dir", o.dir);
   r.boolean("mesh", o.mesh);
   r.boolean("model_png", o.modelPng);
   r.boolean("report", o.report);
-  r.finish();
-  if (o.dir.empty())
-    throw Error(where + ": output: 'dir' must not be empty (where trajectory.tum is written)");
+  if (o.dir.empty()) r.fail("dir", "a directory for trajectory.tum, frames.jsonl and summary.json (not empty)");
 }
 
-void readPower(const nlohmann::json& j, const std::string& where, PowerRefConfig& p) {
-  JsonObjectReader r(j, where + ": power");
-  r.string("config", p.config);
-  r.finish();
-}
+void readPower(ConfigReader& r, PowerRefConfig& p) { r.string("config", p.config); }
 
-void readSocket(const nlohmann::json& j, const std::string& where, SocketConfig& s) {
-  JsonObjectReader r(j, where + ": socket");
+void readSocket(ConfigReader& r, SocketConfig& s) {
   r.string("path", s.path);
   std::string mode = formatMode(s.mode);
   r.string("mode", mode);
-  s.mode = parseMode(r.where(), mode);
+  s.mode = parseMode(r, mode);
   r.string("control_group", s.controlGroup);
   r.integer("max_clients", s.maxClients, 1, 4096);
   r.integer("max_clients_per_uid", s.maxClientsPerUid, 1, 4096);
@@ -114,12 +100,9 @@ void readSocket(const nlohmann::json& j, const std::string& where, SocketConfig&
   r.integer("client_buffer_kib", kib, 4, 65536);
   s.clientBufferBytes = kib * 1024;
   r.number("client_stall_s", s.clientStallSeconds, 0.1, 3600.0);
-  r.finish();
-  if (s.path.empty()) throw Error(where + ": socket: 'path' must not be empty");
   // sockaddr_un::sun_path holds 108 bytes including the terminating NUL.
-  if (s.path.size() > 107)
-    throw Error(where + ": socket: 'path' = \"" + s.path +
-                "\" is longer than 107 bytes (the Unix socket limit)");
+  if (s.path.empty() || s.path.size() > 107)
+    r.fail("path", "a socket path of 1 to 107 bytes (the Unix socket limit)");
 }
 
 DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string& where);
@@ -140,14 +123,14 @@ namespace {
 
 DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string& where) {
   DaemonConfig c;
-  JsonObjectReader r(j, where);
-  if (const auto* s = r.object("source")) readSource(*s, where, c.source);
-  if (const auto* s = r.object("slam")) readSlam(*s, where, c.slam);
-  if (const auto* s = r.object("output")) readOutput(*s, where, c.output);
-  if (const auto* s = r.object("socket")) readSocket(*s, where, c.socket);
-  if (const auto* s = r.object("power")) readPower(*s, where, c.power);
+  ConfigReader r(j, where);
+  r.section("source", [&](ConfigReader& s) { readSource(s, c.source); });
+  r.section("slam", [&](ConfigReader& s) { readSlam(s, c.slam); });
+  r.section("output", [&](ConfigReader& s) { readOutput(s, c.output); });
+  r.section("socket", [&](ConfigReader& s) { readSocket(s, c.socket); });
+  r.section("power", [&](ConfigReader& s) { readPower(s, c.power); });
   r.number("status_interval_s", c.statusIntervalSeconds, 0.05, 3600.0);
-  r.choice("log_level", c.logLevel, {"trace", "debug", "info", "warn", "error"});
+  r.string("log_level", c.logLevel, {"trace", "debug", "info", "warn", "error"});
   r.finish();
   return c;
 }
@@ -187,7 +170,7 @@ void applyOverride(nlohmann::json& j, const std::string& assignment) {
 
 nlohmann::json readJsonFile(const std::string& path) {
   try {
-    return sb::readJsonFile(path, "config file");
+    return readJsonConfig(path, "config file");
   } catch (const ConfigError&) {
     throw;
   } catch (const Error& e) {

@@ -8,8 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/image.h"
+#include "core/config_reader.h"
 #include "core/error.h"
+#include "core/image.h"
 #include "core/json_text.h"
 
 namespace sb {
@@ -23,88 +24,73 @@ constexpr int kMaxImageSide = kMaxDepthImageSide;
 // Volume hints, metres: the range of the pipeline config's volume_size_m.
 constexpr double kMinVolumeSize = 0.1, kMaxVolumeSize = 100.0;
 
-[[noreturn]] void badKey(const std::string& path, const std::string& key, const std::string& expected) {
-  throw Error("calibration '" + path + "': key '" + key + "' must be " + expected + "; fix or remove it");
+// Each reads an optional key of calibration.json; a bad value fails through the config reader, naming the file,
+// the key, the value and what is allowed. Keys nobody reads (sensor, frame_rate_hz, ...) are ignored.
+std::optional<double> readNumber(ConfigReader& r, const char* key, double minValue, double maxValue,
+                                 const std::string& expected) {
+  const json* v = r.raw(key);
+  if (!v) return std::nullopt;
+  if (!v->is_number() || !(v->get<double>() >= minValue && v->get<double>() <= maxValue)) r.fail(key, expected);
+  return v->get<double>();
 }
 
-std::optional<double> readNumber(const json& j, const std::string& path, const std::string& key,
-                                 double minValue, double maxValue, const std::string& expected) {
-  if (!j.contains(key)) return std::nullopt;
-  const json& v = j.at(key);
-  if (!v.is_number()) badKey(path, key, expected + " (got " + describeJson(v) + ")");
-  const double d = v.get<double>();
-  if (!(d >= minValue && d <= maxValue)) badKey(path, key, expected + " (got " + describeJson(v) + ")");
-  return d;
-}
-
-std::optional<int> readSide(const json& j, const std::string& path, const std::string& key) {
+std::optional<int> readSide(ConfigReader& r, const char* key) {
   const std::string expected = "an integer in [1, " + std::to_string(kMaxImageSide) + "] pixels";
-  if (j.contains(key) && !j.at(key).is_number_integer() && !j.at(key).is_number_unsigned())
-    badKey(path, key, expected);
-  const auto d = readNumber(j, path, key, 1, kMaxImageSide, expected);
+  const json* v = r.raw(key);
+  if (v && !v->is_number_integer()) r.fail(key, expected);
+  const auto d = readNumber(r, key, 1, kMaxImageSide, expected);
   if (!d) return std::nullopt;
   return static_cast<int>(*d);
 }
 
-std::optional<float> readPixels(const json& j, const std::string& path, const std::string& key,
-                                bool positive) {
+std::optional<float> readPixels(ConfigReader& r, const char* key, bool positive) {
   const double lo = positive ? std::numeric_limits<double>::min() : -1e6;
-  const auto d =
-      readNumber(j, path, key, lo, 1e6, positive ? "a positive number of pixels" : "a number of pixels");
+  const auto d = readNumber(r, key, lo, 1e6, positive ? "a positive number of pixels" : "a number of pixels");
   if (!d) return std::nullopt;
   if (positive && !(static_cast<float>(*d) > 0))  // 1e-300 is positive, and 0 as the float the pipeline uses
-    badKey(path, key,
-           "a positive number of pixels (got " + describeJson(j.at(key)) + ", which is 0 as a float)");
+    r.fail(key, "a positive number of pixels (this one is 0 as a float)");
   return static_cast<float>(*d);
 }
 
 }  // namespace
 
 Calibration readCalibration(const std::string& path) {
-  const json j = readJsonFile(path, "calibration");  // a directory, bad JSON or deep nesting: names the file
-  if (!j.is_object()) throw Error("calibration '" + path + "' must hold a JSON object");
+  // A directory, bad JSON, deep nesting or a non-object: names the file.
+  ConfigReader r(readJsonConfig(path, "calibration"), "calibration '" + path + "'");
 
   Calibration c;
   c.path = path;
-  c.width = readSide(j, path, "width");
-  c.height = readSide(j, path, "height");
-  c.fx = readPixels(j, path, "fx", true);
-  c.fy = readPixels(j, path, "fy", true);
-  c.cx = readPixels(j, path, "cx", false);
-  c.cy = readPixels(j, path, "cy", false);
-  c.depthScale = readNumber(j, path, "depth_scale", std::numeric_limits<double>::min(), 1e9,
+  c.width = readSide(r, "width");
+  c.height = readSide(r, "height");
+  c.fx = readPixels(r, "fx", true);
+  c.fy = readPixels(r, "fy", true);
+  c.cx = readPixels(r, "cx", false);
+  c.cy = readPixels(r, "cy", false);
+  c.depthScale = readNumber(r, "depth_scale", std::numeric_limits<double>::min(), 1e9,
                             "a positive number of raw units per metre");
-  if (j.contains("invalid_depth_values")) {
-    const json& v = j.at("invalid_depth_values");
+  if (const json* v = r.raw("invalid_depth_values")) {
     const std::string expected = "an array of integers in [0, 65535]";
-    if (!v.is_array()) badKey(path, "invalid_depth_values", expected);
-    for (const json& e : v) {
-      if (!e.is_number_integer() && !e.is_number_unsigned()) badKey(path, "invalid_depth_values", expected);
-      const auto value = e.get<long long>();
-      if (value < 0 || value > std::numeric_limits<uint16_t>::max())
-        badKey(path, "invalid_depth_values", expected);
-      c.invalidDepthValues.push_back(static_cast<uint16_t>(value));
+    if (!v->is_array()) r.fail("invalid_depth_values", expected);
+    for (const json& e : *v) {
+      if (!e.is_number_integer() || e.get<long long>() < 0 ||
+          e.get<long long>() > std::numeric_limits<uint16_t>::max())
+        r.fail("invalid_depth_values", expected + " (entry " + describeJson(e) + " is not)");
+      c.invalidDepthValues.push_back(static_cast<uint16_t>(e.get<long long>()));
     }
   }
-  if (j.contains("format")) {
-    if (!j.at("format").is_string()) badKey(path, "format", "a string such as \"tum\" or \"icl-nuim\"");
-    c.format = j.at("format").get<std::string>();
-  }
+  r.string("format", c.format);  // free text, e.g. "tum" or "icl-nuim"
   // The ranges of the pipeline config's volume_size_m and initial_position, checked here so that the error
   // names this file and the value as written.
-  c.volumeSize = readNumber(j, path, "volume_size_m", kMinVolumeSize, kMaxVolumeSize,
-                            "a volume side in metres in [0.1, 100]");
-  if (j.contains("volume_initial_position")) {
-    const json& v = j.at("volume_initial_position");
+  c.volumeSize = readNumber(r, "volume_size_m", kMinVolumeSize, kMaxVolumeSize, "a volume side in metres in [0.1, 100]");
+  if (const json* v = r.raw("volume_initial_position")) {
     const std::string expected = "an array [x, y, z] of fractions of the volume side, each in [0, 1]";
-    if (!v.is_array() || v.size() != 3)
-      badKey(path, "volume_initial_position", expected + " (got " + describeJson(v) + ")");
+    if (!v->is_array() || v->size() != 3) r.fail("volume_initial_position", expected);
     std::array<double, 3> p{};
     for (size_t i = 0; i < 3; ++i) {
-      if (!v[i].is_number() || !(v[i].get<double>() >= 0.0 && v[i].get<double>() <= 1.0))
-        badKey(path, "volume_initial_position",
-               expected + " (got " + describeJson(v[i]) + " at index " + std::to_string(i) + ")");
-      p[i] = v[i].get<double>();
+      if (!(*v)[i].is_number() || !((*v)[i].get<double>() >= 0.0 && (*v)[i].get<double>() <= 1.0))
+        r.fail("volume_initial_position",
+               expected + " (" + describeJson((*v)[i]) + " at index " + std::to_string(i) + " is not)");
+      p[i] = (*v)[i].get<double>();
     }
     c.volumeInitialPosition = p;
   }

@@ -1,14 +1,12 @@
 #include "pipeline/config.h"
 
 #include <cmath>
-#include <fstream>
-#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <vector>
 
+#include "core/config_reader.h"
 #include "core/error.h"
-#include "core/json_text.h"
 
 namespace sb {
 
@@ -67,17 +65,22 @@ std::string rangeText(double minimum, double maximum) {
 void checkRange(const std::string& where, const char* key, double value, double minimum, double maximum) {
   if (!(value >= minimum && value <= maximum)) {
     std::ostringstream s;
-    s << where << ": '" << key << "' = " << value << " is out of range; allowed " << rangeText(minimum, maximum);
+    s << where << ": '" << key << "' = " << value << " is not allowed: expected a value in " << rangeText(minimum, maximum)
+      << "; fix the value";
     throw Error(s.str());
   }
 }
 
 // "opencl_platform" / "opencl_device": a non-negative index or a name substring, stored as text.
-std::string parseSelector(const std::string& where, const std::string& key, const nlohmann::json& v) {
-  if (v.is_number_integer() && v.get<long long>() >= 0) return std::to_string(v.get<long long>());
-  if (v.is_string()) return v.get<std::string>();
-  throw Error(where + ": '" + key + "' must be an index (0, 1, ...) or a name substring like \"NVIDIA\" (\"\" = " +
-              "automatic choice), got " + v.dump());
+void readSelector(ConfigReader& r, const char* key, std::string& out) {
+  const nlohmann::json* v = r.raw(key);
+  if (!v) return;
+  if (v->is_number_integer() && v->get<long long>() >= 0)
+    out = std::to_string(v->get<long long>());
+  else if (v->is_string())
+    out = v->get<std::string>();
+  else
+    r.fail(key, "an index (0, 1, ...) or a name substring like \"NVIDIA\" (\"\" = automatic choice)");
 }
 
 }  // namespace
@@ -109,80 +112,34 @@ void validateConfig(const PipelineConfig& c) {
 }
 
 PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, const std::string& where) {
-  if (!j.is_object()) throw Error(where + ": the pipeline config must be a JSON object");
+  ConfigReader r(j, where);
   PipelineConfig c = base;
-  for (auto it = j.begin(); it != j.end(); ++it) {
-    const std::string& key = it.key();
-    const nlohmann::json& v = it.value();
-    bool known = false;
-    for (const auto& f : floatFields()) {
-      if (key != f.key) continue;
-      if (!v.is_number()) throw Error(where + ": '" + key + "' must be a number, got " + v.dump());
-      checkRange(where, f.key, v.get<double>(), f.minimum, f.maximum);
-      c.*(f.member) = v.get<float>();
-      known = true;
-    }
-    for (const auto& f : intFields()) {
-      if (key != f.key) continue;
-      if (!v.is_number_integer()) throw Error(where + ": '" + key + "' must be an integer, got " + v.dump());
-      checkRange(where, f.key, v.get<double>(), f.minimum, f.maximum);
-      c.*(f.member) = v.get<int>();
-      known = true;
-    }
-    if (key == "initial_position") {
-      if (!v.is_array() || v.size() != 3 || !v[0].is_number() || !v[1].is_number() || !v[2].is_number())
-        throw Error(where + ": 'initial_position' must be an array of 3 numbers (fractions of the volume side), got " +
-                    v.dump());
-      for (int i = 0; i < 3; ++i) {
-        checkRange(where, "initial_position", v[i].get<double>(), 0.0, 1.0);
-        c.initialPosition[i] = v[i].get<float>();
-      }
-      known = true;
-    } else if (key == "empty_space_skipping") {
-      if (!v.is_boolean()) throw Error(where + ": 'empty_space_skipping' must be true or false, got " + v.dump());
-      c.emptySpaceSkipping = v.get<bool>();
-      known = true;
-    } else if (key == "backend") {
-      const std::string name = v.is_string() ? v.get<std::string>() : "";
-      if (name == "auto") c.backend = BackendKind::automatic;
-      else if (name == "cpu") c.backend = BackendKind::cpu;
-      else if (name == "opencl") c.backend = BackendKind::opencl;
-      else throw Error(where + ": 'backend' must be \"auto\", \"cpu\" or \"opencl\", got " + v.dump());
-      known = true;
-    } else if (key == "opencl_platform") {
-      c.openclPlatform = parseSelector(where, key, v);
-      known = true;
-    } else if (key == "opencl_device") {
-      c.openclDevice = parseSelector(where, key, v);
-      known = true;
-    } else if (key == "opencl_source_dir") {
-      if (!v.is_string())
-        throw Error(where + ": 'opencl_source_dir' must be a directory path (\"\" = the embedded kernels), got " +
-                    v.dump());
-      c.openclSourceDir = v.get<std::string>();
-      known = true;
-    } else if (key == "opencl_half_storage") {
-      if (!v.is_boolean()) throw Error(where + ": 'opencl_half_storage' must be true or false, got " + v.dump());
-      c.openclHalfStorage = v.get<bool>();
-      known = true;
-    } else if (key == "knobs") {
-      if (!v.is_string())
-        throw Error(where + ": 'knobs' must be a string like \"csr=1,icp=1e-5,pd=10:5:4,tr=1,ir=2\", got " + v.dump());
-      try {
-        c.knobs = parseKnobs(v.get<std::string>(), c.knobs);
-      } catch (const Error& e) {
-        throw Error(where + ": 'knobs': " + e.what());
-      }
-      known = true;
-    }
-    if (!known) {
-      const nlohmann::json defaults = configToJson(PipelineConfig{});
-      std::string keys;
-      for (auto field = defaults.begin(); field != defaults.end(); ++field)
-        keys += (keys.empty() ? "" : ", ") + field.key();
-      throw Error(where + ": unknown key '" + key + "' (known keys: " + keys + ")");
+  for (const auto& f : floatFields()) r.number(f.key, c.*(f.member), f.minimum, f.maximum);
+  for (const auto& f : intFields()) r.integer(f.key, c.*(f.member), f.minimum, f.maximum);
+  std::vector<double> position(c.initialPosition.begin(), c.initialPosition.end());
+  r.numbers("initial_position", position, 0.0, 1.0, 3, 3, "[x, y, z], fractions of the volume side");
+  for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>(position[i]);
+  r.boolean("empty_space_skipping", c.emptySpaceSkipping);
+  std::string backend = backendKindName(c.backend);
+  r.string("backend", backend, {"auto", "cpu", "opencl"});
+  c.backend = backend == "cpu" ? BackendKind::cpu : backend == "opencl" ? BackendKind::opencl : BackendKind::automatic;
+  readSelector(r, "opencl_platform", c.openclPlatform);
+  readSelector(r, "opencl_device", c.openclDevice);
+  if (const nlohmann::json* v = r.raw("opencl_source_dir")) {
+    if (!v->is_string()) r.fail("opencl_source_dir", "a directory path (\"\" = the kernels embedded in the binary)");
+    c.openclSourceDir = v->get<std::string>();
+  }
+  r.boolean("opencl_half_storage", c.openclHalfStorage);
+  if (const nlohmann::json* v = r.raw("knobs")) {
+    const std::string example = "a knob list like \"csr=1,icp=1e-5,pd=10:5:4,tr=1,ir=2\"";
+    if (!v->is_string()) r.fail("knobs", example);
+    try {
+      c.knobs = parseKnobs(v->get<std::string>(), c.knobs);
+    } catch (const Error& e) {
+      r.fail("knobs", example + " (" + e.what() + ")");
     }
   }
+  r.finish();
   try {
     validateConfig(c);
   } catch (const Error& e) {
@@ -192,7 +149,7 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
 }
 
 PipelineConfig loadConfigFile(const std::string& path, const PipelineConfig& base) {
-  return parseConfig(readJsonFile(path, "config file"), base, path);  // bounded nesting, names the file
+  return parseConfig(readJsonConfig(path, "config file"), base, path);  // bounded nesting, names the file
 }
 
 nlohmann::json configToJson(const PipelineConfig& c) {

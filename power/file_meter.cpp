@@ -53,9 +53,17 @@ void FileMeter::poll(std::vector<PowerSample>& out) {
   }
 }
 
-std::unique_ptr<Meter> openFileMeter(const PowerConfig& config, const Clock& clock) {
-  if (config.file.path.empty()) throw Error("file meter: set 'file.path' to a power trace");
-  return std::make_unique<FileMeter>(readPowerTrace(config.file.path), config.file.path, clock);
+void FileMeterSettings::read(ConfigReader& r, bool selected) {
+  r.string("path", path);
+  if (selected && path.empty())
+    r.fail("path", "a power trace written by a profiling run (meter \"file\" needs it)");
+}
+
+nlohmann::json FileMeterSettings::toJson() const { return {{"path", path}}; }
+
+std::unique_ptr<Meter> openFileMeter(const FileMeterSettings& settings, const MeterHostSettings&, const Clock& clock) {
+  if (settings.path.empty()) throw Error("file meter: set 'file.path' to a power trace");
+  return std::make_unique<FileMeter>(readPowerTrace(settings.path), settings.path, clock);
 }
 
 }  // namespace sb::power

@@ -5,13 +5,24 @@
 // `slambooster energy` instead, which keeps the recorded times.
 
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
+#include "core/config_reader.h"
 #include "power/clock.h"
 #include "power/meter.h"
-#include "power/power_config.h"
 #include "power/power_trace.h"
 
 namespace sb::power {
+
+// The "file" section of the power config (config/README.md).
+struct FileMeterSettings {
+  std::string path;                     // a power trace CSV (power_trace.h); required when selected
+
+  void read(ConfigReader& r, bool selected);  // key: path (required when the meter is selected)
+  nlohmann::json toJson() const;
+};
 
 class FileMeter final : public Meter {
  public:
@@ -31,6 +42,6 @@ class FileMeter final : public Meter {
   size_t next_ = 0;
 };
 
-std::unique_ptr<Meter> openFileMeter(const PowerConfig& config, const Clock& clock);
+std::unique_ptr<Meter> openFileMeter(const FileMeterSettings& settings, const MeterHostSettings& host, const Clock& clock);
 
 }  // namespace sb::power

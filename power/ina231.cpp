@@ -22,7 +22,7 @@ const std::map<std::string, std::string>& railAddresses() {
 
 class Ina231Meter final : public Meter {
  public:
-  Ina231Meter(const Ina231Config& config, const Clock& clock) : clock_(clock) {
+  Ina231Meter(const Ina231Settings& config, const Clock& clock) : clock_(clock) {
     info_.name = "ina231";
     info_.device = config.root;
     info_.kind = SampleKind::instantaneous;
@@ -74,8 +74,18 @@ class Ina231Meter final : public Meter {
 
 }  // namespace
 
-std::unique_ptr<Meter> openIna231(const PowerConfig& config, const Clock& clock) {
-  return std::make_unique<Ina231Meter>(config.ina231, clock);
+void Ina231Settings::read(ConfigReader& r, bool) {
+  r.string("root", root);
+  r.strings("rails", rails, {"a15", "a7", "gpu", "mem"}, 1);  // at least one rail
+  r.integer("poll_interval_ms", pollIntervalMs, 1, 10000);
+}
+
+nlohmann::json Ina231Settings::toJson() const {
+  return {{"root", root}, {"rails", rails}, {"poll_interval_ms", pollIntervalMs}};
+}
+
+std::unique_ptr<Meter> openIna231(const Ina231Settings& settings, const MeterHostSettings&, const Clock& clock) {
+  return std::make_unique<Ina231Meter>(settings, clock);
 }
 
 }  // namespace sb::power

@@ -5,13 +5,26 @@
 // sample is the sum of the configured rails. The root is configurable so tests use a fake tree.
 
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
+#include "core/config_reader.h"
 #include "power/clock.h"
 #include "power/meter.h"
-#include "power/power_config.h"
 
 namespace sb::power {
 
-std::unique_ptr<Meter> openIna231(const PowerConfig& config, const Clock& clock);
+// The "ina231" section of the power config (config/README.md).
+struct Ina231Settings {
+  std::string root = "/sys/bus/i2c/drivers/INA231";
+  std::vector<std::string> rails{"a15", "a7", "gpu", "mem"};  // summed; a15=0x40, mem=0x41, gpu=0x44, a7=0x45
+  int pollIntervalMs = 50;
+
+  void read(ConfigReader& r, bool selected);  // keys: root, rails, poll_interval_ms
+  nlohmann::json toJson() const;
+};
+
+std::unique_ptr<Meter> openIna231(const Ina231Settings& settings, const MeterHostSettings& host, const Clock& clock);
 
 }  // namespace sb::power

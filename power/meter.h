@@ -1,7 +1,8 @@
 #pragma once
 // The power meter interface (chrony's driver/host split): a driver only reads its device and returns
 // timestamped samples; the energy ledger (energy_ledger.h) does all accounting. A new meter is one file pair
-// plus one line in meter_registry.cpp.
+// plus one line in meter_registry.cpp: the pair holds the driver and its settings (a struct with
+// read(ConfigReader&, bool selected) for its section of the power config, and toJson(); see meter_registry.h).
 //
 // Threading: a Meter is used by one thread at a time (the sampler's); it never blocks for long in poll().
 
@@ -27,8 +28,14 @@ struct MeterStatus {
   std::string message;           // why it is disconnected, or empty
   uint64_t samples = 0;          // samples returned so far
   uint64_t rejected = 0;         // lines/replies skipped: banner, debug output, garbage, partial lines
-  uint64_t checksumErrors = 0;   // lines refused because their checksum did not match (SmartPower3)
+  uint64_t checksumErrors = 0;   // lines refused because their checksum did not match (meters with checksums)
   uint64_t reconnects = 0;       // successful reopen after a loss
+};
+
+// What the host's power config gives every meter besides the meter's own settings (power_config.h).
+struct MeterHostSettings {
+  int reopenMinMs = 250;         // ms: first retry after a device is lost; doubles up to reopenMaxMs
+  int reopenMaxMs = 8000;
 };
 
 class Meter {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "core/error.h"
 #include "power/file_meter.h"
 #include "power/ina231.h"
 #include "power/nvml.h"
@@ -33,48 +32,46 @@ class NoMeter final : public Meter {
   MeterStatus status_;
 };
 
-std::unique_ptr<Meter> openNone(const PowerConfig&, const Clock&) { return std::make_unique<NoMeter>(); }
-
-using Factory = std::unique_ptr<Meter> (*)(const PowerConfig&, const Clock&);
-struct Entry {
-  const char* name;
-  Factory open;
-};
-
-const std::vector<Entry>& registry() {
-  static const std::vector<Entry> entries = {
-      {"smartpower2", openSmartPower2},
-      {"smartpower3", openSmartPower3},
-      {"smartpower1", openSmartPower1},
-      {"ina231", openIna231},
-      {"rapl", openRapl},
-      {"nvml", openNvml},
-      {"file", openFileMeter},
-      {"none", openNone},
-  };
-  return entries;
+MeterType noMeter() {
+  MeterType t;
+  t.name = "none";
+  t.open = [](ConfigReader&, const MeterHostSettings&, const Clock&) { return std::make_unique<NoMeter>(); };
+  return t;
 }
 
 }  // namespace
 
-std::unique_ptr<Meter> openMeter(const PowerConfig& config, const Clock& clock) {
-  for (const Entry& e : registry())
-    if (config.meter == e.name) return e.open(config, clock);
-  validatePowerConfig(config);  // throws, listing the meters
-  throw Error("unknown meter '" + config.meter + "'");
+const std::vector<MeterType>& meterTypes() {
+  static const std::vector<MeterType> types = {
+      meterType("smartpower2", openSmartPower2),
+      meterType("smartpower3", openSmartPower3),
+      meterType("smartpower1", openSmartPower1),
+      meterType("ina231", openIna231),
+      meterType("rapl", openRapl),
+      meterType("nvml", openNvml),
+      meterType("file", openFileMeter),
+      noMeter(),
+  };
+  return types;
+}
+
+const MeterType* findMeterType(const std::string& name) {
+  for (const MeterType& t : meterTypes())
+    if (t.name == name) return &t;
+  return nullptr;
 }
 
 const std::vector<std::string>& meterNames() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n;
-    for (const Entry& e : registry()) n.emplace_back(e.name);
+    for (const MeterType& t : meterTypes()) n.push_back(t.name);
     return n;
   }();
   return names;
 }
 
 bool isMeterName(const std::string& name) {
-  return std::find(meterNames().begin(), meterNames().end(), name) != meterNames().end();
+  return findMeterType(name) != nullptr;
 }
 
 }  // namespace sb::power

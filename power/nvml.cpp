@@ -54,7 +54,7 @@ class Library {
 
 class NvmlMeter final : public Meter {
  public:
-  NvmlMeter(const NvmlConfig& config, const Clock& clock) : clock_(clock), library_(config.library), counter_(1e-3) {
+  NvmlMeter(const NvmlSettings& config, const Clock& clock) : clock_(clock), library_(config.library), counter_(1e-3) {
     library_.bind(api_.init, "nvmlInit_v2", config.library);
     library_.bind(api_.shutdown, "nvmlShutdown", config.library);
     library_.bind(api_.errorString, "nvmlErrorString", config.library);
@@ -126,8 +126,18 @@ class NvmlMeter final : public Meter {
 
 }  // namespace
 
-std::unique_ptr<Meter> openNvml(const PowerConfig& config, const Clock& clock) {
-  return std::make_unique<NvmlMeter>(config.nvml, clock);
+void NvmlSettings::read(ConfigReader& r, bool) {
+  r.string("library", library);
+  r.integer("device_index", deviceIndex, 0, 63);
+  r.integer("poll_interval_ms", pollIntervalMs, 1, 10000);
+}
+
+nlohmann::json NvmlSettings::toJson() const {
+  return {{"library", library}, {"device_index", deviceIndex}, {"poll_interval_ms", pollIntervalMs}};
+}
+
+std::unique_ptr<Meter> openNvml(const NvmlSettings& settings, const MeterHostSettings&, const Clock& clock) {
+  return std::make_unique<NvmlMeter>(settings, clock);
 }
 
 }  // namespace sb::power

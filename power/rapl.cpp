@@ -24,7 +24,7 @@ struct Zone {
 
 class RaplMeter final : public Meter {
  public:
-  RaplMeter(const RaplConfig& config, const Clock& clock) : clock_(clock), counter_(1e-6) {
+  RaplMeter(const RaplSettings& config, const Clock& clock) : clock_(clock), counter_(1e-6) {
     info_.name = "rapl";
     info_.kind = SampleKind::intervalAverage;
     info_.nominalPeriodNs = int64_t(config.pollIntervalMs) * 1'000'000;
@@ -81,8 +81,18 @@ class RaplMeter final : public Meter {
 
 }  // namespace
 
-std::unique_ptr<Meter> openRapl(const PowerConfig& config, const Clock& clock) {
-  return std::make_unique<RaplMeter>(config.rapl, clock);
+void RaplSettings::read(ConfigReader& r, bool) {
+  r.string("root", root);
+  r.strings("zones", zones);
+  r.integer("poll_interval_ms", pollIntervalMs, 1, 10000);
+}
+
+nlohmann::json RaplSettings::toJson() const {
+  return {{"root", root}, {"zones", zones}, {"poll_interval_ms", pollIntervalMs}};
+}
+
+std::unique_ptr<Meter> openRapl(const RaplSettings& settings, const MeterHostSettings&, const Clock& clock) {
+  return std::make_unique<RaplMeter>(settings, clock);
 }
 
 }  // namespace sb::power

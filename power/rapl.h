@@ -5,13 +5,26 @@
 // their package and would be counted twice). Since Linux 5.10 energy_uj is readable by root only.
 
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
+#include "core/config_reader.h"
 #include "power/clock.h"
 #include "power/meter.h"
-#include "power/power_config.h"
 
 namespace sb::power {
 
-std::unique_ptr<Meter> openRapl(const PowerConfig& config, const Clock& clock);
+// The "rapl" section of the power config (config/README.md).
+struct RaplSettings {
+  std::string root = "/sys/class/powercap";
+  std::vector<std::string> zones;       // e.g. ["intel-rapl:0"]; empty = every top-level package zone
+  int pollIntervalMs = 10;
+
+  void read(ConfigReader& r, bool selected);  // keys: root, zones, poll_interval_ms
+  nlohmann::json toJson() const;
+};
+
+std::unique_ptr<Meter> openRapl(const RaplSettings& settings, const MeterHostSettings& host, const Clock& clock);
 
 }  // namespace sb::power

@@ -1,5 +1,5 @@
 #pragma once
-// The host side shared by the line-oriented USB serial meters (SmartPower2, SmartPower3): opens the tty,
+// The host side shared by the line-oriented USB serial meters (the SmartPower serial models): opens the tty,
 // splits lines, timestamps them when read, and survives unplugging (reopens with exponential backoff and
 // marks the first sample after the gap). The meter-specific part is only a line parser.
 

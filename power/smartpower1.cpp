@@ -16,6 +16,10 @@
 
 namespace sb::power {
 
+void SmartPower1Settings::read(ConfigReader& r, bool) { r.integer("poll_interval_ms", pollIntervalMs, 10, 10000); }
+
+nlohmann::json SmartPower1Settings::toJson() const { return {{"poll_interval_ms", pollIntervalMs}}; }
+
 const char* smartPower1UdevRule() {
   return "SUBSYSTEM==\"usb\", ATTRS{idVendor}==\"04d8\", ATTRS{idProduct}==\"003f\", MODE=\"0660\", GROUP=\"plugdev\"";
 }
@@ -116,13 +120,14 @@ std::unique_ptr<UsbDevice> openDevice(libusb_context* ctx, std::string& error, b
 
 class SmartPower1Meter final : public Meter {
  public:
-  SmartPower1Meter(const PowerConfig& config, const Clock& clock) : clock_(clock) {
+  SmartPower1Meter(const SmartPower1Settings& settings, const MeterHostSettings& host, const Clock& clock)
+      : clock_(clock) {
     info_.name = "smartpower1";
     info_.device = "usb:04d8:003f";
     info_.kind = SampleKind::instantaneous;
-    info_.nominalPeriodNs = int64_t(config.smartpower1.pollIntervalMs) * 1'000'000;
-    reopenMinNs_ = int64_t(config.reopenMinMs) * 1'000'000;
-    reopenMaxNs_ = int64_t(config.reopenMaxMs) * 1'000'000;
+    info_.nominalPeriodNs = int64_t(settings.pollIntervalMs) * 1'000'000;
+    reopenMinNs_ = int64_t(host.reopenMinMs) * 1'000'000;
+    reopenMaxNs_ = int64_t(host.reopenMaxMs) * 1'000'000;
     std::string error;
     bool denied = false;
     device_ = openDevice(usb_.ctx, error, denied);
@@ -208,13 +213,14 @@ class SmartPower1Meter final : public Meter {
 
 }  // namespace
 
-std::unique_ptr<Meter> openSmartPower1(const PowerConfig& config, const Clock& clock) {
-  return std::make_unique<SmartPower1Meter>(config, clock);
+std::unique_ptr<Meter> openSmartPower1(const SmartPower1Settings& settings, const MeterHostSettings& host,
+                                       const Clock& clock) {
+  return std::make_unique<SmartPower1Meter>(settings, host, clock);
 }
 
 #else  // built without libusb-1.0
 
-std::unique_ptr<Meter> openSmartPower1(const PowerConfig&, const Clock&) {
+std::unique_ptr<Meter> openSmartPower1(const SmartPower1Settings&, const MeterHostSettings&, const Clock&) {
   throw Error(smartPower1OpenError("this build has no libusb-1.0 support; install libusb-1.0-0-dev and rebuild", false));
 }
 

@@ -4,13 +4,22 @@
 // opening fails with an error that names the udev rule to install.
 
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/config_reader.h"
 #include "power/clock.h"
 #include "power/meter.h"
-#include "power/power_config.h"
 
 namespace sb::power {
+
+// The "smartpower1" section of the power config (config/README.md).
+struct SmartPower1Settings {
+  int pollIntervalMs = 100;             // request period for the HID report 0x37
+
+  void read(ConfigReader& r, bool selected);  // key: poll_interval_ms
+  nlohmann::json toJson() const;
+};
 
 constexpr uint16_t kSmartPower1Vendor = 0x04d8;
 constexpr uint16_t kSmartPower1Product = 0x003f;
@@ -21,6 +30,7 @@ const char* smartPower1UdevRule();
 // The message for a failed open: `error` plus, when access was denied, how to install the udev rule.
 std::string smartPower1OpenError(const std::string& error, bool accessDenied);
 
-std::unique_ptr<Meter> openSmartPower1(const PowerConfig& config, const Clock& clock);
+std::unique_ptr<Meter> openSmartPower1(const SmartPower1Settings& settings, const MeterHostSettings& host,
+                                       const Clock& clock);
 
 }  // namespace sb::power

@@ -3,6 +3,8 @@
 #include <cstdlib>
 #include <string>
 
+#include "power/serial_port.h"
+
 namespace sb::power {
 
 namespace {
@@ -49,14 +51,24 @@ LineResult parseSmartPower2Line(std::string_view line, LineReading& reading) {
   return LineResult::sample;
 }
 
-std::unique_ptr<Meter> openSmartPower2(const PowerConfig& config, const Clock& clock) {
+void SmartPower2Settings::read(ConfigReader& r, bool) {
+  r.string("device", device);
+  r.integer("baud", baud, 9600, 921600);
+  if (device.empty()) r.fail("device", "a serial device path such as \"/dev/ttyUSB0\"");
+  if (!isSupportedBaud(baud)) r.fail("baud", "a supported baud rate (9600 ... 921600; 115200 by default)");
+}
+
+nlohmann::json SmartPower2Settings::toJson() const { return {{"device", device}, {"baud", baud}}; }
+
+std::unique_ptr<Meter> openSmartPower2(const SmartPower2Settings& settings, const MeterHostSettings& host,
+                                       const Clock& clock) {
   SerialLineOptions o;
   o.name = "smartpower2";
-  o.device = config.smartpower2.device;
-  o.baud = config.smartpower2.baud;
+  o.device = settings.device;
+  o.baud = settings.baud;
   o.nominalPeriodNs = 1'000'000'000;
-  o.reopenMinNs = int64_t(config.reopenMinMs) * 1'000'000;
-  o.reopenMaxNs = int64_t(config.reopenMaxMs) * 1'000'000;
+  o.reopenMinNs = int64_t(host.reopenMinMs) * 1'000'000;
+  o.reopenMaxNs = int64_t(host.reopenMaxMs) * 1'000'000;
   return std::make_unique<SerialLineMeter>(o, parseSmartPower2Line, clock);
 }
 

@@ -4,18 +4,30 @@
 // lines are skipped; the Wh field usually stays 0 over serial, so it is ignored (the ledger integrates W).
 
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
 #include <string_view>
 
+#include "core/config_reader.h"
 #include "power/clock.h"
 #include "power/meter.h"
-#include "power/power_config.h"
 #include "power/serial_line_meter.h"
 
 namespace sb::power {
 
+// The "smartpower2" section of the power config (config/README.md).
+struct SmartPower2Settings {
+  std::string device = "/dev/ttyUSB0";  // CP2104 USB serial; a /dev/serial/by-id/ link survives replugging
+  int baud = 115200;                    // 8N1
+
+  void read(ConfigReader& r, bool selected);  // keys: device, baud
+  nlohmann::json toJson() const;
+};
+
 // The line parser (exposed for tests): exactly four unsigned decimal fields within the meter's range.
 LineResult parseSmartPower2Line(std::string_view line, LineReading& reading);
 
-std::unique_ptr<Meter> openSmartPower2(const PowerConfig& config, const Clock& clock);
+std::unique_ptr<Meter> openSmartPower2(const SmartPower2Settings& settings, const MeterHostSettings& host,
+                                       const Clock& clock);
 
 }  // namespace sb::power

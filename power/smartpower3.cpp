@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include "core/error.h"
+#include "power/serial_port.h"
 
 namespace sb::power {
 
@@ -78,15 +79,30 @@ LineResult parseSmartPower3Line(std::string_view line, SmartPower3Channel channe
   return LineResult::sample;
 }
 
-std::unique_ptr<Meter> openSmartPower3(const PowerConfig& config, const Clock& clock) {
-  const SmartPower3Channel channel = parseSmartPower3Channel(config.smartpower3.channel);
+void SmartPower3Settings::read(ConfigReader& r, bool) {
+  r.string("device", device);
+  r.integer("baud", baud, 9600, 921600);
+  r.string("channel", channel, {"1", "2", "both", "input"});
+  r.integer("log_interval_ms", logIntervalMs, 5, 1000);
+  if (device.empty()) r.fail("device", "a serial device path such as \"/dev/ttyUSB0\"");
+  if (!isSupportedBaud(baud))
+    r.fail("baud", "a supported baud rate (the SmartPower3 offers 9600 ... 921600; 921600 by default)");
+}
+
+nlohmann::json SmartPower3Settings::toJson() const {
+  return {{"device", device}, {"baud", baud}, {"channel", channel}, {"log_interval_ms", logIntervalMs}};
+}
+
+std::unique_ptr<Meter> openSmartPower3(const SmartPower3Settings& settings, const MeterHostSettings& host,
+                                       const Clock& clock) {
+  const SmartPower3Channel channel = parseSmartPower3Channel(settings.channel);
   SerialLineOptions o;
   o.name = "smartpower3";
-  o.device = config.smartpower3.device;
-  o.baud = config.smartpower3.baud;
-  o.nominalPeriodNs = int64_t(config.smartpower3.logIntervalMs) * 1'000'000;
-  o.reopenMinNs = int64_t(config.reopenMinMs) * 1'000'000;
-  o.reopenMaxNs = int64_t(config.reopenMaxMs) * 1'000'000;
+  o.device = settings.device;
+  o.baud = settings.baud;
+  o.nominalPeriodNs = int64_t(settings.logIntervalMs) * 1'000'000;
+  o.reopenMinNs = int64_t(host.reopenMinMs) * 1'000'000;
+  o.reopenMaxNs = int64_t(host.reopenMaxMs) * 1'000'000;
   auto parser = [channel](std::string_view line, LineReading& reading) {
     return parseSmartPower3Line(line, channel, reading);
   };

@@ -16,23 +16,38 @@
 // refused (counted in MeterStatus::checksumErrors); the device's ms counter spaces lines read in one batch.
 
 #include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
 #include <string_view>
 
+#include "core/config_reader.h"
 #include "power/clock.h"
 #include "power/meter.h"
-#include "power/power_config.h"
 #include "power/serial_line_meter.h"
 
 namespace sb::power {
 
+// The "smartpower3" section of the power config (config/README.md).
+struct SmartPower3Settings {
+  std::string device = "/dev/ttyUSB0";
+  int baud = 921600;                    // must match the device's serial setting
+  std::string channel = "1";            // "1", "2" (output channels), "both" (sum of 1 and 2), "input"
+  int logIntervalMs = 10;               // the device's logging interval (5..1000): nominal sample period
+
+  // Reads and checks the section's keys (device, baud, channel, log_interval_ms).
+  void read(ConfigReader& r, bool selected);
+  nlohmann::json toJson() const;
+};
+
 enum class SmartPower3Channel { output1, output2, both, input };
 
-// "1", "2", "both", "input" (validated by the config).
+// "1", "2", "both", "input" (validated by SmartPower3Settings::read).
 SmartPower3Channel parseSmartPower3Channel(const std::string& name);
 
 // The line parser (exposed for tests).
 LineResult parseSmartPower3Line(std::string_view line, SmartPower3Channel channel, LineReading& reading);
 
-std::unique_ptr<Meter> openSmartPower3(const PowerConfig& config, const Clock& clock);
+std::unique_ptr<Meter> openSmartPower3(const SmartPower3Settings& settings, const MeterHostSettings& host,
+                                       const Clock& clock);
 
 }  // namespace sb::power

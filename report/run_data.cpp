@@ -6,6 +6,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 
+#include "core/config_reader.h"
 #include "core/error.h"
 
 namespace sb::report {
@@ -25,13 +26,10 @@ void loadSummary(RunData& run) {
     run.problems.push_back("'" + path.string() + "' is missing (no summary table; the run may not have finished)");
     return;
   }
-  std::ifstream in(path);
   try {
-    nlohmann::json j = nlohmann::json::parse(in);
-    if (!j.is_object()) throw Error(std::string("expected a JSON object, found ") + j.type_name());
-    run.summary = std::move(j);
+    run.summary = readJsonConfig(path.string(), "run summary");  // bounded nesting, line and column, objects only
   } catch (const std::exception& e) {
-    run.problems.push_back("'" + path.string() + "' could not be read: " + e.what() + " (no summary table)");
+    run.problems.push_back(std::string(e.what()) + " (no summary table)");
   }
 }
 

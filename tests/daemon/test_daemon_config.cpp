@@ -59,20 +59,20 @@ TEST_CASE("daemon config: errors name the key, the value and what is allowed", "
   using Catch::Matchers::Contains;
   CHECK_THAT(errorOf({{"sokcet", json::object()}}), Contains("unknown key 'sokcet'") && Contains("socket"));
   CHECK_THAT(errorOf({{"socket", {{"max_clients", 0}}}}),
-             Contains("test.json: socket") && Contains("'max_clients' = 0") && Contains("[1, 4096]"));
+             Contains("test.json: 'socket.max_clients' = 0") && Contains("[1, 4096]"));
   CHECK_THAT(errorOf({{"socket", {{"max_clients", "8"}}}}),
-             Contains("'max_clients' = \"8\"") && Contains("integer"));
-  CHECK_THAT(errorOf({{"socket", {{"mode", "999"}}}}), Contains("'mode' = \"999\"") && Contains("octal"));
-  CHECK_THAT(errorOf({{"socket", {{"mode", 660}}}}), Contains("'mode' = 660") && Contains("string"));
+             Contains("'socket.max_clients' = \"8\"") && Contains("integer"));
+  CHECK_THAT(errorOf({{"socket", {{"mode", "999"}}}}), Contains("'socket.mode' = \"999\"") && Contains("octal"));
+  CHECK_THAT(errorOf({{"socket", {{"mode", 660}}}}), Contains("'socket.mode' = 660") && Contains("string"));
   CHECK_THAT(errorOf({{"source", {{"pacing", "slow"}}}}),
-             Contains("'pacing' = \"slow\"") && Contains("\"recorded\", \"fast\""));
+             Contains("'source.pacing' = \"slow\"") && Contains("\"recorded\", \"fast\""));
   CHECK_THAT(errorOf({{"source", {{"type", "kinect"}}}}),
-             Contains("'type' = \"kinect\"") && Contains("\"replay\""));
-  CHECK_THAT(errorOf({{"source", {{"speed", -1}}}}), Contains("'speed' = -1"));
-  CHECK_THAT(errorOf({{"slam", {{"cpus", "7-4"}}}}), Contains("slam") && Contains("'7-4'"));
-  CHECK_THAT(errorOf({{"slam", {{"threads", 1.5}}}}), Contains("'threads' = 1.5"));
-  CHECK_THAT(errorOf({{"output", {{"dir", ""}}}}), Contains("'dir'"));
-  CHECK_THAT(errorOf({{"socket", {{"path", std::string(120, 'a')}}}}), Contains("107"));
+             Contains("'source.type' = \"kinect\"") && Contains("\"replay\""));
+  CHECK_THAT(errorOf({{"source", {{"speed", -1}}}}), Contains("'source.speed' = -1"));
+  CHECK_THAT(errorOf({{"slam", {{"cpus", "7-4"}}}}), Contains("'slam.cpus' = \"7-4\"") && Contains("'7-4'"));
+  CHECK_THAT(errorOf({{"slam", {{"threads", 1.5}}}}), Contains("'slam.threads' = 1.5"));
+  CHECK_THAT(errorOf({{"output", {{"dir", ""}}}}), Contains("'output.dir' = \"\""));
+  CHECK_THAT(errorOf({{"socket", {{"path", std::string(120, 'a')}}}}), Contains("'socket.path'") && Contains("107"));
   CHECK_THAT(errorOf({{"log_level", "loud"}}), Contains("'log_level' = \"loud\""));
   CHECK_THAT(errorOf(json::array()), Contains("must be a JSON object"));
   CHECK_THAT(errorOf({{"source", 3}}), Contains("'source' = 3"));
@@ -125,5 +125,5 @@ TEST_CASE("daemon config: deep nesting in a value or a file is an error, not a c
   CHECK_THROWS_WITH(readJsonFile(dir), Contains("is a directory"));
   // Deep but within the bound: the error quotes the value flat.
   CHECK_THAT(errorOf({{"source", {{"path", json::parse(std::string(60, '[') + std::string(60, ']'))}}}}),
-             Contains("'path' = an array of 1 elements"));
+             Contains("'source.path' = an array of 1 elements"));
 }

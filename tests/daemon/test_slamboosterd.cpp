@@ -205,7 +205,7 @@ TEST_CASE("slamboosterd: bad configuration exits 2 naming the key, the value and
   const auto run = [&](const std::string& args) { return runCommand(kDaemon + " " + args); };
   auto r = run("--input x --set socket.max_clients=0");
   CHECK(r.exitCode == 2);
-  CHECK(r.output.find("'max_clients' = 0") != std::string::npos);
+  CHECK(r.output.find("'socket.max_clients' = 0") != std::string::npos);
   CHECK(r.output.find("[1, 4096]") != std::string::npos);
   r = run("--config " + tmp.path + "/missing.json");
   CHECK(r.exitCode == 2);
@@ -213,7 +213,7 @@ TEST_CASE("slamboosterd: bad configuration exits 2 naming the key, the value and
   std::ofstream(tmp.path + "/bad.json") << R"({"socket": {"mode": "0999"}})";
   r = run("--config " + tmp.path + "/bad.json");
   CHECK(r.exitCode == 2);
-  CHECK(r.output.find("'mode' = \"0999\"") != std::string::npos);
+  CHECK(r.output.find("'socket.mode' = \"0999\"") != std::string::npos);
   r = run("--socket " + tmp.path + "/s.sock --out " + tmp.path + "/o");
   CHECK(r.exitCode == 2);
   CHECK(r.output.find("source.path is empty") != std::string::npos);

@@ -11,16 +11,14 @@
 #include "core/error.h"
 #include "power/clock.h"
 #include "power/nvml.h"
-#include "power/power_config.h"
 
 using namespace sb::power;
 
 TEST_CASE("nvml: an absent library is a clear error", "[power][nvml]") {
-  PowerConfig c;
-  c.meter = "nvml";
-  c.nvml.library = "libnvidia-ml-absent-for-test.so.1";
+  NvmlSettings c;
+  c.library = "libnvidia-ml-absent-for-test.so.1";
   try {
-    openNvml(c, monotonicClock());
+    openNvml(c, {}, monotonicClock());
     FAIL("expected an error");
   } catch (const sb::Error& e) {
     const std::string what = e.what();
@@ -28,16 +26,15 @@ TEST_CASE("nvml: an absent library is a clear error", "[power][nvml]") {
     CHECK(what.find("NVIDIA driver") != std::string::npos);
     CHECK(what.find("nvml.library") != std::string::npos);
   }
-  c.nvml.library = "libc.so.6";  // loads, but is not NVML
-  CHECK_THROWS_WITH(openNvml(c, monotonicClock()), Catch::Contains("has no symbol nvmlInit_v2"));
+  c.library = "libc.so.6";  // loads, but is not NVML
+  CHECK_THROWS_WITH(openNvml(c, {}, monotonicClock()), Catch::Contains("has no symbol nvmlInit_v2"));
 }
 
 TEST_CASE("nvml: the real library, when this machine has one", "[power][nvml]") {
-  PowerConfig c;
-  c.meter = "nvml";
+  NvmlSettings c;
   std::unique_ptr<Meter> meter;
   try {
-    meter = openNvml(c, monotonicClock());
+    meter = openNvml(c, {}, monotonicClock());
   } catch (const sb::Error& e) {
     WARN("NVML not usable here (" << e.what() << "): only the absence path is tested");
     return;

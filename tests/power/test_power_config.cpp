@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "power/meter_registry.h"
 #include "power/power_config.h"
+#include "power/smartpower3.h"
 
 using namespace sb::power;
 using nlohmann::json;
@@ -15,7 +16,7 @@ using nlohmann::json;
 TEST_CASE("config/power.json equals the built-in defaults and lists every key", "[power][config]") {
   PowerConfig start;
   start.meter = "rapl";  // values the file must overwrite
-  start.smartpower3.baud = 115200;
+  start.meters["smartpower3"]["baud"] = 115200;
   const PowerConfig fromFile = loadPowerConfig(SB_POWER_CONFIG, start);
   CHECK(powerConfigToJson(fromFile) == powerConfigToJson(PowerConfig{}));
 
@@ -37,10 +38,10 @@ TEST_CASE("power config: a partial file overrides only its keys", "[power][confi
   const PowerConfig c = parsePowerConfig(
       json::parse(R"({"meter": "smartpower3", "smartpower3": {"channel": "both"}, "idle_baseline_s": 5})"));
   CHECK(c.meter == "smartpower3");
-  CHECK(c.smartpower3.channel == "both");
-  CHECK(c.smartpower3.baud == 921600);
+  CHECK(c.meters["smartpower3"]["channel"] == "both");
+  CHECK(c.meters["smartpower3"]["baud"] == 921600);
   CHECK(c.idleBaselineS == 5.0);
-  CHECK(parsePowerConfig(powerConfigToJson(c)).smartpower3.channel == "both");
+  CHECK(parsePowerConfig(powerConfigToJson(c)).meters["smartpower3"]["channel"] == "both");
 }
 
 TEST_CASE("power config: errors name the key, the value and what is allowed", "[power][config]") {
@@ -61,11 +62,12 @@ TEST_CASE("power config: errors name the key, the value and what is allowed", "[
   CHECK_THAT(error(R"({"smartpower3": {"baud": 1000000}})"), Catch::Contains("'smartpower3.baud' = 1000000"));
   CHECK_THAT(error(R"({"smartpower2": {"baud": 100000}})"), Catch::Contains("smartpower2.baud"));
   CHECK_THAT(error(R"({"smartpower2": {"baud": "fast"}})"), Catch::Contains("'smartpower2.baud' = \"fast\""));
-  CHECK_THAT(error(R"({"ina231": {"rails": ["a15", "cpu"]}})"), Catch::Contains("\"cpu\"") && Catch::Contains("a15, a7, gpu, mem"));
-  CHECK_THAT(error(R"({"ina231": {"rails": []}})"), Catch::Contains("at least one rail"));
+  CHECK_THAT(error(R"({"ina231": {"rails": ["a15", "cpu"]}})"), Catch::Contains("'ina231.rails'") && Catch::Contains("\"cpu\"") &&
+                                                                     Catch::Contains("\"a15\", \"a7\", \"gpu\", \"mem\""));
+  CHECK_THAT(error(R"({"ina231": {"rails": []}})"), Catch::Contains("'ina231.rails' = an array of 0 elements") && Catch::Contains("at least 1"));
   CHECK_THAT(error(R"({"idle_baseline_s": -1})"), Catch::Contains("'idle_baseline_s' = -1"));
   CHECK_THAT(error(R"({"meter": "file"})"), Catch::Contains("file.path"));
-  CHECK_THAT(error(R"({"rapl": 5})"), Catch::Contains("'rapl' must be a JSON object"));
+  CHECK_THAT(error(R"({"rapl": 5})"), Catch::Contains("'rapl' = 5") && Catch::Contains("a JSON object"));
   CHECK_THAT(error(R"({"reopen_min_ms": 500, "reopen_max_ms": 100})"), Catch::Contains("reopen_max_ms"));
   CHECK_THAT(error(R"([1, 2])"), Catch::Contains("must be a JSON object"));
 }
@@ -77,4 +79,27 @@ TEST_CASE("power config: every registered meter name is accepted", "[power][conf
     CHECK(parsePowerConfig(j).meter == name);
   }
   CHECK(meterNames().size() == 8);
+}
+
+TEST_CASE("power config: a meter's settings come from its own parser", "[power][config]") {
+  // The registry entry reads the section with the meter's settings struct (smartpower3.h), defaults filled in.
+  const MeterType* type = findMeterType("smartpower3");
+  REQUIRE(type != nullptr);
+  REQUIRE(type->readSettings);
+  sb::ConfigReader section(json{{"channel", "both"}}, "test", "smartpower3");
+  SmartPower3Settings expected;
+  expected.channel = "both";
+  CHECK(type->readSettings(section, true) == expected.toJson());
+  // parsePowerConfig hands each section to that parser: what it stores is the meter's own reading.
+  const PowerConfig c = parsePowerConfig(json{{"meter", "smartpower3"}, {"smartpower3", {{"channel", "both"}}}});
+  CHECK(c.meters["smartpower3"] == expected.toJson());
+  CHECK(powerConfigToJson(PowerConfig{})["smartpower3"] == SmartPower3Settings{}.toJson());
+  // The meter's own checks (a baud rate in range that the serial port does not offer) name the dotted key.
+  sb::ConfigReader odd(json{{"baud", 100000}}, "power.json", "smartpower3");
+  SmartPower3Settings s;
+  CHECK_THROWS_WITH(s.read(odd, false), Catch::Contains("power.json: 'smartpower3.baud' = 100000") &&
+                                            Catch::Contains("supported baud rate"));
+  // Every meter with settings has its section; "none" has none.
+  for (const MeterType& t : meterTypes()) CHECK(powerConfigToJson(PowerConfig{}).contains(t.name) == bool(t.readSettings));
+  CHECK_FALSE(findMeterType("none")->readSettings);
 }

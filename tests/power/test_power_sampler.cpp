@@ -8,7 +8,7 @@
 #include <mutex>
 #include <thread>
 
-#include "power/meter_registry.h"
+#include "power/power_config.h"
 #include "power/offline_accounting.h"
 #include "power/power_sampler.h"
 #include "tests/power/scripted_meter.h"

@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "power/clock.h"
 #include "power/file_meter.h"
-#include "power/meter_registry.h"
+#include "power/power_config.h"
 #include "power/offline_accounting.h"
 #include "power/power_trace.h"
 #include "tests/support/test_data.h"
@@ -111,7 +111,7 @@ TEST_CASE("file meter replays a trace at the pace of the clock, with its gaps", 
   writeExample(path);
   PowerConfig c;
   c.meter = "file";
-  c.file.path = path;
+  c.meters["file"]["path"] = path;
   ManualClock clock(50'000'000'000);
   auto meter = openMeter(c, clock);
   CHECK(meter->info().name == "file");

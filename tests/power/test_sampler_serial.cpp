@@ -18,8 +18,9 @@ TEST_CASE("sampler + smartpower2 on a pty: frames between lines get joules", "[p
   sb::test::PtySimulator sim(dir + "/ttyUSB0");
   PowerConfig c;
   c.meter = "smartpower2";
-  c.smartpower2.device = sim.path();
-  PowerSampler sampler(openSmartPower2(c, monotonicClock()), samplerOptions(c, dir + "/power.csv"));
+  SmartPower2Settings settings;
+  settings.device = sim.path();
+  PowerSampler sampler(openSmartPower2(settings, c.host(), monotonicClock()), samplerOptions(c, dir + "/power.csv"));
   sampler.start();
   auto waitSamples = [&](uint64_t n) {
     for (int i = 0; i < 2000 && sampler.meterStatus().samples < n; ++i)

@@ -8,7 +8,6 @@
 
 #include "core/error.h"
 #include "power/clock.h"
-#include "power/power_config.h"
 #include "power/smartpower1.h"
 #include "power/smartpower1_reply.h"
 
@@ -72,10 +71,9 @@ TEST_CASE("smartpower1: access denied names the udev rule; no device is a clear 
   CHECK(smartPower1OpenError("x", false).find("udev") == std::string::npos);
 
   // This machine has no SmartPower (if it ever has one, the meter must work instead).
-  PowerConfig c;
-  c.meter = "smartpower1";
+  SmartPower1Settings c;
   try {
-    auto meter = openSmartPower1(c, monotonicClock());
+    auto meter = openSmartPower1(c, {}, monotonicClock());
     std::vector<PowerSample> samples;
     meter->poll(samples);
     WARN("a SmartPower is attached: read " << samples.size() << " sample(s)");

@@ -7,7 +7,6 @@
 
 #include "core/error.h"
 #include "power/clock.h"
-#include "power/power_config.h"
 #include "power/smartpower2.h"
 #include "tests/power/pty_simulator.h"
 #include "tests/support/test_data.h"
@@ -33,12 +32,9 @@ TEST_CASE("smartpower2 parser accepts V,A,W,Wh lines and skips everything else",
 
 namespace {
 
-PowerConfig sp2Config(const std::string& device) {
-  PowerConfig c;
-  c.meter = "smartpower2";
-  c.smartpower2.device = device;
-  c.reopenMinMs = 250;
-  c.reopenMaxMs = 8000;
+SmartPower2Settings sp2Config(const std::string& device) {
+  SmartPower2Settings c;
+  c.device = device;
   return c;
 }
 
@@ -48,7 +44,7 @@ TEST_CASE("smartpower2 driver on a pty: banner, partial first line, garbage, spl
   const std::string dir = sb::test::scratchDir("power_sp2_lines");
   sb::test::PtySimulator sim(dir + "/ttyUSB0");
   ManualClock clock(5'000'000'000);
-  auto meter = openSmartPower2(sp2Config(sim.path()), clock);
+  auto meter = openSmartPower2(sp2Config(sim.path()), MeterHostSettings{250, 8000}, clock);
   CHECK(meter->info().name == "smartpower2");
   CHECK(meter->info().kind == SampleKind::instantaneous);
   REQUIRE(meter->waitFd() >= 0);
@@ -99,7 +95,7 @@ TEST_CASE("smartpower2 driver survives unplugging: reports the gap, reopens with
   const std::string dir = sb::test::scratchDir("power_sp2_unplug");
   sb::test::PtySimulator sim(dir + "/ttyUSB0");
   ManualClock clock(10'000'000'000);
-  auto meter = openSmartPower2(sp2Config(sim.path()), clock);
+  auto meter = openSmartPower2(sp2Config(sim.path()), MeterHostSettings{250, 8000}, clock);
   std::vector<PowerSample> samples;
   sim.write("0.000,0.000,0.000,0.000\r\n5.100,0.500,2.550,0.000\r\n");
   REQUIRE(sb::test::pollUntil(*meter, samples, 1));
@@ -156,7 +152,7 @@ TEST_CASE("smartpower2 driver survives unplugging: reports the gap, reopens with
 TEST_CASE("smartpower2 driver: a device that is not there at start is a clear error", "[power][smartpower2]") {
   const std::string dir = sb::test::scratchDir("power_sp2_absent");
   try {
-    openSmartPower2(sp2Config(dir + "/ttyUSB9"), monotonicClock());
+    openSmartPower2(sp2Config(dir + "/ttyUSB9"), {}, monotonicClock());
     FAIL("expected an error");
   } catch (const sb::Error& e) {
     const std::string what = e.what();

@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "power/clock.h"
-#include "power/power_config.h"
 #include "power/smartpower3.h"
 #include "tests/power/pty_simulator.h"
 #include "tests/support/test_data.h"
@@ -44,11 +43,10 @@ std::string makeLine(unsigned long ms, int inMv, int inMa, int inMw, int mv1, in
   return std::string(body) + tail;
 }
 
-PowerConfig sp3Config(const std::string& device, const std::string& channel = "1") {
-  PowerConfig c;
-  c.meter = "smartpower3";
-  c.smartpower3.device = device;
-  c.smartpower3.channel = channel;
+SmartPower3Settings sp3Config(const std::string& device, const std::string& channel = "1") {
+  SmartPower3Settings c;
+  c.device = device;
+  c.channel = channel;
   return c;
 }
 
@@ -108,9 +106,9 @@ TEST_CASE("smartpower3 driver on a pty: checksums, device-clock spacing, unplug 
   const std::string dir = sb::test::scratchDir("power_sp3");
   sb::test::PtySimulator sim(dir + "/ttyUSB0");
   ManualClock clock(50'000'000'000);
-  PowerConfig config = sp3Config(sim.path(), "2");
-  config.reopenMinMs = 100;
-  auto meter = openSmartPower3(config, clock);
+  MeterHostSettings host;
+  host.reopenMinMs = 100;
+  auto meter = openSmartPower3(sp3Config(sim.path(), "2"), host, clock);
   CHECK(meter->info().nominalPeriodNs == 10'000'000);
 
   std::vector<PowerSample> samples;

@@ -10,7 +10,6 @@
 #include "power/clock.h"
 #include "power/energy_counter.h"
 #include "power/ina231.h"
-#include "power/power_config.h"
 #include "power/rapl.h"
 #include "tests/support/test_data.h"
 
@@ -44,12 +43,11 @@ TEST_CASE("ina231: enables the configured rails and sums sensor_W", "[power][ina
   put(root / "3-0045/enable", "0\n");
   put(root / "3-0045/sensor_W", "0.080000\n");
 
-  PowerConfig c;
-  c.meter = "ina231";
-  c.ina231.root = root.string();
-  c.ina231.rails = {"a15", "mem", "gpu"};
+  Ina231Settings c;
+  c.root = root.string();
+  c.rails = {"a15", "mem", "gpu"};
   ManualClock clock(7'000'000'000);
-  auto meter = openIna231(c, clock);
+  auto meter = openIna231(c, {}, clock);
   CHECK(get(root / "3-0040/enable") == "1");
   CHECK(get(root / "3-0044/enable") == "1");
   CHECK(get(root / "3-0045/enable") == "0");  // a7 not configured
@@ -71,14 +69,13 @@ TEST_CASE("ina231: enables the configured rails and sums sensor_W", "[power][ina
 
 TEST_CASE("ina231: a missing tree or rail is a clear error", "[power][ina231]") {
   const fs::path root = sb::test::scratchDir("power_ina231_missing") + "/INA231";
-  PowerConfig c;
-  c.meter = "ina231";
-  c.ina231.root = root.string();
-  CHECK_THROWS_WITH(openIna231(c, monotonicClock()), Catch::Contains("not an ODROID XU3") && Catch::Contains(root.string()));
+  Ina231Settings c;
+  c.root = root.string();
+  CHECK_THROWS_WITH(openIna231(c, {}, monotonicClock()), Catch::Contains("not an ODROID XU3") && Catch::Contains(root.string()));
   put(root / "3-0040/enable", "1\n");
   put(root / "3-0040/sensor_W", "1.0\n");
-  c.ina231.rails = {"a15", "gpu"};
-  CHECK_THROWS_WITH(openIna231(c, monotonicClock()), Catch::Contains("rail 'gpu'") && Catch::Contains("0x0044"));
+  c.rails = {"a15", "gpu"};
+  CHECK_THROWS_WITH(openIna231(c, {}, monotonicClock()), Catch::Contains("rail 'gpu'") && Catch::Contains("0x0044"));
 }
 
 TEST_CASE("counter deltas wrap at max_energy_range_uj", "[power][rapl]") {
@@ -98,11 +95,10 @@ TEST_CASE("rapl: interval-average power from energy_uj, summed over package zone
   put(root / "intel-rapl:1/energy_uj", "1000\n");
   put(root / "intel-rapl:1/max_energy_range_uj", std::to_string(range) + "\n");
 
-  PowerConfig c;
-  c.meter = "rapl";
-  c.rapl.root = root.string();
+  RaplSettings c;
+  c.root = root.string();
   ManualClock clock(3'000'000'000);
-  auto meter = openRapl(c, clock);
+  auto meter = openRapl(c, {}, clock);
   CHECK(meter->info().kind == SampleKind::intervalAverage);
   CHECK(meter->info().device.find("intel-rapl:0:0") == std::string::npos);
   CHECK(meter->info().device.find("intel-rapl:1") != std::string::npos);
@@ -125,21 +121,20 @@ TEST_CASE("rapl: interval-average power from energy_uj, summed over package zone
   CHECK(samples[1].watts == Approx(10.0).epsilon(1e-12));
 
   // Explicit zones.
-  c.rapl.zones = {"intel-rapl:1"};
-  auto one = openRapl(c, clock);
+  c.zones = {"intel-rapl:1"};
+  auto one = openRapl(c, {}, clock);
   CHECK(one->info().device == (root / "intel-rapl:1").string());
 }
 
 TEST_CASE("rapl: no zones or unreadable counters are clear errors", "[power][rapl]") {
   const fs::path root = sb::test::scratchDir("power_rapl_empty") + "/powercap";
   fs::create_directories(root);
-  PowerConfig c;
-  c.meter = "rapl";
-  c.rapl.root = root.string();
-  CHECK_THROWS_WITH(openRapl(c, monotonicClock()), Catch::Contains("no RAPL package zone"));
-  c.rapl.root = (root / "absent").string();
-  CHECK_THROWS_WITH(openRapl(c, monotonicClock()), Catch::Contains("does not exist"));
-  c.rapl.root = root.string();
-  c.rapl.zones = {"intel-rapl:7"};
-  CHECK_THROWS_WITH(openRapl(c, monotonicClock()), Catch::Contains("intel-rapl:7/max_energy_range_uj"));
+  RaplSettings c;
+  c.root = root.string();
+  CHECK_THROWS_WITH(openRapl(c, {}, monotonicClock()), Catch::Contains("no RAPL package zone"));
+  c.root = (root / "absent").string();
+  CHECK_THROWS_WITH(openRapl(c, {}, monotonicClock()), Catch::Contains("does not exist"));
+  c.root = root.string();
+  c.zones = {"intel-rapl:7"};
+  CHECK_THROWS_WITH(openRapl(c, {}, monotonicClock()), Catch::Contains("intel-rapl:7/max_energy_range_uj"));
 }

@@ -19,6 +19,7 @@
 #include <sstream>
 
 #include "controller/tc_table.h"
+#include "core/config_reader.h"
 #include "core/error.h"
 #include "core/trajectory.h"
 #include "drivers/sequence.h"
@@ -53,21 +54,11 @@ struct BenchOptions {
   MatrixMode matrix;  // --plan, --run-index, --shard, --report-only
 };
 
-nlohmann::json readJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open '" + path + "'");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error("'" + path + "' is not valid JSON: " + e.what());
-  }
-}
-
 // The config file of one bench column: the user's config with the controller section's name (and extra
 // section keys) set.
 std::string writeColumnConfig(const BenchOptions& o, const std::string& label, const std::string& name,
                               const nlohmann::json& sectionPatch) {
-  nlohmann::json j = o.config.empty() ? nlohmann::json::object() : readJsonFile(o.config);
+  nlohmann::json j = o.config.empty() ? nlohmann::json::object() : readJsonConfig(o.config, "config file");
   nlohmann::json& c = j["controller"];
   if (c.is_string() || c.is_null()) c = nlohmann::json::object();
   c["name"] = name;

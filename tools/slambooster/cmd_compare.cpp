@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/config_reader.h"
 #include "core/error.h"
 #include "tools/slambooster/commands.h"
 
@@ -20,15 +21,9 @@ struct CompareArgs {
 
 nlohmann::json readSummary(const std::string& dir) {
   const std::string path = dir + "/summary.json";
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read '" + path + "': is '" + dir + "' a finished run's output directory?");
-  try {
-    nlohmann::json j = nlohmann::json::parse(in);
-    if (!j.is_object()) throw Error("'" + path + "' is not a JSON object");
-    return j;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error("'" + path + "' is not valid JSON (" + e.what() + ")");
-  }
+  if (!std::ifstream(path))
+    throw Error("cannot read '" + path + "': is '" + dir + "' a finished run's output directory?");
+  return readJsonConfig(path, "run summary");  // bounded nesting, line and column, objects only
 }
 
 double number(const nlohmann::json& j, const char* key, const std::string& dir) {

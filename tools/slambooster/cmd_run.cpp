@@ -20,6 +20,7 @@
 #include <sstream>
 
 #include "controller/registry.h"
+#include "core/config_reader.h"
 #include "core/error.h"
 #include "core/thread_pool.h"
 #include "core/trajectory.h"
@@ -78,17 +79,7 @@ struct RunSetup {
 
 // Reads the --config file: the pipeline keys (config/pipeline.json) and an optional "controller" section
 // (config/controller.json).
-nlohmann::json readConfigFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open config file '" + path + "' (check the path)");
-  try {
-    nlohmann::json j = nlohmann::json::parse(in);
-    if (!j.is_object()) throw Error("config file '" + path + "' must hold a JSON object");
-    return j;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error("config file '" + path + "' is not valid JSON: " + e.what());
-  }
-}
+nlohmann::json readConfigFile(const std::string& path) { return readJsonConfig(path, "config file"); }
 
 // defaults < sequence volume hints < config file < command-line flags.
 RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {

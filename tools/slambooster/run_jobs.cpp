@@ -18,6 +18,7 @@
 #include <sstream>
 #include <thread>
 
+#include "core/config_reader.h"
 #include "core/error.h"
 #include "tools/slambooster/claim.h"
 
@@ -81,13 +82,8 @@ bool jobDone(const std::string& outDir) {
 
 nlohmann::json readSummary(const std::string& outDir) {
   const std::string path = outDir + "/summary.json";
-  std::ifstream in(path);
-  if (!in) throw Error("missing '" + path + "' (the run did not finish; see run.log there)");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw Error("'" + path + "' is not valid JSON: " + e.what());
-  }
+  if (!std::ifstream(path)) throw Error("missing '" + path + "' (the run did not finish; see run.log there)");
+  return readJsonConfig(path, "run summary");  // bounded nesting, line and column, objects only
 }
 
 void runJobs(const std::vector<Job>& jobs, int parallel, bool quiet) {
