@@ -3,8 +3,10 @@
 frames flagged unconstrained, and of every other sequence's frames, per controller (frames with an ICP result;
 "constrained" as each run's frames.jsonl recorded it).
 
-    scripts/quality_flags.py BENCH_DIR [CORRIDOR_NAME]     (default stress-corridor; its segments.csv is read
-                                                           from the sequence directory its summary names)
+    scripts/quality_flags.py BENCH_DIR [CORRIDOR_NAME] [--threshold T]
+        CORRIDOR_NAME: default stress-corridor; its segments.csv is read from the sequence directory its summary
+        names. --threshold: flag frames whose recorded conditioning is below T instead of reading each run's
+        recorded "constrained" (runs made under another constrained_min_conditioning, compared alike).
 """
 import csv
 import json
@@ -22,6 +24,11 @@ def frames(path):
 def main(argv):
     if not argv:
         sys.exit(__doc__)
+    threshold = None
+    if "--threshold" in argv:
+        i = argv.index("--threshold")
+        threshold = float(argv[i + 1])
+        argv = argv[:i] + argv[i + 2:]
     runs = os.path.join(argv[0], "runs")
     corridor = argv[1] if len(argv) > 1 else "stress-corridor"
     wall = set()
@@ -41,12 +48,15 @@ def main(argv):
             for f in frames(log):
                 if "constrained" not in f:
                     continue
+                flagged = not f["constrained"]
+                if threshold is not None and "conditioning" in f:
+                    flagged = f["conditioning"] < threshold
                 if name == corridor:
                     if f["frame"] in wall:
-                        c[0] += not f["constrained"]
+                        c[0] += flagged
                         c[1] += 1
                 else:
-                    c[2] += not f["constrained"]
+                    c[2] += flagged
                     c[3] += 1
     print("| controller | wall-only frames flagged | frames of the other sequences flagged |")
     print("|---|---|---|")
