@@ -13,7 +13,7 @@ Knobs loadDseBestKnobs(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw Error("cannot open dse result '" + path + "' (run `slambooster dse SEQ --out DIR` first)");
   try {
-    const nlohmann::json j = nlohmann::json::parse(in);
+    const nlohmann::json j = readJsonConfig(path, "dse result");  // the one settings-file loader
     const nlohmann::json& best = j.contains("best") ? j.at("best") : j;
     if (best.is_null()) throw Error("dse result '" + path + "' has no setting under the ATE bound");
     return parseKnobs(best.at("knobs").get<std::string>());

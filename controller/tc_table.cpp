@@ -4,6 +4,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/config_reader.h"
 #include "core/error.h"
 
 namespace sb {
@@ -55,7 +56,7 @@ TcTable loadTcTable(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw Error("cannot open tc table '" + path + "' (build it with `slambooster profile`)");
   try {
-    return tcTableFromJson(nlohmann::json::parse(in), path);
+    return tcTableFromJson(readJsonConfig(path, "tc table"), path);  // the one settings-file loader
   } catch (const nlohmann::json::exception& e) {
     throw Error("tc table '" + path + "' is not valid JSON: " + e.what());
   }

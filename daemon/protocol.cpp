@@ -109,11 +109,6 @@ bool readControl(const nlohmann::json& args, ControlRequest& c, std::string& err
 
 }  // namespace
 
-const std::vector<std::string>& pinnableKnobs() {
-  static const std::vector<std::string> knobs = {"csr", "icp", "pd0", "pd1", "pd2", "tr", "ir"};
-  return knobs;
-}
-
 ParseResult parseRequest(std::string_view line) {
   ParseResult result;
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);

@@ -51,9 +51,6 @@ struct ParseResult {
 // Parses one request line (without the '\n'; a trailing '\r' is ignored). Never throws.
 ParseResult parseRequest(std::string_view line);
 
-// The knob names ?CONTROL may pin, in KNOBS order.
-const std::vector<std::string>& pinnableKnobs();
-
 // One processed frame as the SLAM thread publishes it: immutable once made.
 struct FrameReport {
   uint64_t frame = 0;                            // 0-based frame count of this run

@@ -229,10 +229,8 @@ void SlamWorker::runPasses() {
         pendingController_.clear();
         pinsChanged_ = true;
       }
-      if (pinsChanged_ || !pins_.empty()) {
-        // The controller's own choice, then the pins over it.
-        runner.pinKnobs(std::nullopt);
-        if (!pins_.empty()) runner.pinKnobs(pins_.apply(runner.nextKnobs()));
+      if (pinsChanged_) {  // the runner applies the pins over the controller's choice of every frame
+        runner.setPins(pins_);
         pinsChanged_ = false;
       }
       pinned = pins_.names();

@@ -19,10 +19,10 @@
 #include "controller/registry.h"
 #include "daemon/daemon_config.h"
 #include "daemon/frame_queue.h"
-#include "daemon/knob_pins.h"
 #include "daemon/protocol.h"
 #include "pipeline/config.h"
 #include "power/power_sampler.h"
+#include "runtime/knob_pins.h"
 
 namespace sb::daemon {
 

@@ -114,4 +114,9 @@ std::string formatKnobs(const Knobs& k) {
   return s.str();
 }
 
+const std::vector<std::string>& pinnableKnobs() {
+  static const std::vector<std::string> knobs = {"csr", "icp", "pd0", "pd1", "pd2", "tr", "ir"};
+  return knobs;
+}
+
 }  // namespace sb

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 namespace sb {
 
@@ -38,5 +39,8 @@ Knobs parseKnobs(const std::string& text, const Knobs& base = Knobs{});
 
 // The same syntax, every knob: "csr=1,icp=1e-05,pd=10:5:4,tr=1,ir=2".
 std::string formatKnobs(const Knobs& knobs);
+
+// The knob names that can be pinned one by one (the daemon's ?CONTROL, runtime/knob_pins.h), in KNOBS order.
+const std::vector<std::string>& pinnableKnobs();
 
 }  // namespace sb

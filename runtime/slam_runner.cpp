@@ -32,11 +32,6 @@ void SlamRunner::setController(std::unique_ptr<Controller> controller) {
   nextHalf_ = false;
 }
 
-void SlamRunner::pinKnobs(const std::optional<Knobs>& knobs) {
-  if (knobs) validateKnobs(*knobs);
-  pinned_ = knobs;
-}
-
 void SlamRunner::applyHalfPrecision(FrameRecord& rec) {
   // The config's opencl_half_storage forces half for the whole run; a controller's wish adds to it.
   ComputeBackend& backend = pipeline_.backend();
@@ -92,14 +87,14 @@ Decision SlamRunner::decide(const Observation& obs, FrameRecord& rec) {
 FrameRecord SlamRunner::step(const DepthFrame& frame) {
   FrameRecord rec;
   rec.startMonoNs = power::monotonicClock().nowNs();
-  rec.knobsPinned = pinned_.has_value();
+  rec.knobsPinned = !pins_.empty();
   applyHalfPrecision(rec);
   rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs(), nextStart_);
   Observation obs = observe(rec.result, frame);
   rec.decision = decide(obs, rec);
   // A controller may have the frame tracked once more (at other knobs) before it is finished; pinned knobs
   // are never replaced.
-  if (rec.decision.retrack && !pinned_) {
+  if (rec.decision.retrack && pins_.empty()) {
     pipeline_.retrackFrame(frame, depthScale_, *rec.decision.retrack, rec.result);
     obs = observe(rec.result, frame);
     const uint32_t firstTriggers = rec.decision.triggers;
@@ -115,7 +110,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   next_ = rec.decision.next;
   nextStart_ = IcpStart{rec.decision.nextStartPose, rec.decision.nextHoldBelowConditioning};
   nextHalf_ = rec.decision.halfPrecision;
-  if (pinned_) rec.decision.next = *pinned_;
+  rec.decision.next = nextKnobs();  // the controller's choice with the pins in place
   previousPose_ = r.T_camera_to_world;
   previousComputationMs_ = r.times.computationMs();
   ++frames_;

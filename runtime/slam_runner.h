@@ -14,6 +14,7 @@
 #include "drivers/frame_source.h"
 #include "pipeline/pipeline.h"
 #include "runtime/frame_record.h"
+#include "runtime/knob_pins.h"
 #include "runtime/output_sink.h"
 
 namespace sb {
@@ -33,9 +34,12 @@ class SlamRunner {
   // Replaces the controller from the next frame on; the next frame runs the new controller's initial knobs
   // (unless knobs are pinned).
   void setController(std::unique_ptr<Controller> controller);
-  // Pins the knobs of every following frame (validated; throws sb::Error), or unpins with nullopt. The
-  // controller still observes every frame and may still correct poses.
-  void pinKnobs(const std::optional<Knobs>& knobs);
+  // Pins knobs over the controller's choice from the next frame on: each frame runs the controller's knobs
+  // with `pins` in place (a partial set; empty: the controller's own). The controller still observes every
+  // frame and may still correct poses; no re-track while any knob is pinned.
+  void setPins(const KnobPins& pins) { pins_ = pins; }
+  // Pins every knob (validated; throws sb::Error), or unpins all with nullopt.
+  void pinKnobs(const std::optional<Knobs>& knobs) { pins_ = knobs ? KnobPins::all(*knobs) : KnobPins{}; }
   // Energy of the most recent frame whose energy is known (J), passed to the controller from now on.
   void setLatestJoules(double joules) { latestJoules_ = joules; }
   // Flushes every sink (files on disk reflect every frame so far).
@@ -43,8 +47,8 @@ class SlamRunner {
 
   const Controller& controller() const { return *controller_; }
   // The knobs the next frame will run with.
-  Knobs nextKnobs() const { return pinned_ ? *pinned_ : next_; }
-  const std::optional<Knobs>& pinnedKnobs() const { return pinned_; }
+  Knobs nextKnobs() const { return pins_.apply(next_); }
+  const KnobPins& pins() const { return pins_; }
   size_t frames() const { return frames_; }
   Pipeline& pipeline() { return pipeline_; }
 
@@ -60,7 +64,7 @@ class SlamRunner {
   double depthScale_;
   std::vector<std::unique_ptr<OutputSink>> sinks_;
   Knobs next_;
-  std::optional<Knobs> pinned_;
+  KnobPins pins_;
   IcpStart nextStart_;  // the controller's ICP start for the next frame
   bool nextHalf_ = false;                        // the controller's half-precision wish for the next frame
   std::optional<double> latestJoules_;

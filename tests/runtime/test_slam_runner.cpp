@@ -163,6 +163,32 @@ TEST_CASE("pinned knobs and a controller switch take effect from the next frame"
                                                             sb::parseKnobs("csr=2")));
 }
 
+TEST_CASE("partial pins hold their knobs over every choice of the controller, the rest stays its own",
+          "[runtime]") {
+  Fixture f;
+  // The controller alternates its integration rate and compute size every frame.
+  std::vector<sb::Decision> script;
+  for (int i = 0; i < 6; ++i) script.push_back(decision(i % 2 ? "csr=2,ir=1" : "csr=4,ir=2"));
+  sb::SlamRunner runner(*f.pipeline,
+                        std::make_unique<ScriptedController>("a", script, sb::parseKnobs("csr=2,ir=1")),
+                        sb::test::kRoomDepthScale);
+  sb::KnobPins pins;
+  pins.pin("csr", 2);
+  runner.setPins(pins);  // once: no re-pinning per frame
+  std::vector<int> csr, ir;
+  for (int i = 0; i < 5; ++i) {
+    const sb::FrameRecord r = runner.step(f.frame(size_t(i)));
+    csr.push_back(r.result.knobs.csr);
+    ir.push_back(r.result.knobs.integrationRate);
+    CHECK(r.knobsPinned);
+  }
+  CHECK(csr == std::vector<int>{2, 2, 2, 2, 2});
+  CHECK(ir == std::vector<int>{1, 2, 1, 2, 1});  // the controller's, frame by frame
+  runner.setPins(sb::KnobPins{});
+  CHECK(runner.nextKnobs().csr == 4);
+  CHECK_THROWS_AS(pins.pin("csr", 3), sb::Error);
+}
+
 TEST_CASE("a controller that chooses invalid knobs is named in the error", "[runtime]") {
   Fixture f;
   sb::Decision bad;

@@ -1,7 +1,7 @@
 #pragma once
-// Knobs pinned over the controller's choice through ?CONTROL: a set of (knob, value) pairs, validated when
-// set, applied to whatever the controller decides for each frame. Knob names: csr, icp, pd0, pd1, pd2, tr,
-// ir.
+// Knobs pinned over the controller's choice (the daemon's ?CONTROL, runtime/slam_runner.h): a partial set of
+// (knob, value) pairs, validated when set, applied to whatever the controller decides for each frame. Knob
+// names: pinnableKnobs() (pipeline/knobs.h).
 
 #include <map>
 #include <nlohmann/json.hpp>
@@ -10,7 +10,8 @@
 
 #include "pipeline/knobs.h"
 
-namespace sb::daemon {
+namespace sb {
+
 
 class KnobPins {
  public:
@@ -25,9 +26,11 @@ class KnobPins {
   Knobs apply(Knobs knobs) const;
   std::vector<std::string> names() const;
   nlohmann::json toJson() const;
+  // Every knob pinned to `knobs` (validated; throws sb::Error naming the problem).
+  static KnobPins all(const Knobs& knobs);
 
  private:
   std::map<std::string, double> values_;
 };
 
-}  // namespace sb::daemon
+}  // namespace sb

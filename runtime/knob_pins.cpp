@@ -1,13 +1,13 @@
-#include "daemon/knob_pins.h"
+#include "runtime/knob_pins.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "core/error.h"
-#include "daemon/protocol.h"
 
-namespace sb::daemon {
+namespace sb {
+
 
 namespace {
 
@@ -78,4 +78,17 @@ nlohmann::json KnobPins::toJson() const {
   return j;
 }
 
-}  // namespace sb::daemon
+KnobPins KnobPins::all(const Knobs& knobs) {
+  validateKnobs(knobs);
+  KnobPins pins;
+  pins.values_ = {{"csr", knobs.csr},
+                  {"icp", knobs.icpThreshold},
+                  {"pd0", knobs.pyramidIterations[0]},
+                  {"pd1", knobs.pyramidIterations[1]},
+                  {"pd2", knobs.pyramidIterations[2]},
+                  {"tr", knobs.trackingRate},
+                  {"ir", knobs.integrationRate}};
+  return pins;
+}
+
+}  // namespace sb
