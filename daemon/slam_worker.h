@@ -1,7 +1,8 @@
 #pragma once
-// The SLAM thread: pinned to the configured CPUs, it owns the compute pool, the pipeline, the controller and
-// the outputs (runtime/SlamRunner), takes frames from the FrameQueue, and publishes one immutable
-// FrameReport per frame through a callback that must not block (the daemon posts it to the event loop).
+// The SLAM thread: pinned to the configured CPUs, it owns the compute pool and one run per pass
+// (runtime/run.h: pipeline, controller, outputs, energy), takes frames from the FrameQueue, and publishes one
+// immutable FrameReport per frame through a callback that must not block (the daemon posts it to the event
+// loop).
 //
 // Other threads talk to it only through the thread-safe methods below; it applies controller switches and
 // pins between frames. Stopping: requestStop() and abort the queue; the thread finishes the frame in hand,
@@ -64,9 +65,10 @@ class SlamWorker {
   SlamWorker(const SlamWorker&) = delete;
   SlamWorker& operator=(const SlamWorker&) = delete;
 
-  // Before start(): feed every frame's interval to `sampler` (owned by the caller, started, outliving the
-  // worker), log its per-frame results to energy.jsonl of the pass, pass known joules to the controller and to
-  // `publish` (called on the SLAM thread; must not block). At the end the worker stops the sampler.
+  // Before start(): account every frame's energy with `sampler` (owned by the caller, started, outliving the
+  // worker; one runtime/EnergyAccount across passes): each pass's Run logs the results to its energy.jsonl and
+  // passes known joules to the controller and to `publish` (called on the SLAM thread; must not block). At the
+  // end the worker stops the sampler.
   void setPower(power::PowerSampler* sampler, EnergyPublish publish);
 
   void start();
