@@ -10,16 +10,12 @@
 
 #include "core/error.h"
 #include "core/json_text.h"
+#include "core/unix_address.h"
 
 namespace sb::client {
 
 UniqueFd connectUnix(const std::string& path) {
-  sockaddr_un addr{};
-  addr.sun_family = AF_UNIX;
-  if (path.size() >= sizeof addr.sun_path)
-    throw Error("socket path '" + path + "' is longer than " + std::to_string(sizeof addr.sun_path - 1) +
-                " bytes");
-  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
+  const sockaddr_un addr = unixSocketAddress(path);
   UniqueFd fd(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
   if (!fd.valid()) throw Error(std::string("socket(AF_UNIX) failed: ") + std::strerror(errno));
   if (connect(fd.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0)

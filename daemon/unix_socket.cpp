@@ -10,24 +10,15 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/unix_address.h"
 
 namespace sb::daemon {
 
 namespace {
 
-sockaddr_un address(const std::string& path) {
-  sockaddr_un addr{};
-  addr.sun_family = AF_UNIX;
-  if (path.size() >= sizeof addr.sun_path)
-    throw Error("socket path '" + path + "' is longer than " + std::to_string(sizeof addr.sun_path - 1) +
-                " bytes");
-  std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
-  return addr;
-}
-
 bool someoneListens(const std::string& path) {
   UniqueFd probe(socket(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0));
-  const sockaddr_un addr = address(path);
+  const sockaddr_un addr = unixSocketAddress(path);
   return probe.valid() && connect(probe.get(), reinterpret_cast<const sockaddr*>(&addr), sizeof addr) == 0;
 }
 
@@ -60,7 +51,7 @@ ListeningSocket openListeningSocket(const std::string& path, unsigned mode) {
     return s;
   }
 
-  const sockaddr_un addr = address(path);
+  const sockaddr_un addr = unixSocketAddress(path);
   struct stat st {};
   if (lstat(path.c_str(), &st) == 0) {
     if (!S_ISSOCK(st.st_mode))
