@@ -32,8 +32,9 @@ struct PipelineConfig {
   // Smallest normalised eigenvalue of the ICP normal matrix for a frame to count as "constrained"
   // (pipeline/tracking_quality.h): below it some motion is fixed by noise, not by the geometry in view.
   // Measured on synthetic Kinect-noise depth (README, Performance): a single plane gives at most 0.0005 at
-  // csr 1 and up to 0.0008 at csr 4-8 (stress-corridor's wall-only frames); furnished views fall below 0.001
-  // in 0.1-0.2% of their frames (1st percentile about 0.0018). Real depth is noisier: a real plane may sit higher.
+  // csr 1 but up to 0.002 at csr 4-8 (stress-corridor's wall-only frames), so coarse frames of a blank wall
+  // can pass as constrained; furnished views fall below 0.001 in 0.1-0.3% of their frames. Real depth is
+  // noisier: a real plane may sit higher.
   float constrainedMinConditioning = 0.001f;
 
   // --- volume (fixed per run) ---
