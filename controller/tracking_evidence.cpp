@@ -48,8 +48,8 @@ void MotionModel::learn(const Eigen::Isometry3d& previousPose, const Eigen::Isom
 
 Doubt TrackingEvidence::judge(const Observation& o, const Eigen::Isometry3d& predicted, bool usePrediction) const {
   if (!o.tracked) return {Doubt::failed, "track failed"};
-  if (o.quality.known && o.quality.conditioning < params_.weakConditioning)
-    return {Doubt::unconstrained, format("weakly constrained (conditioning %.2g", o.quality.conditioning) + ", " +
+  if (o.quality.known && o.quality.icpConditioning < params_.weakConditioning)
+    return {Doubt::unconstrained, format("weakly constrained (ICP conditioning %.2g", o.quality.icpConditioning) + ", " +
                                       weakDirectionName(o.quality.weakest) + ")"};
   const int pd0 = o.knobs.pyramidIterations[0];
   if (o.icpLevelIterations[0] >= pd0 && o.icpUpdateNorm > params_.maxUpdateNorm)

@@ -66,7 +66,7 @@ class TrackingEvidence {
   Doubt judge(const Observation& observation, const Eigen::Isometry3d& predicted, bool usePrediction) const;
   // The view fixes every motion well enough (conditioning at or above doubt_conditioning, or unknown).
   bool wellConstrained(const Observation& o) const {
-    return !o.quality.known || o.quality.conditioning >= params_.weakConditioning;
+    return !o.quality.known || o.quality.icpConditioning >= params_.weakConditioning;
   }
   // Adds a kept frame's inlier fraction to the recent history.
   void accept(const Observation& observation);

@@ -94,3 +94,39 @@ SB_INLINE void reduce(float* sums, SB_GLOBAL const float* trackOut, int index) {
   }
   sums[28] += 1.0f;
 }
+
+// The structure of the view (pipeline/tracking_quality.h): a block of pixels of one track output as a single
+// track row: an inlier when the block holds any inlier (`count` of them), residual 0, J = jSum / sqrt(count)
+// with jSum the sum of their J. reduce() over such rows gives sum over blocks of jSum jSum^T / count: each
+// block's mean row weighted by its size, so the structure of the view keeps its weight while normal noise
+// that is independent from pixel to pixel averages out over the block (its share falls by about `count`).
+SB_INLINE void blockRow(SB_GLOBAL float* row, const float* jSum, float count) {
+  if (count < 1.0f) {
+    row[0] = SB_TRACK_NO_INPUT;
+    return;
+  }
+  const float scale = 1.0f / sbSqrt(count);
+  row[0] = SB_TRACK_INLIER;
+  row[1] = 0.0f;
+  for (int i = 0; i < 6; ++i) row[2 + i] = jSum[i] * scale;
+}
+
+// blockRow for block (bx, by) of `block` x `block` pixels of a track output `width` x `height` (the last
+// blocks of a row or column hold what is left); writes row by * ceil(width / block) + bx of `out`.
+SB_INLINE void trackBlock(SB_GLOBAL float* out, SB_GLOBAL const float* trackOut, int width, int height, int block,
+                          int bx, int by) {
+  const int blocksX = (width + block - 1) / block;
+  float jSum[6] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  float count = 0.0f;
+  const int x1 = (bx + 1) * block < width ? (bx + 1) * block : width;
+  const int y1 = (by + 1) * block < height ? (by + 1) * block : height;
+  for (int y = by * block; y < y1; ++y) {
+    for (int x = bx * block; x < x1; ++x) {
+      SB_GLOBAL const float* row = trackOut + SB_TRACK_STRIDE * (y * width + x);
+      if (row[0] != SB_TRACK_INLIER) continue;
+      count += 1.0f;
+      for (int i = 0; i < 6; ++i) jSum[i] += row[2 + i];
+    }
+  }
+  blockRow(out + SB_TRACK_STRIDE * (by * blocksX + bx), jSum, count);
+}

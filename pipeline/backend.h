@@ -34,6 +34,12 @@ class ComputeBackend {
   virtual TrackSums track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                           StageTimes& times) = 0;
 
+  // The structure of the view (pipeline/tracking_quality.h): the output of the last track call, summed per
+  // block of `block` x `block` pixels of its level (kernels/track.h's trackBlock), then reduced like track's:
+  // [7..27] the blocks' J^T J, [28] the number of blocks holding an inlier, [0..6] 0. block 1 gives track's
+  // J^T J. Throws sb::Error when no track ran since the last preprocess or raycast.
+  virtual TrackSums blockSums(int block, StageTimes& times) = 0;
+
   // integrate: fuses the last preprocessed frame's depth (compute size, unfiltered) seen from cameraToWorld.
   virtual void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) = 0;
 

@@ -52,6 +52,7 @@ const std::vector<IntField>& intFields() {
       {"bootstrap_frames", &PipelineConfig::bootstrapFrames, 1, 1000},
       {"volume_resolution", &PipelineConfig::volumeResolution, 8, 1024},
       {"max_weight", &PipelineConfig::maxWeight, 1, 32767},
+      {"quality_block_px", &PipelineConfig::qualityBlockPixels, 1, 256},
   };
   return fields;
 }

@@ -29,13 +29,16 @@ struct PipelineConfig {
   float trackedMaxResidual = 0.02f;     // metres: RMS point-to-plane residual of a tracked frame
   float trackedMinInliers = 0.15f;      // fraction of the compute-size pixels that must be inliers
   int bootstrapFrames = 4;              // frames integrated at the initial pose before tracking starts
-  // Smallest normalised eigenvalue of the ICP normal matrix for a frame to count as "constrained"
-  // (pipeline/tracking_quality.h): below it some motion is fixed by noise, not by the geometry in view.
-  // Measured on synthetic Kinect-noise depth (README, Performance): a single plane gives at most 0.0005 at
-  // csr 1 but up to 0.002 at csr 4-8 (stress-corridor's wall-only frames), so coarse frames of a blank wall
-  // can pass as constrained; furnished views fall below 0.001 in 0.1-0.3% of their frames. Real depth is
-  // noisier: a real plane may sit higher.
-  float constrainedMinConditioning = 0.001f;
+  // Smallest conditioning of the view's structure (pipeline/tracking_quality.h, blocks of qualityBlockPixels)
+  // for a frame to count as "constrained": below it some motion is fixed by noise, not by the geometry in view.
+  // Measured on synthetic Kinect-noise depth (README, Performance): stress-corridor's wall-only frames give at
+  // most 0.0004 whatever the compute size and integration rate; the weakest furnished views 0.0001-0.0003
+  // (a wall with a sliver of structure: those are flagged too), the 7-Scenes kitchen at least 0.01.
+  float constrainedMinConditioning = 0.0003f;
+  // Side, in sensor pixels, of the blocks whose rows are summed before the conditioning is taken
+  // (pipeline/tracking_quality.h; at least one pixel of the tracked level): per-pixel normal noise falls by
+  // about the block's inliers, structure larger than a block keeps its weight. 1: the per-pixel conditioning.
+  int qualityBlockPixels = 32;
 
   // --- volume (fixed per run) ---
   int volumeResolution = 256;                           // voxels per side (multiple of 8)

@@ -117,7 +117,13 @@ bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
   r.residual = inliers > 0 ? std::sqrt(last[0] / inliers) : 0.0;
   const bool ok = inliers > 0 && r.residual <= config_.trackedMaxResidual &&
                   r.inlierFraction >= config_.trackedMinInliers && estimate.matrix().allFinite();
-  r.quality = trackingQuality(last, estimate, config_.constrainedMinConditioning);
+  if (lastLevel >= 0) {
+    // Blocks of about qualityBlockPixels sensor pixels: the model's noise is correlated over a few voxels, so a
+    // block must span a similar patch of the scene whatever the compute size.
+    const int block = std::max(1, config_.qualityBlockPixels / (knobs.csr << lastLevel));
+    const TrackSums blocks = backend_->blockSums(block, r.times);
+    r.quality = trackingQuality(last, blocks, estimate, config_.constrainedMinConditioning);
+  }
   pose_ = ok ? estimate : previous;
   return ok;
 }

@@ -12,20 +12,20 @@ const char* weakDirectionName(WeakDirection d) {
   return names[static_cast<int>(d)];
 }
 
-TrackingQuality trackingQuality(const TrackSums& sums, const Eigen::Isometry3d& T_camera_to_world,
-                                double minConditioning) {
-  TrackingQuality q;
-  q.known = true;
-  q.constrained = false;
-  const double inliers = sums[28];
+namespace {
+
+// The smallest eigenvalue of J^T J (from `sums`) normalised per inlier (tracking_quality.h) and the camera
+// axis its eigenvector lies along most; false when the matrix is not usable.
+bool weakestMotion(const TrackSums& sums, double inliers, const Eigen::Isometry3d& T_camera_to_world,
+                   double& value, WeakDirection& axis) {
   Matrix6 A, An, T;
   Twist b;
   icpNormalEquations(sums, A, b);
-  if (inliers < kMinIcpInliers || !A.allFinite()) return q;
-  if (!normalisedNormalMatrix(A, inliers, T_camera_to_world, An, T)) return q;
+  if (!A.allFinite()) return false;
+  if (!normalisedNormalMatrix(A, inliers, T_camera_to_world, An, T)) return false;
   Eigen::SelfAdjointEigenSolver<Matrix6> eig(An);
-  if (eig.info() != Eigen::Success) return q;
-  q.conditioning = std::max(0.0, eig.eigenvalues()(0));  // ascending order
+  if (eig.info() != Eigen::Success) return false;
+  value = std::max(0.0, eig.eigenvalues()(0));  // ascending order
   // The weakest motion in camera axes: translation part and rotation part rotated into the camera frame.
   const Eigen::Matrix<double, 6, 1> v = eig.eigenvectors().col(0);
   const Eigen::Matrix3d toCamera = T_camera_to_world.linear().transpose();
@@ -33,7 +33,22 @@ TrackingQuality trackingQuality(const TrackSums& sums, const Eigen::Isometry3d& 
   camera << toCamera * v.head<3>(), toCamera * v.tail<3>();
   Eigen::Index largest = 0;
   camera.cwiseAbs().maxCoeff(&largest);
-  q.weakest = static_cast<WeakDirection>(largest);
+  axis = static_cast<WeakDirection>(largest);
+  return true;
+}
+
+}  // namespace
+
+TrackingQuality trackingQuality(const TrackSums& icp, const TrackSums& blocks,
+                                const Eigen::Isometry3d& T_camera_to_world, double minConditioning) {
+  TrackingQuality q;
+  q.known = true;
+  q.constrained = false;
+  const double inliers = icp[28];
+  if (inliers < kMinIcpInliers) return q;
+  WeakDirection unused = WeakDirection::tx;
+  if (!weakestMotion(icp, inliers, T_camera_to_world, q.icpConditioning, unused)) return q;
+  if (!weakestMotion(blocks, inliers, T_camera_to_world, q.conditioning, q.weakest)) return q;
   q.constrained = q.conditioning >= minConditioning;
   return q;
 }

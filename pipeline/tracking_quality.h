@@ -9,10 +9,17 @@
 //   - the rotational columns are scaled so that the rotational block carries the same trace as the
 //     translational one (which is the inlier count, since normals have unit length): translation and rotation
 //     then weigh alike whatever the scene's depth, and the result is scale-free;
-//   - divided by the inlier count, the matrix has trace 2 and its smallest eigenvalue (the "conditioning") is
-//     the mean squared share of a point's constraint that lies along the weakest motion: 0 for an exactly
-//     unconstrained motion, 1/3 at most (three orthogonal planes seen alike); the furnished rooms of the bench
-//     set give 0.001-0.03, a single plane under depth noise at most 0.0005.
+//   - divided by the inlier count, the matrix has trace 2 and its smallest eigenvalue is the mean squared
+//     share of a point's constraint that lies along the weakest motion: 0 for an exactly unconstrained motion,
+//     1/3 at most (three orthogonal planes seen alike).
+// Normal noise puts a floor under that number: in front of a plane, the in-plane part of every measured normal
+// constrains the sliding a little, by its variance. The floor is the model's noise (the reference normals are
+// raycast from the TSDF), so it rises when fewer frames are fused: on stress-corridor's wall-only frames from
+// at most 0.0004 when every frame is integrated to 0.0025 when one in eight is, above the weakest furnished
+// views (0.001). So the reported "conditioning" is that of the view's structure: the same matrix with the rows
+// of each block of `block` x `block` pixels summed first (ComputeBackend::blockSums): structure is coherent
+// over a block and keeps its weight, independent noise averages out (its share falls by the block's inliers).
+// The per-pixel value stays as "ICP conditioning" (what the adaptive controller's doubt reads).
 // A frame is "constrained" when its conditioning is at least PipelineConfig::constrainedMinConditioning.
 
 #include <Eigen/Geometry>
@@ -28,15 +35,17 @@ const char* weakDirectionName(WeakDirection d);  // "tx", "ty", "tz", "rx", "ry"
 
 struct TrackingQuality {
   bool known = false;          // false when no ICP pass ran (bootstrap frames, frames skipped by tr)
-  double conditioning = 0.0;   // smallest eigenvalue of the normalised normal matrix (see above), [0, 1]
-  WeakDirection weakest = WeakDirection::tx;  // the camera axis the weakest motion lies along most
+  double conditioning = 0.0;     // of the view's structure (block rows, see above), [0, 1/3]
+  double icpConditioning = 0.0;  // of the per-pixel ICP normal matrix, [0, 1/3]
+  WeakDirection weakest = WeakDirection::tx;  // the camera axis the structure's weakest motion lies along most
   bool constrained = true;     // conditioning >= the configured minimum (true when not known)
 };
 
-// The quality of the ICP problem whose reduced sums are `sums` (kernels/track.h layout, Jacobian columns in
-// the volume frame), solved around the camera pose `T_camera_to_world`. `minConditioning`: the constrained
-// threshold. Fewer than kMinIcpInliers inliers or a non-finite matrix give conditioning 0, not constrained.
-TrackingQuality trackingQuality(const TrackSums& sums, const Eigen::Isometry3d& T_camera_to_world,
-                                double minConditioning);
+// The quality of the ICP problem whose reduced sums are `icp` (kernels/track.h layout, Jacobian columns in the
+// volume frame) and whose block sums are `blocks` (ComputeBackend::blockSums of the same pass), solved around
+// the camera pose `T_camera_to_world`. `minConditioning`: the constrained threshold. Fewer than kMinIcpInliers
+// inliers or a non-finite matrix give conditioning 0, not constrained.
+TrackingQuality trackingQuality(const TrackSums& icp, const TrackSums& blocks,
+                                const Eigen::Isometry3d& T_camera_to_world, double minConditioning);
 
 }  // namespace sb

@@ -45,6 +45,7 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   }
   if (r.quality.known) {
     j["conditioning"] = r.quality.conditioning;
+    j["icp_conditioning"] = r.quality.icpConditioning;
     j["weakest_motion"] = weakDirectionName(r.quality.weakest);
     j["constrained"] = r.quality.constrained;
   }

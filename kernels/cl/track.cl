@@ -1,4 +1,5 @@
-// OpenCL wrappers of kernels/track.h. track: one pixel per work-item. reduce: two passes that leave only the
+// OpenCL wrappers of kernels/track.h. track: one pixel per work-item. block: one block of track output per
+// work-item (kernels/track.h's trackBlock), reduced like pixels. reduce: two passes that leave only the
 // SB_REDUCE_SIZE sums for the host to read: reduceKernel sums a strided share of the pixels per work-item
 // (kernels/track.h's reduce) and the work-items of a group in local memory, one partial per group;
 // reduceFinalKernel sums the partials in group order (in double where the device has cl_khr_fp64, else in
@@ -25,6 +26,11 @@ __kernel void trackKernel(__global float* out, __global const sb_map_t* inVertex
   if (x < width && y < height)
     track(out, inVertex, inNormal, width, refVertex, refNormal, refWidth, refHeight, cameraToWorld, worldToRefPixel,
           distanceThreshold, normalThreshold, x, y);
+}
+
+__kernel void blockKernel(__global float* out, __global const float* trackOut, int width, int height, int block) {
+  const int bx = get_global_id(0), by = get_global_id(1);
+  if (bx * block < width && by * block < height) trackBlock(out, trackOut, width, height, block, bx, by);
 }
 
 __kernel void reduceKernel(__global float* partial, __global const float* trackOut, int pixels) {

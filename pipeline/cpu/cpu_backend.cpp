@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/error.h"
 #include "kernels/preprocess.h"
 #include "kernels/raycast.h"
 #include "kernels/track.h"
@@ -121,6 +122,7 @@ CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize,
 
 void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) {
   computeK_ = full_.scaled(csr);
+  hasTrack_ = false;
   const int w = computeK_.width, h = computeK_.height;
   const size_t n = static_cast<size_t>(w) * h;
   depth_.resize(n);
@@ -217,6 +219,8 @@ TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, c
   args.worldToRefPixel = toMat34(projection);
   args.distanceThreshold = config_.icpDistanceThreshold;
   args.normalThreshold = config_.icpNormalThreshold;
+  lastTrack_ = args;
+  hasTrack_ = true;
   const int chunks = ThreadPool::chunkCount(0, args.height, kRowsPerChunk);
   std::vector<TrackSums> partial(chunks);
   std::vector<double> trackMs(chunks), reduceMs(chunks);
@@ -245,6 +249,26 @@ TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, c
   const double share = trackSum + reduceSum > 0 ? trackSum / (trackSum + reduceSum) : 0.5;
   times[Stage::track] += wall * share;
   times[Stage::reduce] += wall * (1.0 - share);
+  return total;
+}
+
+TrackSums CpuBackend::blockSums(int block, StageTimes& times) {
+  if (!hasTrack_) throw Error("CpuBackend::blockSums called without a track since the last preprocess or raycast");
+  if (block < 1) throw Error("CpuBackend::blockSums: block " + std::to_string(block) + " is not positive");
+  StageTimer t(times, Stage::track);  // mostly the track pass run again (the block sums are cheap)
+  const TrackInputs& args = lastTrack_;
+  const int blocksY = (args.height + block - 1) / block;
+  const int perChunk = std::max(1, kRowsPerChunk / block);  // block rows per chunk: bands start on a block
+  std::vector<TrackSums> partial(ThreadPool::chunkCount(0, blocksY, perChunk));
+  pool_.parallelFor(0, blocksY, perChunk, [&](int chunk, int b0, int b1) {
+    thread_local TrackBand band;
+    trackBand(args, b0 * block, std::min(b1 * block, args.height), band);
+    partial[chunk].fill(0.0);
+    reduceBandBlocks(band, args.width, block, partial[chunk]);
+  });
+  TrackSums total{};
+  for (const TrackSums& p : partial)
+    for (int i = 0; i < SB_REDUCE_SIZE; ++i) total[i] += p[i];
   return total;
 }
 
@@ -334,6 +358,7 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
 void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) {
   StageTimer t(times, Stage::raycast);
   referenceK_ = full_.scaled(csr);
+  hasTrack_ = false;
   const int w = referenceK_.width, h = referenceK_.height;
   referenceVertex_.resize(3 * static_cast<size_t>(w) * h);
   referenceNormal_.resize(3 * static_cast<size_t>(w) * h);

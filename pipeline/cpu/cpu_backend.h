@@ -14,6 +14,7 @@
 #include "core/thread_pool.h"
 #include "pipeline/backend.h"
 #include "pipeline/config.h"
+#include "pipeline/cpu/cpu_track.h"
 #include "pipeline/cpu/integrate_cull.h"
 
 namespace sb {
@@ -30,6 +31,7 @@ class CpuBackend : public ComputeBackend {
   void preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) override;
   TrackSums track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                   StageTimes& times) override;
+  TrackSums blockSums(int block, StageTimes& times) override;  // runs the last track pass again, in blocks
   void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) override;
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
@@ -60,6 +62,9 @@ class CpuBackend : public ComputeBackend {
   Intrinsics computeK_;          // of the last preprocessed frame
   std::vector<float> depth_;     // mm2meters output (compute size, metres), used by integrate
   std::array<Level, kPyramidLevels> levels_;
+
+  TrackInputs lastTrack_;  // of the last track call, for blockSums
+  bool hasTrack_ = false;  // lastTrack_'s maps are unchanged since (no preprocess or raycast)
 
   Intrinsics referenceK_;
   std::vector<float> referenceVertex_, referenceNormal_;

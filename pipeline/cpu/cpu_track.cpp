@@ -1,5 +1,6 @@
 #include "pipeline/cpu/cpu_track.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -181,6 +182,32 @@ void reduceBand(const TrackBand& band, TrackSums& sums) {
   sums[29] += band.tooFar;
   sums[30] += band.badNormal;
   sums[31] += band.noCorrespondence;
+}
+
+void reduceBandBlocks(const TrackBand& band, int width, int block, TrackSums& sums) {
+  float partial[SB_REDUCE_SIZE] = {};
+  float row[SB_TRACK_STRIDE];
+  const size_t stride = static_cast<size_t>(band.stride);
+  for (int r0 = 0; r0 < band.rows; r0 += block) {
+    const int r1 = std::min(r0 + block, band.rows);
+    for (int x0 = 0; x0 < width; x0 += block) {
+      const int x1 = std::min(x0 + block, width);
+      float jSum[6] = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+      float count = 0.0f;
+      for (int r = r0; r < r1; ++r) {
+        const float* j = band.values.data() + (static_cast<size_t>(r) * TrackBand::kTrackTerms + 1) * stride;
+        for (int x = x0; x < x1; ++x) {
+          // J of a pixel that is no inlier is 0; an inlier's translational part is its unit reference normal.
+          if (j[x] == 0.0f && j[stride + x] == 0.0f && j[2 * stride + x] == 0.0f) continue;
+          count += 1.0f;
+          for (int i = 0; i < 6; ++i) jSum[i] += j[i * stride + x];
+        }
+      }
+      blockRow(row, jSum, count);
+      reduce(partial, row, 0);
+    }
+  }
+  for (int i = 0; i < SB_REDUCE_SIZE; ++i) sums[i] += partial[i];
 }
 
 }  // namespace sb

@@ -49,6 +49,12 @@ void trackBand(const TrackInputs& in, int y0, int y1, TrackBand& band);
 // result depends on the band's rows only.
 void reduceBand(const TrackBand& band, TrackSums& sums);
 
+// The blocks of `block` x `block` pixels of `band` (image `width` pixels wide; blocks start at the band's
+// first row) as kernels/track.h's trackBlock rows, reduced: adds their reduce() sums (in float per band,
+// blocks in row-major order) to `sums`. The same blocks, in the same order, as trackBlock over the image
+// when the band starts at a multiple of `block`.
+void reduceBandBlocks(const TrackBand& band, int width, int block, TrackSums& sums);
+
 // The largest float s with sqrtf(s) <= distance: sqrtf(s) > distance exactly when s > this (for s >= 0), so
 // track() can compare squared lengths without a square root and reject the same pairs.
 float squaredDistanceLimit(float distance);

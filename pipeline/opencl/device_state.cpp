@@ -1,5 +1,6 @@
 #include "pipeline/opencl/device_state.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -31,6 +32,7 @@ Kernels::Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfSt
   depth2vertex = createKernel(p, "depth2vertexKernel");
   vertex2normal = createKernel(p, "vertex2normalKernel");
   track = createKernel(p, "trackKernel");
+  block = createKernel(p, "blockKernel");
   reduce = createKernel(p, "reduceKernel");
   reduceFinal = createKernel(p, "reduceFinalKernel");
   initVolume = createKernel(p, "initVolumeKernel");
@@ -70,6 +72,7 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
     levels[l].normal = createBuffer(ctx, CL_MEM_READ_WRITE, 3 * ln * f, "pyramid normals");
   }
   trackOut = createBuffer(ctx, CL_MEM_READ_WRITE, SB_TRACK_STRIDE * n * f, "track output");
+  blockOut = createBuffer(ctx, CL_MEM_READ_WRITE, SB_TRACK_STRIDE * n * f, "block rows");
   partial = createBuffer(ctx, CL_MEM_READ_WRITE, opencl::kMaxReduceGroups * SB_REDUCE_SIZE * f, "reduce partials");
   sums = createBuffer(ctx, CL_MEM_READ_WRITE, SB_REDUCE_SIZE * sizeof(double), "reduce sums");
   referenceVertex = createBuffer(ctx, CL_MEM_READ_WRITE, 3 * n * f, "raycast vertices");
@@ -181,6 +184,16 @@ std::vector<std::pair<opencl::Buffer*, size_t>> OpenClBackend::State::maps() {
   out.emplace_back(&referenceVertex, 3 * pixels(referenceK, hasReference));
   out.emplace_back(&referenceNormal, 3 * pixels(referenceK, hasReference));
   return out;
+}
+
+TrackSums OpenClBackend::State::reduceRows(const opencl::Buffer& rowsBuffer, int rows) {
+  const opencl::Kernels& k = kernels();
+  const size_t perGroup = opencl::kReduceGroup * opencl::kPixelsPerReduceItem;
+  const int groups = static_cast<int>(std::clamp<size_t>((rows + perGroup - 1) / perGroup, 1, opencl::kMaxReduceGroups));
+  launcher.run(Stage::reduce, k.reduce, {groups * opencl::kReduceGroup, 1, 1}, {opencl::kReduceGroup, 1, 1}, partial,
+               rowsBuffer, rows);
+  launcher.run(Stage::reduce, k.reduceFinal, {SB_REDUCE_SIZE, 1, 1}, {SB_REDUCE_SIZE, 1, 1}, sums, partial, groups);
+  return readSums();
 }
 
 }  // namespace sb

@@ -26,7 +26,7 @@ struct Kernels {
 
   Program program;
   Kernel mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal;
-  Kernel track, reduce, reduceFinal;
+  Kernel track, block, reduce, reduceFinal;
   Kernel initVolume, integrate, superFlags;
   Kernel raycast, render;
   Kernel halfToFloat, floatToHalf;
@@ -48,6 +48,8 @@ struct OpenClBackend::State {
   void upload(const DepthRaw& raw);  // into `raw` through a mapping
   void read(const opencl::Buffer& buffer, void* out, size_t bytes);
   TrackSums readSums();
+  // reduce + reduceFinal over `rows` track rows (kernels/track.h layout) of `rowsBuffer`; the sums read back.
+  TrackSums reduceRows(const opencl::Buffer& rowsBuffer, int rows);
   std::vector<float> readMap(const opencl::Buffer& buffer, size_t count);  // count values of the current storage
   void convert(opencl::Buffer& buffer, size_t count, bool toHalf);
   // Every map buffer with the number of values it currently holds.
@@ -66,6 +68,9 @@ struct OpenClBackend::State {
   opencl::Buffer depth;     // mm2meters output (compute size), read by integrate
   std::array<Level, kPyramidLevels> levels;
   opencl::Buffer trackOut, partial, sums;
+  opencl::Buffer blockOut;                   // blockKernel's rows (as many as pixels: block 1 at most)
+  Intrinsics trackK;                         // the level of the last track call
+  bool hasTrack = false;                     // trackOut holds a track since the last preprocess or raycast
   opencl::Buffer referenceVertex, referenceNormal;
   opencl::Buffer volume, blockFlags, superFlags;  // superFlags only when the resolution is a multiple of 32
   opencl::Buffer image;                           // render output

@@ -22,6 +22,7 @@ const Launcher::Size3 kLinearGroup{128, 1, 1};
 
 Launcher::Size3 imageSize(const Intrinsics& k) { return {size_t(k.width), size_t(k.height), 1}; }
 
+
 }  // namespace
 
 OpenClBackend::OpenClBackend(const PipelineConfig& config, const Intrinsics& fullSize, const opencl::DeviceInfo& device)
@@ -43,6 +44,7 @@ void OpenClBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr
   s.computeK = s.full.scaled(csr);
   for (int l = 0; l < kPyramidLevels; ++l) s.levels[l].k = s.full.scaled(csr << l);
   s.hasFrame = true;
+  s.hasTrack = false;
   const opencl::Kernels& k = s.kernels();
   Launcher& q = s.launcher;
   const PipelineConfig& c = s.config;
@@ -79,14 +81,23 @@ TrackSums OpenClBackend::track(int level, const Eigen::Isometry3f& cameraToWorld
         in.k.height, s.referenceVertex, s.referenceNormal, s.referenceK.width, s.referenceK.height,
         toMat34(cameraToWorld.matrix()), toMat34(projection), s.config.icpDistanceThreshold,
         s.config.icpNormalThreshold);
-  const int pixels = in.k.width * in.k.height;
-  const size_t perGroup = opencl::kReduceGroup * opencl::kPixelsPerReduceItem;
-  const int groups = static_cast<int>(std::clamp<size_t>((pixels + perGroup - 1) / perGroup, 1, opencl::kMaxReduceGroups));
-  q.run(Stage::reduce, k.reduce, {groups * opencl::kReduceGroup, 1, 1}, {opencl::kReduceGroup, 1, 1}, s.partial,
-        s.trackOut, pixels);
-  q.run(Stage::reduce, k.reduceFinal, {SB_REDUCE_SIZE, 1, 1}, {SB_REDUCE_SIZE, 1, 1}, s.sums, s.partial, groups);
-  const TrackSums sums = s.readSums();
+  s.trackK = in.k;
+  s.hasTrack = true;
+  const TrackSums sums = s.reduceRows(s.trackOut, in.k.width * in.k.height);
   q.finish(times, start);
+  return sums;
+}
+
+TrackSums OpenClBackend::blockSums(int block, StageTimes& times) {
+  State& s = *s_;
+  if (!s.hasTrack) throw Error("OpenClBackend::blockSums called without a track since the last preprocess or raycast");
+  if (block < 1) throw Error("OpenClBackend::blockSums: block " + std::to_string(block) + " is not positive");
+  const auto start = Clock::now();
+  const int blocksX = (s.trackK.width + block - 1) / block, blocksY = (s.trackK.height + block - 1) / block;
+  s.launcher.run(Stage::reduce, s.kernels().block, {size_t(blocksX), size_t(blocksY), 1}, kImageGroup, s.blockOut,
+                 s.trackOut, s.trackK.width, s.trackK.height, block);
+  const TrackSums sums = s.reduceRows(s.blockOut, blocksX * blocksY);
+  s.launcher.finish(times, start);
   return sums;
 }
 
@@ -114,6 +125,7 @@ void OpenClBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, Sta
   const auto start = Clock::now();
   s.referenceK = s.full.scaled(csr);
   s.hasReference = true;
+  s.hasTrack = false;
   const PipelineConfig& c = s.config;
   const opencl::Buffer* blockFlags = c.emptySpaceSkipping ? &s.blockFlags : nullptr;
   const opencl::Buffer* superFlags = c.emptySpaceSkipping && s.superFlags ? &s.superFlags : nullptr;

@@ -26,6 +26,7 @@ class OpenClBackend : public ComputeBackend {
   void preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) override;
   TrackSums track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                   StageTimes& times) override;
+  TrackSums blockSums(int block, StageTimes& times) override;
   void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) override;
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;

@@ -37,7 +37,7 @@ struct Driver {
     o.knobs = knobs;
     o.icpLevelIterations = {1, 1, 1};
     o.inlierFraction = 0.6;
-    if (o.trackingAttempted) o.quality = {true, 0.1, sb::WeakDirection::tx, true};
+    if (o.trackingAttempted) o.quality = {true, 0.1, 0.1, sb::WeakDirection::tx, true};
     return o;
   }
   Decision finish(const Observation& o, Decision d) {
@@ -179,14 +179,14 @@ TEST_CASE("adaptive re-tracks an unconstrained view and goes finer only when tha
   REQUIRE(c.level() == 3);
   const auto wall = [&](bool secondConstrained) {
     Observation first = drive.observe(moveX(0.01));
-    first.quality = {true, 0.0002, sb::WeakDirection::ty, false};
+    first.quality = {true, 0.0002, 0.0002, sb::WeakDirection::ty, false};
     Decision d = c.decide(first);
     REQUIRE(d.retrack);
-    CHECK(d.reason == "retrack: weakly constrained (conditioning 0.0002, ty)");
+    CHECK(d.reason == "retrack: weakly constrained (ICP conditioning 0.0002, ty)");
     Observation second = first;
     second.retracked = true;
     second.knobs = *d.retrack;
-    if (secondConstrained) second.quality = {true, 0.1, sb::WeakDirection::tx, true};
+    if (secondConstrained) second.quality = {true, 0.1, 0.1, sb::WeakDirection::tx, true};
     d = c.decide(second);
     CHECK_FALSE(d.correctedPose);  // nothing says ICP is wrong along the motions the view does fix
     REQUIRE(d.integrate);
@@ -201,6 +201,11 @@ TEST_CASE("adaptive re-tracks an unconstrained view and goes finer only when tha
   d = wall(true);
   CHECK((d.triggers & sb::kTriggerUnconstrained) == 0);
   CHECK(d.level == 2);
+  // The doubt reads the per-pixel ICP conditioning (its threshold was set on it), not the structure's: a view
+  // whose structure is flagged but whose ICP problem is well conditioned is not re-tracked.
+  Observation flagged = drive.observe(moveX(0.01));
+  flagged.quality = {true, 0.0001, 0.1, sb::WeakDirection::tx, false};
+  CHECK_FALSE(c.decide(flagged).retrack);
 }
 
 TEST_CASE("adaptive holds the pose once a failure lasts longer than the extrapolation limit", "[controller][adaptive]") {
@@ -242,7 +247,7 @@ TEST_CASE("adaptive asks ICP to hold free motions only when configured", "[contr
   for (int i = 0; i < 6; ++i) CHECK(other.step(moveX(0.01)).nextHoldBelowConditioning == 0.0006);
   // A weak view does not stop the motion model: the next start is still the prediction.
   Observation wall = other.observe(moveX(0.01));
-  wall.quality = {true, 0.0001, sb::WeakDirection::tx, false};
+  wall.quality = {true, 0.0001, 0.0001, sb::WeakDirection::tx, false};
   const Decision d = other.finish(wall, on.decide(wall));
   CHECK(d.nextHoldBelowConditioning == 0.0006);
   CHECK(d.nextStartPose);

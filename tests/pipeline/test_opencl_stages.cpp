@@ -198,6 +198,17 @@ TEST_CASE("OpenCL integrate, raycast, track, reduce and render match the CPU bac
         // Half: the maps hold 1 mm steps at 2 m, which moves one ICP update by a few % (up to ~10% on the
         // coarsest level's 40x30 pixels); the runs in test_opencl_run.cpp check where tracking ends up.
         CHECK((xa - xb).norm() <= (half ? 0.15 * xb.norm() : 1e-5));
+        // The same pass in blocks of 4 pixels (the tracking quality's structure).
+        const sb::TrackSums ba = cl.blockSums(4, clTimes);
+        const sb::TrackSums bb = cpu.blockSums(4, cpuTimes);
+        CHECK(bb[28] > 10);
+        CHECK(std::fabs(ba[28] - bb[28]) <= 0.01 * bb[28] + 1);
+        double blockScale = 0;
+        for (int i = 7; i < 28; ++i) blockScale = std::fmax(blockScale, std::fabs(bb[i]));
+        for (int i = 7; i < 28; ++i) {
+          INFO("block sum " << i << ": opencl " << ba[i] << ", cpu " << bb[i]);
+          CHECK(std::fabs(ba[i] - bb[i]) <= (half ? 2e-2 : 1e-3) * blockScale);
+        }
       }
 
       const sb::Image<uint8_t> ia = cl.render({1.5f, 1.0f, 0.5f}, clTimes);

@@ -56,6 +56,11 @@ std::vector<Point> scene(const Eigen::Vector3d& c, int planes, double noise, dou
   return pts;
 }
 
+// The quality with every pixel its own block (blockSums at block 1 gives the ICP sums).
+sb::TrackingQuality quality(const sb::TrackSums& s, const Eigen::Isometry3d& pose, double minConditioning) {
+  return sb::trackingQuality(s, s, pose, minConditioning);
+}
+
 Eigen::Isometry3d at(const Eigen::Vector3d& c) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.translation() = c;
@@ -66,34 +71,34 @@ Eigen::Isometry3d at(const Eigen::Vector3d& c) {
 
 TEST_CASE("a single plane leaves motion unconstrained; three planes fix it", "[pipeline][quality]") {
   const Eigen::Vector3d c(2.5, 2.5, 1.5);
-  const sb::TrackingQuality wall = sb::trackingQuality(sums(scene(c, 1, 0.02)), at(c), 0.002);
+  const sb::TrackingQuality wall = quality(sums(scene(c, 1, 0.02)), at(c), 0.002);
   CHECK(wall.known);
   CHECK_FALSE(wall.constrained);
   CHECK(wall.conditioning < 0.002);
   const std::string weakest = sb::weakDirectionName(wall.weakest);
   CHECK((weakest == "tx" || weakest == "ty" || weakest == "rz"));  // sliding along the wall or turning about it
-  const sb::TrackingQuality corner = sb::trackingQuality(sums(scene(c, 3, 0.02)), at(c), 0.002);
+  const sb::TrackingQuality corner = quality(sums(scene(c, 3, 0.02)), at(c), 0.002);
   CHECK(corner.constrained);
   CHECK(corner.conditioning > 0.05);
   // Wall + floor: sideways sliding (camera x) is the free motion.
-  const sb::TrackingQuality two = sb::trackingQuality(sums(scene(c, 2, 0.0)), at(c), 0.002);
+  const sb::TrackingQuality two = quality(sums(scene(c, 2, 0.0)), at(c), 0.002);
   CHECK_FALSE(two.constrained);
   CHECK(sb::weakDirectionName(two.weakest) == std::string("tx"));
 }
 
 TEST_CASE("conditioning does not depend on the volume origin or the scene's scale", "[pipeline][quality]") {
   const Eigen::Vector3d c1(0.5, 0.5, 0.5), c2(4.0, 1.0, 3.0);
-  const double a = sb::trackingQuality(sums(scene(c1, 3, 0.01)), at(c1), 0.002).conditioning;
-  const double b = sb::trackingQuality(sums(scene(c2, 3, 0.01)), at(c2), 0.002).conditioning;
+  const double a = quality(sums(scene(c1, 3, 0.01)), at(c1), 0.002).conditioning;
+  const double b = quality(sums(scene(c2, 3, 0.01)), at(c2), 0.002).conditioning;
   CHECK(a == Approx(b).epsilon(1e-6));
-  const double scaled = sb::trackingQuality(sums(scene(c1, 3, 0.01, 2.5)), at(c1), 0.002).conditioning;
+  const double scaled = quality(sums(scene(c1, 3, 0.01, 2.5)), at(c1), 0.002).conditioning;
   CHECK(a == Approx(scaled).epsilon(1e-6));
 }
 
 TEST_CASE("too few inliers are not constrained", "[pipeline][quality]") {
   sb::TrackSums s{};
   s[28] = 3;
-  const sb::TrackingQuality q = sb::trackingQuality(s, Eigen::Isometry3d::Identity(), 0.002);
+  const sb::TrackingQuality q = quality(s, Eigen::Isometry3d::Identity(), 0.002);
   CHECK(q.known);
   CHECK_FALSE(q.constrained);
   CHECK(q.conditioning == 0.0);
@@ -133,4 +138,56 @@ TEST_CASE("holding free motions: no slide along a wall, the same update where ev
   sb::Twist again;
   REQUIRE(sb::solveIcpUpdate(wall, again));
   CHECK(held == again);
+}
+
+TEST_CASE("block sums: normal noise in front of a wall averages out, the structure of a corner stays",
+          "[pipeline][quality]") {
+  using Row = Eigen::Matrix<double, 6, 1>;
+  // J^T J and the row count of Jacobian rows.
+  const auto normalSums = [](const std::vector<Row>& rows) {
+    sb::TrackSums s{};
+    for (const Row& j : rows) {
+      int k = 7;
+      for (int a = 0; a < 6; ++a)
+        for (int b = a; b < 6; ++b) s[size_t(k++)] += j(a) * j(b);
+      s[28] += 1;
+    }
+    return s;
+  };
+  const Eigen::Vector3d c(2.5, 2.5, 1.5);
+  for (const int planes : {1, 3}) {
+    INFO(planes << " plane(s)");
+    // Blocks as an image makes them: 16 neighbouring points of one plane (within 2 cm of a random centre from
+    // scene()), each block counted once as the sum of its rows / sqrt(16), as ComputeBackend::blockSums does.
+    const std::vector<Point> centres = scene(c, planes, 0.0);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-0.02, 0.02);
+    std::normal_distribution<double> noise(0.0, 0.05);
+    std::vector<Row> pixels, blocks;
+    for (size_t b = 0; b < 600; ++b) {
+      const Point& centre = centres[b];
+      // Two directions in the plane.
+      const Eigen::Vector3d e1 = centre.trueN.unitOrthogonal(), e2 = centre.trueN.cross(e1);
+      Row sum = Row::Zero();
+      for (int k = 0; k < 16; ++k) {
+        const Eigen::Vector3d p = centre.p + u(rng) * e1 + u(rng) * e2;
+        const Eigen::Vector3d n = (centre.trueN + Eigen::Vector3d(noise(rng), noise(rng), noise(rng))).normalized();
+        Row j;
+        j << n, p.cross(n);
+        pixels.push_back(j);
+        sum += j;
+      }
+      blocks.push_back(sum / 4.0);
+    }
+    const sb::TrackingQuality q = sb::trackingQuality(normalSums(pixels), normalSums(blocks), at(c), 0.0003);
+    INFO("conditioning " << q.conditioning << ", per pixel " << q.icpConditioning);
+    if (planes == 1) {
+      CHECK(q.icpConditioning > 0.001);               // the noise floor of 0.05 rad normal noise
+      CHECK(q.conditioning < q.icpConditioning / 8);  // falls by about the 16 rows of a block
+      CHECK_FALSE(q.constrained);
+    } else {
+      CHECK(q.conditioning == Approx(q.icpConditioning).epsilon(0.1));
+      CHECK(q.constrained);
+    }
+  }
 }

@@ -233,6 +233,48 @@ TEST_CASE("CpuBackend::track matches track() + reduce() and is bit-identical for
   }
 }
 
+TEST_CASE("CpuBackend::blockSums is trackBlock() + reduce() over the last track; block 1 gives track's J^T J",
+          "[pipeline][track][quality]") {
+  const int csr = GENERATE(1, 4);
+  RoomTrack one(csr, 1), three(csr, 3);
+  sb::StageTimes times;
+  CHECK_THROWS_WITH(one.backend.blockSums(4, times), Catch::Contains("without a track"));
+  for (int level = 0; level < sb::kPyramidLevels; ++level) {
+    const sb::TrackSums icp = one.backend.track(level, one.moved, one.start, times);
+    three.backend.track(level, three.moved, three.start, times);
+    const Maps maps(one, level, false);
+    const Scalar scalar(maps.inputs(one.config, one.moved, one.start));
+    for (const int block : {1, 3, 8}) {  // 3: the last blocks of a row and of the image are partial
+      INFO("csr " << csr << ", level " << level << ", block " << block);
+      const sb::TrackSums got = one.backend.blockSums(block, times);
+      const sb::TrackSums again = three.backend.blockSums(block, times);
+      for (int i = 0; i < SB_REDUCE_SIZE; ++i) CHECK(got[i] == again[i]);  // any thread count
+      // kernels/track.h's trackBlock over the scalar rows, reduce() per row of blocks.
+      const int bx = (maps.width + block - 1) / block, by = (maps.height + block - 1) / block;
+      std::vector<float> rows(size_t(SB_TRACK_STRIDE) * bx * by);
+      sb::TrackSums expected{};
+      for (int y = 0; y < by; ++y) {
+        float partial[SB_REDUCE_SIZE] = {};
+        for (int x = 0; x < bx; ++x) {
+          ::trackBlock(rows.data(), scalar.rows.data(), maps.width, maps.height, block, x, y);
+          ::reduce(partial, rows.data(), y * bx + x);
+        }
+        for (int i = 0; i < SB_REDUCE_SIZE; ++i) expected[i] += partial[i];
+      }
+      CHECK(expected[28] > 0);
+      checkSums(got, expected, 1e-5);
+      if (block == 1) {
+        for (int i = 7; i <= 28; ++i) CHECK(got[i] == Approx(icp[i]).epsilon(1e-5).margin(1e-6 * icp[7]));
+      } else {
+        CHECK(got[28] < icp[28]);  // blocks, not pixels
+      }
+    }
+  }
+  one.backend.preprocess(sb::test::renderRoom(sb::test::Room{}, one.start.cast<double>(), RoomTrack::fullSize()).depth,
+                         float(1.0 / kRoomDepthScale), csr, times);
+  CHECK_THROWS_WITH(one.backend.blockSums(4, times), Catch::Contains("without a track"));
+}
+
 TEST_CASE("squaredDistanceLimit: sqrtf(s) > d exactly when s > the limit", "[pipeline][track]") {
   for (float d : {0.1f, 0.05f, 1e-4f, 0.3f, 1.0f, 3.7f, 10.0f}) {
     const float limit = sb::squaredDistanceLimit(d);
