@@ -34,7 +34,7 @@ void addTrackingQualitySection(HtmlPage& page, const RunData& run) {
     return;
   }
   LinePlot p;
-  p.title = "Conditioning of the ICP problem (log scale)";
+  p.title = "Conditioning of the view's structure (ICP rows summed per block; log scale)";
   p.xLabel = "frame";
   p.yLabel = "conditioning";
   std::vector<double> y;
