@@ -1,6 +1,7 @@
-// The adaptive controller end to end on a stress sequence with fast bursts (up to 1.15 m/s, past the paper's
+// Stress sequences end to end. The adaptive controller on fast bursts (up to 1.15 m/s, past the paper's
 // 0.035 m/frame correction threshold): the fast motion is tracked correctly, so adaptive must never replace
 // it. The paper's `slambooster` on the same frames shows that the check sees a correction when one fires.
+// The tracking quality on a corridor's blank wall stretch, with few frames fused.
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <set>
@@ -79,4 +80,42 @@ TEST_CASE("adaptive does not correct fast motion that it tracks correctly", "[to
   const auto paper = runCommand(kTool + " run " + dir + "/seq --out " + dir + "/slambooster --controller slambooster --quiet");
   REQUIRE(paper.exitCode == 0);
   CHECK(corrections(dir + "/slambooster/frames.jsonl", bursts).inSegment > 0);
+}
+
+TEST_CASE("the tracking quality flags a blank wall stretch even when few frames are fused", "[tools][quality][system]") {
+  // Fusing one frame in eight leaves the model's normals noisy; per pixel, the in-plane noise made the wall
+  // look constrained (conditioning up to 0.0057 here, none of the 78 frames flagged). Summed per block, it
+  // averages out.
+  const std::string dir = sb::test::scratchDir("quality_corridor");
+  const auto synth = runCommand(kTool + " synth --out " + dir + "/seq --scene livingroom --stress corridor --seed 0 " +
+                                "--width 320 --height 240 --fx 240.6 --fy 240 --overwrite");
+  INFO(synth.output);
+  REQUIRE(synth.exitCode == 0);
+  const std::set<long> wall = segmentFrames(dir + "/seq/segments.csv", "wall-only");
+  const long firstWall = *wall.begin();
+  const auto run = runCommand(kTool + " run " + dir + "/seq --out " + dir + "/run --controller fixed --knobs " +
+                              "csr=4,icp=1e-4,pd=6:5:4,ir=8 --frames " + std::to_string(firstWall + 78) + " --quiet");
+  INFO(run.output);
+  REQUIRE(run.exitCode == 0);
+  size_t wallTracked = 0, wallFlagged = 0, before = 0, beforeFlagged = 0;
+  std::ifstream in(dir + "/run/frames.jsonl");
+  for (std::string line; std::getline(in, line);) {
+    const auto j = nlohmann::json::parse(line);
+    if (!j.contains("constrained")) continue;  // no ICP result (bootstrap)
+    const long frame = j.at("frame").get<long>();
+    const bool flagged = !j.at("constrained").get<bool>();
+    if (wall.count(frame) && j.at("tracked").get<bool>()) {
+      ++wallTracked;
+      wallFlagged += flagged;
+    } else if (frame < 90) {  // the furnished start and the approach to the wall
+      ++before;
+      beforeFlagged += flagged;
+    }
+  }
+  INFO(wallFlagged << " of " << wallTracked << " tracked wall-only frames flagged, " << beforeFlagged << " of "
+                   << before << " frames before");
+  CHECK(wallTracked >= 70);
+  CHECK(wallFlagged >= wallTracked * 9 / 10);
+  CHECK(before >= 80);
+  CHECK(beforeFlagged <= before / 100);
 }
