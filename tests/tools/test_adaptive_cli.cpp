@@ -54,20 +54,27 @@ Corrections corrections(const std::string& framesPath, const std::set<long>& seg
   return c;
 }
 
+// Renders the stress trajectory `kind` (livingroom, seed 0) at 320x240 into DIR/seq and runs `runArgs` on it
+// into DIR/OUT (`slambooster run DIR/seq --out DIR/OUT runArgs --quiet`); fails the test when either fails.
+void renderAndRun(const std::string& dir, const std::string& kind, const std::string& out, const std::string& runArgs) {
+  if (!std::ifstream(dir + "/seq/segments.csv")) {
+    const auto synth = runCommand(kTool + " synth --out " + dir + "/seq --scene livingroom --stress " + kind +
+                                  " --seed 0 --width 320 --height 240 --fx 240.6 --fy 240 --overwrite");
+    INFO(synth.output);
+    REQUIRE(synth.exitCode == 0);
+  }
+  const auto run = runCommand(kTool + " run " + dir + "/seq --out " + dir + "/" + out + " " + runArgs + " --quiet");
+  INFO(run.output);
+  REQUIRE(run.exitCode == 0);
+}
+
 }  // namespace
 
 TEST_CASE("adaptive does not correct fast motion that it tracks correctly", "[tools][adaptive][system]") {
   const std::string dir = sb::test::scratchDir("adaptive_bursts");
-  const auto synth = runCommand(kTool + " synth --out " + dir + "/seq --scene livingroom --stress bursts --seed 0 " +
-                                "--width 320 --height 240 --fx 240.6 --fy 240 --overwrite");
-  INFO(synth.output);
-  REQUIRE(synth.exitCode == 0);
+  renderAndRun(dir, "bursts", "adaptive", "--controller adaptive");
   const std::set<long> bursts = segmentFrames(dir + "/seq/segments.csv", "burst");
   REQUIRE(bursts.size() >= 40);
-
-  const auto adaptive = runCommand(kTool + " run " + dir + "/seq --out " + dir + "/adaptive --controller adaptive --quiet");
-  INFO(adaptive.output);
-  REQUIRE(adaptive.exitCode == 0);
   const Corrections a = corrections(dir + "/adaptive/frames.jsonl", bursts);
   CHECK(a.frames == bursts.size());
   CHECK(a.tracked == a.frames);
@@ -77,8 +84,7 @@ TEST_CASE("adaptive does not correct fast motion that it tracks correctly", "[to
   CHECK(summary.at("ate").at("rmse_m").get<double>() < 0.02);
 
   // The paper's controller replaces poses of the same bursts (its velocity threshold): the check can fail.
-  const auto paper = runCommand(kTool + " run " + dir + "/seq --out " + dir + "/slambooster --controller slambooster --quiet");
-  REQUIRE(paper.exitCode == 0);
+  renderAndRun(dir, "bursts", "slambooster", "--controller slambooster");
   CHECK(corrections(dir + "/slambooster/frames.jsonl", bursts).inSegment > 0);
 }
 
@@ -87,16 +93,10 @@ TEST_CASE("the tracking quality flags a blank wall stretch even when few frames 
   // look constrained (conditioning up to 0.0057 here, none of the 78 frames flagged). Summed per block, it
   // averages out.
   const std::string dir = sb::test::scratchDir("quality_corridor");
-  const auto synth = runCommand(kTool + " synth --out " + dir + "/seq --scene livingroom --stress corridor --seed 0 " +
-                                "--width 320 --height 240 --fx 240.6 --fy 240 --overwrite");
-  INFO(synth.output);
-  REQUIRE(synth.exitCode == 0);
+  // The first wall-only stretch starts at frame 113 (segments.csv, checked below).
+  renderAndRun(dir, "corridor", "run", "--controller fixed --knobs csr=4,icp=1e-4,pd=6:5:4,ir=8 --frames 191");
   const std::set<long> wall = segmentFrames(dir + "/seq/segments.csv", "wall-only");
-  const long firstWall = *wall.begin();
-  const auto run = runCommand(kTool + " run " + dir + "/seq --out " + dir + "/run --controller fixed --knobs " +
-                              "csr=4,icp=1e-4,pd=6:5:4,ir=8 --frames " + std::to_string(firstWall + 78) + " --quiet");
-  INFO(run.output);
-  REQUIRE(run.exitCode == 0);
+  REQUIRE(*wall.begin() == 113);
   size_t wallTracked = 0, wallFlagged = 0, before = 0, beforeFlagged = 0;
   std::ifstream in(dir + "/run/frames.jsonl");
   for (std::string line; std::getline(in, line);) {
