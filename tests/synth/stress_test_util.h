@@ -57,6 +57,21 @@ inline void requireCoversFrames(const StressTrajectory& s) {
   for (size_t i = 0; i < s.poses.size(); ++i) REQUIRE(s.poses[i].timestamp == Approx(i / kFps));
 }
 
+// What every stress trajectory must be: 300 to `maxFrames` frames, segments covering every frame in order,
+// cameras in the free space of `scene` (the scene it is rendered in).
+inline void requireStressShape(const StressTrajectory& s, const Scene& scene, size_t maxFrames = 600) {
+  REQUIRE(s.poses.size() >= 300);
+  REQUIRE(s.poses.size() <= maxFrames);
+  requireCoversFrames(s);
+  requireInFreeSpace(scene, s.poses);
+}
+
+// A calm segment's peak: slower than 0.2 m/s and 20 deg/s.
+inline void requireCalm(const Peak& p) {
+  REQUIRE(p.speedMps < 0.2);
+  REQUIRE(p.rateDegps < 20.0);
+}
+
 inline bool samePoses(const Trajectory& a, const Trajectory& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)

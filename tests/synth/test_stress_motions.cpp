@@ -54,10 +54,7 @@ TEST_CASE("hard-bursts: bursts reach 0.06 m/frame and 4 deg/frame, calm stretche
       const Scene scene = generateScene(name, seed);
       const StressTrajectory s = stressTrajectory(StressKind::HardBursts, scene, seed);
       INFO(name << " seed " << seed << ", " << s.poses.size() << " frames");
-      REQUIRE(s.poses.size() >= 300);
-      REQUIRE(s.poses.size() <= 600);
-      requireCoversFrames(s);
-      requireInFreeSpace(scene, s.poses);
+      requireStressShape(s, scene);
       int bursts = 0;
       Peak peak;
       for (const StressSegment& seg : s.segments) {
@@ -72,8 +69,7 @@ TEST_CASE("hard-bursts: bursts reach 0.06 m/frame and 4 deg/frame, calm stretche
           peak.rateDegps = std::max(peak.rateDegps, p.rateDegps);
         } else {
           REQUIRE(seg.label == "calm");
-          REQUIRE(p.speedMps < 0.2);
-          REQUIRE(p.rateDegps < 20.0);
+          requireCalm(p);
         }
       }
       INFO("peaks " << peak.speedMps / kFps << " m/frame, " << peak.rateDegps / kFps << " deg/frame");
@@ -99,10 +95,7 @@ TEST_CASE("robot: a steady 1-1.5 m/s loop at a fixed height, pitch and roll, cle
       const Scene scene = generateScene(name, seed);
       const StressTrajectory s = stressTrajectory(StressKind::Robot, scene, seed);
       INFO(name << " seed " << seed << ", " << s.poses.size() << " frames");
-      REQUIRE(s.poses.size() >= 300);
-      REQUIRE(s.poses.size() <= 600);
-      requireCoversFrames(s);
-      requireInFreeSpace(scene, s.poses);
+      requireStressShape(s, scene);
       const double height = scene.roomMax.y() - params.robotCameraHeightM;
       for (size_t i = 0; i < s.poses.size(); ++i) {
         const Eigen::Matrix3d R = s.poses[i].T_camera_to_world.linear();
@@ -147,10 +140,7 @@ TEST_CASE("pan: yaw sweeps up to 3 deg/frame with the camera in place", "[synth]
       const Scene scene = generateScene(name, seed);
       const StressTrajectory s = stressTrajectory(StressKind::Pan, scene, seed);
       INFO(name << " seed " << seed << ", " << s.poses.size() << " frames");
-      REQUIRE(s.poses.size() >= 300);
-      REQUIRE(s.poses.size() <= 600);
-      requireCoversFrames(s);
-      requireInFreeSpace(scene, s.poses);
+      requireStressShape(s, scene);
       Peak peak;
       int sweeps = 0;
       for (const StressSegment& seg : s.segments) {
@@ -188,10 +178,7 @@ TEST_CASE("corridor: the wall-only frames see exactly one plane, three stretches
       const StressTrajectory s = stressTrajectory(StressKind::Corridor, room, seed);
       const Scene scene = stressScene(StressKind::Corridor, room);
       INFO(name << " seed " << seed << ", " << s.poses.size() << " frames");
-      REQUIRE(s.poses.size() >= 300);
-      REQUIRE(s.poses.size() <= 600);
-      requireCoversFrames(s);
-      requireInFreeSpace(scene, s.poses);
+      requireStressShape(s, scene);
       const Renderer renderer(scene, iclNuimIntrinsics());
       int wallOnly = 0;
       for (const StressSegment& seg : s.segments) {

@@ -73,10 +73,7 @@ TEST_CASE("the bursts trajectory: calm stretches and four bursts that move and t
       const Scene scene = generateScene(name, seed);
       const StressTrajectory s = stressTrajectory(StressKind::Bursts, scene, seed);
       INFO(name << " seed " << seed << ", " << s.poses.size() << " frames");
-      REQUIRE(s.poses.size() >= 300);
-      REQUIRE(s.poses.size() <= 600);
-      requireCoversFrames(s);
-      requireInFreeSpace(scene, s.poses);
+      requireStressShape(s, scene);
       int bursts = 0, pastJump = 0, fastTurns = 0;
       for (const StressSegment& seg : s.segments) {
         const Peak p = peakOf(s.poses, seg);
@@ -94,8 +91,7 @@ TEST_CASE("the bursts trajectory: calm stretches and four bursts that move and t
           fastTurns += p.rateDegps > 40.0;
         } else {
           REQUIRE(seg.label == "calm");
-          REQUIRE(p.speedMps < 0.2);
-          REQUIRE(p.rateDegps < 20.0);
+          requireCalm(p);
         }
       }
       REQUIRE(bursts == 4);
@@ -143,10 +139,7 @@ TEST_CASE("the blank-wall trajectory faces a blank wall for seconds and ICP stil
       const Scene scene = generateScene(name, seed);
       const StressTrajectory s = stressTrajectory(StressKind::BlankWall, scene, seed);
       INFO(name << " seed " << seed << ", " << s.poses.size() << " frames");
-      REQUIRE(s.poses.size() >= 300);
-      REQUIRE(s.poses.size() <= 700);
-      requireCoversFrames(s);
-      requireInFreeSpace(scene, s.poses);
+      requireStressShape(s, scene, 700);
       size_t blankFrames = 0;
       for (const StressSegment& seg : s.segments) {
         const Peak p = peakOf(s.poses, seg);
