@@ -58,10 +58,9 @@ void clipLinear(double a, double b, double& lo, double& hi) {
 
 // Or-s into masks[x / 4] the surface mask bits of voxels x in [x0, x1) of one row (int16 (tsdf, weight)
 // pairs) whose tsdf is below `below`: `faceBits` for a voxel on its block's lower x face (x % 4 == 0),
-// `innerBits` for the others (the row's y and z faces are in both). kernels/raycast.h's sbBlockSurfaceMask,
-// by rows and fused into integrate, so that the rows are read while in cache: it stays beside the kernel for
-// speed (test_cpu_integrate.cpp checks the masks against it). Branch-free, one store per block: the tsdf of
-// a freshly integrated row is below the threshold in no predictable pattern.
+// `innerBits` for the others (the row's y and z faces are in both). sbBlockSurfaceMask by rows, kept for speed:
+// fused into integrate, it reads rows still in cache (test_cpu_integrate.cpp checks it against the kernel).
+// Branch-free, one store per block: a freshly integrated row's tsdf is below the threshold in no pattern.
 void orRowSurfaceMask(const int16_t* row, int x0, int x1, int16_t below, uint8_t innerBits, uint8_t faceBits,
                       uint8_t* masks) {
   static_assert(CpuBackend::kSkipShift == 2, "blocks of 4 voxels along x");
