@@ -8,50 +8,55 @@
 // (the box's exit is computed in float; the interpolation is continuous, so this only costs a sample).
 #define SB_SKIP_MARGIN 1e-3f
 
-// Empty-space skipping. `blockFlags` holds one byte per block of (1 << SB_BLOCK_SHIFT)^3 voxels, non-zero when
-// some voxel of the block stores a tsdf below +1. When every voxel that the trilinear interpolation at `pos`
-// reads lies in blocks without surface, the interpolation is exactly +1 there and stays so while the ray
-// remains in the box whose interpolation cells use only those blocks: returns the ray parameter where the ray
-// leaves that box. Returns -1 when a block with surface is involved.
-// `shift`: log2 of the block side in voxels (SB_BLOCK_SHIFT, or SB_SUPER_SHIFT for the coarse grid).
-SB_INLINE float sbSkipTo(SB_GLOBAL const unsigned char* blockFlags, int shift, int resolution, float size,
-                         float3 origin, float3 direction, float3 pos) {
-  const float scale = (float)resolution / size;
-  const float p[3] = {pos.x, pos.y, pos.z};
-  const float o[3] = {origin.x, origin.y, origin.z};
-  const float d[3] = {direction.x, direction.y, direction.z};
-  const int blocksPerSide = resolution >> shift;
-  int lo[3], hi[3];
-  for (int a = 0; a < 3; ++a) {
-    const int base = (int)sbFloor(p[a] * scale - 0.5f);
-    lo[a] = sbClampInt(base, 0, resolution - 1) >> shift;
-    hi[a] = sbClampInt(base + 1, 0, resolution - 1) >> shift;
-  }
-  for (int bz = lo[2]; bz <= hi[2]; ++bz)
-    for (int by = lo[1]; by <= hi[1]; ++by)
-      for (int bx = lo[0]; bx <= hi[0]; ++bx)
-        if (blockFlags[bx + by * blocksPerSide + bz * blocksPerSide * blocksPerSide]) return -1.0f;
-  // Interpolation cells stay inside blocks lo..hi while p*scale - 0.5 is in [lo*B, hi*B + B - 1).
-  const float blockVoxels = (float)(1 << shift);
-  float exitT = 1e30f;
-  for (int a = 0; a < 3; ++a) {
-    if (d[a] > 0.0f) exitT = sbFmin(exitT, ((((float)hi[a] + 1.0f) * blockVoxels - 0.5f) / scale - o[a]) / d[a]);
-    if (d[a] < 0.0f) exitT = sbFmin(exitT, (((float)lo[a] * blockVoxels + 0.5f) / scale - o[a]) / d[a]);
-  }
-  return exitT;
+// Empty-space skipping, the one structure of both backends: a grid of blocks of (1 << SB_SKIP_SHIFT)^3
+// voxels, 4^3, fine enough that the march enters few blocks with surface in front of the surface (measured
+// on the CPU: fewer samples per ray than 8^3 blocks). Integration leaves a surface mask per block
+// (sbBlockSurfaceMask); pipeline/block_distance.h turns the masks into the Chebyshev distance of every
+// block to the nearest block with surface, which the march (sbSkipByDistance) jumps by.
+#define SB_SKIP_SHIFT 2
+
+// The surface mask bits that a voxel whose tsdf is below the small-step threshold sets in its block, from
+// which of its block's lower faces it lies on: `faces` = (x % B == 0) + 2 (y % B == 0) + 4 (z % B == 0), B
+// the block side. Bit c (c = cx + 2 cy + 4 cz) is set when c names only such axes (bit 0: any such voxel). A
+// block b "has surface" for skipping when bit c of block b + c is set for some c: a voxel of b or of the
+// first voxel layer of its upper neighbours (voxels B*b .. B*b + B per axis) is below the threshold.
+SB_INLINE unsigned char sbSurfaceMaskBits(int faces) {
+  unsigned char bits = 0;
+  for (int c = 0; c < 8; ++c)
+    if ((c & ~faces) == 0) bits = (unsigned char)(bits | (1u << c));
+  return bits;
 }
 
-// Empty-space skipping by block distance (the CPU backend's structure): `blockDistance` holds one byte per
-// block of (1 << shift)^3 voxels (blocksPerSide^3 blocks), the Chebyshev distance in blocks to the nearest
-// block that has surface, where a block "has surface" when a voxel of it or of the first voxel layer of its
-// upper neighbours (voxels B*b .. B*b + B per axis, B = 1 << shift) stores a tsdf below the small-step
-// threshold. `s` is the sample in voxel coordinates (the trilinear interpolation reads voxels floor(s) and
-// floor(s) + 1 per axis), which the caller keeps in [0, R - 1) on every axis; the ray is
-// s(t) = sOrigin + t * sDirection, sInverse its componentwise inverse (0 where the direction is 0: no skip
-// then). With d >= 1 for the block b of floor(s), no block within d - 1 of b has surface, so while s stays
-// in [B(b - d + 1), B(b + d)) on each axis the interpolation stays at or above the threshold: no sample
-// there ends the march or changes its step. Returns the ray parameter where s leaves that box, or a value
-// <= 0 when the block has surface.
+// The surface mask of block (bx, by, bz) of (1 << shift)^3 voxels: sbSurfaceMaskBits of every voxel of it
+// whose stored tsdf is below `below` (raw units, pipeline/block_distance.h's surfaceTsdfBelow), or-ed. One
+// block per call (the OpenCL backend's surfaceMaskKernel); the CPU backend or-s the same bits row by row
+// inside its integrate, hand-vectorised (tests/pipeline/cpu/test_cpu_integrate.cpp checks its masks).
+SB_INLINE unsigned char sbBlockSurfaceMask(SB_GLOBAL const short* volume, int resolution, int shift,
+                                           int below, int bx, int by, int bz) {
+  const int side = 1 << shift;
+  unsigned char mask = 0;
+  for (int dz = 0; dz < side; ++dz)
+    for (int dy = 0; dy < side; ++dy) {
+      const int z = (bz << shift) + dz, y = (by << shift) + dy;
+      SB_GLOBAL const short* row = volume + 2 * (y * resolution + z * resolution * resolution);
+      const int rowFaces = (dy == 0 ? 2 : 0) + (dz == 0 ? 4 : 0);
+      for (int dx = 0; dx < side; ++dx)
+        if (row[2 * ((bx << shift) + dx)] < below)
+          mask = (unsigned char)(mask | sbSurfaceMaskBits(rowFaces + (dx == 0 ? 1 : 0)));
+    }
+  return mask;
+}
+
+// Empty-space skipping by block distance: `blockDistance` holds one byte per block of (1 << shift)^3 voxels
+// (blocksPerSide^3 blocks), the Chebyshev distance in blocks to the nearest block that has surface (see
+// sbSurfaceMaskBits: a voxel of it or of the first voxel layer of its upper neighbours, voxels B*b .. B*b + B
+// per axis with B = 1 << shift, stores a tsdf below the small-step threshold). `s` is the sample in voxel
+// coordinates (the trilinear interpolation reads voxels floor(s) and floor(s) + 1 per axis), which the
+// caller keeps in [0, R - 1) on every axis; the ray is s(t) = sOrigin + t * sDirection, sInverse its
+// componentwise inverse (0 where the direction is 0: no skip then). With d >= 1 for the block b of floor(s),
+// no block within d - 1 of b has surface, so while s stays in [B(b - d + 1), B(b + d)) on each axis the
+// interpolation stays at or above the threshold: no sample there ends the march or changes its step.
+// Returns the ray parameter where s leaves that box, or a value <= 0 when the block has surface.
 SB_INLINE float sbSkipByDistance(SB_GLOBAL const unsigned char* blockDistance, int blocksPerSide, int shift,
                                  float3 s, float3 sOrigin, float3 sInverse) {
   const int bx = (int)s.x >> shift;
@@ -89,16 +94,14 @@ SB_INLINE void sbVoxelRange(float3 sOrigin, float3 sDirection, int resolution, f
   *hi = h;
 }
 
-// The march of one ray (see raycast), with empty-space skipping by `blockDistance` when it is not 0, else by
-// `blockFlags` / `superFlags` when they are not 0, else none. Samples are interpolated in voxel coordinates
+// The march of one ray (see raycast), with empty-space skipping by `blockDistance` (blocks of
+// (1 << distanceShift)^3 voxels) when it is not 0, else none. Samples are interpolated in voxel coordinates
 // s(t) = sOrigin + t * sDirection.
 SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
                               SB_GLOBAL const short* volume, int resolution, float size,
                               SB_GLOBAL const unsigned char* blockDistance, int distanceShift,
-                              SB_GLOBAL const unsigned char* blockFlags,
-                              SB_GLOBAL const unsigned char* superFlags, SbMat34 cameraToWorld, SbCamera k,
-                              float nearPlane, float farPlane, float largeStep, float smallStep,
-                              float smallStepBelow, int x, int y) {
+                              SbMat34 cameraToWorld, SbCamera k, float nearPlane, float farPlane,
+                              float largeStep, float smallStep, float smallStepBelow, int x, int y) {
   const int index = y * width + x;
   const float3 origin = sbMakeFloat3(cameraToWorld.m[3], cameraToWorld.m[7], cameraToWorld.m[11]);
   const float3 direction = sbRotate(cameraToWorld, sbMakeFloat3(((float)x - k.cx) / k.fx, ((float)y - k.cy) / k.fy, 1.0f));
@@ -151,17 +154,8 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
         // Inside the small-step band (the previous sample was taken and is below smallStepBelow) the ray is at
         // a surface, where a skip is rarely found: no lookup there (not skipping is always exact).
         const int inBand = smallSteps && !previousSkipped && fPrevious < smallStepBelow;
-        if (!inBand) {
-          if (blockDistance != 0) {
-            if (t >= tLookupLo && t < tLookupHi)
-              skipTo = sbSkipByDistance(blockDistance, blocksPerSide, distanceShift, s, sOrigin, sInverse);
-          } else if (blockFlags != 0) {
-            const float3 pos = origin + direction * t;
-            if (superFlags != 0)
-              skipTo = sbSkipTo(superFlags, SB_SUPER_SHIFT, resolution, size, origin, direction, pos);
-            if (skipTo <= t) skipTo = sbSkipTo(blockFlags, SB_BLOCK_SHIFT, resolution, size, origin, direction, pos);
-          }
-        }
+        if (!inBand && blockDistance != 0 && t >= tLookupLo && t < tLookupHi)
+          skipTo = sbSkipByDistance(blockDistance, blocksPerSide, distanceShift, s, sOrigin, sInverse);
         if (skipTo > t) {
           // Continue at the first grid sample past skipTo (less a rounding margin: a sample within it is
           // taken).
@@ -209,16 +203,16 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
 // raycast: pixel (x, y) of an image with intrinsics k seen from `cameraToWorld`. The ray parameter t is the
 // depth along the camera's z axis (metres), marched from nearPlane to farPlane (clipped to the volume) with
 // `largeStep` until the tsdf falls below `smallStepBelow`, then with `smallStep`; the zero crossing is
-// interpolated linearly. `blockFlags` and `superFlags` (see sbSkipTo; blocks of SB_BLOCK_SHIFT and
-// SB_SUPER_SHIFT) may be 0: no empty-space skipping at that level. Skipping leaves the result unchanged (see
+// interpolated linearly. `blockDistance`: the distance grid of blocks of (1 << SB_SKIP_SHIFT)^3 voxels (see
+// sbSkipByDistance), or 0 for no empty-space skipping. Skipping leaves the result unchanged (see
 // sbRaycastPixel): only the number of samples differs. Writes the surface point and unit normal
 // (volume frame) or vertex 0 and an invalid normal.
 SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
                        SB_GLOBAL const short* volume, int resolution, float size,
-                       SB_GLOBAL const unsigned char* blockFlags, SB_GLOBAL const unsigned char* superFlags,
-                       SbMat34 cameraToWorld, SbCamera k, float nearPlane, float farPlane, float largeStep,
-                       float smallStep, float smallStepBelow, int x, int y) {
-  sbRaycastPixel(outVertex, outNormal, width, volume, resolution, size, 0, 0, blockFlags, superFlags,
+                       SB_GLOBAL const unsigned char* blockDistance, SbMat34 cameraToWorld, SbCamera k,
+                       float nearPlane, float farPlane, float largeStep, float smallStep,
+                       float smallStepBelow, int x, int y) {
+  sbRaycastPixel(outVertex, outNormal, width, volume, resolution, size, blockDistance, SB_SKIP_SHIFT,
                  cameraToWorld, k, nearPlane, farPlane, largeStep, smallStep, smallStepBelow, x, y);
 }
 

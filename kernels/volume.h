@@ -10,27 +10,22 @@
 #define SB_TSDF_SCALE 32767.0f
 // Voxels closer to the camera plane than this (metres) are not projected.
 #define SB_MIN_PROJECTION_DEPTH 0.0001f
-// Blocks of the empty-space skipping grid are (1 << SB_BLOCK_SHIFT)^3 voxels.
-#define SB_BLOCK_SHIFT 3
-// Coarse skipping grid: (1 << SB_SUPER_SHIFT)^3 voxels per cell, used when the resolution is a multiple of it.
-#define SB_SUPER_SHIFT 5
 
 SB_INLINE float sbVoxelTsdf(SB_GLOBAL const short* volume, int resolution, int x, int y, int z) {
   return (float)volume[2 * (x + y * resolution + z * resolution * resolution)] * (1.0f / SB_TSDF_SCALE);
 }
 
 // Updates voxel `index` whose centre is `pos` in the camera frame (metres) with the depth image (metres,
-// width x height, intrinsics k). mu: truncation distance (m). Returns 1 when the voxel now stores a tsdf below
-// +1 (it is near a surface), else 0; the empty-space skipping grid is built from this.
-SB_INLINE int integrateVoxel(SB_GLOBAL short* volume, int index, float3 pos, SB_GLOBAL const sb_map_t* depth,
-                             int width, int height, SbCamera k, float mu, int maxWeight) {
-  if (pos.z < SB_MIN_PROJECTION_DEPTH) return 0;
+// width x height, intrinsics k). mu: truncation distance (m).
+SB_INLINE void integrateVoxel(SB_GLOBAL short* volume, int index, float3 pos, SB_GLOBAL const sb_map_t* depth,
+                              int width, int height, SbCamera k, float mu, int maxWeight) {
+  if (pos.z < SB_MIN_PROJECTION_DEPTH) return;
   const float invZ = 1.0f / pos.z;
   const float u = sbFloor(k.fx * pos.x * invZ + k.cx + 0.5f);
   const float v = sbFloor(k.fy * pos.y * invZ + k.cy + 0.5f);
-  if (u < 0.0f || v < 0.0f || u > (float)(width - 1) || v > (float)(height - 1)) return 0;
+  if (u < 0.0f || v < 0.0f || u > (float)(width - 1) || v > (float)(height - 1)) return;
   const float d = SB_LOAD_MAP(depth, (int)v * width + (int)u);
-  if (d <= 0.0f) return 0;
+  if (d <= 0.0f) return;
   // Signed distance along the ray; the ray-length factor is >= 1, so a depth difference >= mu is free space
   // (sdf = +1) without computing it.
   const float alongZ = d - pos.z;
@@ -39,7 +34,7 @@ SB_INLINE int integrateVoxel(SB_GLOBAL short* volume, int index, float3 pos, SB_
     const float qx = pos.x * invZ;
     const float qy = pos.y * invZ;
     const float diff = alongZ * sbSqrt(1.0f + qx * qx + qy * qy);
-    if (diff <= -mu) return 0;
+    if (diff <= -mu) return;
     sdf = sbFmin(1.0f, diff / mu);
   }
   const float oldTsdf = (float)volume[2 * index] / SB_TSDF_SCALE;
@@ -49,17 +44,16 @@ SB_INLINE int integrateVoxel(SB_GLOBAL short* volume, int index, float3 pos, SB_
   const short stored = (short)(scaled >= 0.0f ? scaled + 0.5f : scaled - 0.5f);
   volume[2 * index] = stored;
   volume[2 * index + 1] = (short)(oldWeight + 1 < maxWeight ? oldWeight + 1 : maxWeight);
-  return stored < (short)SB_TSDF_SCALE ? 1 : 0;
 }
 
 // integrate: voxel (x, y, z) with the world-to-camera transform `worldToCamera`.
-SB_INLINE int integrate(SB_GLOBAL short* volume, int resolution, float size, SbMat34 worldToCamera,
-                        SB_GLOBAL const sb_map_t* depth, int width, int height, SbCamera k, float mu, int maxWeight,
-                        int x, int y, int z) {
+SB_INLINE void integrate(SB_GLOBAL short* volume, int resolution, float size, SbMat34 worldToCamera,
+                         SB_GLOBAL const sb_map_t* depth, int width, int height, SbCamera k, float mu, int maxWeight,
+                         int x, int y, int z) {
   const float voxel = size / (float)resolution;
   const float3 centre = sbMakeFloat3(((float)x + 0.5f) * voxel, ((float)y + 0.5f) * voxel, ((float)z + 0.5f) * voxel);
   const int index = x + y * resolution + z * resolution * resolution;
-  return integrateVoxel(volume, index, sbTransform(worldToCamera, centre), depth, width, height, k, mu, maxWeight);
+  integrateVoxel(volume, index, sbTransform(worldToCamera, centre), depth, width, height, k, mu, maxWeight);
 }
 
 // Trilinear interpolation of the tsdf at `s` in voxel coordinates (pos * resolution / size - 0.5: voxel

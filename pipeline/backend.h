@@ -1,9 +1,9 @@
 #pragma once
 // The compute backend: runs the stages on one device and owns the device-side state (the TSDF volume and its
-// empty-space skipping structure, the input pyramid, the reference maps). The Pipeline drives it;
-// backend_factory.h makes one by name. Two implementations, laid out alike, both over kernels/: the CPU
-// backend (pipeline/cpu/, the reference and the oracle in tests) and the OpenCL backend (pipeline/opencl/,
-// kernels/cl/ wrappers of the same kernels/ headers).
+// empty-space skipping structure, the same block-distance grid on both, kernels/raycast.h; the input pyramid,
+// the reference maps). The Pipeline drives it; backend_factory.h makes one by name. Two implementations, laid
+// out alike, both over kernels/: the CPU backend (pipeline/cpu/, the reference and the oracle in tests) and
+// the OpenCL backend (pipeline/opencl/, kernels/cl/ wrappers of the same kernels/ headers).
 
 #include <Eigen/Geometry>
 #include <array>

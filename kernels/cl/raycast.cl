@@ -1,14 +1,15 @@
 // OpenCL wrappers of kernels/raycast.h: raycast and render, one pixel per work-item.
 #include "kernels/raycast.h"
 
+// `blockDistance`: the distances of blocks of (1 << SB_SKIP_SHIFT)^3 voxels, or NULL: no empty-space skipping.
 __kernel void raycastKernel(__global sb_map_t* vertex, __global sb_map_t* normal, int width, int height,
-                            __global const short* volume, int resolution, float size, __global const uchar* blockFlags,
-                            __global const uchar* superFlags, SbMat34 cameraToWorld, SbCamera k, float nearPlane,
+                            __global const short* volume, int resolution, float size,
+                            __global const uchar* blockDistance, SbMat34 cameraToWorld, SbCamera k, float nearPlane,
                             float farPlane, float largeStep, float smallStep, float smallStepBelow) {
   const int x = get_global_id(0), y = get_global_id(1);
   if (x < width && y < height)
-    raycast(vertex, normal, width, volume, resolution, size, blockFlags, superFlags, cameraToWorld, k, nearPlane,
-            farPlane, largeStep, smallStep, smallStepBelow, x, y);
+    raycast(vertex, normal, width, volume, resolution, size, blockDistance, cameraToWorld, k, nearPlane, farPlane,
+            largeStep, smallStep, smallStepBelow, x, y);
 }
 
 __kernel void renderKernel(__global uchar* out, __global const sb_map_t* vertex, __global const sb_map_t* normal,

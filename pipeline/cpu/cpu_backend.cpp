@@ -8,7 +8,7 @@
 #include "kernels/preprocess.h"
 #include "kernels/raycast.h"
 #include "kernels/track.h"
-#include "pipeline/cpu/block_distance.h"
+#include "pipeline/block_distance.h"
 #include "pipeline/cpu/cpu_integrate.h"
 #include "pipeline/cpu/cpu_raycast.h"
 #include "pipeline/cpu/cpu_track.h"
@@ -58,8 +58,9 @@ void clipLinear(double a, double b, double& lo, double& hi) {
 
 // Or-s into masks[x / 4] the surface mask bits of voxels x in [x0, x1) of one row (int16 (tsdf, weight)
 // pairs) whose tsdf is below `below`: `faceBits` for a voxel on its block's lower x face (x % 4 == 0),
-// `innerBits` for the others (the row's y and z faces are in both). Branch-free, one store per block: the
-// tsdf of a freshly integrated row is below the threshold in no predictable pattern.
+// `innerBits` for the others (the row's y and z faces are in both). sbBlockSurfaceMask by rows, kept for speed:
+// fused into integrate, it reads rows still in cache (test_cpu_integrate.cpp checks it against the kernel).
+// Branch-free, one store per block: a freshly integrated row's tsdf is below the threshold in no pattern.
 void orRowSurfaceMask(const int16_t* row, int x0, int x1, int16_t below, uint8_t innerBits, uint8_t faceBits,
                       uint8_t* masks) {
   static_assert(CpuBackend::kSkipShift == 2, "blocks of 4 voxels along x");
@@ -290,14 +291,14 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
   const float* depth = depth_.data();
   constexpr int kCullShift = IntegrateCull::kShift;
   cull_.update(pool_, depth, w, h, k, w2c, res, voxel, mu);
-  // Empty-space skipping masks (block_distance.h) of the voxels below the raycast's small-step threshold,
+  // Empty-space skipping masks (kernels/raycast.h) of the voxels below the raycast's small-step threshold,
   // recomputed for every block whose voxels this integration all visited, or-ed into the old mask for the
-  // others.
-  const int16_t flagBelow = static_cast<int16_t>(std::ceil(config_.raycastSmallStepBelow * SB_TSDF_SCALE));
+  // others (a stale bit there only costs skips).
+  const int16_t flagBelow = surfaceTsdfBelow(config_.raycastSmallStepBelow);
   constexpr int kSide = 1 << kSkipShift;
   constexpr int kBlockVoxels = kSide * kSide * kSide;
   uint8_t maskBits[8];
-  for (int faces = 0; faces < 8; ++faces) maskBits[faces] = surfaceMaskBits(faces);
+  for (int faces = 0; faces < 8; ++faces) maskBits[faces] = sbSurfaceMaskBits(faces);
   // One chunk per z-slab of blocks, so each block's mask is written by one thread only.
   pool_.parallelFor(0, blocks, 1, [&](int, int bz0, int bz1) {
     std::vector<int> visited(static_cast<size_t>(blocks) * blocks);

@@ -3,8 +3,9 @@
 // the per-pixel math of kernels/. Where the scalar kernel is too slow, a hand-vectorised version over the
 // four-lane layer (simd4.h) stays beside it and is bit-identical to it (tests/pipeline/cpu/test_cpu_*.cpp):
 // the bilateral filter's interior rows, track + reduce (cpu_track.h), integrate (cpu_integrate.h, with the
-// blocks the frame cannot change culled by integrate_cull.h) and raycast (cpu_raycast.h, skipping empty
-// space by the 4^3 block-distance grid of block_distance.h). Deterministic: work is split into chunks whose
+// blocks the frame cannot change culled by integrate_cull.h, and the empty-space skipping masks or-ed in row by
+// row) and raycast (cpu_raycast.h, skipping empty space by the 4^3 block-distance grid of
+// pipeline/block_distance.h, as the OpenCL backend does). Deterministic: work is split into chunks whose
 // boundaries do not depend on the thread count, and reductions sum one partial per chunk in chunk order (in
 // double), so results are bit-identical for any number of threads.
 
@@ -12,6 +13,7 @@
 
 #include "core/intrinsics.h"
 #include "core/thread_pool.h"
+#include "kernels/raycast.h"
 #include "pipeline/backend.h"
 #include "pipeline/config.h"
 #include "pipeline/cpu/cpu_track.h"
@@ -21,9 +23,8 @@ namespace sb {
 
 class CpuBackend : public ComputeBackend {
  public:
-  // log2 of the side (voxels) of the empty-space skipping blocks: 4^3 voxels, fine enough that the march
-  // enters few blocks with surface in front of the surface (measured: fewer samples per ray than 8^3 blocks).
-  static constexpr int kSkipShift = 2;
+  // log2 of the side (voxels) of the empty-space skipping blocks (kernels/raycast.h, SB_SKIP_SHIFT).
+  static constexpr int kSkipShift = SB_SKIP_SHIFT;
 
   // `fullSize`: intrinsics of the sensor image. `pool` is borrowed and must outlive the backend.
   CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool);
@@ -47,6 +48,8 @@ class CpuBackend : public ComputeBackend {
   const std::vector<float>& referenceVertices() const { return referenceVertex_; }
   const std::vector<float>& referenceNormals() const { return referenceNormal_; }
   const IntegrateCull& integrateCull() const { return cull_; }  // what the last integrate skipped
+  // Empty-space skipping surface masks, one per block of (1 << kSkipShift)^3 voxels, x fastest.
+  const std::vector<uint8_t>& blockSurfaceMasks() const { return blockSurfaceMask_; }
 
  private:
   struct Level {
@@ -70,7 +73,7 @@ class CpuBackend : public ComputeBackend {
   std::vector<float> referenceVertex_, referenceNormal_;
 
   std::vector<int16_t> volume_;            // 2 * R^3: (tsdf, weight) pairs
-  // Empty-space skipping (pipeline/cpu/block_distance.h), blocks of (1 << kSkipShift)^3 voxels:
+  // Empty-space skipping (pipeline/block_distance.h), blocks of (1 << kSkipShift)^3 voxels:
   std::vector<uint8_t> blockSurfaceMask_;  // per block: where its voxels below the small-step tsdf lie
   std::vector<uint8_t> blockDistance_;     // per block: Chebyshev distance to a block with surface
   IntegrateCull cull_;                     // integrate's blocks that the current frame cannot change

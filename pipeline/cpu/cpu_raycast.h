@@ -20,7 +20,7 @@ struct RaycastInputs {
   const int16_t* volume = nullptr;  // resolution^3 (tsdf, weight) pairs, kernels/volume.h's layout
   int resolution = 0;               // voxels per side
   float size = 0.0f;                // metres per side
-  // pipeline/cpu/block_distance.h's distances for blocks of (1 << distanceShift)^3 voxels; nullptr: no skipping.
+  // pipeline/block_distance.h's distances for blocks of (1 << distanceShift)^3 voxels; nullptr: no skipping.
   const uint8_t* blockDistance = nullptr;
   int distanceShift = 0;
   SbMat34 cameraToWorld{};

@@ -5,8 +5,9 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "kernels/raycast.h"
 #include "kernels/track.h"
-#include "kernels/volume.h"
+#include "pipeline/block_distance.h"
 #include "pipeline/opencl/kernel_sources.h"
 
 namespace sb {
@@ -37,7 +38,7 @@ Kernels::Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfSt
   reduceFinal = createKernel(p, "reduceFinalKernel");
   initVolume = createKernel(p, "initVolumeKernel");
   integrate = createKernel(p, "integrateKernel");
-  superFlags = createKernel(p, "superFlagsKernel");
+  surfaceMask = createKernel(p, "surfaceMaskKernel");
   raycast = createKernel(p, "raycastKernel");
   render = createKernel(p, "renderKernel");
   halfToFloat = createKernel(p, "halfToFloatKernel");
@@ -80,10 +81,10 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
   const size_t res = size_t(config.volumeResolution);
   const size_t voxels = res * res * res;
   volume = createBuffer(ctx, CL_MEM_READ_WRITE, 2 * voxels * sizeof(int16_t), "TSDF volume");
-  const size_t blocks = res >> SB_BLOCK_SHIFT;
-  blockFlags = createBuffer(ctx, CL_MEM_READ_WRITE, blocks * blocks * blocks, "block flags");
-  const size_t supers = res % (size_t(1) << SB_SUPER_SHIFT) == 0 ? res >> SB_SUPER_SHIFT : 0;
-  if (supers > 0) superFlags = createBuffer(ctx, CL_MEM_READ_WRITE, supers * supers * supers, "coarse flags");
+  const size_t blocks = res >> SB_SKIP_SHIFT;
+  blockMasks = createBuffer(ctx, CL_MEM_READ_WRITE, blocks * blocks * blocks, "skipping block masks");
+  blockDistance = createBuffer(ctx, CL_MEM_READ_ONLY, blocks * blocks * blocks, "skipping block distances");
+  blockMasksHost.resize(blocks * blocks * blocks);
   image = createBuffer(ctx, CL_MEM_WRITE_ONLY, n, "render image");
   scratch = createBuffer(ctx, CL_MEM_READ_WRITE, 3 * n * f, "conversion scratch");
   volumeHost.resize(2 * voxels);
@@ -92,19 +93,26 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
   opencl::check(clEnqueueWriteBuffer(q, gaussian.get(), CL_TRUE, 0, weights.size() * f, weights.data(), 0, nullptr,
                                      nullptr),
                 "writing the bilateral weights");
-  const cl_uchar zero = 0;
-  opencl::check(clEnqueueFillBuffer(q, blockFlags.get(), &zero, 1, 0, blocks * blocks * blocks, 0, nullptr, nullptr),
-                "clearing the block flags");
-  if (superFlags)
-    opencl::check(clEnqueueFillBuffer(q, superFlags.get(), &zero, 1, 0, supers * supers * supers, 0, nullptr, nullptr),
-                  "clearing the coarse flags");
   const opencl::Kernels& k = variant(false);
   if (launcher.maxGroupSize(k.reduce.get()) < opencl::kReduceGroup)
     throw Error("OpenCL device '" + device.deviceName + "' runs reduceKernel with fewer than " +
                 std::to_string(opencl::kReduceGroup) + " work-items per group; use another device or the cpu backend");
   StageTimes ignored;
   launcher.run(Stage::integrate, k.initVolume, {voxels, 1, 1}, {128, 1, 1}, volume, static_cast<int>(voxels));
+  updateSkipping(Stage::integrate);
   launcher.finish(ignored, Launcher::Clock::now());
+}
+
+void OpenClBackend::State::updateSkipping(Stage stage) {
+  const int res = config.volumeResolution, blocks = res >> SB_SKIP_SHIFT;
+  const size_t b = size_t(blocks);
+  launcher.run(stage, kernels().surfaceMask, {b, b, b}, {16, 4, 2}, blockMasks, volume, res, blocks,
+               static_cast<int>(surfaceTsdfBelow(config.raycastSmallStepBelow)));
+  read(blockMasks, blockMasksHost.data(), blockMasksHost.size());
+  computeBlockDistance(blockMasksHost, blocks, blockDistanceHost, skipPool);
+  opencl::check(clEnqueueWriteBuffer(launcher.queue(), blockDistance.get(), CL_TRUE, 0, blockDistanceHost.size(),
+                                     blockDistanceHost.data(), 0, nullptr, nullptr),
+                "writing the skipping block distances");
 }
 
 const opencl::Kernels& OpenClBackend::State::variant(bool halfStorage) {

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/thread_pool.h"
 #include "pipeline/opencl/launcher.h"
 #include "pipeline/opencl/opencl_backend.h"
 
@@ -27,7 +28,7 @@ struct Kernels {
   Program program;
   Kernel mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal;
   Kernel track, block, reduce, reduceFinal;
-  Kernel initVolume, integrate, superFlags;
+  Kernel initVolume, integrate, surfaceMask;
   Kernel raycast, render;
   Kernel halfToFloat, floatToHalf;
 };
@@ -51,6 +52,10 @@ struct OpenClBackend::State {
   // reduce + reduceFinal over `rows` track rows (kernels/track.h layout) of `rowsBuffer`; the sums read back.
   TrackSums reduceRows(const opencl::Buffer& rowsBuffer, int rows);
   std::vector<float> readMap(const opencl::Buffer& buffer, size_t count);  // count values of the current storage
+  // The empty-space skipping grid of the volume as it is now: surfaceMaskKernel, the masks read back, their
+  // distances (pipeline/block_distance.h, on the host) written to blockDistance. Queued kernels are booked to
+  // `stage` at the caller's finish().
+  void updateSkipping(Stage stage);
   void convert(opencl::Buffer& buffer, size_t count, bool toHalf);
   // Every map buffer with the number of values it currently holds.
   std::vector<std::pair<opencl::Buffer*, size_t>> maps();
@@ -72,9 +77,15 @@ struct OpenClBackend::State {
   Intrinsics trackK;                         // the level of the last track call
   bool hasTrack = false;                     // trackOut holds a track since the last preprocess or raycast
   opencl::Buffer referenceVertex, referenceNormal;
-  opencl::Buffer volume, blockFlags, superFlags;  // superFlags only when the resolution is a multiple of 32
-  opencl::Buffer image;                           // render output
-  opencl::Buffer scratch;                         // precision conversions, 3 floats per full-size pixel
+  opencl::Buffer volume;
+  // Empty-space skipping, blocks of (1 << SB_SKIP_SHIFT)^3 voxels (kernels/raycast.h): per block its surface
+  // mask and its distance to the nearest block with surface; their host copies, and a pool of one thread (the
+  // calling one) for the distance transform.
+  opencl::Buffer blockMasks, blockDistance;
+  std::vector<uint8_t> blockMasksHost, blockDistanceHost;
+  ThreadPool skipPool{1};
+  opencl::Buffer image;    // render output
+  opencl::Buffer scratch;  // precision conversions, 3 floats per full-size pixel
 
   Intrinsics computeK, referenceK;
   bool hasFrame = false, hasReference = false;

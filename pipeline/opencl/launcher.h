@@ -46,7 +46,7 @@ class Launcher {
 
  private:
   static void setArg(cl_kernel kernel, cl_uint index, const Buffer& buffer);
-  // A buffer that may be absent: nullptr passes a NULL __global pointer (e.g. raycast without skipping flags).
+  // A buffer that may be absent: nullptr passes a NULL __global pointer (e.g. raycast without a skipping grid).
   static void setArg(cl_kernel kernel, cl_uint index, const Buffer* buffer);
   template <typename T>
   static void setArg(cl_kernel kernel, cl_uint index, const T& value) {

@@ -110,12 +110,9 @@ void OpenClBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes
   const size_t r = size_t(c.volumeResolution);
   s.launcher.run(Stage::integrate, k.integrate, {r, r, r}, kVolumeGroup, s.volume, c.volumeResolution, c.volumeSize,
                  toMat34(cameraToWorld.inverse().matrix()), s.depth, s.computeK.width, s.computeK.height,
-                 toCamera(s.computeK), c.mu, c.maxWeight, s.blockFlags);
-  if (s.superFlags) {
-    const size_t supers = r >> SB_SUPER_SHIFT;
-    s.launcher.run(Stage::integrate, k.superFlags, {supers, supers, supers}, {4, 4, 4}, s.superFlags, s.blockFlags,
-                   c.volumeResolution >> SB_BLOCK_SHIFT);
-  }
+                 toCamera(s.computeK), c.mu, c.maxWeight);
+  // As the CPU backend, but only when the raycast uses it.
+  if (c.emptySpaceSkipping) s.updateSkipping(Stage::integrate);
   s.volumeOnHost = false;
   s.launcher.finish(times, start);
 }
@@ -127,11 +124,10 @@ void OpenClBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, Sta
   s.hasReference = true;
   s.hasTrack = false;
   const PipelineConfig& c = s.config;
-  const opencl::Buffer* blockFlags = c.emptySpaceSkipping ? &s.blockFlags : nullptr;
-  const opencl::Buffer* superFlags = c.emptySpaceSkipping && s.superFlags ? &s.superFlags : nullptr;
+  const opencl::Buffer* blockDistance = c.emptySpaceSkipping ? &s.blockDistance : nullptr;
   s.launcher.run(Stage::raycast, s.kernels().raycast, imageSize(s.referenceK), kImageGroup, s.referenceVertex,
                  s.referenceNormal, s.referenceK.width, s.referenceK.height, s.volume, c.volumeResolution,
-                 c.volumeSize, blockFlags, superFlags, toMat34(cameraToWorld.matrix()),
+                 c.volumeSize, blockDistance, toMat34(cameraToWorld.matrix()),
                  toCamera(s.referenceK), c.nearPlane, c.farPlane, c.raycastLargeStep * c.mu,
                  c.raycastSmallStep * c.voxelSize(), c.raycastSmallStepBelow);
   s.launcher.finish(times, start);

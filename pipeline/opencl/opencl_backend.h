@@ -1,7 +1,9 @@
 #pragma once
 // The OpenCL backend: the kernels/ functions through the kernels/cl/ wrappers on one OpenCL device (PoCL in
 // tests and CI, Mali on the board, any OpenCL 1.2 GPU). Every stage runs on the device, the ICP reduction
-// included (only the SB_REDUCE_SIZE sums are read back). Buffers are allocated once for the full sensor size,
+// included (only the SB_REDUCE_SIZE sums are read back); only the empty-space skipping distances are computed
+// on the host, as the CPU backend does, from the block masks read back after integrate (2 x 262 KB per
+// integration at 256^3, pipeline/block_distance.h). Buffers are allocated once for the full sensor size,
 // so csr changes reuse them; the raw frame goes through a host-allocated buffer that is mapped and filled
 // (zero-copy on unified-memory devices such as Mali). Kernel times come from profiling events
 // (StageTimes::deviceMs). The OpenCL types stay inside the .cpp files.

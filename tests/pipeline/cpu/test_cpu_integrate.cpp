@@ -2,14 +2,17 @@
 // bit-identical, over rows that cross free space, the truncation band, the space behind the surface and the
 // outside of the view, from voxels in every state (unobserved, partly and fully weighted, negative tsdf).
 // And the CPU backend's whole integrate (rows, block culling of pipeline/cpu/integrate_cull.h) against
-// integrateVoxel() on every voxel.
+// integrateVoxel() on every voxel, and the empty-space skipping masks it or-s in row by row against
+// kernels/raycast.h's sbBlockSurfaceMask.
 
 #include <catch2/catch.hpp>
 #include <cstring>
 #include <random>
 #include <vector>
 
+#include "kernels/raycast.h"
 #include "kernels/volume.h"
+#include "pipeline/block_distance.h"
 #include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/cpu/cpu_integrate.h"
 #include "pipeline/kernel_args.h"
@@ -150,6 +153,24 @@ TEST_CASE("CpuBackend::integrate with block culling leaves the volume bit-identi
       }
     INFO("view " << i);
     REQUIRE(std::memcmp(expected.data(), cpu.volumeData(), expected.size() * sizeof(int16_t)) == 0);
+    // The masks: those of sbBlockSurfaceMask on the volume, plus stale bits only in blocks that the integration
+    // did not visit whole (or-ed into the old mask); from the empty volume (first view) exactly those.
+    const int n = kResolution >> sb::CpuBackend::kSkipShift;
+    const int below = sb::surfaceTsdfBelow(config.raycastSmallStepBelow);
+    size_t stale = 0, withSurface = 0;
+    for (int bz = 0; bz < n; ++bz)
+      for (int by = 0; by < n; ++by)
+        for (int bx = 0; bx < n; ++bx) {
+          const uint8_t mask = sbBlockSurfaceMask(cpu.volumeData(), kResolution, sb::CpuBackend::kSkipShift, below,
+                                                  bx, by, bz);
+          const uint8_t got = cpu.blockSurfaceMasks()[bx + (by + static_cast<size_t>(bz) * n) * n];
+          REQUIRE((got & mask) == mask);
+          if (got != mask) ++stale;
+          if (mask != 0) ++withSurface;
+        }
+    INFO(stale << " stale masks, " << withSurface << " blocks with surface");
+    CHECK(withSurface > 0);
+    if (i == 0) CHECK(stale == 0);
   }
   // The culling must have had work to skip, or this test proves nothing about it.
   INFO(culled << " of " << blocks << " blocks culled");

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "kernels/raycast.h"
-#include "pipeline/cpu/block_distance.h"
+#include "pipeline/block_distance.h"
 #include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/cpu/cpu_raycast.h"
 #include "pipeline/kernel_args.h"
@@ -27,18 +27,15 @@ struct Maps {
   Maps(int w, int h) : vertex(3 * size_t(w) * h), normal(3 * size_t(w) * h) {}
 };
 
-// The skipping grid of block_distance.h by brute force: the surface masks of every voxel below `below`.
+// The skipping grid of block_distance.h from the masks of kernels/raycast.h's sbBlockSurfaceMask.
 std::vector<uint8_t> distanceGrid(const int16_t* volume, int resolution, int shift, float below) {
-  const int16_t flagBelow = static_cast<int16_t>(std::ceil(below * SB_TSDF_SCALE));
-  const int n = resolution >> shift, side = 1 << shift;
+  const int n = resolution >> shift;
   std::vector<uint8_t> masks(size_t(n) * n * n, 0), distance;
-  for (int z = 0; z < resolution; ++z)
-    for (int y = 0; y < resolution; ++y)
-      for (int x = 0; x < resolution; ++x)
-        if (volume[2 * (x + (size_t(y) + size_t(z) * resolution) * resolution)] < flagBelow) {
-          const int faces = (x % side == 0 ? 1 : 0) + (y % side == 0 ? 2 : 0) + (z % side == 0 ? 4 : 0);
-          masks[(x >> shift) + ((y >> shift) + (z >> shift) * size_t(n)) * n] |= sb::surfaceMaskBits(faces);
-        }
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x)
+        masks[x + (y + size_t(z) * n) * n] =
+            sbBlockSurfaceMask(volume, resolution, shift, sb::surfaceTsdfBelow(below), x, y, z);
   sb::ThreadPool pool(1);
   sb::computeBlockDistance(masks, n, distance, pool);
   return distance;
@@ -67,7 +64,7 @@ Maps kernelMaps(const sb::RaycastInputs& in, int w, int h) {
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
       sbRaycastPixel(m.vertex.data(), m.normal.data(), w, in.volume, in.resolution, in.size, in.blockDistance,
-                     in.distanceShift, nullptr, nullptr, in.cameraToWorld, in.camera, in.nearPlane, in.farPlane,
+                     in.distanceShift, in.cameraToWorld, in.camera, in.nearPlane, in.farPlane,
                      in.largeStep, in.smallStep, in.smallStepBelow, x, y);
   return m;
 }

@@ -1,4 +1,4 @@
-// The distance grid of empty-space skipping (pipeline/cpu/block_distance.h) against its definition, by brute
+// The distance grid of empty-space skipping (pipeline/block_distance.h) against its definition, by brute
 // force, for several pool sizes (the passes run as a wavefront over the pool's threads). Also built with
 // ThreadSanitizer (test_block_distance_tsan).
 
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "core/thread_pool.h"
-#include "pipeline/cpu/block_distance.h"
+#include "pipeline/block_distance.h"
 
 TEST_CASE("computeBlockDistance is the Chebyshev distance to the nearest block with surface",
           "[pipeline][raycast]") {

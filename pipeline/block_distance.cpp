@@ -1,4 +1,4 @@
-#include "pipeline/cpu/block_distance.h"
+#include "pipeline/block_distance.h"
 
 #include <algorithm>
 #include <atomic>
