@@ -45,7 +45,7 @@ std::vector<Point> scene(const Eigen::Vector3d& c, int planes, double noise, dou
   std::vector<Point> pts;
   for (int i = 0; i < 3000; ++i) {
     const int which = i % planes;
-    Eigen::Vector3d p, n;
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), n = Eigen::Vector3d::UnitZ();
     if (which == 0) { p = {u(rng), u(rng) * 0.8, 2.0}; n = {0, 0, -1}; }
     if (which == 1) { p = {u(rng), 1.2, 1.0 + u(rng) * 0.8}; n = {0, -1, 0}; }
     if (which == 2) { p = {1.5, u(rng) * 0.8, 1.0 + u(rng) * 0.8}; n = {-1, 0, 0}; }
