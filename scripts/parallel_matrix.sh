@@ -22,12 +22,9 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ $# -gt 0 ] || { sed -n '2,14p' "$0" >&2; exit 2; }
-out=""
-args=("$@")
-for ((i = 0; i < ${#args[@]}; ++i)); do
-  [ "${args[$i]}" = "--out" ] && out=${args[$((i + 1))]:-}
-  case "${args[$i]}" in --out=*) out=${args[$i]#--out=} ;; esac
-done
+# shellcheck source=scripts/matrix_out.sh
+. "$(dirname "$0")/matrix_out.sh"
+out=$(matrix_out_dir "$@")
 [ -n "$out" ] || { echo "parallel_matrix: the command needs --out DIR" >&2; exit 2; }
 mkdir -p "$out"
 "$@" --plan "$out/plan.txt"

@@ -26,12 +26,9 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ $# -gt 0 ] || { sed -n '2,14p' "$0" >&2; exit 2; }
-out=""
-args=("$@")
-for ((i = 0; i < ${#args[@]}; ++i)); do
-  [ "${args[$i]}" = "--out" ] && out=${args[$((i + 1))]:-}
-  case "${args[$i]}" in --out=*) out=${args[$i]#--out=} ;; esac
-done
+# shellcheck source=scripts/matrix_out.sh
+. "$here/matrix_out.sh"
+out=$(matrix_out_dir "$@")
 [ -n "$out" ] || { echo "slurm_matrix: the command needs --out DIR (a directory every node shares)" >&2; exit 2; }
 mkdir -p "$out/slurm"
 out=$(cd "$out" && pwd)
