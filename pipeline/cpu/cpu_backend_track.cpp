@@ -10,6 +10,18 @@
 
 namespace sb {
 
+namespace {
+
+// The chunks' partial sums added in chunk order: the same result for any thread count.
+TrackSums sumInChunkOrder(const std::vector<TrackSums>& partial) {
+  TrackSums total{};
+  for (const TrackSums& p : partial)
+    for (int i = 0; i < SB_REDUCE_SIZE; ++i) total[i] += p[i];
+  return total;
+}
+
+}  // namespace
+
 TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                             StageTimes& times) {
   const Level& in = levels_[level];
@@ -48,9 +60,7 @@ TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, c
     trackMs[chunk] = std::chrono::duration<double, std::milli>(t1 - t0).count();
     reduceMs[chunk] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   });
-  TrackSums total{};
-  for (const TrackSums& p : partial)
-    for (int i = 0; i < SB_REDUCE_SIZE; ++i) total[i] += p[i];
+  const TrackSums total = sumInChunkOrder(partial);
   // Wall time of the loop, split between the stages by their share of the per-chunk work.
   double trackSum = 0, reduceSum = 0;
   for (int c = 0; c < chunks; ++c) {
@@ -78,9 +88,7 @@ TrackSums CpuBackend::blockSums(int block, StageTimes& times) {
     partial[chunk].fill(0.0);
     reduceBandBlocks(band, args.width, block, partial[chunk]);
   });
-  TrackSums total{};
-  for (const TrackSums& p : partial)
-    for (int i = 0; i < SB_REDUCE_SIZE; ++i) total[i] += p[i];
+  const TrackSums total = sumInChunkOrder(partial);
   // Counted as track: mostly the track pass run again (the block sums are cheap).
   times[Stage::track] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return total;
