@@ -168,7 +168,8 @@ nlohmann::json versionMessage(const std::string& release) {
 nlohmann::json poseMessage(const FrameReport& r) {
   nlohmann::json j = {{"class", "POSE"},          {"frame", r.frame},           {"timestamp", r.timestamp},
                       {"position", r.position},   {"quaternion", r.quaternion}, {"tracked", r.tracked},
-                      {"corrected", r.corrected}, {"velocity", r.velocity},     {"constrained", r.constrained}};
+                      {"corrected", r.corrected}, {"velocity", r.velocity},     {"constrained", r.constrained},
+                      {"state", r.state}};
   if (r.conditioning) {
     j["conditioning"] = *r.conditioning;
     j["weakest_motion"] = r.weakestMotion;

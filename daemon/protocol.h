@@ -19,7 +19,9 @@
 namespace sb::daemon {
 
 constexpr int kProtoMajor = 1;
-constexpr int kProtoMinor = 1;  // 1: POSE carries constrained, conditioning, weakest_motion
+// 1: POSE carries constrained, conditioning, weakest_motion; 2: POSE carries state (good, weak, lost,
+// relocalised) and STATUS a tracking_state object.
+constexpr int kProtoMinor = 2;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
@@ -61,6 +63,7 @@ struct FrameReport {
   bool corrected = false;           // the controller replaced the tracked pose
   double velocity = 0.0;            // metres/frame
   bool constrained = true;          // the geometry in view fixed every motion (pipeline/tracking_quality.h)
+  std::string state = "good";       // tracking state: good, weak, lost, relocalised (runtime/tracking_state.h)
   std::optional<double> conditioning;  // when ICP ran: the smallest normalised eigenvalue of its normal matrix
   std::string weakestMotion;        // when ICP ran: the weakest motion, "tx".."rz" in camera axes
   double computationMs = 0.0;       // preprocessing + tracking + integration + raycast

@@ -36,6 +36,7 @@ FrameReport makeReport(const FrameRecord& record, const std::vector<std::string>
   report.corrected = r.poseOverridden;
   report.velocity = r.velocity;
   report.constrained = r.quality.constrained;
+  report.state = trackingStateName(record.state);
   if (r.quality.known) {
     report.conditioning = r.quality.conditioning;
     report.weakestMotion = weakDirectionName(r.quality.weakest);
@@ -249,6 +250,11 @@ void SlamWorker::runPasses() {
       stats_.state = "running";
       ++stats_.frames;
       stats_.tracked += record.result.tracked;
+      const bool lost = record.state == TrackingState::lost;
+      stats_.lostStretches += lost && stats_.trackingState != "lost";
+      stats_.lostFrames += lost;
+      stats_.relocalisations += record.state == TrackingState::relocalised;
+      stats_.trackingState = trackingStateName(record.state);
       stats_.computationMs = computationSum / static_cast<double>(stats_.frames);
       if (recent.size() > 1)
         stats_.fps = static_cast<double>(recent.size() - 1) /

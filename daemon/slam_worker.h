@@ -32,6 +32,10 @@ struct WorkerStats {
   std::string error;               // when failed
   uint64_t frames = 0;             // frames processed (all passes)
   uint64_t tracked = 0;
+  // Tracking state (runtime/tracking_state.h), all passes: of the last frame, frames lost, times the tracker
+  // was lost (stretches of lost frames) and times it relocalised.
+  std::string trackingState = "good";
+  uint64_t lostFrames = 0, lostStretches = 0, relocalisations = 0;
   uint32_t pass = 0;
   double fps = 0.0;            // over the last second or so of frames
   double computationMs = 0.0;  // mean over the run

@@ -42,6 +42,10 @@ const std::vector<FloatField>& floatFields() {
       {"raycast_small_step_voxels", &PipelineConfig::raycastSmallStep, 0.01, 10.0},
       {"raycast_small_step_below_tsdf", &PipelineConfig::raycastSmallStepBelow, 0.0, 1.0},
       {"render_ambient", &PipelineConfig::renderAmbient, 0.0, 1.0},
+      {"relocalise_min_pair_agreement", &PipelineConfig::relocaliseMinPairAgreement, 0.0, 1.0},
+      {"relocalise_max_motion_m", &PipelineConfig::relocaliseMaxMotion, 0.0, 10.0},
+      {"relocalise_max_rotation_deg", &PipelineConfig::relocaliseMaxRotationDeg, 0.0, 180.0},
+      {"keyframe_min_dissimilarity", &PipelineConfig::keyframeMinDissimilarity, 0.0, 1.0},
   };
   return fields;
 }
@@ -53,6 +57,11 @@ const std::vector<IntField>& intFields() {
       {"volume_resolution", &PipelineConfig::volumeResolution, 8, 1024},
       {"max_weight", &PipelineConfig::maxWeight, 1, 32767},
       {"quality_block_px", &PipelineConfig::qualityBlockPixels, 1, 256},
+      {"lost_after_failed_frames", &PipelineConfig::lostAfterFailedFrames, 1, 1000},
+      {"relocalise_candidates", &PipelineConfig::relocaliseCandidates, 0, 32},
+      {"relocalise_confirm_frames", &PipelineConfig::relocaliseConfirmFrames, 1, 100},
+      {"relocalise_csr", &PipelineConfig::relocaliseCsr, 1, 8},
+      {"keyframe_capacity", &PipelineConfig::keyframeCapacity, 1, 100000},
   };
   return fields;
 }
@@ -103,6 +112,8 @@ void validateConfig(const PipelineConfig& c) {
   if (c.volumeResolution % 8 != 0)
     throw Error(where + ": 'volume_resolution' = " + std::to_string(c.volumeResolution) +
                 " must be a multiple of 8 (e.g. 64, 128, 256, 512)");
+  if (c.relocaliseCsr != 1 && c.relocaliseCsr != 2 && c.relocaliseCsr != 4 && c.relocaliseCsr != 8)
+    throw Error(where + ": 'relocalise_csr' = " + std::to_string(c.relocaliseCsr) + " must be 1, 2, 4 or 8");
   if (c.farPlane <= c.nearPlane)
     throw Error(where + ": 'far_plane_m' must be larger than 'near_plane_m' (" + std::to_string(c.farPlane) +
                 " <= " + std::to_string(c.nearPlane) + ")");
@@ -121,6 +132,7 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
   r.numbers("initial_position", position, 0.0, 1.0, 3, 3, "[x, y, z], fractions of the volume side");
   for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>(position[i]);
   r.boolean("empty_space_skipping", c.emptySpaceSkipping);
+  r.boolean("relocalise", c.relocalise);
   std::string backend = backendKindName(c.backend);
   r.string("backend", backend, {"auto", "cpu", "opencl"});
   c.backend = backend == "cpu" ? BackendKind::cpu : backend == "opencl" ? BackendKind::opencl : BackendKind::automatic;
@@ -159,6 +171,7 @@ nlohmann::json configToJson(const PipelineConfig& c) {
   for (const auto& f : intFields()) j[f.key] = c.*(f.member);
   j["initial_position"] = {c.initialPosition[0], c.initialPosition[1], c.initialPosition[2]};
   j["empty_space_skipping"] = c.emptySpaceSkipping;
+  j["relocalise"] = c.relocalise;
   j["backend"] = backendKindName(c.backend);
   j["opencl_platform"] = c.openclPlatform;
   j["opencl_device"] = c.openclDevice;

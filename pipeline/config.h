@@ -40,6 +40,22 @@ struct PipelineConfig {
   // about the block's inliers, structure larger than a block keeps its weight. 1: the per-pixel conditioning.
   int qualityBlockPixels = 32;
 
+  // --- tracking state and relocalisation (runtime/tracking_monitor.h, reloc/) ---
+  // Failed tracks in a row after which plain tracking is no longer trusted: the frames are lost until the
+  // relocaliser confirms a pose (earlier failures keep the controller's bounded extrapolation).
+  int lostAfterFailedFrames = 3;
+  bool relocalise = true;               // try keyframe poses while lost (false: stay lost once lost)
+  int relocaliseCandidates = 3;         // keyframes tried per lost frame (plus the last good pose)
+  int relocaliseConfirmFrames = 3;      // consecutive frames a candidate must hold before it is accepted
+  int relocaliseCsr = 2;                // compute size ratio of the relocaliser's ICP (1, 2, 4 or 8)
+  // A candidate's ICP must pass the tracked tests, be constrained, and agree with this share of the pairs for
+  // which the model has a surface (TrackAttempt::pairAgreement).
+  float relocaliseMinPairAgreement = 0.8f;
+  float relocaliseMaxMotion = 0.1f;         // metres: motion between two confirming frames, at most
+  float relocaliseMaxRotationDeg = 10.0f;   // degrees: the same for rotation
+  int keyframeCapacity = 300;               // keyframes held (the oldest goes when full)
+  float keyframeMinDissimilarity = 0.2f;    // a view unlike every keyframe by more than this becomes one
+
   // --- volume (fixed per run) ---
   int volumeResolution = 256;                           // voxels per side (multiple of 8)
   float volumeSize = 5.0f;                              // metres, side of the cube

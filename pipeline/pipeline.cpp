@@ -67,6 +67,7 @@ void Pipeline::retrackFrame(const DepthFrame& frame, double depthScale, const Kn
   r.tracked = false;
   r.residual = 0.0;
   r.inlierFraction = 0.0;
+  r.pairAgreement = 0.0;
   r.icpLevelIterations = {};
   r.icpUpdateNorm = 0.0;
   r.quality = TrackingQuality{};
@@ -77,6 +78,7 @@ void Pipeline::track(const DepthFrame& frame, double depthScale, FrameResult& r)
   const Knobs& knobs = r.knobs;
   pose_ = lastFinalPose_;  // until ICP accepts a pose
   backend_->preprocess(frame.depth, static_cast<float>(1.0 / depthScale), knobs.csr, r.times);
+  preprocessedCsr_ = knobs.csr;
   const bool bootstrap = frameCount_ < static_cast<size_t>(config_.bootstrapFrames);
   if (!bootstrap && frameCount_ % knobs.trackingRate == 0 && referenceCsr_ != 0) {
     if (referenceCsr_ != knobs.csr || referenceStale_) {
@@ -91,21 +93,23 @@ void Pipeline::track(const DepthFrame& frame, double depthScale, FrameResult& r)
   r.T_camera_to_world = pose_;
 }
 
-bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
-  const Eigen::Isometry3d previous = lastFinalPose_;  // a failed track keeps it
-  Eigen::Isometry3d estimate = startPose_;
+TrackAttempt Pipeline::icp(const Knobs& knobs, const Eigen::Isometry3d& start, StageTimes& times,
+                           std::array<int, 3>& levelIterations) {
+  TrackAttempt a;
+  a.start = start;
+  Eigen::Isometry3d estimate = start;
   const Eigen::Isometry3f reference = referencePose_.cast<float>();
   TrackSums last{};
   int lastLevel = -1;
   for (int level = kPyramidLevels - 1; level >= 0; --level) {
     for (int i = 0; i < knobs.pyramidIterations[level]; ++i) {
-      last = backend_->track(level, estimate.cast<float>(), reference, r.times);
+      last = backend_->track(level, estimate.cast<float>(), reference, times);
       lastLevel = level;
-      ++r.icpIterations;
-      ++r.icpLevelIterations[level];
+      ++a.icpIterations;
+      ++levelIterations[level];
       Twist x;
       if (!solveIcpUpdateHolding(last, estimate, holdBelowConditioning_, x)) break;
-      r.icpUpdateNorm = x.norm();
+      a.icpUpdateNorm = x.norm();
       estimate = twistToTransform(x) * estimate;
       if (x.norm() < knobs.icpThreshold) break;
     }
@@ -113,19 +117,69 @@ bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
   const int width = (intrinsics_.width / knobs.csr) >> std::max(lastLevel, 0);
   const int height = (intrinsics_.height / knobs.csr) >> std::max(lastLevel, 0);
   const double inliers = last[28];
-  r.inlierFraction = inliers / (double(width) * height);
-  r.residual = inliers > 0 ? std::sqrt(last[0] / inliers) : 0.0;
-  const bool ok = inliers > 0 && r.residual <= config_.trackedMaxResidual &&
-                  r.inlierFraction >= config_.trackedMinInliers && estimate.matrix().allFinite();
+  a.inlierFraction = inliers / (double(width) * height);
+  a.residual = inliers > 0 ? std::sqrt(last[0] / inliers) : 0.0;
+  const double pairs = inliers + last[29] + last[30];
+  a.pairAgreement = pairs > 0 ? inliers / pairs : 0.0;
+  a.tracked = inliers > 0 && a.residual <= config_.trackedMaxResidual &&
+              a.inlierFraction >= config_.trackedMinInliers && estimate.matrix().allFinite();
   if (lastLevel >= 0) {
     // Blocks of about qualityBlockPixels sensor pixels: the model's noise is correlated over a few voxels, so a
     // block must span a similar patch of the scene whatever the compute size.
     const int block = std::max(1, config_.qualityBlockPixels / (knobs.csr << lastLevel));
-    const TrackSums blocks = backend_->blockSums(block, r.times);
-    r.quality = trackingQuality(last, blocks, estimate, config_.constrainedMinConditioning);
+    const TrackSums blocks = backend_->blockSums(block, times);
+    a.quality = trackingQuality(last, blocks, estimate, config_.constrainedMinConditioning);
   }
-  pose_ = ok ? estimate : previous;
-  return ok;
+  a.T_camera_to_world = a.tracked ? estimate : start;
+  return a;
+}
+
+bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
+  const TrackAttempt a = icp(knobs, startPose_, r.times, r.icpLevelIterations);
+  r.icpIterations += a.icpIterations;
+  r.icpUpdateNorm = a.icpUpdateNorm;
+  r.inlierFraction = a.inlierFraction;
+  r.residual = a.residual;
+  r.pairAgreement = a.pairAgreement;
+  if (a.quality.known) r.quality = a.quality;
+  pose_ = a.tracked ? a.T_camera_to_world : lastFinalPose_;  // a failed track keeps the previous final pose
+  return a.tracked;
+}
+
+TrackAttempt Pipeline::trackFrom(const DepthFrame& frame, double depthScale, const Knobs& knobs,
+                                 const Eigen::Isometry3d& start, FrameResult& r) {
+  if (!awaitingFinish_) throw Error("Pipeline::trackFrom called without a preceding trackFrame");
+  checkInput(frame, depthScale, knobs);
+  if (knobs.csr != preprocessedCsr_) {
+    backend_->preprocess(frame.depth, static_cast<float>(1.0 / depthScale), knobs.csr, r.times);
+    preprocessedCsr_ = knobs.csr;
+  }
+  backend_->raycast(start.cast<float>(), knobs.csr, r.times);
+  referencePose_ = start;
+  referenceCsr_ = knobs.csr;
+  referenceStale_ = false;
+  std::array<int, 3> levelIterations{};
+  return icp(knobs, start, r.times, levelIterations);
+}
+
+void Pipeline::adoptAttempt(const TrackAttempt& a, FrameResult& r) {
+  if (!awaitingFinish_) throw Error("Pipeline::adoptAttempt called without a preceding trackFrame");
+  pose_ = a.T_camera_to_world;
+  r.T_camera_to_world = pose_;
+  r.trackingAttempted = true;
+  r.tracked = a.tracked;
+  r.residual = a.residual;
+  r.inlierFraction = a.inlierFraction;
+  r.pairAgreement = a.pairAgreement;
+  r.icpUpdateNorm = a.icpUpdateNorm;
+  r.quality = a.quality;
+}
+
+void Pipeline::discardTrack(FrameResult& r) {
+  if (!awaitingFinish_) throw Error("Pipeline::discardTrack called without a preceding trackFrame");
+  pose_ = lastFinalPose_;
+  r.T_camera_to_world = pose_;
+  r.tracked = false;
 }
 
 void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d>& correctedPose,

@@ -37,6 +37,9 @@ struct FrameResult {
   bool integrated = false;   // the frame was fused into the volume
   double residual = 0.0;     // metres: RMS point-to-plane residual of the last ICP pass (0 when not attempted)
   double inlierFraction = 0.0;  // inliers of the last ICP pass / pixels at the compute size
+  // Inliers of the last ICP pass / the pairs the model had a surface for (inliers, pairs too far, pairs with bad
+  // normals): how much of what the model predicts the frame agrees with, [0, 1] (0 when not attempted).
+  double pairAgreement = 0.0;
   int icpIterations = 0;     // ICP iterations run, all levels (both passes when retracked)
   std::array<int, 3> icpLevelIterations{};  // ICP iterations of the last pass per level: finest, mid, coarsest
   double icpUpdateNorm = 0.0;  // norm of the last ICP update (twist: m and rad), 0 when not attempted
@@ -45,6 +48,19 @@ struct FrameResult {
   Knobs firstKnobs;          // when retracked: the knobs of the first pass
   double velocity = 0.0;     // metres/frame: |translation - previous frame's translation| (after finishFrame)
   StageTimes times;          // ms per stage
+};
+
+// One ICP run of the frame in hand from a start pose (Pipeline::trackFrom): the evidence a relocaliser judges.
+struct TrackAttempt {
+  Eigen::Isometry3d start = Eigen::Isometry3d::Identity();              // where ICP started (volume frame)
+  Eigen::Isometry3d T_camera_to_world = Eigen::Isometry3d::Identity();  // where it ended (start when it failed)
+  bool tracked = false;        // passed the tracked tests (residual, inliers), like a tracked frame
+  double residual = 0.0;       // metres, as FrameResult
+  double inlierFraction = 0.0;
+  double pairAgreement = 0.0;
+  int icpIterations = 0;
+  double icpUpdateNorm = 0.0;  // of the last update
+  TrackingQuality quality;
 };
 
 // Where ICP starts on a frame, and what it may move (Pipeline::trackFrame).
@@ -87,6 +103,16 @@ class Pipeline {
   // Integration (when due) and raycast with the tracked pose, or `correctedPose` when given. Completes `result`.
   void finishFrame(FrameResult& result, const std::optional<Eigen::Isometry3d>& correctedPose = std::nullopt,
                    const FrameOverrides& overrides = {});
+  // Relocalisation (reloc/): tracks the frame in hand (after trackFrame, before finishFrame) from `start` against
+  // the model raycast from `start`, with `knobs` (preprocessing again when their compute size differs from the
+  // last). The frame's result and the pipeline's pose are unchanged; the stage times add to `result`'s. Throws
+  // sb::Error like retrackFrame.
+  TrackAttempt trackFrom(const DepthFrame& frame, double depthScale, const Knobs& knobs,
+                         const Eigen::Isometry3d& start, FrameResult& result);
+  // Makes an attempt (of this frame's trackFrom) the frame's tracking result: its pose becomes the frame's.
+  void adoptAttempt(const TrackAttempt& attempt, FrameResult& result);
+  // Discards the frame in hand's tracking: not tracked, the pose stays the previous frame's final pose.
+  void discardTrack(FrameResult& result);
   // trackFrame + finishFrame.
   FrameResult processFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs);
 
@@ -108,6 +134,9 @@ class Pipeline {
   void checkInput(const DepthFrame& frame, double depthScale, const Knobs& knobs) const;
   void track(const DepthFrame& frame, double depthScale, FrameResult& result);
   bool runIcp(const Knobs& knobs, FrameResult& result);
+  // ICP of the frame in hand at `knobs` from `start` against the current reference maps.
+  TrackAttempt icp(const Knobs& knobs, const Eigen::Isometry3d& start, StageTimes& times,
+                   std::array<int, 3>& levelIterations);
 
   PipelineConfig config_;
   Intrinsics intrinsics_;
@@ -119,6 +148,7 @@ class Pipeline {
   Eigen::Isometry3d startPose_;      // where ICP starts for the frame in hand (trackFrame and retrackFrame)
   double holdBelowConditioning_ = 0.0;  // IcpStart's, for the frame in hand
   int referenceCsr_ = 0;            // csr of the last raycast (0 = none yet)
+  int preprocessedCsr_ = 0;         // csr of the last preprocess
   bool referenceStale_ = false;     // the volume changed since the last raycast
   size_t frameCount_ = 0;
   bool awaitingFinish_ = false;

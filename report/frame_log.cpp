@@ -97,6 +97,14 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   log.level.push_back(number(j, {"level"}, where, problems));
   log.conditioning.push_back(number(j, {"conditioning"}, where, problems));
   log.constrained.push_back(number(j, {"constrained"}, where, problems));
+  log.state.push_back(kNaN);
+  if (const json* state = find(j, {"state"})) {
+    static const char* const names[] = {"good", "weak", "lost", "relocalised"};
+    for (int s = 0; s < 4; ++s)
+      if (state->is_string() && state->get<std::string>() == names[s]) log.state.back() = s;
+    if (!std::isfinite(log.state.back()))
+      problems.add(where + ": 'state' should be good, weak, lost or relocalised, found " + state->dump());
+  }
   if (const json* triggers = find(j, {"triggers"})) {
     log.recordsTriggers = true;
     if (triggers->is_array()) {

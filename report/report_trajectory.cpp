@@ -31,6 +31,27 @@ void addTrajectorySection(HtmlPage& page, const RunData& run) {
   page.figure(svgXyPlot(plot), caption);
 }
 
+namespace {
+
+// The tracking state as a band of lanes over the plot (weak, lost and relocalised frames; good ones are left
+// blank). Returns a caption sentence, empty when the log records no state.
+std::string addStateBand(LinePlot& plot, const FrameLog& f) {
+  if (!f.hasColumn(f.state)) return "";
+  std::vector<double> weak, lost, relocalised;
+  for (size_t i = 0; i < f.size(); ++i) {
+    if (f.state[i] == 1) weak.push_back(f.frame[i]);
+    if (f.state[i] == 2) lost.push_back(f.frame[i]);
+    if (f.state[i] == 3) relocalised.push_back(f.frame[i]);
+  }
+  plot.events.push_back({"weak", weak, "#E69F00"});
+  plot.events.push_back({"lost", lost, "#D55E00"});
+  plot.events.push_back({"relocalised", relocalised, "#009E73"});
+  return " Tracking state marked above the curves: " + std::to_string(weak.size()) + " weak, " +
+         std::to_string(lost.size()) + " lost, " + std::to_string(relocalised.size()) + " relocalised frames.";
+}
+
+}  // namespace
+
 void addErrorSection(HtmlPage& page, const RunData& run) {
   page.heading(2, "Per-frame error", "ite");
   if (run.ate) {
@@ -43,9 +64,10 @@ void addErrorSection(HtmlPage& page, const RunData& run) {
     unaligned.dashed = true;
     plot.series.push_back(std::move(unaligned));
     plot.yMin = 0.0;
+    const std::string band = addStateBand(plot, run.frames);
     page.figure(svgLinePlot(plot), "Aligned: |alignment * p_est - p_gt| per matched frame. Unaligned: both "
                                    "trajectories relative to their first matched pose (mean " +
-                                       formatNumber(run.ate->unalignedMean * 100, 4) + " cm).");
+                                       formatNumber(run.ate->unalignedMean * 100, 4) + " cm)." + band);
   } else {
     page.paragraph("No per-frame error: it needs a ground truth (pass --groundtruth FILE).", "muted");
   }

@@ -21,6 +21,7 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                       {"computation_ms", r.times.computationMs()},
                       {"tracking_attempted", r.trackingAttempted},
                       {"tracked", r.tracked},
+                      {"state", trackingStateName(rec.state)},
                       {"integrated", r.integrated},
                       {"icp_iterations", r.icpIterations},
                       {"residual_m", r.residual},
@@ -49,6 +50,13 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
     j["weakest_motion"] = weakDirectionName(r.quality.weakest);
     j["constrained"] = r.quality.constrained;
   }
+  if (r.trackingAttempted) j["pair_agreement"] = r.pairAgreement;
+  if (rec.relocalising)
+    j["relocalisation"] = {{"tries", rec.relocalisation.tries},
+                           {"confirmed", rec.relocalisation.confirmed},
+                           {"why", rec.relocalisation.why}};
+  if (rec.keyframeAdded) j["keyframe_added"] = true;
+  j["keyframes"] = rec.keyframes;
   if (r.retracked) j["retracked_from"] = knobsToJson(r.firstKnobs);
   if (!rec.decision.reason.empty()) j["reason"] = rec.decision.reason;
   // Device (OpenCL profiling event) times per stage, beside the host times; absent on the cpu backend.

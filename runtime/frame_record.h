@@ -7,6 +7,8 @@
 
 #include "controller/controller.h"
 #include "pipeline/pipeline.h"
+#include "reloc/relocaliser.h"
+#include "runtime/tracking_state.h"
 
 namespace sb {
 
@@ -23,6 +25,13 @@ struct FrameRecord {
   // CLOCK_MONOTONIC (ns) when the runner began the frame (frame in hand, before preprocessing) and finished it
   // (after integration/raycast and the controller, before the outputs): the interval the power meter's
   // ledger charges to this frame (power/power_sampler.h).
+  // Tracking state (runtime/tracking_monitor.h): of this frame; whether the relocaliser ran on it and what it
+  // found; whether the frame became a keyframe, and the keyframes held after it.
+  TrackingState state = TrackingState::good;
+  bool relocalising = false;
+  RelocaliseOutcome relocalisation;
+  bool keyframeAdded = false;
+  size_t keyframes = 0;
   int64_t startMonoNs = 0;
   int64_t endMonoNs = 0;
 };

@@ -8,7 +8,7 @@
 namespace sb {
 
 SlamRunner::SlamRunner(Pipeline& pipeline, std::unique_ptr<Controller> controller, double depthScale)
-    : pipeline_(pipeline), depthScale_(depthScale), previousPose_(pipeline.pose()) {
+    : pipeline_(pipeline), depthScale_(depthScale), previousPose_(pipeline.pose()), monitor_(pipeline.config()) {
   setController(std::move(controller));
 }
 
@@ -90,12 +90,15 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   rec.knobsPinned = !pins_.empty();
   applyHalfPrecision(rec);
   rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs(), nextStart_);
+  // Lost for a while: a plain track is not trusted (the relocaliser decides, in resolve()).
+  if (monitor_.recovering()) pipeline_.discardTrack(rec.result);
   Observation obs = observe(rec.result, frame);
   rec.decision = decide(obs, rec);
   // A controller may have the frame tracked once more (at other knobs) before it is finished; pinned knobs
   // are never replaced.
   if (rec.decision.retrack && pins_.empty()) {
     pipeline_.retrackFrame(frame, depthScale_, *rec.decision.retrack, rec.result);
+    if (monitor_.recovering()) pipeline_.discardTrack(rec.result);
     obs = observe(rec.result, frame);
     const uint32_t firstTriggers = rec.decision.triggers;
     rec.decision = decide(obs, rec);
@@ -104,9 +107,11 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   }
   rec.trackedVelocity = obs.velocity;
   rec.controller = controller_->name();
+  monitor_.resolve(pipeline_, frame, depthScale_, rec);
   const FrameResult& r = rec.result;
   pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
                         FrameOverrides{rec.decision.integrate, rec.decision.keepReference});
+  monitor_.after(frame, depthScale_, rec);
   next_ = rec.decision.next;
   nextStart_ = IcpStart{rec.decision.nextStartPose, rec.decision.nextHoldBelowConditioning};
   nextHalf_ = rec.decision.halfPrecision;

@@ -16,6 +16,7 @@
 #include "runtime/frame_record.h"
 #include "runtime/knob_pins.h"
 #include "runtime/output_sink.h"
+#include "runtime/tracking_monitor.h"
 
 namespace sb {
 
@@ -50,6 +51,7 @@ class SlamRunner {
   Knobs nextKnobs() const { return pins_.apply(next_); }
   const KnobPins& pins() const { return pins_; }
   size_t frames() const { return frames_; }
+  const TrackingMonitor& monitor() const { return monitor_; }
   Pipeline& pipeline() { return pipeline_; }
 
  private:
@@ -71,6 +73,7 @@ class SlamRunner {
   Eigen::Isometry3d previousPose_;
   double previousComputationMs_ = 0.0;
   size_t frames_ = 0;
+  TrackingMonitor monitor_;
 };
 
 }  // namespace sb

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <thread>
@@ -28,6 +29,18 @@ void RunStats::add(const FrameRecord& rec) {
   for (const std::string& t : triggerNames(rec.decision.triggers)) ++triggerCounts[t];
   ++knobCounts[formatKnobs(r.knobs)];
   ++controllerCounts[rec.controller];
+  ++stateFrames[static_cast<size_t>(rec.state)];
+  if (rec.state == TrackingState::lost) {
+    if (currentLost++ == 0) ++lostStretches;
+    longestLost = std::max(longestLost, currentLost);
+  } else {
+    if (rec.state == TrackingState::relocalised && currentLost > 0) {
+      ++recoveries;
+      recoveryFramesSum += currentLost;
+      longestRecovery = std::max(longestRecovery, currentLost);
+    }
+    currentLost = 0;
+  }
 }
 
 nlohmann::json RunStats::toJson() const {
@@ -51,6 +64,15 @@ nlohmann::json RunStats::toJson() const {
   j["triggers"] = triggerCounts;
   j["knob_frames"] = knobCounts;
   j["controller_frames"] = controllerCounts;
+  nlohmann::json states = nlohmann::json::object();
+  for (int s = 0; s < kTrackingStateCount; ++s) states[trackingStateName(static_cast<TrackingState>(s))] = stateFrames[s];
+  j["tracking_state"] = {{"frames", states},
+                         {"lost_stretches", lostStretches},
+                         {"longest_lost_frames", longestLost},
+                         {"recoveries", recoveries},
+                         {"mean_frames_to_recover", recoveries ? double(recoveryFramesSum) / recoveries : 0.0},
+                         {"longest_frames_to_recover", longestRecovery},
+                         {"lost_at_end", currentLost > 0}};
   return j;
 }
 

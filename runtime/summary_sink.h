@@ -5,6 +5,7 @@
 // (without the ATE) and on every flush (with it), so a reader never sees half a file and a killed run keeps
 // a summary of every frame but at most the one in hand.
 
+#include <array>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -13,6 +14,7 @@
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
 #include "runtime/output_sink.h"
+#include "runtime/tracking_state.h"
 
 namespace sb {
 
@@ -27,6 +29,11 @@ struct RunStats {
   std::map<std::string, size_t> triggerCounts;
   std::map<std::string, size_t> knobCounts;  // formatKnobs(knobs) -> frames run with them
   std::map<std::string, size_t> controllerCounts;  // controller name -> frames it decided (a daemon may switch)
+  // Tracking state (runtime/tracking_state.h): frames per state; stretches of lost frames (a stretch ends at
+  // a frame that is not lost); recoveries (stretches ended by a relocalisation) and their length in frames.
+  std::array<size_t, kTrackingStateCount> stateFrames{};
+  size_t lostStretches = 0, longestLost = 0, currentLost = 0;
+  size_t recoveries = 0, recoveryFramesSum = 0, longestRecovery = 0;
 
   void add(const FrameRecord& record);
   double computationMsPerFrame() const { return frames ? stageSums.computationMs() / frames : 0.0; }

@@ -35,11 +35,16 @@ std::string vec(const nlohmann::json& m, const char* key, int precision) {
 }
 
 std::string formatPose(const nlohmann::json& m) {
+  // The tracking state (proto_minor 2); an older daemon's POSE has only the tracked flag.
+  std::string state = m.contains("state") && m["state"].is_string() ? m["state"].get<std::string>()
+                      : flag(m, "tracked")                          ? "tracked"
+                                                                    : "lost";
+  if (state == "lost") state = "LOST";
   char buf[256];
   std::snprintf(buf, sizeof buf, "POSE   frame %6s  t %.3f s  position %s m  q %s  %s%s  v %.4f m/frame",
                 str(m, "frame").c_str(), num(m, "timestamp"), vec(m, "position", 3).c_str(),
-                vec(m, "quaternion", 3).c_str(), flag(m, "tracked") ? "tracked" : "LOST",
-                flag(m, "corrected") ? " corrected" : "", num(m, "velocity"));
+                vec(m, "quaternion", 3).c_str(), state.c_str(), flag(m, "corrected") ? " corrected" : "",
+                num(m, "velocity"));
   return buf;
 }
 
@@ -97,6 +102,11 @@ std::string formatStatus(const nlohmann::json& m) {
   std::snprintf(buf, sizeof buf, "%s processed, %s tracked, %.1f fps, %.1f ms/frame computation",
                 str(m, "frames").c_str(), str(m, "tracked").c_str(), num(m, "fps"), num(m, "computation_ms"));
   row("frames", buf);
+  if (m.contains("tracking_state") && m["tracking_state"].is_object()) {
+    const auto& t = m["tracking_state"];
+    row("tracking", str(t, "current") + " (lost " + str(t, "lost_stretches") + " times, " + str(t, "lost_frames") +
+                        " frames; relocalised " + str(t, "relocalisations") + " times)");
+  }
   row("drops", str(m, "drops"));
   row("controller",
       str(m, "controller") +

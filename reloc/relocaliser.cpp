@@ -1,0 +1,95 @@
+#include "reloc/relocaliser.h"
+
+#include <cstdio>
+#include <vector>
+
+#include "core/error.h"
+
+namespace sb {
+
+namespace {
+
+constexpr double kDegPerRad = 57.29577951308232;
+
+double rotationDeg(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle() * kDegPerRad;
+}
+
+bool near(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double metres, double degrees) {
+  return (a.translation() - b.translation()).norm() <= metres && rotationDeg(a, b) <= degrees;
+}
+
+// The better of two acceptable attempts: more of the pairs agreeing, then the smaller residual.
+bool better(const TrackAttempt& a, const TrackAttempt& b) {
+  if (a.pairAgreement != b.pairAgreement) return a.pairAgreement > b.pairAgreement;
+  return a.residual < b.residual;
+}
+
+std::string describe(const TrackAttempt& a) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "residual %.4f m, inliers %.2f, agreement %.2f, conditioning %.2g", a.residual,
+                a.inlierFraction, a.pairAgreement, a.quality.conditioning);
+  return buf;
+}
+
+}  // namespace
+
+Relocaliser::Relocaliser(const RelocaliserParams& p)
+    : params_(p), keyframes_(p.keyframeCapacity, p.keyframeMinDissimilarity) {
+  if (p.candidates < 0 || p.confirmFrames < 1)
+    throw Error("Relocaliser: candidates must be >= 0 and confirm frames >= 1");
+}
+
+bool Relocaliser::acceptable(const TrackAttempt& a) const {
+  return a.tracked && a.quality.known && a.quality.constrained && a.pairAgreement >= params_.minPairAgreement &&
+         a.T_camera_to_world.matrix().allFinite();
+}
+
+RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Isometry3d& heldPose,
+                                          const TryPose& tryPose) {
+  RelocaliseOutcome out;
+  // A candidate being confirmed: this frame, tracked from its last pose, must pass again and move little.
+  if (pending_) {
+    const TrackAttempt a = tryPose(*pending_);
+    ++out.tries;
+    if (acceptable(a) && near(a.T_camera_to_world, *pending_, params_.maxMotionM, params_.maxRotationDeg)) {
+      pending_ = a.T_camera_to_world;
+      out.confirmed = ++confirmed_;
+      out.attempt = a;
+      out.accepted = confirmed_ >= params_.confirmFrames;
+      out.why = (out.accepted ? "relocalised: held " : "candidate held ") + std::to_string(confirmed_) + " of " +
+                std::to_string(params_.confirmFrames) + " frames (" + describe(a) + ")";
+      if (out.accepted) reset();
+      return out;
+    }
+    out.why = "candidate lost (" + describe(a) + "); ";
+    reset();
+  }
+  // Fresh candidates: the last good pose, then the keyframes most like this view (distinct poses only).
+  std::vector<Eigen::Isometry3d> starts{heldPose};
+  for (const KeyframeMatch& m : keyframes_.nearest(code, static_cast<size_t>(params_.candidates))) {
+    bool seen = false;
+    for (const auto& s : starts) seen = seen || near(s, m.keyframe->T_camera_to_world, 0.01, 1.0);
+    if (!seen) starts.push_back(m.keyframe->T_camera_to_world);
+  }
+  std::optional<TrackAttempt> best;
+  for (const auto& start : starts) {
+    const TrackAttempt a = tryPose(start);
+    ++out.tries;
+    if (acceptable(a) && (!best || better(a, *best))) best = a;
+  }
+  if (!best) {
+    out.why += "no candidate of " + std::to_string(starts.size()) + " passed";
+    return out;
+  }
+  pending_ = best->T_camera_to_world;
+  confirmed_ = 1;
+  out.confirmed = 1;
+  out.attempt = best;
+  out.accepted = params_.confirmFrames <= 1;
+  out.why += (out.accepted ? "relocalised: " : "candidate found: ") + describe(*best);
+  if (out.accepted) reset();
+  return out;
+}
+
+}  // namespace sb

@@ -1,0 +1,74 @@
+#pragma once
+// Relocalisation from depth alone (issue 29): while tracking is good the relocaliser keeps keyframes (fern
+// codes of views unlike the stored ones, keyframe_database.h); when the tracker is lost, each frame tries ICP
+// against the model from a few start poses (the last good pose and the poses of the keyframes most like the
+// frame) and a candidate is accepted only
+//   - on the evidence that accepts a tracked frame: the pipeline's tracked tests (residual, inliers), a view
+//     that constrains every motion (tracking quality), and most of the pairs the model predicts agreeing
+//     (TrackAttempt::pairAgreement: a pose in the wrong place pairs the frame with surfaces it does not fit);
+//   - and when it holds over `confirmFrames` consecutive frames: each next frame, tracked from the candidate's
+//     pose, passes the same tests and moves no more than a camera can between two frames.
+// A false relocalisation is worse than none: there is no fallback that accepts weaker evidence.
+//
+// Cost of a lost frame, bounded: at most 1 + candidates ICP runs (each a raycast and at most pd0+pd1+pd2 track
+// passes at the relocaliser's compute size), or a single one while a candidate is being confirmed; plus one
+// fern code (fern_encoder.h) and one search of the keyframes.
+
+#include <Eigen/Geometry>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "pipeline/pipeline.h"
+#include "reloc/keyframe_database.h"
+
+namespace sb {
+
+struct RelocaliserParams {
+  int candidates = 3;               // keyframes tried per lost frame (plus the last good pose)
+  int confirmFrames = 3;            // consecutive frames a candidate must hold (the first included)
+  double minPairAgreement = 0.8;    // of an attempt's pairs, [0, 1]
+  double maxMotionM = 0.1;          // metres between two confirming frames
+  double maxRotationDeg = 10.0;     // degrees between two confirming frames
+  size_t keyframeCapacity = 300;
+  double keyframeMinDissimilarity = 0.2;
+};
+
+// One ICP run of the frame in hand from a start pose (Pipeline::trackFrom, bound to the frame).
+using TryPose = std::function<TrackAttempt(const Eigen::Isometry3d& start)>;
+
+struct RelocaliseOutcome {
+  bool accepted = false;              // relocalised: `attempt` is this frame's pose
+  std::optional<TrackAttempt> attempt;  // accepted, or the candidate now being confirmed
+  int tries = 0;                      // ICP runs this frame
+  int confirmed = 0;                  // consecutive frames the pending candidate has held (0: none)
+  std::string why;                    // in words, for the per-frame log
+};
+
+class Relocaliser {
+ public:
+  explicit Relocaliser(const RelocaliserParams& params);
+
+  // Offers a view seen while tracking was good as a keyframe. True when it became one.
+  bool harvest(const FernCode& code, const Eigen::Isometry3d& T_camera_to_world, size_t frame) {
+    return keyframes_.harvest(code, T_camera_to_world, frame);
+  }
+  // One lost frame whose fern code is `code` (may be invalid: the frame has too little depth; then only the
+  // pending candidate and the last good pose are tried). `heldPose`: the last good pose.
+  RelocaliseOutcome relocalise(const FernCode& code, const Eigen::Isometry3d& heldPose, const TryPose& tryPose);
+  // Forgets a pending candidate (tracking went on without relocalisation).
+  void reset() { pending_.reset(); confirmed_ = 0; }
+
+  // The acceptance rule for one attempt (without the agreement over frames).
+  bool acceptable(const TrackAttempt& attempt) const;
+  const KeyframeDatabase& keyframes() const { return keyframes_; }
+  const RelocaliserParams& params() const { return params_; }
+
+ private:
+  RelocaliserParams params_;
+  KeyframeDatabase keyframes_;
+  std::optional<Eigen::Isometry3d> pending_;  // the candidate being confirmed: its pose at the last frame
+  int confirmed_ = 0;
+};
+
+}  // namespace sb
