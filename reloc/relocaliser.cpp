@@ -48,6 +48,13 @@ bool Relocaliser::acceptable(const TrackAttempt& a) const {
 RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Isometry3d& heldPose,
                                           const TryPose& tryPose) {
   RelocaliseOutcome out;
+  // Too little depth to recognise the place or to align anything (a covered lens, a blank view): nothing to
+  // try, and a candidate being confirmed cannot hold on such a frame.
+  if (!code.valid()) {
+    reset();
+    out.why = "too little depth to relocalise";
+    return out;
+  }
   // A candidate being confirmed: this frame, tracked from its last pose, must pass again and move little.
   if (pending_) {
     const TrackAttempt a = tryPose(*pending_);

@@ -11,8 +11,8 @@
 // A false relocalisation is worse than none: there is no fallback that accepts weaker evidence.
 //
 // Cost of a lost frame, bounded: at most 1 + candidates ICP runs (each a raycast and at most pd0+pd1+pd2 track
-// passes at the relocaliser's compute size), or a single one while a candidate is being confirmed; plus one
-// fern code (fern_encoder.h) and one search of the keyframes.
+// passes at the relocaliser's compute size), or a single one while a candidate is being confirmed, none on a
+// frame with too little depth; plus one fern code (fern_encoder.h) and one search of the keyframes.
 
 #include <Eigen/Geometry>
 #include <functional>
@@ -53,8 +53,8 @@ class Relocaliser {
   bool harvest(const FernCode& code, const Eigen::Isometry3d& T_camera_to_world, size_t frame) {
     return keyframes_.harvest(code, T_camera_to_world, frame);
   }
-  // One lost frame whose fern code is `code` (may be invalid: the frame has too little depth; then only the
-  // pending candidate and the last good pose are tried). `heldPose`: the last good pose.
+  // One lost frame whose fern code is `code` (invalid when the frame has too little depth: then nothing is
+  // tried and a pending candidate is dropped). `heldPose`: the last good pose.
   RelocaliseOutcome relocalise(const FernCode& code, const Eigen::Isometry3d& heldPose, const TryPose& tryPose);
   // Forgets a pending candidate (tracking went on without relocalisation).
   void reset() { pending_.reset(); confirmed_ = 0; }

@@ -32,6 +32,11 @@ struct FrameRecord {
   RelocaliseOutcome relocalisation;
   bool keyframeAdded = false;
   size_t keyframes = 0;
+  // The frame's pose is an estimate: the frame was not lost. A lost frame's pose is the last good one, held, or
+  // the controller's extrapolation of it: not a measurement. trajectory.tum and the ATE leave lost frames out
+  // (the TUM convention: a trajectory lists the frames the system estimated; the tracked share and the lost
+  // frames are in summary.json); the POSE message still carries them, marked lost, so a client knows.
+  bool hasPoseEstimate() const { return state != TrackingState::lost; }
   int64_t startMonoNs = 0;
   int64_t endMonoNs = 0;
 };

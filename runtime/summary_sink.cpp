@@ -109,7 +109,8 @@ SummarySink::SummarySink(const std::string& path, const std::string& groundTruth
 
 void SummarySink::onFrame(const FrameRecord& record) {
   stats_.add(record);
-  trajectory_.push_back(TimedPose{record.result.timestamp, record.result.T_camera_to_world});
+  if (record.hasPoseEstimate())
+    trajectory_.push_back(TimedPose{record.result.timestamp, record.result.T_camera_to_world});
   // A snapshot per frame (without the ATE, computed at flush()): after a crash summary.json agrees with the
   // trajectory and the per-frame log within one frame.
   nlohmann::json snapshot = extra_;

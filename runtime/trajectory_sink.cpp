@@ -10,6 +10,7 @@ TrajectorySink::TrajectorySink(const std::string& path, const std::string& comme
 }
 
 void TrajectorySink::onFrame(const FrameRecord& record) {
+  if (!record.hasPoseEstimate()) return;
   const TimedPose pose{record.result.timestamp, record.result.T_camera_to_world};
   out_.append(formatTumLine(pose) + "\n");
   trajectory_.push_back(pose);

@@ -45,6 +45,7 @@ daemon::FrameReport scriptedFrame(uint64_t n) {
   r.quaternion = {0.0, 0.0, 0.0, 1.0};
   r.tracked = n % 5 != 4;
   r.corrected = n % 5 == 4;
+  r.state = r.tracked ? "good" : "lost";
   r.velocity = 0.25;
   r.computationMs = 12.5;
   r.controller = "fixed";

@@ -74,8 +74,13 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   CHECK(
       toLine(poseMessage(r)) ==
       R"({"class":"POSE","constrained":true,"corrected":false,"frame":7,"position":[1.0,2.0,3.0],)"
-      R"("quaternion":[0.0,0.0,0.0,1.0],"timestamp":1.5,"tracked":true,"velocity":0.01})"
+      R"("quaternion":[0.0,0.0,0.0,1.0],"state":"good","timestamp":1.5,"tracked":true,"velocity":0.01})"
       "\n");
+  // Protocol 1.2: the tracking state; a lost frame says so (clients stop trusting the pose).
+  FrameReport lost = r;
+  lost.tracked = false;
+  lost.state = "lost";
+  CHECK(poseMessage(lost).at("state") == "lost");
   // Protocol 1.1: a frame whose geometry left a motion free says so, with the conditioning and the motion.
   FrameReport wall = r;
   wall.constrained = false;
@@ -85,7 +90,7 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   CHECK(pose.at("constrained") == false);
   CHECK(pose.at("conditioning") == 0.0004);
   CHECK(pose.at("weakest_motion") == "tx");
-  CHECK(versionMessage("x").at("proto_minor") == 1);
+  CHECK(versionMessage("x").at("proto_minor") == 2);
   CHECK(toLine(knobsMessage(r)) ==
         R"({"class":"KNOBS","computation_ms":0.0,"controller":"fixed","csr":1,"frame":7,"icp":1e-05,"ir":2,)"
         R"("pd":[10,5,4],"pinned":["csr"],"tr":1})"
