@@ -53,7 +53,8 @@ const TimedPose* nearestPose(const Trajectory& gt, double t, double maxDiff) {
                                    [](const TimedPose& p, double time) { return p.timestamp < time; });
   const TimedPose* best = nullptr;
   if (it != gt.end()) best = &*it;
-  if (it != gt.begin() && (!best || t - std::prev(it)->timestamp < best->timestamp - t)) best = &*std::prev(it);
+  if (it != gt.begin() && (!best || t - std::prev(it)->timestamp < best->timestamp - t))
+    best = &*std::prev(it);
   return best && std::abs(best->timestamp - t) <= maxDiff ? best : nullptr;
 }
 
@@ -148,7 +149,8 @@ CutResult cutTumSequence(const std::string& sourceDir, const std::vector<FrameRa
     for (size_t s = r.first; s <= r.last; ++s) {
       const TumIndexEntry& e = index[s];
       const double t = t0 + static_cast<double>(result.frames) * result.frameIntervalS;
-      const fs::path png = fs::path(e.file).is_absolute() ? fs::path(e.file) : (src / e.file).lexically_normal();
+      const fs::path png =
+          fs::path(e.file).is_absolute() ? fs::path(e.file) : (src / e.file).lexically_normal();
       depth << formatTimestamp(t) << " " << png.string() << "\n";
       const TimedPose* pose = nearestPose(gt, e.timestamp, options.maxTimeDifferenceS);
       if (s == r.first && result.frames > 0) {
@@ -181,7 +183,8 @@ CutResult cutTumSequence(const std::string& sourceDir, const std::vector<FrameRa
   truth.flush();
   segments.flush();
   if (ec || !depth || !segments || (!gt.empty() && !truth))
-    throw Error("cut: cannot write the cut into '" + outDir + "'" + (ec ? ": " + ec.message() : std::string()));
+    throw Error("cut: cannot write the cut into '" + outDir + "'" +
+                (ec ? ": " + ec.message() : std::string()));
   return result;
 }
 

@@ -20,7 +20,8 @@ struct FrameRange {
 };
 
 // Parses "A-B,C,D-E" (inclusive, 0-based; a single number is one frame; spaces allowed around items).
-// Throws sb::Error naming the item for malformed input, an empty list or a range whose end is before its start.
+// Throws sb::Error naming the item for malformed input, an empty list or a range whose end is before its
+// start.
 std::vector<FrameRange> parseFrameList(const std::string& text);
 
 struct CutOptions {
@@ -30,8 +31,8 @@ struct CutOptions {
 
 // Where two consecutive ranges meet: the motion between the last frame of one and the first of the next.
 struct CutJump {
-  size_t frame = 0;                 // first frame of the cut after the jump
-  size_t fromSource = 0, toSource = 0;  // source frames either side
+  size_t frame = 0;                              // first frame of the cut after the jump
+  size_t fromSource = 0, toSource = 0;           // source frames either side
   double translationM = 0.0, rotationDeg = 0.0;  // from the reference poses; negative when either is missing
 };
 

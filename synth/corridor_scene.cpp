@@ -16,8 +16,8 @@ namespace {
 
 constexpr uint64_t kSalt = 0xC0221D02ull;
 constexpr float kHalfPi = 1.5707963267948966f;
-constexpr float kEndGapM = 0.3f;            // features keep this far from the corridor's ends
-constexpr float kDoorHeightM = 2.05f;       // door recesses' height
+constexpr float kEndGapM = 0.3f;       // features keep this far from the corridor's ends
+constexpr float kDoorHeightM = 2.05f;  // door recesses' height
 constexpr float kLightSpacingM[2] = {2.4f, 3.6f};
 constexpr float kPipeDropM[2] = {0.12f, 0.3f};  // pipe runs hang this far below the ceiling
 
@@ -54,7 +54,7 @@ class WallBuilder {
           used = rng_.uniform(0.5f, 2.0f);
           break;
       }
-      z += used + rng_.uniform(0.3f, 1.5f);
+      z += used + rng_.uniform(0.3f, 1.5f) * static_cast<float>(p_.spacingScale);
     }
     // The wall slabs between the gaps.
     std::sort(gaps_.begin(), gaps_.end());
@@ -82,7 +82,9 @@ class WallBuilder {
   void slab(float z0, float z1, float height) {
     if (z1 - z0 > 1e-3f) box(0.f, static_cast<float>(p_.wallDepthM), z0, z1, 0.f, height, "wall");
   }
-  float maxProtrusion() const { return 0.5f * static_cast<float>(p_.widthM) - static_cast<float>(p_.clearHalfWidthM); }
+  float maxProtrusion() const {
+    return 0.5f * static_cast<float>(p_.widthM) - static_cast<float>(p_.clearHalfWidthM);
+  }
 
   float door(float z, float room) {
     const float w = rng_.uniform(0.85f, 1.0f);
@@ -90,7 +92,8 @@ class WallBuilder {
     const float depth = rng_.uniform(0.1f, 0.2f);
     gaps_.emplace_back(z, z + w);
     box(depth, static_cast<float>(p_.wallDepthM), z, z + w, 0.f, kDoorHeightM, "door");
-    box(0.f, static_cast<float>(p_.wallDepthM), z, z + w, kDoorHeightM, static_cast<float>(p_.heightM), "lintel");
+    box(0.f, static_cast<float>(p_.wallDepthM), z, z + w, kDoorHeightM, static_cast<float>(p_.heightM),
+        "lintel");
     return w;
   }
   float opening(float z, float room) {
@@ -121,7 +124,8 @@ class WallBuilder {
     if (rng_.chance(0.4)) {  // a box on top of a low one
       const float bw = rng_.uniform(0.25f, 0.5f * w);
       const float at = z + rng_.uniform(0.f, w - bw);
-      if (h < 1.4f) box(-rng_.uniform(0.2f, out), 0.f, at, at + bw, h, h + rng_.uniform(0.15f, 0.4f), "cabinet.box");
+      if (h < 1.4f)
+        box(-rng_.uniform(0.2f, out), 0.f, at, at + bw, h, h + rng_.uniform(0.15f, 0.4f), "cabinet.box");
     }
     return w;
   }
@@ -156,10 +160,11 @@ Primitive pipe(float x, float y, float z0, float z1, float radius) {
 
 Scene generateCorridor(uint64_t seed, const CorridorParams& p) {
   if (!(p.lengthM >= 4.0 && p.lengthM <= 200.0) || !(p.widthM >= 1.6 && p.widthM <= 4.0) ||
-      !(p.heightM >= 2.2 && p.heightM <= 4.0))
-    throw Error("synth: corridor length " + std::to_string(p.lengthM) + " m, width " + std::to_string(p.widthM) +
-                " m, height " + std::to_string(p.heightM) +
-                " m are out of range; use length 4-200 m, width 1.6-4 m, height 2.2-4 m");
+      !(p.heightM >= 2.2 && p.heightM <= 4.0) || !(p.spacingScale >= 0.5 && p.spacingScale <= 20.0))
+    throw Error("synth: corridor length " + std::to_string(p.lengthM) + " m, width " +
+                std::to_string(p.widthM) + " m, height " + std::to_string(p.heightM) + " m, spacing scale " +
+                std::to_string(p.spacingScale) +
+                " are out of range; use length 4-200 m, width 1.6-4 m, height 2.2-4 m, spacing scale 0.5-20");
   Scene scene;
   scene.name = kCorridorSceneName;
   scene.seed = seed;
@@ -189,9 +194,11 @@ Scene generateCorridor(uint64_t seed, const CorridorParams& p) {
     scene.primitives.push_back(pipe(x, ceiling + rng.uniform(kPipeDropM[0], kPipeDropM[1]), z0, z0 + len, r));
   }
   // Ceiling lights across the middle.
-  for (float z = rng.uniform(0.8f, 2.0f); z < length - kEndGapM; z += rng.uniform(kLightSpacingM[0], kLightSpacingM[1])) {
+  for (float z = rng.uniform(0.8f, 2.0f); z < length - kEndGapM;
+       z += rng.uniform(kLightSpacingM[0], kLightSpacingM[1]) * static_cast<float>(p.spacingScale)) {
     const Eigen::Vector3f size(rng.uniform(0.5f, 1.2f), 0.06f, rng.uniform(0.2f, 0.35f));
-    scene.primitives.push_back(makeBox(Eigen::Vector3f(0.f, ceiling + 0.5f * size.y(), z), size, 0.f, "light"));
+    scene.primitives.push_back(
+        makeBox(Eigen::Vector3f(0.f, ceiling + 0.5f * size.y(), z), size, 0.f, "light"));
   }
   return scene;
 }

@@ -19,15 +19,20 @@ inline const char* const kCorridorSceneName = "corridor";
 constexpr float kCorridorFloorY = 1.2f;  // world y of the floor, metres (a camera 1.2 m up is at y = 0)
 
 struct CorridorParams {
-  double lengthM = 20.0;  // along +z, metres
-  double widthM = 2.2;    // wall to wall, metres
-  double heightM = 2.6;   // floor to ceiling, metres
+  double lengthM = 20.0;    // along +z, metres
+  double widthM = 2.2;      // wall to wall, metres
+  double heightM = 2.6;     // floor to ceiling, metres
   double wallDepthM = 1.4;  // from the wall surface to the RoomBox behind it (openings' depth), metres
   // Clear of everything but the walls: the drive's lanes need this much either side of the axis, metres.
   double clearHalfWidthM = 0.7;
+  // Spacing of the structure: the gaps between wall features and between ceiling lights are scaled by this
+  // (1 = gaps of 0.3-1.5 m and lights every 2.4-3.6 m). At 4 and more, stretches of the drive see nothing
+  // across the corridor that fixes motion along it.
+  double spacingScale = 1.0;
 };
 
-// Throws sb::Error for dimensions out of range (length 4-200 m, width 1.6-4 m, height 2.2-4 m).
+// Throws sb::Error for dimensions out of range (length 4-200 m, width 1.6-4 m, height 2.2-4 m, spacing scale
+// 0.5-20).
 Scene generateCorridor(uint64_t seed, const CorridorParams& params = {});
 
 }  // namespace sb::synth

@@ -21,7 +21,8 @@ double minJerkIntegral(double tau) {
   return tau * tau * tau * tau * (2.5 + tau * (-3.0 + tau));
 }
 
-// A straight leg of `distanceM` from rest to rest: minimum-jerk speed ramps of `rampS` to and from `speedMps`.
+// A straight leg of `distanceM` from rest to rest: minimum-jerk speed ramps of `rampS` to and from
+// `speedMps`.
 struct Leg {
   double distanceM, speedMps, rampS;
   double cruiseS() const { return distanceM / speedMps - rampS; }
@@ -44,19 +45,24 @@ struct Leg {
 
 StressTrajectory driveTrajectory(const Scene& scene, const StressParams& p, Rng& rng) {
   if (scene.name != kCorridorSceneName)
-    throw Error("synth: --stress drive runs in the corridor scene (--scene corridor), not '" + scene.name + "'");
+    throw Error("synth: --stress drive runs in the corridor scene (--scene corridor), not '" + scene.name +
+                "'");
   const double length = scene.roomMax.z() - scene.roomMin.z();
   const double z0 = scene.roomMin.z() + p.driveEndMarginM, zTurn = scene.roomMax.z() - p.driveEndMarginM;
-  const double speed = rng.uniform(static_cast<float>(p.driveMinSpeedMps), static_cast<float>(p.driveMaxSpeedMps));
+  const double speed =
+      rng.uniform(static_cast<float>(p.driveMinSpeedMps), static_cast<float>(p.driveMaxSpeedMps));
   const Leg leg{zTurn - z0, speed, p.driveAccelerateS};
   if (leg.cruiseS() <= 0.0)
-    throw Error("synth: a " + std::to_string(length) + " m corridor is too short for --stress drive to reach " +
-                std::to_string(speed) + " m/s; use a corridor of at least " +
+    throw Error("synth: a " + std::to_string(length) +
+                " m corridor is too short for --stress drive to reach " + std::to_string(speed) +
+                " m/s; use a corridor of at least " +
                 std::to_string(2.0 * p.driveEndMarginM + speed * p.driveAccelerateS + 0.5) + " m");
   const double pitch = rng.uniform(0.f, static_cast<float>(p.driveMaxPitchDownRad));
   double phase[3];
   for (double& ph : phase) ph = rng.uniform(0.f, static_cast<float>(kTwoPi));
-  auto vibration = [&](int axis, double t) { return std::sin(kTwoPi * kVibrationHz[axis] * t + phase[axis]); };
+  auto vibration = [&](int axis, double t) {
+    return std::sin(kTwoPi * kVibrationHz[axis] * t + phase[axis]);
+  };
 
   const double r = p.driveLaneM;
   const double turnS = kMinJerkPeak * kPi / (p.driveTurnRateDegps * kDegToRad);
@@ -86,9 +92,10 @@ StressTrajectory driveTrajectory(const Scene& scene, const StressParams& p, Rng&
     }
     TimedPose pose;
     pose.timestamp = t;
-    pose.T_camera_to_world.linear() =
-        handheldRotation(yawOf(heading), pitch + kVibrationRad * vibration(1, t), kVibrationRad * vibration(2, t));
-    pose.T_camera_to_world.translation() = Eigen::Vector3d(q.x(), cameraY + kVibrationM * vibration(0, t), q.y());
+    pose.T_camera_to_world.linear() = handheldRotation(
+        yawOf(heading), pitch + kVibrationRad * vibration(1, t), kVibrationRad * vibration(2, t));
+    pose.T_camera_to_world.translation() =
+        Eigen::Vector3d(q.x(), cameraY + kVibrationM * vibration(0, t), q.y());
     out.poses.push_back(pose);
     if (out.segments.empty() || out.segments.back().label != label) out.segments.push_back({label, i, i});
     out.segments.back().end = i + 1;

@@ -64,7 +64,8 @@ CameraState near(CameraState s, Rng& rng) {
 
 StressTrajectory kidnapTrajectory(const Scene& scene, const StressParams& p, Rng& rng) {
   Mapping m = mapping(scene, p, rng);
-  const double coveredS = rng.uniform(static_cast<float>(p.kidnapCoveredMinS), static_cast<float>(p.kidnapCoveredMaxS));
+  const double coveredS =
+      rng.uniform(static_cast<float>(p.kidnapCoveredMinS), static_cast<float>(p.kidnapCoveredMaxS));
   // Shown the first or second mapping view again: 50-70 degrees and 0.35-0.55 m from where the cover went on.
   const size_t j = static_cast<size_t>(rng.index(2));
   std::vector<Move> moves = m.moves;
@@ -78,14 +79,15 @@ StressTrajectory kidnapUnseenTrajectory(const Scene& scene, const StressParams& 
   constexpr double kGridM = 0.25, kFreeM = 0.4;
   constexpr int kYaws = 24;
   constexpr double kLookRad = 0.1, kLookPitchRad = 0.04, kLookM = 0.04;  // the after part's look-around
-  constexpr double kMinValid = 0.85, kMinConstraint = 0.01;  // a view that would track
+  constexpr double kMinValid = 0.85, kMinConstraint = 0.01;              // a view that would track
   // Candidates are checked with half the allowed seen fraction: hand sway moves the after views a little.
   constexpr double kCandidateShare = 0.5;
   const Mapping m = mapping(scene, p, rng);
   const Rng swayRng = rng;  // the same sway phases for the mapping probe and the final trajectory
   Rng probeRng = swayRng;
   const StressTrajectory mapped = play(m.start, m.moves, p, probeRng);
-  const double coveredS = rng.uniform(static_cast<float>(p.kidnapCoveredMinS), static_cast<float>(p.kidnapCoveredMaxS));
+  const double coveredS =
+      rng.uniform(static_cast<float>(p.kidnapCoveredMinS), static_cast<float>(p.kidnapCoveredMaxS));
 
   const Renderer renderer(scene, iclNuimIntrinsics().scaled(kProbeScale));
   SeenSurfaces seen(renderer);

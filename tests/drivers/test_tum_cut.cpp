@@ -24,7 +24,8 @@ TimedPose sourcePose(size_t i) {
   TimedPose p;
   p.timestamp = 100.0 + 0.1 * static_cast<double>(i);
   p.T_camera_to_world.linear() =
-      Eigen::AngleAxisd(static_cast<double>(i) * 10.0 * 3.141592653589793 / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+      Eigen::AngleAxisd(static_cast<double>(i) * 10.0 * 3.141592653589793 / 180.0, Eigen::Vector3d::UnitY())
+          .toRotationMatrix();
   p.T_camera_to_world.translation() = Eigen::Vector3d(0.1 * static_cast<double>(i), 0.0, 0.0);
   return p;
 }
@@ -112,7 +113,8 @@ TEST_CASE("a cut refuses frames past the source's end and an output inside the s
   CHECK_THROWS_AS(cutTumSequence(src, parseFrameList("0-1"), src + "/cut"), Error);
 }
 
-TEST_CASE("7-Scenes kidnap 0-299,100-199: a jump back to a place seen 200 frames earlier", "[data][drivers][cut]") {
+TEST_CASE("7-Scenes kidnap 0-299,100-199: a jump back to a place seen 200 frames earlier",
+          "[data][drivers][cut]") {
   const std::string sub = "7scenes-redkitchen-a";
   REQUIRE(test::hasSharedData(sub));
   const std::string src = test::sharedDataDir() + "/" + sub;

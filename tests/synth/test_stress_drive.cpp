@@ -55,9 +55,19 @@ TEST_CASE("corridor: seeded structure on both walls, a clear middle", "[synth][s
   }
   REQUIRE_THROWS_AS(generateCorridor(0, CorridorParams{2.0}), Error);
   REQUIRE(generateCorridor(0, CorridorParams{40.0}).roomMax.z() == Approx(40.0));
+  // Sparser structure: fewer features, the same clear middle.
+  CorridorParams sparse;
+  sparse.spacingScale = 5.0;
+  const Scene dense = generateCorridor(0), thin = generateCorridor(0, sparse);
+  INFO(dense.primitives.size() << " primitives at spacing 1, " << thin.primitives.size() << " at 5");
+  REQUIRE(thin.primitives.size() * 3 < dense.primitives.size() * 2);
+  REQUIRE(thin.objectContaining(Eigen::Vector3f(0.6f, 0.f, 10.f)) < 0);
+  sparse.spacingScale = 0.1;
+  REQUIRE_THROWS_AS(generateCorridor(0, sparse), Error);
 }
 
-TEST_CASE("drive: 17 m out and back at 1-1.5 m/s, a slow U-turn, clear of everything", "[synth][stress][drive]") {
+TEST_CASE("drive: 17 m out and back at 1-1.5 m/s, a slow U-turn, clear of everything",
+          "[synth][stress][drive]") {
   const StressParams params;
   for (uint64_t seed : {0, 1, 2}) {
     const Scene scene = generateCorridor(seed);
@@ -74,14 +84,15 @@ TEST_CASE("drive: 17 m out and back at 1-1.5 m/s, a slow U-turn, clear of everyt
       const Eigen::Vector3d c = s.poses[i].position();
       INFO("frame " << i);
       REQUIRE(std::abs(c.y() - height) <= 0.0015);  // vibration only
-      REQUIRE(std::asin(R(1, 2)) >= -0.003);       // level or pitched down
+      REQUIRE(std::asin(R(1, 2)) >= -0.003);        // level or pitched down
       REQUIRE(std::asin(R(1, 2)) <= params.driveMaxPitchDownRad + 0.003);
       REQUIRE(std::abs(R(1, 0)) <= 0.003);  // roll
       // The robot's body (0.25 m round, from the floor up to the camera) is clear of everything.
       for (double up = 0.05; up <= params.driveCameraHeightM; up += 0.15)
-        REQUIRE(scene.objectContaining(Eigen::Vector3f(static_cast<float>(c.x()), static_cast<float>(c.y() + up),
-                                                       static_cast<float>(c.z())),
-                                       0.25f) < 0);
+        REQUIRE(
+            scene.objectContaining(Eigen::Vector3f(static_cast<float>(c.x()), static_cast<float>(c.y() + up),
+                                                   static_cast<float>(c.z())),
+                                   0.25f) < 0);
     }
     double turnPeak = 0.0;
     for (const StressSegment& seg : s.segments) {

@@ -39,7 +39,8 @@ Parts requireKidnapShape(const StressTrajectory& s, const Scene& scene) {
   REQUIRE(parts.mapping.label == "mapping");
   REQUIRE(parts.covered.label == kCoveredLabel);
   REQUIRE(parts.after.label == "after");
-  REQUIRE(coveredFrames(s) == std::vector<std::pair<size_t, size_t>>{{parts.covered.begin, parts.covered.end}});
+  REQUIRE(coveredFrames(s) ==
+          std::vector<std::pair<size_t, size_t>>{{parts.covered.begin, parts.covered.end}});
   REQUIRE(parts.mapping.end - parts.mapping.begin >= 8 * kFps);  // ~9 s of mapping
   REQUIRE(parts.covered.end - parts.covered.begin >= 1 * kFps);  // 1-3 s covered
   REQUIRE(parts.covered.end - parts.covered.begin <= 3 * kFps + 1);
@@ -73,7 +74,8 @@ TEST_CASE("kidnap: covered 1-3 s, then shown a view close to a mapping view, and
       // The jump over the covered part: what the tracker sees between its last and next depth frames.
       const Eigen::Isometry3d& before = s.poses[parts.covered.begin - 1].T_camera_to_world;
       const Eigen::Isometry3d& shown = s.poses[parts.after.begin].T_camera_to_world;
-      const double jumpM = (shown.translation() - before.translation()).norm(), jumpDeg = angleDeg(before, shown);
+      const double jumpM = (shown.translation() - before.translation()).norm(),
+                   jumpDeg = angleDeg(before, shown);
       INFO("jump " << jumpM << " m, " << jumpDeg << " deg");
       REQUIRE(jumpM > 0.25);
       REQUIRE(jumpDeg > 40.0);
@@ -124,7 +126,8 @@ TEST_CASE("kidnap-unseen: after the cover, views no mapping frame saw, that woul
   }
 }
 
-TEST_CASE("kidnap: covered frames are written with no depth, the others with depth", "[synth][stress][kidnap]") {
+TEST_CASE("kidnap: covered frames are written with no depth, the others with depth",
+          "[synth][stress][kidnap]") {
   const Scene scene = generateScene("livingroom", 1);
   const StressTrajectory s = stressTrajectory(StressKind::Kidnap, scene, 1);
   const std::string dir = test::scratchDir("synth_kidnap_covered");

@@ -53,7 +53,8 @@ size_t validPixels(const sb::DepthFrame& f) {
 
 }  // namespace
 
-TEST_CASE("synth kidnap: covered frames without depth; cut makes a jump back from it", "[tools][sequences][system]") {
+TEST_CASE("synth kidnap: covered frames without depth; cut makes a jump back from it",
+          "[tools][sequences][system]") {
   const std::string dir = sb::test::scratchDir("sequences_kidnap");
   const auto synth = runCommand(kTool + " synth --out " + dir + "/kidnap --stress kidnap --seed 2" + kSmall);
   INFO(synth.output);
@@ -95,8 +96,10 @@ TEST_CASE("synth kidnap: covered frames without depth; cut makes a jump back fro
 
 TEST_CASE("synth drive: a corridor drive whose volume hint holds the path", "[tools][sequences][system]") {
   const std::string dir = sb::test::scratchDir("sequences_drive");
-  const auto synth = runCommand(kTool + " synth --out " + dir + "/drive --scene corridor --corridor-length 8 "
-                                "--stress drive --seed 1" + kSmall);
+  const auto synth = runCommand(kTool + " synth --out " + dir +
+                                "/drive --scene corridor --corridor-length 8 "
+                                "--stress drive --seed 1" +
+                                kSmall);
   INFO(synth.output);
   REQUIRE(synth.exitCode == 0);
   const auto calibration = readJson(dir + "/drive/calibration.json");

@@ -164,6 +164,11 @@ void addSynthCommand(CLI::App& app) {
                   "Length of --scene corridor, metres (a drive covers it less 1.5 m at each end, twice)")
       ->check(CLI::Range(4.0, 200.0))
       ->capture_default_str();
+  sub->add_option("--corridor-spacing", args->corridor.spacingScale,
+                  "Scale of the gaps between --scene corridor's wall features and lights (1: 0.3-1.5 m; 4 and more "
+                  "leave stretches where nothing across the corridor fixes motion along it)")
+      ->check(CLI::Range(0.5, 20.0))
+      ->capture_default_str();
   sub->add_option("--seed", o.seed, "Seed of the furniture layout and the sensor noise")->capture_default_str();
   sub->add_option("--frames", o.maxFrames, "Render at most this many frames (0 = all)")->capture_default_str();
   sub->add_flag("--no-noise", args->noNoise,
