@@ -9,6 +9,8 @@
 #include "synth/renderer.h"
 #include "synth/rng.h"
 #include "synth/stress_corridor.h"
+#include "synth/stress_drive.h"
+#include "synth/stress_kidnap.h"
 #include "synth/stress_motions.h"
 #include "synth/stress_moves.h"
 #include "synth/stress_views.h"
@@ -257,8 +259,8 @@ StressTrajectory blankWallTrajectory(const Scene& scene, const StressParams& p, 
 }  // namespace
 
 const std::vector<std::string>& stressNames() {
-  static const std::vector<std::string> names{"bursts", "blank-wall", "hard-bursts",
-                                              "robot",  "pan",        "corridor"};
+  static const std::vector<std::string> names{"bursts", "blank-wall", "hard-bursts",   "robot", "pan",
+                                              "corridor", "kidnap",   "kidnap-unseen", "drive"};
   return names;
 }
 
@@ -275,7 +277,8 @@ StressTrajectory stressTrajectory(StressKind kind, const Scene& scene, uint64_t 
                                   const StressParams& params) {
   if (!scene.hasRoom)
     throw Error("synth: stress trajectories need a generated room (scene '" + scene.name + "' has none)");
-  constexpr uint64_t kSalts[] = {0xB0257ull, 0xB1A4Cull, 0x4A2DB0257ull, 0x20B07ull, 0x9A4ull, 0xC022D02ull};
+  constexpr uint64_t kSalts[] = {0xB0257ull,   0xB1A4Cull,   0x4A2DB0257ull, 0x20B07ull, 0x9A4ull,
+                                 0xC022D02ull, 0x41D4A9ull, 0x41D4A9A0ull,  0xD21BEull};
   Rng rng(seed * 0x9E3779B97F4A7C15ull + kSalts[static_cast<int>(kind)]);
   switch (kind) {
     case StressKind::Bursts:
@@ -295,8 +298,21 @@ StressTrajectory stressTrajectory(StressKind kind, const Scene& scene, uint64_t 
       return stress::panTrajectory(scene, params, rng);
     case StressKind::Corridor:
       return stress::corridorTrajectory(scene, params, rng);
+    case StressKind::Kidnap:
+      return stress::kidnapTrajectory(scene, params, rng);
+    case StressKind::KidnapUnseen:
+      return stress::kidnapUnseenTrajectory(scene, params, rng);
+    case StressKind::Drive:
+      return stress::driveTrajectory(scene, params, rng);
   }
   throw Error("synth: unknown stress kind " + std::to_string(static_cast<int>(kind)));
+}
+
+std::vector<std::pair<size_t, size_t>> coveredFrames(const StressTrajectory& trajectory) {
+  std::vector<std::pair<size_t, size_t>> out;
+  for (const StressSegment& s : trajectory.segments)
+    if (s.label == kCoveredLabel) out.emplace_back(s.begin, s.end);
+  return out;
 }
 
 Scene stressScene(StressKind kind, const Scene& scene, const StressParams& params) {

@@ -42,11 +42,25 @@
 //   and drifts ~1 m per stretch (livingroom seed 0: ATE 78 cm); the drift starts ~11 frames before each
 //   wall-only stretch, late in the turn, when a sliver of furniture at the image border is all that is left.
 //
+// - kidnap: ~9 s of calm handheld mapping (the view sweeps ~70 degrees across the furnished south-east corner
+//   in four moves, under 16 deg/s and 0.12 m/s), then the lens is covered (every depth pixel 0) for a seeded
+//   1-3 s while the camera moves back to a view close to the first or second mapping view (50-70 degrees and
+//   0.35-0.55 m from where the cover went on), then ~4 s of calm motion over mapped views. Segments: mapping,
+//   covered, after.
+// - kidnap-unseen: the same mapping and cover, but the camera is shown a view (and looks around it) that no
+//   mapping frame saw: under kidnapMaxSeenFraction of its surface points lie in a mapping frame's view
+//   (SeenSurfaces, stress_views.h), while it holds structure that would track. It must stay lost.
+// - drive: in the corridor scene (corridor_scene.h), a wheeled robot's camera 1.2 m up, level or pitched
+//   slightly down, looking ahead along the corridor: it accelerates to a seeded 1.05-1.45 m/s, drives the
+//   corridor's length (17 m in the default 20 m corridor), brakes, U-turns (0.4 m radius, under 40 deg/s)
+//   and drives back; chassis vibration only (no sway). Segments: accelerate, drive, brake, turn.
+//
 // Every handheld motion is a minimum-jerk move between key states, so speeds are smooth and the peaks are
 // known: a move of distance d over T seconds peaks at 1.875 d / T.
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/trajectory.h"
@@ -54,10 +68,10 @@
 
 namespace sb::synth {
 
-enum class StressKind { Bursts, BlankWall, HardBursts, Robot, Pan, Corridor };
+enum class StressKind { Bursts, BlankWall, HardBursts, Robot, Pan, Corridor, Kidnap, KidnapUnseen, Drive };
 
-// "bursts", "blank-wall", "hard-bursts", "robot", "pan", "corridor" (the names `slambooster synth --stress`
-// takes).
+// "bursts", "blank-wall", "hard-bursts", "robot", "pan", "corridor", "kidnap", "kidnap-unseen", "drive" (the
+// names `slambooster synth --stress` takes).
 const std::vector<std::string>& stressNames();
 // Throws sb::Error for an unknown name (listing the known ones).
 StressKind parseStressKind(const std::string& name);
@@ -93,11 +107,29 @@ struct StressParams {
   double corridorPitchRad = 0.05;  // downward tilt while facing the wall (floor and ceiling out of view)
   double corridorSlideS = 1.5;     // seconds per slide along the stretch
   int corridorPasses = 3;          // slides (wall-only stretches)
+  // kidnap, kidnap-unseen
+  double kidnapMappingS = 9.0;                              // seconds of mapping before the lens is covered
+  double kidnapCoveredMinS = 1.0, kidnapCoveredMaxS = 3.0;  // seconds covered (seeded between)
+  double kidnapAfterS = 4.0;                                // seconds after the cover is lifted
+  double kidnapCoveredSpeedMps = 0.8;  // while covered the camera moves at most this far per second, metres
+  double kidnapMaxSeenFraction = 0.02;  // kidnap-unseen: of an after view's surface points, seen while mapping
+  // drive (in the corridor scene)
+  double driveMinSpeedMps = 1.05, driveMaxSpeedMps = 1.45;  // cruise speed, metres per second (seeded between)
+  double driveAccelerateS = 2.0;       // seconds from rest to the cruise speed, and back to rest
+  double driveCameraHeightM = 1.2;     // above the floor, metres
+  double driveMaxPitchDownRad = 0.1;   // downward tilt, radians (seeded between 0 and this)
+  double driveEndMarginM = 1.5;        // the drive starts and turns this far from the corridor's ends, metres
+  double driveLaneM = 0.4;             // lanes this far either side of the corridor's axis; the U-turn radius
+  double driveTurnRateDegps = 40.0;    // peak yaw rate of the U-turn, degrees per second
 };
+
+// The label of covered frames (kidnap, kidnap-unseen): rendered with no depth at all.
+inline const char* const kCoveredLabel = "covered";
 
 struct StressSegment {
   // bursts, hard-bursts: calm, burst; blank-wall: furnished, turn, approach, blank-wall, retreat; robot:
-  // start, drive, turn, stop; pan: hold, pan; corridor: furnished, approach, turn, wall-only.
+  // start, drive, turn, stop; pan: hold, pan; corridor: furnished, approach, turn, wall-only; kidnap,
+  // kidnap-unseen: mapping, covered, after; drive: accelerate, drive, brake, turn.
   std::string label;
   size_t begin = 0, end = 0;  // frames [begin, end)
 };
@@ -107,12 +139,17 @@ struct StressTrajectory {
   std::vector<StressSegment> segments;  // in order, covering every frame
 };
 
-// `scene` must be a generated room (blank-wall needs its blankWalls). Throws sb::Error otherwise.
+// The frames [begin, end) of the segments labelled kCoveredLabel.
+std::vector<std::pair<size_t, size_t>> coveredFrames(const StressTrajectory& trajectory);
+
+// `scene` must be a generated room (blank-wall needs its blankWalls), or for drive the corridor scene
+// (corridor_scene.h). Throws sb::Error otherwise.
 StressTrajectory stressTrajectory(StressKind kind, const Scene& scene, uint64_t seed,
                                   const StressParams& params = {});
 
 // The scene the sequence of `kind` renders in, for the generated room `scene`: `scene` itself, except for
 // corridor (a copy with a wall stretch cleared). stressTrajectory takes the generated room, not this.
+// (drive renders in the corridor scene it was given.)
 Scene stressScene(StressKind kind, const Scene& scene, const StressParams& params = {});
 
 }  // namespace sb::synth

@@ -73,4 +73,50 @@ ViewMetrics measureView(const Renderer& renderer, const Eigen::Isometry3d& T_cam
   return m;
 }
 
+namespace {
+
+DepthMeters exactDepth(const Renderer& renderer, const Eigen::Isometry3d& T_camera_to_world) {
+  SensorModel exact;
+  exact.noise = false;
+  DepthMeters depth;
+  renderer.render(T_camera_to_world, exact, 0, depth, /*parallel=*/false);
+  return depth;
+}
+
+}  // namespace
+
+void SeenSurfaces::add(const Eigen::Isometry3d& T_camera_to_world) {
+  poses_.push_back(T_camera_to_world);
+  depths_.push_back(exactDepth(renderer_, T_camera_to_world));
+}
+
+double SeenSurfaces::seenFraction(const Eigen::Isometry3d& T_camera_to_world, double toleranceM) const {
+  const Intrinsics& k = renderer_.intrinsics();
+  const DepthMeters depth = exactDepth(renderer_, T_camera_to_world);
+  std::vector<Eigen::Isometry3d> T_earlier_from_view;
+  for (const Eigen::Isometry3d& T : poses_) T_earlier_from_view.push_back(T.inverse() * T_camera_to_world);
+  size_t points = 0, seen = 0;
+  for (int y = 0; y < k.height; ++y) {
+    for (int x = 0; x < k.width; ++x) {
+      const double z = depth(x, y);
+      if (z <= 0.0) continue;
+      ++points;
+      const Eigen::Vector3d p((x - k.cx) / k.fx * z, (y - k.cy) / k.fy * z, z);
+      for (size_t c = 0; c < poses_.size(); ++c) {
+        const Eigen::Vector3d q = T_earlier_from_view[c] * p;
+        if (q.z() <= 0.0) continue;
+        const int u = static_cast<int>(std::lround(k.fx * q.x() / q.z() + k.cx));
+        const int v = static_cast<int>(std::lround(k.fy * q.y() / q.z() + k.cy));
+        if (u < 0 || v < 0 || u >= k.width || v >= k.height) continue;
+        const double there = depths_[c](u, v);
+        if (there > 0.0 && std::abs(there - q.z()) <= toleranceM) {
+          ++seen;
+          break;
+        }
+      }
+    }
+  }
+  return points ? static_cast<double>(seen) / static_cast<double>(points) : 0.0;
+}
+
 }  // namespace sb::synth

@@ -11,6 +11,7 @@
 //   holds three independent surface orientations. Rotations are in radians and lever arms in metres.
 
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "synth/renderer.h"
 
@@ -27,5 +28,24 @@ struct ViewMetrics {
 // `marginFraction`: of the width / height, left out of the quadrant windows on every side.
 ViewMetrics measureView(const Renderer& renderer, const Eigen::Isometry3d& T_camera_to_world,
                         double marginFraction = 0.1);
+
+// What earlier cameras saw, to tell whether a later view shows a place seen before: their exact renders
+// (with `renderer`, whose sensor range applies) and poses.
+class SeenSurfaces {
+ public:
+  explicit SeenSurfaces(const Renderer& renderer) : renderer_(renderer) {}
+  void add(const Eigen::Isometry3d& T_camera_to_world);
+  size_t views() const { return poses_.size(); }
+
+  // Of the surface points the exact render from `T_camera_to_world` sees, the fraction that some added
+  // camera also saw: in its image and range, not hidden (its own render's depth there within `toleranceM`).
+  // 0 when the view sees nothing.
+  double seenFraction(const Eigen::Isometry3d& T_camera_to_world, double toleranceM = 0.05) const;
+
+ private:
+  const Renderer& renderer_;
+  std::vector<Eigen::Isometry3d> poses_;  // camera-to-world
+  std::vector<DepthMeters> depths_;
+};
 
 }  // namespace sb::synth

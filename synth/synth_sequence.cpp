@@ -53,7 +53,7 @@ SynthResult synthesizeSequence(const Scene& scene, const Trajectory& full, const
   }
 
   SynthResult result;
-  result.volume = estimateVolumeHints(scene, trajectory, options.intrinsics, options.sensor);
+  result.volume = estimateVolumeHints(scene, trajectory, options.intrinsics, options.sensor, options.volumeHints);
   SequenceInfo info;
   info.path = options.outDir;
   info.format = "synthetic";
@@ -66,6 +66,10 @@ SynthResult synthesizeSequence(const Scene& scene, const Trajectory& full, const
   writer.writeGroundTruth(trajectory);
 
   const Renderer renderer(scene, options.intrinsics);
+  auto covered = [&](size_t i) {
+    return std::any_of(options.coveredFrames.begin(), options.coveredFrames.end(),
+                       [i](const std::pair<size_t, size_t>& r) { return i >= r.first && i < r.second; });
+  };
   ThreadPool& pool = ThreadPool::global();
   const int batch = kFramesPerThreadPerBatch * static_cast<int>(pool.threadCount());
   // Two batches of frames: the pool renders one while a writer thread encodes and writes the other.
@@ -81,11 +85,15 @@ SynthResult synthesizeSequence(const Scene& scene, const Trajectory& full, const
       DepthMeters meters;
       for (int j = begin; j < end; ++j) {
         const size_t index = static_cast<size_t>(first + j);
-        renderer.render(trajectory[index].T_camera_to_world, options.sensor, frameSeed(options.seed, index), meters,
-                        /*parallel=*/false);
         DepthFrame& frame = current[static_cast<size_t>(j)];
         frame.index = index;
         frame.timestamp = trajectory[index].timestamp;
+        if (covered(index)) {
+          frame.depth.resize(options.intrinsics.width, options.intrinsics.height, 0);
+          continue;
+        }
+        renderer.render(trajectory[index].T_camera_to_world, options.sensor, frameSeed(options.seed, index), meters,
+                        /*parallel=*/false);
         toRaw(meters, options.depthScale, frame.depth);
       }
     });

@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/intrinsics.h"
 #include "core/trajectory.h"
@@ -29,6 +31,10 @@ struct SynthOptions {
   double depthScale = kIclDepthScale;
   SensorModel sensor;
   size_t maxFrames = 0;  // 0 = the whole trajectory
+  // Frames [begin, end) written with no depth at all (every pixel 0: a covered lens); their poses stay in
+  // groundtruth.txt.
+  std::vector<std::pair<size_t, size_t>> coveredFrames;
+  VolumeHintParams volumeHints;  // how calibration.json's volume hints are estimated
 };
 
 struct SynthResult {

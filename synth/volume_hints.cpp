@@ -47,6 +47,13 @@ VolumeHints estimateVolumeHints(const Scene& scene, const Trajectory& trajectory
     lo[a] = std::min(0.0, percentile(coords[a], params.lowPercentile)) - params.paddingM;
     hi[a] = std::max(0.0, percentile(coords[a], params.highPercentile)) + params.paddingM;
   }
+  if (params.holdPath) {
+    for (const TimedPose& pose : trajectory) {
+      const Eigen::Vector3d c = T_first_from_world * pose.position();
+      lo = lo.cwiseMin(c - Eigen::Vector3d::Constant(params.paddingM));
+      hi = hi.cwiseMax(c + Eigen::Vector3d::Constant(params.paddingM));
+    }
+  }
   VolumeHints hints;
   const double extent = (hi - lo).maxCoeff();
   hints.sizeM = std::clamp(std::ceil(extent / params.roundingM) * params.roundingM, params.minSizeM, params.maxSizeM);

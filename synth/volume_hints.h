@@ -21,6 +21,7 @@ struct VolumeHintParams {
   double paddingM = 0.2;      // added on every side, metres
   double roundingM = 0.25;    // cube side rounded up to a multiple of this, metres
   double minSizeM = 4.0, maxSizeM = 8.0;  // metres
+  bool holdPath = false;  // the cube also holds every camera position (not only the first one)
 };
 
 struct VolumeHints {

@@ -23,18 +23,22 @@ using namespace sb::synth;
 using namespace sb::synth::stress_test;
 
 TEST_CASE("stress trajectories are named and deterministic for a seed", "[synth][stress]") {
-  REQUIRE(stressNames() ==
-          std::vector<std::string>{"bursts", "blank-wall", "hard-bursts", "robot", "pan", "corridor"});
+  REQUIRE(stressNames() == std::vector<std::string>{"bursts", "blank-wall", "hard-bursts", "robot", "pan",
+                                                    "corridor", "kidnap", "kidnap-unseen", "drive"});
   REQUIRE(parseStressKind("bursts") == StressKind::Bursts);
   REQUIRE(parseStressKind("blank-wall") == StressKind::BlankWall);
   REQUIRE(parseStressKind("hard-bursts") == StressKind::HardBursts);
   REQUIRE(parseStressKind("robot") == StressKind::Robot);
   REQUIRE(parseStressKind("pan") == StressKind::Pan);
   REQUIRE(parseStressKind("corridor") == StressKind::Corridor);
+  REQUIRE(parseStressKind("kidnap") == StressKind::Kidnap);
+  REQUIRE(parseStressKind("kidnap-unseen") == StressKind::KidnapUnseen);
+  REQUIRE(parseStressKind("drive") == StressKind::Drive);
   REQUIRE_THROWS_WITH(parseStressKind("spin"), Catch::Contains("bursts, blank-wall, hard-bursts"));
   const Scene scene = generateScene("livingroom", 3);
   for (StressKind kind : {StressKind::Bursts, StressKind::BlankWall, StressKind::HardBursts,
-                          StressKind::Robot, StressKind::Pan, StressKind::Corridor}) {
+                          StressKind::Robot, StressKind::Pan, StressKind::Corridor, StressKind::Kidnap,
+                          StressKind::KidnapUnseen}) {
     INFO(stressNames()[static_cast<size_t>(kind)]);
     const StressTrajectory a = stressTrajectory(kind, scene, 3), b = stressTrajectory(kind, scene, 3);
     REQUIRE(samePoses(a.poses, b.poses));

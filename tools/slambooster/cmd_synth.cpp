@@ -1,6 +1,8 @@
 // `slambooster synth`: render a synthetic depth sequence of a procedural room along a TUM trajectory (or the
 // built-in one, or a stress trajectory) and write it in TUM layout. Stress sequences also get segments.csv
-// (label, first frame, end frame) naming their calm / burst / blank-wall parts.
+// (label, first frame, end frame) naming their calm / burst / blank-wall parts. `--scene corridor` is a long
+// corridor (synth/corridor_scene.h) instead of a room; `--stress drive` drives it, with a volume hint that
+// holds the whole path; kidnap's covered frames are written with no depth.
 
 #include <unistd.h>
 
@@ -15,6 +17,7 @@
 #include "core/thread_pool.h"
 #include "core/trajectory.h"
 #include "synth/builtin_trajectory.h"
+#include "synth/corridor_scene.h"
 #include "synth/scene_generator.h"
 #include "synth/stress_trajectory.h"
 #include "synth/synth_sequence.h"
@@ -30,6 +33,8 @@ std::string joined(const std::vector<std::string>& names) {
   return out;
 }
 
+constexpr double kMaxDriveVolumeM = 256.0;  // a drive's volume hint may be this large, metres
+
 struct SynthArgs {
   synth::SynthOptions options;
   std::string trajectory, stress;
@@ -38,7 +43,15 @@ struct SynthArgs {
   std::optional<float> fx, fy, cx, cy;
   bool noNoise = false;
   unsigned threads = 0;
+  synth::CorridorParams corridor;  // --scene corridor
 };
+
+// The scenes --scene takes: the generated rooms and the corridor.
+std::vector<std::string> sceneChoices() {
+  std::vector<std::string> names = synth::sceneNames();
+  names.push_back(synth::kCorridorSceneName);
+  return names;
+}
 
 void runSynth(SynthArgs& a) {
   if (int(!a.trajectory.empty()) + int(a.builtinFrames > 0) + int(!a.stress.empty()) != 1) {
@@ -67,15 +80,26 @@ void runSynth(SynthArgs& a) {
   std::vector<synth::StressSegment> segments;
   Trajectory trajectory;
   std::optional<synth::Scene> stressScene;  // the scene a stress sequence renders in
+  const bool corridor = o.scene == synth::kCorridorSceneName;
+  if (corridor) stressScene = synth::generateCorridor(o.seed, a.corridor);
+  if (!a.stress.empty() && corridor != (synth::parseStressKind(a.stress) == synth::StressKind::Drive)) {
+    throw Error("synth: --stress drive runs in --scene corridor, and the other stress trajectories in a room (" +
+                joined(synth::sceneNames()) + "); got --stress " + a.stress + " with --scene " + o.scene);
+  }
   if (!a.trajectory.empty()) {
     trajectory = readTumTrajectory(a.trajectory);
   } else if (a.builtinFrames > 0) {
     trajectory = synth::builtinTrajectory(a.builtinFrames);
   } else {
     const synth::StressKind kind = synth::parseStressKind(a.stress);
-    const synth::Scene room = synth::generateScene(o.scene, o.seed);
+    const synth::Scene room = corridor ? *stressScene : synth::generateScene(o.scene, o.seed);
     synth::StressTrajectory stress = synth::stressTrajectory(kind, room, o.seed);
     stressScene = synth::stressScene(kind, room);
+    o.coveredFrames = synth::coveredFrames(stress);
+    if (kind == synth::StressKind::Drive) {  // the volume hint holds the whole drive
+      o.volumeHints.holdPath = true;
+      o.volumeHints.maxSizeM = kMaxDriveVolumeM;
+    }
     trajectory = std::move(stress.poses);
     segments = std::move(stress.segments);
   }
@@ -124,13 +148,26 @@ void addSynthCommand(CLI::App& app) {
                                  "robot (a wheeled robot's camera 1 m up driving a loop at 1.05-1.4 m/s), pan (yaw "
                                  "sweeps of up to 90 deg/s in place) or corridor (sliding along a blank wall with "
                                  "only the wall in view, three times ~75 frames; renders in the room with a 2.4 m "
-                                 "stretch of wall cleared)")
+                                 "stretch of wall cleared), kidnap (9 s of calm mapping, the lens covered, no depth, "
+                                 "for 1-3 s while the camera moves, then shown a mapped view), kidnap-unseen (the "
+                                 "same, then shown a view no mapping frame saw), or drive (--scene corridor: a "
+                                 "wheeled robot's camera 1.2 m up drives the corridor at 1.05-1.45 m/s, U-turns and "
+                                 "drives back)")
                      ->check(CLI::IsMember(synth::stressNames()));
   traj->excludes(builtin);
   traj->excludes(stress);
   builtin->excludes(stress);
-  sub->add_option("--scene", o.scene, "Procedural room")
-      ->check(CLI::IsMember(synth::sceneNames()))
+  sub->add_option("--scene", o.scene, "Procedural room, or corridor (a long corridor; see --corridor-length)")
+      ->check(CLI::IsMember(sceneChoices()))
+      ->capture_default_str();
+  sub->add_option("--corridor-length", args->corridor.lengthM,
+                  "Length of --scene corridor, metres (a drive covers it less 1.5 m at each end, twice)")
+      ->check(CLI::Range(4.0, 200.0))
+      ->capture_default_str();
+  sub->add_option("--corridor-spacing", args->corridor.spacingScale,
+                  "Scale of the gaps between --scene corridor's wall features and lights (1: 0.3-1.5 m; 4 and more "
+                  "leave stretches where nothing across the corridor fixes motion along it)")
+      ->check(CLI::Range(0.5, 20.0))
       ->capture_default_str();
   sub->add_option("--seed", o.seed, "Seed of the furniture layout and the sensor noise")->capture_default_str();
   sub->add_option("--frames", o.maxFrames, "Render at most this many frames (0 = all)")->capture_default_str();

@@ -16,6 +16,7 @@ void addProfileCommand(CLI::App& app, const std::vector<std::string>& commandLin
 void addEvalCommand(CLI::App& app);
 void addEnergyCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
+void addCutCommand(CLI::App& app);
 void addReportCommand(CLI::App& app);
 void addRecordCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);

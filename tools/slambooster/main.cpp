@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   sb::cli::addEvalCommand(app);
   sb::cli::addEnergyCommand(app);
   sb::cli::addSynthCommand(app);
+  sb::cli::addCutCommand(app);
   sb::cli::addReportCommand(app);
   sb::cli::addRecordCommand(app);
   sb::cli::addCompareCommand(app);
