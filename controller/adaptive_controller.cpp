@@ -84,7 +84,16 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     }
   } else {
     failedInARow_ = 0;
-    motion_.learn(o.previousPose, o.pose);
+    // A motion that ICP had not converged on (still moving after every iteration) or that is off the prediction by
+    // more than a camera can change its motion in one frame, with no second pass to confirm it, is not learnt: the
+    // next frame starts from this pose, as DEFAULT does. Learnt, ICP's slide along a motion the view barely
+    // constrains becomes the next start pose, the next slide adds to it, and the prior feeds on itself (a sparse
+    // corridor seen lengthwise: 0.05 -> 0.50 m/frame in 5 frames while the robot stood; with the prediction
+    // doubt alone left out it still ran away from frame 13).
+    if ((doubt.kind == Doubt::prediction || doubt.kind == Doubt::notConverged) && !o.retracked)
+      motion_.forget();
+    else
+      motion_.learn(o.previousPose, o.pose);
     evidence_.accept(o);
   }
   if (o.quality.known && !o.quality.constrained) d.triggers |= kTriggerUnconstrained;

@@ -238,6 +238,28 @@ TEST_CASE("adaptive starts the next frame's ICP from the constant-velocity predi
   for (int i = 0; i < 8; ++i) CHECK_FALSE(other.step(moveX(0.05)).nextStartPose);
 }
 
+TEST_CASE("adaptive does not learn a motion that ICP left unconverged or off the prediction (no runaway prior)",
+          "[controller][adaptive]") {
+  // At the finest level (no re-track possible) the tracked motion slides ahead of the prediction by 0.1 m per
+  // frame: what ICP does along a corridor's axis. Learnt, each start pose would carry the last slide on.
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0})"));
+  Driver drive(c);
+  for (int i = 0; i < 4; ++i) drive.step(moveX(0.0));
+  drive.step(moveX(0.05));  // first tracked motion: learnt, nothing to check it against
+  const Decision slid = drive.step(moveX(0.15));  // 0.10 m off the prediction: not learnt
+  CHECK_FALSE(slid.nextStartPose);  // the next frame starts from this pose, as DEFAULT does
+  drive.step(moveX(0.02));          // learnt again from a plausible motion (no prediction to doubt it)
+  const Observation o = drive.observe(moveX(0.02));
+  const Decision d = c.decide(o);
+  REQUIRE(d.nextStartPose);
+  CHECK(d.nextStartPose->translation().isApprox(o.pose.translation() + Eigen::Vector3d(0.02, 0, 0)));
+  // ICP still moving after every iteration at the finest level: not a measured motion either.
+  Observation moving = drive.observe(moveX(0.02));
+  moving.icpLevelIterations = {moving.knobs.pyramidIterations[0], 1, 1};
+  moving.icpUpdateNorm = 0.02;
+  CHECK_FALSE(c.decide(moving).nextStartPose);
+}
+
 TEST_CASE("adaptive asks ICP to hold free motions only when configured", "[controller][adaptive]") {
   AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0})"));
   Driver drive(off);
