@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Each test's time in the last ctest run of a build, beside its label and TIMEOUT (tests/CMakeLists.txt).
 
-    scripts/test_times.py [BUILD_DIR]        (default: build; run after `ctest` there)
+    scripts/test_times.py [BUILD_DIR [LOG...]]   (default: build; run after `ctest` there)
 
-Reads BUILD_DIR/Testing/Temporary/LastTest.log (the times) and `ctest --show-only=json-v1` (labels and
-timeouts), prints one line per test, slowest first, with the timeout the project's rule gives (about five
-times the measured time, at least 60 s, rounded up to 10 s) and marks a test whose TIMEOUT is under twice
+Reads BUILD_DIR/Testing/Temporary/LastTest.log, or the ctest logs given (the times; a later log wins) and `ctest --show-only=json-v1` (labels and
+timeouts), prints one line per test, slowest first, with the timeout the project's rule gives (five times
+the measured time rounded up to 10 s, at least 60 s, at most 1500 s) and marks a test whose TIMEOUT is under twice
 its time. Exits 1 when such a test exists, 2 when the log is missing.
 """
 import json
@@ -41,16 +41,19 @@ def configured(build):
 
 
 def rule(seconds):
-    return max(60, int(math.ceil(5 * seconds / 10.0)) * 10)
+    return min(1500, max(60, int(math.ceil(5 * seconds / 10.0)) * 10))
 
 
 def main():
     build = sys.argv[1] if len(sys.argv) > 1 else "build"
-    log = os.path.join(build, "Testing", "Temporary", "LastTest.log")
-    if not os.path.exists(log):
-        print(f"test_times: {log} is missing: run ctest in {build} first", file=sys.stderr)
-        return 2
-    times, tests = measured_times(log), configured(build)
+    logs = sys.argv[2:] or [os.path.join(build, "Testing", "Temporary", "LastTest.log")]
+    times = {}
+    for log in logs:
+        if not os.path.exists(log):
+            print(f"test_times: {log} is missing: run ctest in {build} first", file=sys.stderr)
+            return 2
+        times.update(measured_times(log))
+    tests = configured(build)
     short = 0
     print(f"{'test':36} {'label':8} {'seconds':>8} {'timeout':>8} {'rule':>6}")
     for name in sorted(tests, key=lambda n: -times.get(n, -1.0)):
