@@ -1,5 +1,5 @@
 #pragma once
-// `adaptive`: the product's controller (issue 21; DESIGN section 4, beyond the paper). It decides from the
+// `adaptive`: the product's controller (issue 21; architecture.md D4, beyond the paper). It decides from the
 // tracker's own evidence, not from speed:
 //   1. run at the coarsest level the evidence allows: from initial_level, after the bootstrap, one level coarser every
 //      `relax_frames` frames without doubt, up to the ladder's max_level;

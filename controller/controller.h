@@ -1,5 +1,5 @@
 #pragma once
-// The controller interface (DESIGN section 4): after each frame's tracking, a controller sees an Observation
+// The controller interface (architecture.md D4): after tracking each frame, a controller sees an Observation
 // and returns a Decision: the knobs of the next frame, optionally a corrected pose for this frame (used by
 // integration and raycast), a half-precision wish, and the triggers that fired (for the log).
 //

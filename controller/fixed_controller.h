@@ -1,6 +1,6 @@
 #pragma once
-// `fixed`: the same knobs every frame (DESIGN section 4). The presets `default` and `accurate` are the
-// DESIGN table's; `offline` replays the best setting of `slambooster dse` the same way.
+// `fixed`: the same knobs every frame (architecture.md D4). The presets `default` and `accurate` are the
+// knob table's (architecture.md D2); `offline` replays the best setting of `slambooster dse` the same way.
 //
 // Section keys: "preset" ("default" | "accurate"; absent = the pipeline config's knobs), "knobs" (a knob
 // string applied on top, e.g. "csr=2,icp=1e-4"), "half" (bool: wish half precision).

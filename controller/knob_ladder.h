@@ -1,5 +1,5 @@
 #pragma once
-// The discrete knob levels a controller moves between (DESIGN section 2, level 0 = most accurate) and the
+// The discrete knob levels a controller moves between (architecture.md D2, level 0 = most accurate) and the
 // original SLAMBooster coupling of one approximation level L to the knobs: csr level L, icp level
 // offset + L / divisor (1e-5 at L 0-1, 1e-4 at L 2-3), pd0 level L, fixed pd1/pd2, tr and ir.
 

@@ -1,5 +1,5 @@
 #pragma once
-// Pose correction (DESIGN section 4): when the tracked velocity jumps above a threshold or tracking failed,
+// Pose correction (architecture.md D4): when the tracked velocity jumps above a threshold or tracking failed,
 // the frame's pose is replaced by constant-velocity extrapolation of the full rigid motion,
 // Pose_t = T_{t-1} * Pose_{t-1}, and the motion is kept (T_t = T_{t-1}); otherwise T_t = Pose_t * Pose_{t-1}^-1.
 // Motions are in the world (volume) frame.

@@ -1,5 +1,5 @@
 #pragma once
-// Asymmetric rate limits on the approximation level (DESIGN section 4): towards precision at once, at most
+// Asymmetric rate limits on the approximation level (architecture.md D4): towards precision at once, at most
 // `precision_step_levels` per frame; towards approximation only after the target has stayed above the
 // current level for `approximation_hold_frames` consecutive frames, then `approximation_step_levels`.
 

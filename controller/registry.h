@@ -1,5 +1,5 @@
 #pragma once
-// Creating controllers by name (DESIGN section 4). Names and what they are: `controllerNames()` and
+// Creating controllers by name (architecture.md D4). Names and what they are: `controllerNames()` and
 // `slambooster run --help`. The config's controller section (config/controller.json) is either a name or
 // {"name": NAME, "<section>": {...}, ...} with one parameter object per controller family ("fixed",
 // "slambooster", "step", "tc", "offline", "budget"). Parsing validates every section present, so an error

@@ -1,5 +1,5 @@
 #pragma once
-// `slambooster`: the paper's controller (Algorithm 1; DESIGN section 4). Per frame:
+// `slambooster`: the paper's controller (Algorithm 1; architecture.md D4). Per frame:
 //   1. pose correction (when on): a velocity jump or failed track -> constant-velocity extrapolation;
 //   2. v_t of the final pose enters the velocity history;
 //   3. bootstrap: the first `bootstrap_frames` frames run level 0 (4 pipeline bootstrap frames + a 10-frame

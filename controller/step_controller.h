@@ -1,5 +1,5 @@
 #pragma once
-// `step`: the hierarchical step controller (DESIGN section 4). The same velocity tests as slambooster
+// `step`: the hierarchical step controller (architecture.md D4). The same velocity tests as slambooster
 // (P, I, D, smooth surface, a correction) give a target level; it only becomes a signal: target below
 // `precision_below_level` -> "more precision", above `approximation_above_level` -> "more approximation",
 // else hold. Each signal moves one knob one level: approximation raises the knobs in importance order

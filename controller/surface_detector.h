@@ -1,5 +1,5 @@
 #pragma once
-// Smooth-surface detection on the raw depth frame (DESIGN section 4): a view of one smooth surface (a blank
+// Smooth-surface detection on the raw depth frame (architecture.md D4): a view of one smooth surface (a blank
 // wall, a floor seen head-on) gives ICP little to hold on to, so the controller raises precision. Four
 // quadrant windows inside a margin are sampled on a fixed grid of the full-size frame (so the sample count
 // does not depend on csr); a window is flat when the std of its valid depths is below the threshold and

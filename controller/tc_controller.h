@@ -1,5 +1,5 @@
 #pragma once
-// `tc`: the application-agnostic baseline (POET / JouleGuard style; DESIGN section 4). It knows nothing of
+// `tc`: the application-agnostic baseline (POET / JouleGuard style; architecture.md D4). It knows nothing of
 // SLAM beyond one error signal: per window of `window_frames` frames it measures the mean camera velocity
 // v_w and assumes the error of a table entry scales with v_w / v_ref (the profiling sequences' reference
 // velocity). For the next window it runs the fastest entry whose scaled profiled ATE fits the error budget:

@@ -1,5 +1,5 @@
 #pragma once
-// The velocity tests of SLAMBooster (DESIGN section 4), shared by the slambooster, step and budget
+// The velocity tests of SLAMBooster (architecture.md D4), shared by the slambooster, step and budget
 // controllers. Velocity v_t (m/frame) is the ITE proxy: faster motion needs more precision.
 //   P: target level = clamp(trunc(Kp * (v_stand - v_t)), 0, maxLevel), Kp = maxLevel / (v_stand - v_low)
 //   I: mean velocity over the last `integral_window_frames` above `integral_threshold` -> one level more precise

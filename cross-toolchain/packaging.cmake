@@ -1,4 +1,4 @@
-# The slambooster Debian package (DESIGN.md section 9): install rules for what the package ships besides the
+# The slambooster Debian package (architecture.md D9): install rules for what the package ships besides the
 # targets that install themselves, and the CPack DEB configuration. Included at the end of the top-level
 # CMakeLists.txt, so every target exists by then. Every part listed below is built and shipped; a missing
 # file fails the install step, naming it.

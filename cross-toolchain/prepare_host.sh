@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Prepares a Debian 12 (bookworm) amd64 host to cross-build SLAMBooster for the ODROID XU4 (armhf), package
-# it, and run the armhf unit tests under qemu-arm (DESIGN.md section 9).
+# it, and run the armhf unit tests under qemu-arm (architecture.md D9).
 #
 # What it does, each step only when needed (running it twice changes nothing the second time):
 #   1. dpkg --add-architecture armhf
@@ -111,7 +111,7 @@ fi
 # apt refuses ("held broken packages"). For each such package choose one version: the host's when armhf
 # offers it (nothing on the host changes), else the newest version both lists offer, and pin it, together
 # with the host's packages built from the same source (systemd depends on libsystemd0 of its own version).
-# The packages DESIGN.md names are pinned up front; others are found by a dry run of the install.
+# The packages architecture.md D9 names are pinned up front; others are found by a dry run of the install.
 versions_for() { # package arch -> available versions, one per line
   apt-cache madison "$1:$2" 2>/dev/null | awk -F'|' -v p="$1" -v a="$1:$2" '{gsub(/ /,"",$1); gsub(/ /,"",$2); if ($1==p || $1==a) print $2}' | sort -u
 }

@@ -1,5 +1,5 @@
 # CMake toolchain file: cross-compile SLAMBooster on a Debian 12 amd64 host for the ODROID XU4 (Exynos 5422:
-# 4x Cortex-A15 + 4x Cortex-A7, NEON/VFPv4, hard-float ABI), DESIGN.md section 9.
+# 4x Cortex-A15 + 4x Cortex-A7, NEON/VFPv4, hard-float ABI), architecture.md D9.
 #
 #   cross-toolchain/prepare_host.sh      # once: multiarch armhf, cross g++, the :armhf -dev packages
 #   cmake -S . -B build-armhf -G Ninja -DCMAKE_TOOLCHAIN_FILE=cross-toolchain/toolchain-armhf.cmake

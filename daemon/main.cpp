@@ -1,4 +1,4 @@
-// slamboosterd: the SLAMBooster daemon (DESIGN sections 6 and 7). Exit codes: 0 clean stop, 1 runtime
+// slamboosterd: the SLAMBooster daemon (architecture.md D6 and D7). Exit codes: 0 clean stop, 1 runtime
 // failure, 2 bad configuration or usage.
 
 #include <spdlog/sinks/stdout_color_sinks.h>

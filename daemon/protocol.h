@@ -1,5 +1,5 @@
 #pragma once
-// The socket protocol (DESIGN section 7; reference: docs/protocol.md): newline-delimited JSON, gpsd-style.
+// The socket protocol (architecture.md D7; reference: docs/protocol.md): newline-delimited JSON, gpsd-style.
 // Requests are single lines "?NAME;" or "?NAME={json object}" (a trailing ';' after the object is allowed);
 // every reply and report is one JSON object with a "class" on one line.
 //
@@ -72,7 +72,7 @@ struct FrameReport {
   std::vector<std::string> pinned;  // knobs pinned over the controller's choice
 };
 
-// Energy of one frame (DESIGN section 5; produced by the power meter ledger, which may lag POSE).
+// Energy of one frame (architecture.md D5; produced by the power meter ledger, which may lag POSE).
 struct EnergyReport {
   uint64_t frame = 0;
   double joules = 0.0;

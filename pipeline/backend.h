@@ -52,7 +52,7 @@ class ComputeBackend {
   // The volume on the host (2 * R^3 int16, layout in kernels/volume.h); valid until the next call.
   virtual const int16_t* volumeData() = 0;
 
-  // Reduced precision (DESIGN section 3, the paper's "+half"): the preprocessed maps (mm2meters output and the
+  // Reduced precision (architecture.md D3, the paper's "+half"): preprocessed maps (mm2meters output and the
   // pyramid's depth, vertex and normal maps) and the raycast maps stored as half, arithmetic in float. May be
   // switched between any two frames. Backends without it report false and refuse to enable it.
   virtual bool supportsHalfPrecision() const { return false; }

@@ -1,5 +1,5 @@
 #pragma once
-// The compute backend named by the config (DESIGN section 3): `backend: cpu | opencl | auto`, the OpenCL
+// The compute backend named by the config (architecture.md D3): `backend: cpu | opencl | auto`, the OpenCL
 // device by `opencl_platform` / `opencl_device`, half storage by `opencl_half_storage`.
 
 #include <memory>

@@ -1,5 +1,5 @@
 #pragma once
-// Every constant of the KinectFusion pipeline (DESIGN section 2) as a named field with its unit and the
+// Every constant of the KinectFusion pipeline (architecture.md D2) as a named field with its unit and the
 // reference (SLAMBench KinectFusion) default. Fixed for a run; the per-frame knobs are in knobs.h.
 
 #include <array>
@@ -11,7 +11,7 @@
 
 namespace sb {
 
-// Which compute backend runs the stages (DESIGN section 3). `automatic`: OpenCL on a GPU or accelerator
+// Which compute backend runs the stages (architecture.md D3). `automatic`: OpenCL on a GPU or accelerator
 // device when one is found (or the device opencl_platform / opencl_device name), else the cpu backend.
 enum class BackendKind { automatic, cpu, opencl };
 const char* backendKindName(BackendKind kind);  // "auto", "cpu", "opencl"

@@ -1,5 +1,5 @@
 #pragma once
-// The approximation knobs of KinectFusion (DESIGN section 2). They are passed to the pipeline per frame and
+// The approximation knobs of KinectFusion (architecture.md D2). They are passed to the pipeline per frame and
 // may change between any two frames.
 
 #include <array>

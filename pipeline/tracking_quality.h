@@ -1,5 +1,5 @@
 #pragma once
-// Tracking quality: how well the geometry in view fixes the camera's motion (issue 21, DESIGN section 4).
+// Tracking quality: how well the geometry in view fixes the camera's motion (issue 21, architecture.md D4).
 //
 // Point-to-plane ICP constrains a motion only along the normals it sees: in front of one plane (a blank wall)
 // it cannot see sliding along the plane or turning about its normal, and it "converges" there to whatever

@@ -40,7 +40,7 @@ LinePlot knobPlot(const std::string& title, const std::string& yLabel, const Fra
   return p;
 }
 
-// Stage indices in pipeline order (DESIGN section 2's classic names); stages the report does not know follow
+// Stage indices in pipeline order (architecture.md D2 names); stages the report does not know follow
 // in log order. JSON objects come back sorted by key, which would scramble the stack.
 std::vector<size_t> pipelineOrder(const std::vector<std::string>& names) {
   static const char* const kOrder[] = {"mm2meters", "bilateralFilter", "halfSampleRobust", "depth2vertex", "vertex2normal",

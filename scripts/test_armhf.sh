@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The armhf checks (DESIGN.md section 9): prepares the host, cross-builds the package for the ODROID XU4 and
+# The armhf checks (architecture.md D9): prepares the host, cross-builds the package for the ODROID XU4 and
 # the armhf unit tests, runs those under plain qemu-arm (not `qemu-arm -L`), and checks the .deb and the deploy
 # script. scripts/test.sh (so CI) runs it after the native suite.
 #

@@ -1,4 +1,4 @@
-// Config and knob parsing: defaults match DESIGN section 2; errors name the key, value and range.
+// Config and knob parsing: defaults match architecture.md D2; errors name the key, value and range.
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
@@ -56,7 +56,7 @@ TEST_CASE("config errors name the key, the value and the allowed range", "[pipel
   CHECK_THROWS_WITH(parse("[1, 2]"), Contains("JSON object"));
 }
 
-TEST_CASE("knob presets are DESIGN's table", "[pipeline][knobs]") {
+TEST_CASE("knob presets are the D2 table of docs/architecture.md", "[pipeline][knobs]") {
   const sb::Knobs d = sb::knobPreset("default");
   CHECK(d.csr == 1);
   CHECK(d.icpThreshold == 1e-5);

@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
     if (std::strstr(argv[i], "[noplatform]") && !std::strstr(argv[i], "~[noplatform]")) noPlatform = true;
   }
   // A cross-compiled binary (armhf under qemu) has no OpenCL platform of its architecture to find: an armhf
-  // PoCL cannot be installed beside the host toolchain (DESIGN section 9). There a missing platform is a
+  // PoCL cannot be installed beside the host toolchain (architecture.md D9). There a missing platform is a
   // skip even in CI; the native build runs these tests.
   const bool ci = std::getenv("CI") != nullptr && !SB_CROSS_COMPILED;
   if (!noPlatform) {

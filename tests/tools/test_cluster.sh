@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The experiment matrix past one machine, run for real (DESIGN 5b): a small bench matrix (2 synthetic
+# The experiment matrix past one machine, run for real (architecture.md D5b): a small bench matrix (2 synthetic
 # sequences x DEFAULT, SLAMBooster, ACCURATE; 20 frames each) run
 #   reference  in one process (`slambooster bench`), the result every other case must equal;
 #   parallel   as a plan run by GNU parallel with two workers (scripts/parallel_matrix.sh);
