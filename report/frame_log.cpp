@@ -5,6 +5,9 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "core/error.h"
+#include "core/input_file.h"
+
 namespace sb::report {
 
 namespace {
@@ -129,11 +132,14 @@ bool FrameLog::hasColumn(const std::vector<double>& column) const {
 
 FrameLogReadResult readFrameLog(const std::string& path) {
   FrameLogReadResult result;
-  std::ifstream in(path);
-  if (!in) {
-    result.problems.push_back("cannot read '" + path + "' (no per-frame plots)");
+  std::unique_ptr<InputFile> file;
+  try {
+    file = std::make_unique<InputFile>(path, "per-frame log");
+  } catch (const Error& e) {
+    result.problems.push_back(std::string(e.what()) + " (no per-frame plots)");
     return result;
   }
+  std::istream& in = *file;
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   in.clear();
