@@ -4,12 +4,15 @@
 # an unprivileged uid (65534) when run as root, else as the caller. Prints one line per case: p50, p99 and max
 # latency in ms (the delay of each POSE beyond the fastest one of its run: the daemon replays at the recorded
 # pace, so each frame's release time is known) and the STATUS replies the flooders got.
-#   scripts/bench_flood.sh [BUILD_DIR] [SECONDS] [DAEMON]
+# SPEED (default 1: 30 fps) slows the replay where SLAM cannot keep up (then the backlog, not the socket,
+# would be measured: the 0-flooder line shows it).
+#   scripts/bench_flood.sh [BUILD_DIR] [SECONDS] [DAEMON] [SPEED]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}
 seconds=${2:-10}
 daemon=${3:-"$build/daemon/slamboosterd"}
+speed=${4:-1}
 flood="$build/tests/daemon/daemon_bench_flood"
 tool="$build/tools/slambooster/slambooster"
 for b in "$daemon" "$flood" "$tool"; do
@@ -23,14 +26,14 @@ trap 'rm -rf "$work"' EXIT
 echo '{"volume_resolution": 64, "knobs": "csr=1,ir=1"}' > "$work/pipeline.json"
 uid=()
 [ "$(id -u)" = 0 ] && uid=(65534)
-echo "bench_flood: $(nproc) CPUs, ${seconds} s per case, daemon $daemon"
+echo "bench_flood: $(nproc) CPUs, load $(cut -d' ' -f1 /proc/loadavg), ${seconds} s per case, speed $speed, daemon $daemon"
 for n in 0 1 8 32; do
   sock="$work/$n.sock"
   "$daemon" --input "$work/seq" --out "$work/out-$n" --socket "$sock" --pacing recorded --at-end loop \
     --controller fixed --set slam.pipeline_config="$work/pipeline.json" --set log_level=warn \
-    --set socket.mode=0666 --set socket.max_clients=64 &
+    --set socket.mode=0666 --set socket.max_clients=64 --set source.speed="$speed" &
   pid=$!
-  result=$("$flood" "$sock" "$n" "$seconds" 1 "${uid[@]}" || true)
+  result=$("$flood" "$sock" "$n" "$seconds" "$speed" "${uid[@]}" || true)
   kill -TERM "$pid"; wait "$pid" || true
   echo "flooders $n: $result"
 done

@@ -186,11 +186,11 @@ TEST_CASE("slambooster run: a full disk at the end leaves no truncated model.png
   const uintmax_t model = fs::file_size(reference + "/model.png");
   // Room for the per-frame files and two summaries (the new one is written beside the old, then renamed),
   // with a page of slack for the longer final summary; model.png must not fit in what is left.
-  const uintmax_t summary = pages(fs::file_size(reference + "/summary.json") + 2048);
+  const uintmax_t summaryBytes = pages(fs::file_size(reference + "/summary.json") + 2048);
   const uintmax_t room = pages(fs::file_size(reference + "/trajectory.tum")) +
-                         pages(fs::file_size(reference + "/frames.jsonl")) + 2 * summary + 4096;
+                         pages(fs::file_size(reference + "/frames.jsonl")) + 2 * summaryBytes + 4096;
   // What is left for model.png is under room - (per-frame files) + one page of rounding.
-  REQUIRE(model > 2 * summary + 2 * 4096);  // else the disk cannot be sized between the two
+  REQUIRE(model > 2 * summaryBytes + 2 * 4096);  // else the disk cannot be sized between the two
   const std::string dir =
       fs::path(sb::test::scratchDir("run_end_full_probe")).parent_path() / "run_end_full";
   ::umount2(dir.c_str(), MNT_DETACH);  // left over from a test run that was killed
