@@ -79,8 +79,12 @@ TEST_CASE("slamboosterd: STATUS says failed, with the error, after a truncated P
   json status;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   while (std::chrono::steady_clock::now() < deadline) {
-    status = ctlJson(socket, "status");
-    if (status["state"] != "running" && status["state"] != "starting") break;
+    // The socket file exists a moment before the daemon listens: a refused connection is retried.
+    const auto r = sb::test::runCommand(kCtl + " --json --socket " + socket + " status");
+    if (r.exitCode == 0) {
+      status = json::parse(r.output.substr(0, r.output.find('\n')));
+      if (status["state"] != "running" && status["state"] != "starting") break;
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   INFO(status.dump(1));
