@@ -84,7 +84,8 @@ bool isReadableRegularFile(const std::string& path) { return pathProblem(path).e
 
 UniqueFd openRegularFile(const std::string& path, const std::string& what) {
   const auto fail = [&](const std::string& problem) {
-    return Error(what + " " + quoteForMessage(path) + " " + problem + "; give the path of a readable regular file");
+    return Error("cannot open " + what + " " + quoteForMessage(path) + ": it " + problem +
+                 " (give the path of a readable regular file)");
   };
   // stat first: a device is never opened (opening one can have effects), a FIFO's open would block.
   struct stat st {};

@@ -24,8 +24,8 @@ std::string pathProblem(const std::string& path);
 // True when `path` is a regular file (after symlinks) that could be opened for reading.
 bool isReadableRegularFile(const std::string& path);
 
-// Opens a regular file for reading without blocking. Throws sb::Error "<what> '<path>' <pathProblem>" (with
-// what to do) when it is anything else.
+// Opens a regular file for reading without blocking. Throws sb::Error "cannot open <what> '<path>': it
+// <pathProblem> (...)" when it is anything else.
 UniqueFd openRegularFile(const std::string& path, const std::string& what);
 
 // A std::istream over openRegularFile(path, what): the ifstream of every text input (index files,

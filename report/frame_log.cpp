@@ -132,14 +132,12 @@ bool FrameLog::hasColumn(const std::vector<double>& column) const {
 
 FrameLogReadResult readFrameLog(const std::string& path) {
   FrameLogReadResult result;
-  std::unique_ptr<InputFile> file;
-  try {
-    file = std::make_unique<InputFile>(path, "per-frame log");
-  } catch (const Error& e) {
-    result.problems.push_back(std::string(e.what()) + " (no per-frame plots)");
+  const std::string problem = pathProblem(path);  // never opens (nor waits on) a FIFO
+  if (!problem.empty()) {
+    result.problems.push_back("cannot read '" + path + "': it " + problem + " (no per-frame plots)");
     return result;
   }
-  std::istream& in = *file;
+  InputFile in(path, "per-frame log");
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   in.clear();
