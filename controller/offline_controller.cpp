@@ -6,12 +6,14 @@
 #include "controller/fixed_controller.h"
 #include "core/config_reader.h"
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb {
 
 Knobs loadDseBestKnobs(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open dse result '" + path + "' (run `slambooster dse SEQ --out DIR` first)");
+  const std::string problem = pathProblem(path);
+  if (!problem.empty())
+    throw Error("dse result " + quoteForMessage(path) + " " + problem + " (run `slambooster dse SEQ --out DIR` first)");
   try {
     const nlohmann::json j = readJsonConfig(path, "dse result");  // the one settings-file loader
     const nlohmann::json& best = j.contains("best") ? j.at("best") : j;

@@ -6,6 +6,7 @@
 
 #include "core/config_reader.h"
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb {
 
@@ -53,8 +54,9 @@ TcTable tcTableFromJson(const nlohmann::json& j, const std::string& where) {
 }
 
 TcTable loadTcTable(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open tc table '" + path + "' (build it with `slambooster profile`)");
+  const std::string problem = pathProblem(path);
+  if (!problem.empty())
+    throw Error("tc table " + quoteForMessage(path) + " " + problem + " (build it with `slambooster profile`)");
   try {
     return tcTableFromJson(readJsonConfig(path, "tc table"), path);  // the one settings-file loader
   } catch (const nlohmann::json::exception& e) {

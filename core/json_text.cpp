@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/unique_fd.h"
 
 namespace sb {
@@ -93,15 +94,10 @@ nlohmann::json parseJson(std::string_view text, const std::string& where, int ma
 }
 
 std::string readTextFile(const std::string& path, const std::string& what, size_t maxBytes) {
-  const std::string name = what + " '" + path + "'";
-  UniqueFd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-  if (!fd.valid())
-    throw Error("cannot open " + name + ": " + std::strerror(errno) +
-                " (check the path and its permissions)");
+  const std::string name = what + " " + quoteForMessage(path);
+  UniqueFd fd = openRegularFile(path, what);  // never blocks: a FIFO, socket or device is refused first
   struct stat st {};
   if (::fstat(fd.get(), &st) != 0) throw Error("cannot read " + name + ": " + std::strerror(errno));
-  if (S_ISDIR(st.st_mode)) throw Error(name + " is a directory; give the path of a JSON file");
-  if (!S_ISREG(st.st_mode)) throw Error(name + " is not a regular file; give the path of a JSON file");
   if (static_cast<uint64_t>(st.st_size) > maxBytes)
     throw Error(name + " is " + std::to_string(st.st_size) + " bytes; settings files are at most " +
                 std::to_string(maxBytes));

@@ -3,12 +3,16 @@
 #include <png.h>
 
 #include <csetjmp>
+#include <cerrno>
+#include <cstring>
 #include <cstdio>
 #include <memory>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/image.h"
+#include "core/input_file.h"
 
 namespace sb {
 
@@ -46,23 +50,53 @@ const char* colourTypeName(int t) {
   }
 }
 
-// Writes rows with libpng; `rows` point into the caller's pixel buffer.
-void writePngRows(const std::string& path, int width, int height, int bitDepth, int colourType,
-                  const std::vector<png_bytep>& rows, bool swap16) {
+// Where libpng's writes go, and the system's reason when one fails (libpng itself only says "Write Error").
+struct PngSink {
+  FILE* file = nullptr;
+  int error = 0;  // errno of the failed write or flush
+};
+
+void writePngData(png_structp png, png_bytep data, png_size_t length) {
+  auto* sink = static_cast<PngSink*>(png_get_io_ptr(png));
+  errno = 0;
+  if (std::fwrite(data, 1, length, sink->file) != length) {
+    sink->error = errno ? errno : EIO;
+    png_error(png, "write failed");
+  }
+}
+
+void flushPngData(png_structp png) {
+  auto* sink = static_cast<PngSink*>(png_get_io_ptr(png));
+  if (std::fflush(sink->file) != 0) {
+    sink->error = errno ? errno : EIO;
+    png_error(png, "flush failed");
+  }
+}
+
+// Writes rows with libpng to `path` exactly as given; `rows` point into the caller's pixel buffer.
+void writePngRowsTo(const std::string& path, const std::string& name, int width, int height, int bitDepth,
+                    int colourType, const std::vector<png_bytep>& rows, bool swap16) {
   FilePtr file(std::fopen(path.c_str(), "wb"));
-  if (!file) throw Error("cannot write PNG '" + path + "': check that the directory exists and is writable");
+  if (!file)
+    throw Error("cannot write PNG '" + name + "': " + std::strerror(errno) +
+                " (check that the directory exists and is writable)");
   PngErrorState state;
+  PngSink sink{file.get(), 0};
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &state, onPngError, onPngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info) {
     png_destroy_write_struct(&png, &info);
-    throw Error("libpng could not allocate a writer for '" + path + "'");
+    throw Error("libpng could not allocate a writer for '" + name + "'");
   }
+  const auto failed = [&](const std::string& what) {
+    return Error("writing PNG '" + name + "' failed: " + what + "; the previous file (if any) is left as it was" +
+                 (sink.error == ENOSPC ? " (free disk space and run again)" : ""));
+  };
   if (setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
-    throw Error("writing PNG '" + path + "' failed: " + state.message);
+    throw failed(sink.error ? std::strerror(sink.error) : state.message);
   }
-  png_init_io(png, file.get());
+  png_set_write_fn(png, &sink, writePngData, flushPngData);
   png_set_compression_level(png, 1);
   png_set_IHDR(png, info, width, height, bitDepth, colourType, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
@@ -71,7 +105,18 @@ void writePngRows(const std::string& path, int width, int height, int bitDepth, 
   png_write_image(png, const_cast<png_bytepp>(rows.data()));
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
-  if (std::fflush(file.get()) != 0) throw Error("writing PNG '" + path + "' failed (disk full?)");
+  errno = 0;
+  if (std::fflush(file.get()) != 0) throw failed(std::strerror(errno ? errno : EIO));
+  errno = 0;
+  if (std::fclose(file.release()) != 0) throw failed(std::strerror(errno ? errno : EIO));
+}
+
+// Whole or not at all: the PNG is written to a temporary sibling and renamed over `path` once complete.
+void writePngRows(const std::string& path, int width, int height, int bitDepth, int colourType,
+                  const std::vector<png_bytep>& rows, bool swap16) {
+  writeFileAtomically(path, [&](const std::string& temporary) {
+    writePngRowsTo(temporary, path, width, height, bitDepth, colourType, rows, swap16);
+  });
 }
 
 bool hostIsLittleEndian() {
@@ -82,8 +127,11 @@ bool hostIsLittleEndian() {
 }  // namespace
 
 Image<uint16_t> readPng16(const std::string& path) {
-  FilePtr file(std::fopen(path.c_str(), "rb"));
-  if (!file) throw Error("cannot open depth image '" + path + "': file missing or unreadable");
+  // Opened without blocking and checked to be a regular file (a FIFO or device is refused, never waited on).
+  UniqueFd fd = openRegularFile(path, "depth image");
+  FilePtr file(::fdopen(fd.get(), "rb"));
+  if (!file) throw Error("cannot open depth image " + quoteForMessage(path) + ": " + std::strerror(errno));
+  fd.release();  // the FILE owns it now
   unsigned char sig[8];
   if (std::fread(sig, 1, 8, file.get()) != 8 || png_sig_cmp(sig, 0, 8) != 0) {
     throw Error("'" + path + "' is not a PNG file (bad signature or empty)");

@@ -6,12 +6,12 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb {
 
 Trajectory readTumTrajectory(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open trajectory '" + path + "': check the path and permissions");
+  InputFile in(path, "trajectory");
   Trajectory out;
   std::string line;
   int lineNo = 0;

@@ -12,41 +12,54 @@ Client::Client(UniqueFd fd, PeerCredentials peer, size_t maxRequestBytes, size_t
       maxRequestBytes_(maxRequestBytes),
       maxQueuedBytes_(maxQueuedBytes) {}
 
-Client::ReadResult Client::read(const std::function<void(std::string_view)>& onLine,
-                                const std::function<void()>& onOversize) {
+Client::ReadResult Client::read() {
   char buf[4096];
-  // At most 64 KiB per call, so that one flooding client cannot starve the others (epoll calls again).
-  for (int reads = 0; reads < 16; ++reads) {
+  // One recv holds up to ~450 short requests: the loop ends as soon as enough lines wait (served over the
+  // next event-loop turns within the per-client and per-uid budgets of the server).
+  for (int reads = 0; reads < 16 && wantsInput(); ++reads) {
     const ssize_t n = ::recv(fd_.get(), buf, sizeof buf, 0);
-    if (n == 0) return ReadResult::closed;  // a half line left in input_ is discarded with the client
+    if (n == 0) {  // a half line left in input_ is discarded with the client
+      peerClosed_ = true;
+      break;
+    }
     if (n < 0) {
       if (errno == EINTR) continue;
-      if (errno == EAGAIN || errno == EWOULDBLOCK) return ReadResult::open;
+      if (errno == EAGAIN || errno == EWOULDBLOCK) break;
       return ReadResult::closed;
     }
     std::string_view chunk(buf, static_cast<size_t>(n));
     while (!chunk.empty()) {
       const size_t nl = chunk.find('\n');
-      const std::string_view part = chunk.substr(0, nl);
+      std::string_view part = chunk.substr(0, nl);
+      // A '\r' ending the line ("\r\n") is not part of the request: it does not count against the cap. One
+      // at the end of a chunk may be followed by the '\n' in the next one.
+      const char last = !part.empty() ? part.back() : (input_.empty() ? '\0' : input_.back());
+      const size_t counted = input_.size() + part.size() - (last == '\r' ? 1 : 0);
       if (discarding_) {
         if (nl != std::string_view::npos) discarding_ = false;
-      } else if (input_.size() + part.size() > maxRequestBytes_) {
+      } else if (counted > maxRequestBytes_) {
         input_.clear();
         discarding_ = nl == std::string_view::npos;
-        onOversize();
+        lines_.push_back(PendingLine{std::string(), true});
       } else {
         input_.append(part);
         if (nl != std::string_view::npos) {
-          const std::string line = std::move(input_);
+          if (!input_.empty() && input_.back() == '\r') input_.pop_back();
+          lines_.push_back(PendingLine{std::move(input_), false});
           input_.clear();
-          onLine(line);
         }
       }
       if (nl == std::string_view::npos) break;
       chunk.remove_prefix(nl + 1);
     }
   }
-  return ReadResult::open;
+  return peerClosed_ && lines_.empty() ? ReadResult::closed : ReadResult::open;
+}
+
+Client::PendingLine Client::takeLine() {
+  PendingLine line = std::move(lines_.front());
+  lines_.pop_front();
+  return line;
 }
 
 bool Client::send(Line line) {

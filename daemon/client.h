@@ -9,7 +9,6 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,11 +29,26 @@ class Client {
   int fd() const { return fd_.get(); }
   const PeerCredentials& peer() const { return peer_; }
 
+  // One request line read and not yet served: its text (without '\n' and a '\r' before it), or a line
+  // longer than the cap (refused with ERROR; the rest of that line is discarded).
+  struct PendingLine {
+    std::string text;
+    bool oversize = false;
+  };
+  // At most this many request lines wait per client: the socket is not read again until they are served,
+  // so a flooding client's requests wait in its own socket buffer, not in the daemon.
+  static constexpr size_t kMaxPendingLines = 64;
+
   enum class ReadResult { open, closed };
-  // Reads what the socket holds. Calls onLine(line) for every complete request line (without '\n') and
-  // onOversize() once for every line longer than the cap (the rest of that line is discarded).
-  ReadResult read(const std::function<void(std::string_view)>& onLine,
-                  const std::function<void()>& onOversize);
+  // Reads what the socket holds into the pending lines (while fewer than kMaxPendingLines wait). `closed`
+  // once the peer has closed and every line it sent has been served.
+  ReadResult read();
+  bool hasPendingLines() const { return !lines_.empty(); }
+  // The oldest pending line (hasPendingLines() must be true).
+  PendingLine takeLine();
+  // Whether the socket should be read now (room for lines, the peer not yet closed).
+  bool wantsInput() const { return !peerClosed_ && lines_.size() < kMaxPendingLines; }
+  bool peerClosed() const { return peerClosed_; }
 
   // Queues one line; false (and counted) when it does not fit in the budget.
   bool send(Line line);
@@ -59,6 +73,8 @@ class Client {
   const size_t maxQueuedBytes_;
   std::string input_;
   bool discarding_ = false;  // inside an oversize line: drop bytes up to the next '\n'
+  bool peerClosed_ = false;  // recv() returned 0: serve what is pending, then close
+  std::deque<PendingLine> lines_;
   std::deque<Line> queue_;
   size_t headOffset_ = 0;  // bytes of queue_.front() already written
   size_t queuedBytes_ = 0;

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/unique_fd.h"
 #include "daemon/event_loop.h"
 #include "daemon/fd_budget.h"
@@ -111,8 +112,18 @@ std::unique_ptr<SlamWorker> Daemon::makeWorker(const SequenceInfo& info, Mailbox
         mailbox.post([this] {
           workerDone_ = true;
           const WorkerStats s = parts_->worker->stats();
-          if (stopping_ || s.state == "failed" || config_.source.atEnd == "exit") {
+          bool inputFailed;
+          {
+            std::lock_guard lock(parts_->captureMutex);
+            inputFailed = !parts_->captureError.empty();
+          }
+          // A failed input (a truncated PNG) with at_end stop or loop keeps serving, as an ended one does:
+          // STATUS says "failed" with the error until SIGTERM (exit 1). A failed SLAM thread exits.
+          if (stopping_ || (s.state == "failed" && !inputFailed) || config_.source.atEnd == "exit") {
             parts_->loop.stop();
+          } else if (s.state == "failed") {
+            spdlog::error("input failed after {} frames; outputs flushed; still serving the socket", s.frames);
+            parts_->notifier.status("failed after " + std::to_string(s.frames) + " frames: " + sb::printable(s.error, 200));
           } else {
             spdlog::info("input ended after {} frames; outputs flushed; still serving the socket", s.frames);
             parts_->notifier.status("input ended after " + std::to_string(s.frames) + " frames");
@@ -167,9 +178,13 @@ int Daemon::run() {
       while (auto frame = p.source->next())
         if (!p.queue->push(std::move(*frame))) break;
     } catch (const std::exception& e) {
-      spdlog::error("source: {}", e.what());
-      std::lock_guard lock(p.captureMutex);
-      p.captureError = e.what();
+      spdlog::error("source: {}", sb::printable(e.what()));
+      {
+        std::lock_guard lock(p.captureMutex);
+        p.captureError = e.what();
+      }
+      p.queue->close(std::string("the input failed: ") + e.what());  // the pass is reported failed
+      return;
     }
     p.queue->close();
   });
@@ -271,7 +286,7 @@ void Daemon::reload() {
     config_.slam.controllerConfig = fresh.slam.controllerConfig;
     spdlog::info("SIGHUP: controller settings reloaded; controller '{}' from the next frame", settings.name);
   } catch (const std::exception& e) {
-    spdlog::error("SIGHUP: reload failed, settings unchanged: {}", e.what());
+    spdlog::error("SIGHUP: reload failed, settings unchanged: {}", sb::printable(e.what()));
   }
   p.notifier.ready("running");
 }

@@ -45,6 +45,11 @@ void readCamera(ConfigReader& r, CameraConfig& c) {
     r.fail("reconnect_max_s", "a value >= 'reconnect_min_s' (" + std::to_string(c.reconnectMinSeconds) + " s)");
 }
 
+// Plausible depth scales, raw units per metre: 100 (centimetres) to 100000 (10 micrometres, a 0.65 m range
+// in 16 bits). 1000 (millimetres) and 5000 (TUM) are the usual ones.
+constexpr double kMinDepthScale = 100.0;
+constexpr double kMaxDepthScale = 100000.0;
+
 void readSource(ConfigReader& r, SourceConfig& s) {
   r.string("type", s.type);
   r.string("path", s.path);
@@ -52,7 +57,11 @@ void readSource(ConfigReader& r, SourceConfig& s) {
   r.number("speed", s.speed, 0.01, 100.0);
   r.string("at_end", s.atEnd, {"stop", "loop", "exit"});
   r.integer("max_frames", s.maxFrames, 0, 100000000);
-  r.number("depth_scale", s.depthScale, 0.0, 1e6);
+  r.number("depth_scale", s.depthScale, 0.0, kMaxDepthScale);
+  if (s.depthScale != 0.0 && s.depthScale < kMinDepthScale)  // 0: from calibration.json / the format
+    r.fail("depth_scale", "0 (from the sequence) or " + std::to_string(static_cast<int>(kMinDepthScale)) + " to " +
+                              std::to_string(static_cast<int>(kMaxDepthScale)) +
+                              " raw units per metre (1000 for millimetres, 5000 for TUM)");
   r.integer("queue_frames", s.queueFrames, 1, 256);
   r.section("camera", [&](ConfigReader& camera) { readCamera(camera, s.camera); });
   const auto types = sourceTypes();

@@ -43,8 +43,9 @@ void EventLoop::remove(int fd) {
 void EventLoop::run() {
   running_ = true;
   epoll_event events[64];
+  bool workLeft = false;
   while (running_) {
-    const int n = epoll_wait(epoll_.get(), events, 64, -1);
+    const int n = epoll_wait(epoll_.get(), events, 64, workLeft ? 0 : -1);
     if (n < 0) {
       if (errno == EINTR) continue;
       throw Error(std::string("epoll_wait failed: ") + std::strerror(errno));
@@ -56,6 +57,7 @@ void EventLoop::run() {
       Handler handler = entries_.at(id->second).handler;
       handler(events[i].events);
     }
+    workLeft = running_ && afterTurn_ && afterTurn_();
   }
 }
 

@@ -25,6 +25,10 @@ class EventLoop {
   void modify(int fd, uint32_t events);
   void remove(int fd);
 
+  // Called after each turn (one batch of events); while it returns true (work is left) the next turn does
+  // not wait for events. nullptr: none.
+  void setAfterTurn(std::function<bool()> afterTurn) { afterTurn_ = std::move(afterTurn); }
+
   // Dispatches events until stop() is called (from a handler).
   void run();
   void stop() { running_ = false; }
@@ -39,6 +43,7 @@ class EventLoop {
   std::unordered_map<uint64_t, int> fdById_;  // ids in flight: a removed entry's events are ignored
   uint64_t nextId_ = 1;
   bool running_ = false;
+  std::function<bool()> afterTurn_;
 };
 
 }  // namespace sb::daemon

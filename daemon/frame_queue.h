@@ -3,13 +3,15 @@
 //  - wait (replay): push() waits for room, so no frame is ever lost;
 //  - newest (live): push() never waits; when the queue is full the oldest frame is dropped and counted, so
 //    the SLAM thread always gets the newest frames.
-// close() ends the stream after the queued frames; abort() ends it at once, discarding them.
+// close() ends the stream after the queued frames; abort() ends it at once, discarding them. close(error)
+// ends it after the queued frames because the input failed: the SLAM thread reports the pass as failed.
 
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <mutex>
 #include <optional>
+#include <string>
 
 #include "daemon/capture_source.h"
 
@@ -45,9 +47,11 @@ class FrameQueue {
     return f;
   }
 
-  void close() {
+  // `error`: why the input ended early (empty: it ended normally).
+  void close(const std::string& error = {}) {
     std::lock_guard lock(mutex_);
     closed_ = true;
+    if (error_.empty()) error_ = error;
     ready_.notify_all();
     space_.notify_all();
   }
@@ -63,6 +67,11 @@ class FrameQueue {
     std::lock_guard lock(mutex_);
     return dropped_;
   }
+  // Why the input ended early (close(error)); empty while it runs or when it ended normally.
+  std::string error() const {
+    std::lock_guard lock(mutex_);
+    return error_;
+  }
   size_t size() const {
     std::lock_guard lock(mutex_);
     return items_.size();
@@ -76,6 +85,7 @@ class FrameQueue {
   std::deque<CapturedFrame> items_;
   uint64_t dropped_ = 0;
   bool closed_ = false;
+  std::string error_;
 };
 
 }  // namespace sb::daemon

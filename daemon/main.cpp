@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "daemon/daemon.h"
 #include "daemon/daemon_config.h"
 
@@ -63,7 +64,7 @@ int main(int argc, char** argv) {
   try {
     config = loadConfig(o);
   } catch (const std::exception& e) {
-    std::cerr << "slamboosterd: configuration error: " << e.what() << "\n";
+    std::cerr << "slamboosterd: configuration error: " << sb::printable(e.what()) << "\n";
     return 2;
   }
   if (o.printConfig) {
@@ -74,7 +75,7 @@ int main(int argc, char** argv) {
     try {
       sb::daemon::checkConfigFiles(config);
     } catch (const std::exception& e) {  // sb::Error, or a library's exception on an unreadable file
-      std::cerr << "slamboosterd: configuration error: " << e.what() << "\n";
+      std::cerr << "slamboosterd: configuration error: " << sb::printable(e.what()) << "\n";
       return 2;
     }
     std::cout << "configuration is valid (the files it names too; the input and devices are not opened)\n";
@@ -88,13 +89,13 @@ int main(int argc, char** argv) {
         config, [o] { return loadConfig(o); }, SB_VERSION);
     return daemon.run();
   } catch (const sb::daemon::ConfigError& e) {
-    std::cerr << "slamboosterd: configuration error: " << e.what() << "\n";
+    std::cerr << "slamboosterd: configuration error: " << sb::printable(e.what()) << "\n";
     return 2;
   } catch (const sb::Error& e) {
-    std::cerr << "slamboosterd: error: " << e.what() << "\n";
+    std::cerr << "slamboosterd: error: " << sb::printable(e.what()) << "\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "slamboosterd: internal error: " << e.what() << "\n";
+    std::cerr << "slamboosterd: internal error: " << sb::printable(e.what()) << "\n";
     return 1;
   }
 }

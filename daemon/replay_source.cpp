@@ -33,7 +33,13 @@ std::optional<CapturedFrame> ReplaySource::next() {
       std::lock_guard lock(mutex_);
       if (stopped_) return std::nullopt;
     }
-    std::optional<DepthFrame> f = source_->next();
+    std::optional<DepthFrame> f;
+    try {
+      f = source_->next();
+    } catch (...) {
+      failed_ = true;  // STATUS source.state "failed", not "running"
+      throw;
+    }
     if (!f) {
       if (!loop_ || (frames_ == 0 && framesThisPass == 0)) {
         ended_ = true;
@@ -84,7 +90,8 @@ nlohmann::json ReplaySource::status() const {
           {"path", info_.path},
           {"format", info_.format},
           {"live", false},
-          {"state", ended_    ? "ended"
+          {"state", failed_   ? "failed"
+                    : ended_  ? "ended"
                     : stopped ? "stopped"
                               : "running"},
           {"pacing", config_.pacing},

@@ -51,6 +51,7 @@ class ReplaySource : public CaptureSource {
   std::atomic<uint64_t> frames_{0};
   std::atomic<uint32_t> pass_{1};
   std::atomic<bool> ended_{false};
+  std::atomic<bool> failed_{false};  // the sequence could not be read (a truncated PNG): source.state "failed"
 };
 
 }  // namespace sb::daemon

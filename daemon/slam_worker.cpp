@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/thread_pool.h"
 #include "daemon/cpu_affinity.h"
 #include "pipeline/pipeline.h"
@@ -138,7 +139,7 @@ void SlamWorker::run() {
     std::lock_guard lock(mutex_);
     stats_.state = "finished";
   } catch (const std::exception& e) {
-    spdlog::error("SLAM thread stopped: {}", e.what());
+    spdlog::error("SLAM thread stopped: {}", sb::printable(e.what()));
     std::lock_guard lock(mutex_);
     stats_.state = "failed";
     stats_.error = e.what();
@@ -163,9 +164,10 @@ void SlamWorker::runPasses() {
   std::optional<EnergyAccount> energy;
   if (sampler_) energy.emplace(*sampler_);
 
-  const auto finishPass = [&](bool last) {
+  const auto finishPass = [&](bool last, const std::string& error = {}) {
     if (!run) return;
     RunEnd end;
+    end.error = error;  // the input failed: summary.json says so ("complete": false, "error")
     end.modelView = config_.output.modelPng ? "last" : "";
     end.mesh = config_.output.mesh;
     end.drainEnergy = last;
@@ -174,7 +176,7 @@ void SlamWorker::runPasses() {
       try {
         spdlog::info("report {}", run->writeReport());
       } catch (const std::exception& e) {
-        spdlog::warn("report.html not written: {}", e.what());
+        spdlog::warn("report.html not written: {}", sb::printable(e.what()));
       }
     }
     spdlog::info("pass {}: {} frames; outputs in {}", pass, run->runner().frames(), run->dir());
@@ -267,11 +269,14 @@ void SlamWorker::runPasses() {
   }
   // The energy of the last frames needs the samples after their end: finishPass(true) waits up to the
   // sampler's drain timeout.
+  // A failed input (a truncated PNG) fails the pass: its summary and STATUS say so, never "complete".
+  const std::string inputError = stop_ ? std::string() : queue_.error();
   if (run) {
-    finishPass(true);
+    finishPass(true, inputError);  // throws the input's error after writing the summary
   } else if (energy) {
     energy->drain();
   }
+  if (!inputError.empty()) throw Error(inputError);
 }
 
 }  // namespace sb::daemon

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <vector>
 
 #include "core/error.h"
 
@@ -28,9 +29,11 @@ SocketServer::SocketServer(EventLoop& loop, int listener, const SocketConfig& co
       state_(state),
       release_(std::move(release)) {
   loop_.add(listener_, EPOLLIN, [this](uint32_t) { accept(); });
+  loop_.setAfterTurn([this] { return serveRequests(); });
 }
 
 SocketServer::~SocketServer() {
+  loop_.setAfterTurn(nullptr);
   for (auto& [fd, client] : clients_) {
     client->flush();  // best effort: the last messages to clients that read
     loop_.remove(fd);
@@ -104,15 +107,47 @@ void SocketServer::onClientEvent(int fd, uint32_t events) {
     if (!client.flush()) return close(fd, "write failed", false);
   }
   if (events & (EPOLLIN | EPOLLHUP | EPOLLERR)) {
-    const auto result = client.read(
-        [&](std::string_view line) { handleLine(client, line); },
-        [&] {
-          reply(client, errorMessage("request longer than " + std::to_string(config_.maxRequestBytes) +
-                                     " bytes (socket.max_request_bytes); ignored"));
-        });
-    if (result == Client::ReadResult::closed) return close(fd, "peer closed", false);
+    // Only reads: the lines are served after this turn's events (serveRequests), within budgets.
+    if (client.read() == Client::ReadResult::closed) return close(fd, "peer closed", false);
   }
   updateInterest(client);
+}
+
+bool SocketServer::serveRequests() {
+  // Budgets per turn: a flooding client, or many connections of one uid, get a bounded share of each turn,
+  // so the POSE fan-out (posted to the loop between turns) never waits behind them.
+  std::map<uid_t, size_t> servedPerUid;
+  size_t served = 0;
+  std::vector<int> ready;
+  for (const auto& [fd, client] : clients_)
+    if (client->hasPendingLines()) ready.push_back(fd);
+  if (ready.empty()) return false;
+  // Start after the last client served first, so no client is always first (or always cut off).
+  const auto first = std::upper_bound(ready.begin(), ready.end(), lastFirstServed_);
+  std::rotate(ready.begin(), first, ready.end());
+  lastFirstServed_ = ready.front();
+  bool pending = false;
+  for (const int fd : ready) {
+    Client& client = *clients_.at(fd);
+    size_t& uidServed = servedPerUid[client.peer().uid];
+    for (size_t n = 0; client.hasPendingLines() && n < kRequestsPerClientPerTurn &&
+                       uidServed < kRequestsPerUidPerTurn && served < kRequestsPerTurn;
+         ++n, ++uidServed, ++served) {
+      const Client::PendingLine line = client.takeLine();
+      if (line.oversize)
+        reply(client, errorMessage("request longer than " + std::to_string(config_.maxRequestBytes) +
+                                   " bytes (socket.max_request_bytes); ignored"));
+      else
+        handleLine(client, line.text);
+    }
+    if (client.peerClosed() && !client.hasPendingLines()) {
+      close(fd, "peer closed", false);
+      continue;
+    }
+    pending = pending || client.hasPendingLines();
+    updateInterest(client);
+  }
+  return pending;
 }
 
 void SocketServer::handleLine(Client& client, std::string_view line) {
@@ -185,7 +220,12 @@ void SocketServer::deliver(Client& client, const Line& line) {
 }
 
 void SocketServer::updateInterest(Client& client) {
-  loop_.modify(client.fd(), client.hasPendingOutput() ? (EPOLLIN | EPOLLOUT) : EPOLLIN);
+  // Not reading while its lines wait: its further requests stay in its socket buffer (the peer's writes
+  // block), and a closed peer's level-triggered EOF does not wake the loop in vain.
+  uint32_t events = 0;
+  if (client.wantsInput()) events |= EPOLLIN;
+  if (client.hasPendingOutput()) events |= EPOLLOUT;
+  loop_.modify(client.fd(), events);
 }
 
 void SocketServer::publishFrame(const FrameReport& report) {

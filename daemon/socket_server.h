@@ -23,6 +23,11 @@ class SocketServer {
  public:
   // Client slots kept for privileged peers (at most a quarter of socket.max_clients).
   static constexpr size_t kPrivilegedSlots = 4;
+  // Requests served per event-loop turn: per client, per uid (all its connections), and in all. A turn
+  // serves at most kRequestsPerTurn requests, so the loop gets back to the POSE fan-out within a few ms.
+  static constexpr size_t kRequestsPerClientPerTurn = 8;
+  static constexpr size_t kRequestsPerUidPerTurn = 32;
+  static constexpr size_t kRequestsPerTurn = 128;
 
   // `listener`: a listening, non-blocking Unix stream socket (borrowed; see unix_socket.h).
   SocketServer(EventLoop& loop, int listener, const SocketConfig& config, ControlPolicy policy,
@@ -53,6 +58,8 @@ class SocketServer {
   void refuse(UniqueFd& fd, const std::string& why);
   void pauseAccepting(int error);
   void onClientEvent(int fd, uint32_t events);
+  // Serves the clients' pending request lines within this turn's budgets; true while some still wait.
+  bool serveRequests();
   void handleLine(Client& client, std::string_view line);
   void reply(Client& client, const nlohmann::json& message);
   void deliver(Client& client, const Line& line);
@@ -74,6 +81,7 @@ class SocketServer {
   uint64_t clientsDisconnected_ = 0;
   uint64_t acceptPauses_ = 0;
   bool acceptPaused_ = false;
+  int lastFirstServed_ = -1;  // the client served first in the last turn (round robin)
 };
 
 }  // namespace sb::daemon

@@ -5,6 +5,7 @@
 
 #include "core/image.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "drivers/calibration.h"
 
 namespace fs = std::filesystem;
@@ -67,6 +68,7 @@ RawReader::RawReader(const std::string& path, const SequenceOptions& options) {
   std::error_code ec;
   const uint64_t fileBytes = fs::file_size(path, ec);
   if (ec) throw Error("cannot read .raw file '" + path + "': " + ec.message());
+  openRegularFile(path, ".raw file");  // refuses a FIFO or device before the stream opens (and blocks on) it
   file_.open(path, std::ios::binary);
   if (!file_) throw Error("cannot open .raw file '" + path + "': check that it is readable");
 

@@ -6,6 +6,7 @@
 
 #include "core/image.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "drivers/prefetch_source.h"
 #include "drivers/raw_reader.h"
 #include "drivers/tum_reader.h"
@@ -43,7 +44,9 @@ std::unique_ptr<FrameSource> openUnbuffered(const std::string& path, const Seque
     throw Error("cannot tell the format of '" + path +
                 "': give a TUM-layout directory (with depth.txt) or a SLAMBench file ending in .raw");
   }
-  throw Error("sequence '" + path + "' does not exist: give a TUM-layout directory or a .raw file");
+  // Missing, or a FIFO, socket, device, symlink loop or unreadable path: say which (never opened).
+  throw Error("sequence " + quoteForMessage(path) + " " + pathProblem(path) +
+              ": give a TUM-layout directory or a .raw file");
 }
 
 }  // namespace

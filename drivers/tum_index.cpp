@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb {
 
@@ -40,8 +41,7 @@ double parseTimestamp(const std::string& path, size_t line, const std::string& s
 }  // namespace
 
 std::vector<TumIndexEntry> readTumIndex(const std::string& path, bool associations) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot read '" + path + "': check that it is readable");
+  InputFile in(path, "frame index");
   const std::string expected = associations ? "`timestamp file timestamp file`" : "`timestamp filename`";
   std::vector<TumIndexEntry> entries;
   std::string raw;

@@ -8,6 +8,7 @@
 
 #include "core/image.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/png_io.h"
 #include "drivers/calibration.h"
 #include "drivers/tum_index.h"
@@ -57,7 +58,8 @@ constexpr size_t kIhdrSizeEnd = kIhdrSizeOffset + 8;
 // Width and height from a PNG's IHDR chunk without decoding; nullopt when the file is not a readable PNG
 // (readPng16 then reports what is wrong).
 std::optional<std::pair<uint32_t, uint32_t>> pngSize(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  if (!isReadableRegularFile(path)) return std::nullopt;
+  InputFile in(path, "depth image");
   unsigned char b[kIhdrSizeEnd];
   if (!in.read(reinterpret_cast<char*>(b), sizeof b)) return std::nullopt;
   if (std::string(reinterpret_cast<char*>(b) + kPngSignatureBytes + 4, 4) != "IHDR") return std::nullopt;
@@ -89,15 +91,28 @@ std::string where(const std::string& indexPath, size_t line) {
 TumReader::TumReader(const std::string& directory, const SequenceOptions& options) {
   const fs::path dir(directory);
   std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw Error("sequence directory '" + directory + "' does not exist or is not a directory");
+  if (!fs::is_directory(dir, ec)) {
+    const std::string problem = pathProblem(directory);
+    throw Error("sequence directory " + quoteForMessage(directory) + " " +
+                (problem.empty() ? std::string("is a file, not a directory") : problem));
+  }
   indexPath_ = (dir / kIndexName).string();
-  const bool associations =
-      !fs::is_regular_file(indexPath_, ec) && fs::is_regular_file(dir / kAssociationsName, ec);
+  const std::string indexProblem = pathProblem(indexPath_);
+  const bool associations = !indexProblem.empty() && isReadableRegularFile((dir / kAssociationsName).string());
   if (associations) indexPath_ = (dir / kAssociationsName).string();
-  if (!fs::is_regular_file(indexPath_, ec))
-    throw Error("sequence '" + directory + "' has no " + kIndexName + " (nor " + kAssociationsName +
-                "): a TUM-layout sequence needs `timestamp depth/file.png` lines in depth.txt");
+  if (!associations && !indexProblem.empty()) {  // missing, or a FIFO, directory, device, loop, unreadable
+    std::string name = kIndexName, path = indexPath_, problem = indexProblem;
+    if (problem == "does not exist") {
+      name = kAssociationsName;
+      path = (dir / kAssociationsName).string();
+      problem = pathProblem(path);
+      if (problem == "does not exist")
+        throw Error("sequence " + quoteForMessage(directory) + " has no " + kIndexName + " (nor " + kAssociationsName +
+                    "): a TUM-layout sequence needs `timestamp depth/file.png` lines in depth.txt");
+    }
+    throw Error("sequence " + quoteForMessage(directory) + ": " + name + " " + quoteForMessage(path) + " " + problem +
+                "; it must be a readable text file of `timestamp depth/file.png` lines");
+  }
 
   // Ground truth: groundtruth.txt, else ICL-NUIM's single *.freiburg file (which also marks the format).
   if (fs::is_regular_file(dir / kGroundTruthName, ec)) {
@@ -143,9 +158,13 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
   entries_.assign(
       std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(options.firstFrame)),
       std::make_move_iterator(all.begin() + static_cast<std::ptrdiff_t>(options.firstFrame + count)));
-  for (const Entry& e : entries_)
-    if (!fs::is_regular_file(e.path, ec))
-      fail(e, "depth image '" + e.path + "' does not exist; restore it or remove its line");
+  for (const Entry& e : entries_) {
+    const std::string problem = pathProblem(e.path);
+    if (problem == "does not exist")
+      fail(e, "depth image " + quoteForMessage(e.path) + " does not exist; restore it or remove its line");
+    else if (!problem.empty())
+      fail(e, "depth image " + quoteForMessage(e.path) + " " + problem + "; it must be a readable PNG file");
+  }
   info_.frameCount = entries_.size();
 
   // Image size: options > calibration > the first frame.

@@ -1,5 +1,6 @@
 #include "mesh/ply_writer.h"
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 #include <cerrno>
@@ -85,17 +86,25 @@ void writeAsciiBody(std::ostream& out, const Mesh& mesh) {
 
 void writePly(const std::string& path, const Mesh& mesh, PlyFormat format) {
   checkMesh(path, mesh);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out)
-    throw Error("writePly: cannot create '" + path + "': " + std::strerror(errno) +
-                "; check that the directory exists and is writable");
-  out << header(mesh, format);
-  if (format == PlyFormat::Ascii)
-    writeAsciiBody(out, mesh);
-  else
-    writeBinaryBody(out, mesh);
-  out.close();
-  if (!out) throw Error("writePly: writing '" + path + "' failed (disk full?); free space and retry");
+  // Whole or not at all: a temporary sibling renamed over `path` once every byte is written.
+  writeFileAtomically(path, [&](const std::string& temporary) {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw Error("writePly: cannot create '" + temporary + "': " + std::strerror(errno) +
+                  "; check that the directory exists and is writable");
+    errno = 0;
+    out << header(mesh, format);
+    if (format == PlyFormat::Ascii)
+      writeAsciiBody(out, mesh);
+    else
+      writeBinaryBody(out, mesh);
+    int error = errno;  // the failed write's reason (the stream keeps only a flag)
+    out.close();
+    if (!error) error = errno;
+    if (!out)
+      throw Error("writePly: writing '" + path + "' failed: " + std::strerror(error ? error : EIO) +
+                  "; the previous file (if any) is left as it was (free disk space and run again)");
+  });
 }
 
 }  // namespace sb

@@ -5,13 +5,13 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "power/power_sampler.h"
 
 namespace sb::power {
 
 std::vector<FrameInterval> readFrameIntervals(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open frame log '" + path + "' (check the path)");
+  InputFile in(path, "frame log");
   std::vector<FrameInterval> frames;
   std::string line;
   size_t lineNo = 0;

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb::power {
 
@@ -54,8 +55,7 @@ void PowerTraceWriter::lost(int64_t tNs) { std::fprintf(file_, "%lld,,,,lost\n",
 void PowerTraceWriter::flush() { std::fflush(file_); }
 
 PowerTrace readPowerTrace(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error("cannot open power trace '" + path + "' (check the path)");
+  InputFile in(path, "power trace");
   PowerTrace trace;
   std::string line;
   size_t lineNo = 0;

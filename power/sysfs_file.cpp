@@ -22,7 +22,7 @@ std::string failure(const std::string& path, const char* what, int errnum) {
 }
 
 std::string readToken(const std::string& path) {
-  UniqueFd fd(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  UniqueFd fd(::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC));  // a FIFO never blocks
   if (!fd.valid()) throw Error(failure(path, "open", errno));
   char buffer[64];
   ssize_t n;
@@ -59,7 +59,7 @@ unsigned long long readSysfsCounter(const std::string& path) {
 }
 
 void writeSysfs(const std::string& path, const std::string& value) {
-  UniqueFd fd(::open(path.c_str(), O_WRONLY | O_CLOEXEC));
+  UniqueFd fd(::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC));  // a FIFO never blocks
   if (!fd.valid()) throw Error(failure(path, "open for writing", errno));
   if (::write(fd.get(), value.data(), value.size()) != static_cast<ssize_t>(value.size()))
     throw Error(failure(path, "write", errno));

@@ -5,6 +5,9 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "core/error.h"
+#include "core/input_file.h"
+
 namespace sb::report {
 
 namespace {
@@ -137,11 +140,12 @@ bool FrameLog::hasColumn(const std::vector<double>& column) const {
 
 FrameLogReadResult readFrameLog(const std::string& path) {
   FrameLogReadResult result;
-  std::ifstream in(path);
-  if (!in) {
-    result.problems.push_back("cannot read '" + path + "' (no per-frame plots)");
+  const std::string problem = pathProblem(path);  // never opens (nor waits on) a FIFO
+  if (!problem.empty()) {
+    result.problems.push_back("cannot read '" + path + "': it " + problem + " (no per-frame plots)");
     return result;
   }
+  InputFile in(path, "per-frame log");
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) lines.push_back(line);
   in.clear();

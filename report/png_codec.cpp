@@ -10,6 +10,7 @@
 #include <iterator>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb::report {
 
@@ -74,8 +75,7 @@ std::vector<uint8_t> encodeRows(int width, int height, int colourType, const uin
 }  // namespace
 
 std::vector<uint8_t> readFileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + path + "': " + std::strerror(errno));
+  InputFile in(path, "file");
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw Error("error while reading '" + path + "'");
   return bytes;

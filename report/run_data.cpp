@@ -8,6 +8,7 @@
 
 #include "core/config_reader.h"
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb::report {
 
@@ -38,7 +39,14 @@ void loadSummary(RunData& run) {
 // its joules and mean power go into the frame log's columns for the frames it names. Damaged lines are
 // problems, not failures.
 void mergeEnergyLog(RunData& run, const fs::path& path) {
-  std::ifstream in(path);
+  std::unique_ptr<InputFile> file;
+  try {
+    file = std::make_unique<InputFile>(path.string(), "energy log");
+  } catch (const Error& e) {
+    run.problems.push_back(e.what());
+    return;
+  }
+  std::istream& in = *file;
   std::map<int64_t, std::pair<double, double>> energy;  // frame -> joules, mean W (NaN when unknown)
   size_t lineNumber = 0, bad = 0;
   for (std::string line; std::getline(in, line);) {

@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <vector>
 
 #include "core/error.h"
 #include "core/png_io.h"
@@ -84,29 +86,59 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
     outputs_.summary->setExtra("energy", energy_->totals());
   }
   outputs_.summary->setExtra("complete", false);  // until the outputs are on disk (below)
+  if (!end.modelView.empty() && end.modelView != "last" && end.modelView != "overview")
+    throw Error("model view '" + end.modelView + "': expected last or overview");
+  // Each output is attempted even when an earlier one failed (a full disk): the summary is written last,
+  // with "complete": false and every failure in "error", and the first failure is thrown after it.
+  std::vector<std::string> failures;
+  if (!end.error.empty()) failures.push_back(end.error);
+  const auto attempt = [&failures](const std::function<void()>& write) {
+    try {
+      write();
+    } catch (const Error& e) {
+      failures.push_back(e.what());
+    }
+  };
   const std::filesystem::path out(dir_);
   const PipelineConfig& config = pipeline_->config();
-  if (!end.modelView.empty()) {
-    if (end.modelView != "last" && end.modelView != "overview")
-      throw Error("model view '" + end.modelView + "': expected last or overview");
-    const Image<uint8_t> model = end.modelView == "overview" ? pipeline_->renderModel(overviewPose(config), 1)
-                                                             : pipeline_->renderModel(1);
-    outputs_.summary->setExtra("model_view", end.modelView);
-    writePng8((out / "model.png").string(), model);
-  }
-  if (end.mesh) {
-    const VolumeView view{pipeline_->volumeData(), config.volumeResolution, config.volumeSize};
-    const Mesh mesh = extractMesh(view, MeshOptions{}, pool);
-    writePly((out / "mesh.ply").string(), mesh);
-    outputs_.summary->setExtra("mesh_triangles", mesh.triangles.size());
-  }
-  runner_.flush();
+  if (!end.modelView.empty())
+    attempt([&] {
+      const Image<uint8_t> model = end.modelView == "overview"
+                                       ? pipeline_->renderModel(overviewPose(config), 1)
+                                       : pipeline_->renderModel(1);
+      outputs_.summary->setExtra("model_view", end.modelView);
+      writePng8((out / "model.png").string(), model);  // whole or not at all (temporary file + rename)
+    });
+  if (end.mesh)
+    attempt([&] {
+      const VolumeView view{pipeline_->volumeData(), config.volumeResolution, config.volumeSize};
+      const Mesh mesh = extractMesh(view, MeshOptions{}, pool);
+      writePly((out / "mesh.ply").string(), mesh);  // whole or not at all (temporary file + rename)
+      outputs_.summary->setExtra("mesh_triangles", mesh.triangles.size());
+    });
   // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
   // server). `slambooster bench` / dse / profile count (and skip) only complete runs; an interrupted one runs
   // again.
-  for (const char* file : {"trajectory.tum", "frames.jsonl"}) syncFile((out / file).string());
-  outputs_.summary->setExtra("complete", end.complete);
-  outputs_.summary->flush();
+  attempt([&] {
+    runner_.flush();
+    for (const char* file : {"trajectory.tum", "frames.jsonl"}) syncFile((out / file).string());
+  });
+  if (!failures.empty()) {
+    std::string error = failures.front();
+    for (size_t i = 1; i < failures.size(); ++i) error += "; " + failures[i];
+    outputs_.summary->setExtra("error", error);
+  }
+  outputs_.summary->setExtra("complete", end.complete && failures.empty());
+  try {
+    outputs_.summary->flush();
+  } catch (const Error& e) {
+    if (failures.empty()) throw;
+    throw Error(failures.front() + "; and the summary: " + e.what());
+  }
+  if (!failures.empty())
+    throw Error(failures.size() == 1 ? failures.front()
+                                     : failures.front() + " (and " + std::to_string(failures.size() - 1) +
+                                           " more; summary.json \"error\" lists them)");
 }
 
 std::string Run::writeReport() const { return writeRunReport(dir_).path; }

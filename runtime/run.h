@@ -41,6 +41,7 @@ struct RunEnd {
   bool mesh = false;               // mesh.ply (marching cubes of the volume)
   bool drainEnergy = true;         // wait for the energy of the last frames (false: they land in a later run)
   bool complete = true;            // summary.json "complete" once every output is on disk
+  std::string error;               // why the run ended early (e.g. the input failed): "error", not complete
 };
 
 class Run {

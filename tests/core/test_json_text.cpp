@@ -54,7 +54,7 @@ TEST_CASE("json_text: syntax errors give line and column", "[core][json]") {
 
 TEST_CASE("json_text: files that are directories, missing or oversized are named", "[core][json]") {
   const std::string dir = test::scratchDir("json_text");
-  CHECK_THROWS_WITH(readJsonFile(dir, "config file"), Contains("config file '" + dir + "' is a directory"));
+  CHECK_THROWS_WITH(readJsonFile(dir, "config file"), Contains("config file '" + dir + "': it is a directory"));
   CHECK_THROWS_WITH(readJsonFile(dir + "/absent.json", "calibration"),
                     Contains("cannot open calibration '" + dir + "/absent.json'"));
   std::ofstream(dir + "/big.json") << std::string(2000, ' ') << "{}";

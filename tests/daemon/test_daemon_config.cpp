@@ -69,6 +69,10 @@ TEST_CASE("daemon config: errors name the key, the value and what is allowed", "
   CHECK_THAT(errorOf({{"source", {{"type", "kinect"}}}}),
              Contains("'source.type' = \"kinect\"") && Contains("\"replay\""));
   CHECK_THAT(errorOf({{"source", {{"speed", -1}}}}), Contains("'source.speed' = -1"));
+  // Issue 33: a depth scale must be plausible (0 = from the sequence).
+  CHECK_THAT(errorOf({{"source", {{"depth_scale", 0.5}}}}),
+             Contains("'source.depth_scale' = 0.5") && Contains("100 to 100000"));
+  CHECK_THAT(errorOf({{"source", {{"depth_scale", 1e6}}}}), Contains("'source.depth_scale'"));
   CHECK_THAT(errorOf({{"slam", {{"cpus", "7-4"}}}}), Contains("'slam.cpus' = \"7-4\"") && Contains("'7-4'"));
   CHECK_THAT(errorOf({{"slam", {{"threads", 1.5}}}}), Contains("'slam.threads' = 1.5"));
   CHECK_THAT(errorOf({{"output", {{"dir", ""}}}}), Contains("'output.dir' = \"\""));

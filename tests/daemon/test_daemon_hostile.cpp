@@ -166,6 +166,36 @@ TEST_CASE("slamboosterd: SIGHUP with a deep or broken config keeps the daemon an
   CHECK(frames > 0);
 }
 
+TEST_CASE("slamboosterd: a FIFO as the config on SIGHUP or --check-config never blocks", "[daemon][system]") {
+  // Issue 33: the config opened in blocking mode before the regular-file check: a FIFO stopped the event
+  // loop in open() (no STATUS, SIGTERM ignored) until something wrote to the pipe.
+  TempDir tmp;
+  const std::string socket = tmp.path + "/s.sock", out = tmp.path + "/out", config = tmp.path + "/d.json";
+  REQUIRE(::mkfifo((tmp.path + "/fifo.json").c_str(), 0600) == 0);
+  checkRefused(runCommand("timeout 10 " + kDaemon + " --check-config --config " + tmp.path + "/fifo.json"),
+               "named pipe (FIFO)");
+  std::ofstream(config) << R"({"slam": {"controller": "fixed"}})";
+  auto args = daemonArgs(socket, out, "recorded", "loop");
+  args.insert(args.end(), {"--config", config});
+  ChildProcess daemon(args, {}, tmp.path + "/daemon.log");
+  REQUIRE(sb::test::waitForPath(socket, 20));
+  std::filesystem::remove(config);
+  REQUIRE(::mkfifo(config.c_str(), 0600) == 0);  // the config is now a named pipe nobody writes to
+  daemon.signal(SIGHUP);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const auto asked = std::chrono::steady_clock::now();
+  LineClient client(socket);
+  CHECK(client.readLine(1000).find("VERSION") != std::string::npos);
+  client.send("?STATUS;\n");
+  CHECK(client.readLine(1000).find("\"class\":\"STATUS\"") != std::string::npos);
+  CHECK(std::chrono::steady_clock::now() - asked < std::chrono::seconds(1));
+  daemon.signal(SIGTERM);
+  const int code = daemon.wait(2);
+  INFO(daemon.log());
+  CHECK(code == 0);
+  CHECK(daemon.log().find("named pipe (FIFO)") != std::string::npos);  // the reload says why it failed
+}
+
 TEST_CASE("slamboosterd: socket.max_clients must fit under the open-file limit", "[daemon][system]") {
   // Issue 23: under `prlimit --nofile=64` with max_clients=4096, 80 clients ran the daemon out of
   // descriptors: accept() spun on EMFILE and the replay could not open its next frame.

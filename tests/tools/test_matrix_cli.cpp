@@ -110,7 +110,7 @@ TEST_CASE("bench --plan, --run-index, --shard and --report-only split the matrix
   for (const char* bad : {"2/2", "1", "a/2", "0/0"}) {
     const auto shard = runCommand(bench + " --shard " + bad);
     INFO(bad << ": " << shard.output);
-    CHECK(shard.exitCode == 1);
+    CHECK(shard.exitCode == 2);  // refused up front, as a usage error (issue 33)
     CHECK_THAT(shard.output, Catch::Contains("expected I/N"));
   }
   CHECK(runCommand(bench + " --plan " + dir + "/p2.txt --run-index 0").exitCode == 2);

@@ -174,6 +174,62 @@ TEST_CASE("slambooster run: a full disk stops the run at the first failed write,
   CHECK(c.trajectory < static_cast<size_t>(kFrames));  // stopped at the first failed write
 }
 
+TEST_CASE("slambooster run: a full disk at the end leaves no truncated model.png and still a summary",
+          "[tools][run]") {
+  // Issue 33: every frame's outputs fit, model.png does not. It used to leave a truncated model.png, say
+  // "Write Error" without the reason, and never write the final summary.
+  const std::string reference = sb::test::scratchDir("run_end_full_reference") + "/out";
+  std::string args;
+  for (const auto& a : runArgs(reference)) args += a + " ";
+  REQUIRE(runCommand(args).exitCode == 0);
+  const auto pages = [](uintmax_t bytes) { return (bytes + 4095) / 4096 * 4096; };
+  const uintmax_t model = fs::file_size(reference + "/model.png");
+  // Room for the per-frame files and two summaries (the new one is written beside the old, then renamed),
+  // with a page of slack for the longer final summary; model.png must not fit in what is left.
+  const uintmax_t summaryBytes = pages(fs::file_size(reference + "/summary.json") + 2048);
+  const uintmax_t room = pages(fs::file_size(reference + "/trajectory.tum")) +
+                         pages(fs::file_size(reference + "/frames.jsonl")) + 2 * summaryBytes + 4096;
+  // What is left for model.png is under room - (per-frame files) + one page of rounding.
+  REQUIRE(model > 2 * summaryBytes + 2 * 4096);  // else the disk cannot be sized between the two
+  const std::string dir =
+      fs::path(sb::test::scratchDir("run_end_full_probe")).parent_path() / "run_end_full";
+  ::umount2(dir.c_str(), MNT_DETACH);  // left over from a test run that was killed
+  fs::create_directories(dir);
+  const uintmax_t disk = 1u << 20;
+  if (::mount("tmpfs", dir.c_str(), "tmpfs", 0, ("size=" + std::to_string(disk)).c_str()) != 0) {
+    WARN("cannot mount a 1 MiB tmpfs (needs root): skipped");
+    return;
+  }
+  struct Unmount {
+    std::string path;
+    ~Unmount() { ::umount2(path.c_str(), MNT_DETACH); }
+  } unmount{dir};
+  {
+    std::ofstream filler(dir + "/filler", std::ios::binary);
+    const std::string block(4096, '\0');
+    for (uintmax_t n = 0; n + room < disk; n += block.size()) filler << block;
+  }
+  const std::string out = dir + "/out";
+  args.clear();
+  for (const auto& a : runArgs(out)) args += a + " ";
+  const auto r = runCommand(args);
+  INFO(r.output);
+  CHECK(r.exitCode == 1);
+  CHECK(r.output.find("model.png") != std::string::npos);  // the message names the file
+  CHECK(r.output.find("No space left on device") != std::string::npos);  // and the system's reason
+  CHECK_FALSE(fs::exists(out + "/model.png"));  // no truncated file under the real name
+  CHECK_FALSE(fs::exists(out + "/model.png.tmp"));
+  const Counts c = checkConsistent(out);
+  CHECK(c.trajectory == static_cast<size_t>(kFrames));  // every frame ran and was written
+  REQUIRE(c.summary);
+  CHECK(*c.summary == static_cast<size_t>(kFrames));
+  const json summary = sb::test::readJson(out + "/summary.json");
+  CHECK(summary["complete"] == false);
+  REQUIRE(summary.contains("error"));
+  CHECK(summary["error"].get<std::string>().find("model.png") != std::string::npos);
+  CHECK(summary.contains("ate"));  // the final summary, not a per-frame snapshot
+}
+
 TEST_CASE("slambooster run: a bad frame mid-sequence still leaves a summary of the frames before it",
           "[tools][run]") {
   const std::string dir = sb::test::scratchDir("run_bad_frame");

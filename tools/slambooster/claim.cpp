@@ -8,7 +8,11 @@
 #include <cerrno>
 #include <chrono>
 #include <fstream>
+#include <memory>
 #include <sstream>
+
+#include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb::cli {
 
@@ -21,8 +25,14 @@ std::string hostName() {
 }
 
 std::string readOwner(const std::string& path) {
-  std::ifstream in(path);
   std::string owner;
+  std::unique_ptr<InputFile> file;
+  try {  // missing (released meanwhile), or not a regular file: no owner (never blocks on a FIFO)
+    file = std::make_unique<InputFile>(path, "claim file");
+  } catch (const Error&) {
+    return owner;
+  }
+  std::istream& in = *file;
   std::getline(in, owner);
   return owner;
 }

@@ -21,6 +21,8 @@
 #include "controller/tc_table.h"
 #include "core/config_reader.h"
 #include "core/error.h"
+#include "core/input_file.h"
+#include "core/json_text.h"
 #include "core/trajectory.h"
 #include "drivers/sequence.h"
 #include "eval/trajectory_eval.h"
@@ -38,6 +40,40 @@ namespace sb::cli {
 namespace {
 
 namespace fs = std::filesystem;
+
+// A number of a run's summary.json; throws sb::Error naming the file, the key and the value when it is
+// missing (and has no default) or not a number.
+double summaryNumber(const nlohmann::json& s, const std::string& key, const std::string& path,
+                     std::optional<double> fallback = std::nullopt) {
+  const auto dot = key.find('.');
+  const nlohmann::json* v = &s;
+  for (const std::string& part : {key.substr(0, dot), dot == std::string::npos ? "" : key.substr(dot + 1)}) {
+    if (part.empty()) break;
+    if (!v->is_object() || !v->contains(part)) {
+      if (fallback) return *fallback;
+      throw Error(quoteForMessage(path) + ": key \"" + key + "\" is missing");
+    }
+    v = &(*v)[part];
+  }
+  if (fallback && v->is_null()) return *fallback;
+  if (!v->is_number())
+    throw Error(quoteForMessage(path) + ": key \"" + key + "\" is " + describeJson(*v) + "; expected a number");
+  return v->get<double>();
+}
+
+// The machine record of a summary, when present, must hold what machineMix() reads with those types.
+void checkMachine(const nlohmann::json& s, const std::string& path) {
+  if (!s.contains("machine")) return;
+  const nlohmann::json& m = s["machine"];
+  const auto bad = [&](const std::string& key, const nlohmann::json& v, const char* expected) {
+    return Error(quoteForMessage(path) + ": key \"" + key + "\" is " + describeJson(v) + "; expected " + expected);
+  };
+  if (!m.is_object()) throw bad("machine", m, "an object");
+  for (const char* key : {"backend", "device", "cpu_model", "host"})
+    if (m.contains(key) && !m[key].is_string()) throw bad(std::string("machine.") + key, m[key], "a string");
+  if (m.contains("threads_used") && !m["threads_used"].is_number_integer())
+    throw bad("machine.threads_used", m["threads_used"], "an integer");
+}
 
 struct BenchOptions {
   std::vector<std::string> sequences;
@@ -210,14 +246,22 @@ void benchCommand(const BenchOptions& o) {
       BenchCell c;
       c.present = true;
       c.dir = dirOf[{name, label}];
-      const nlohmann::json s = readSummary(c.dir);
-      summaries.push_back(s);
-      c.frames = s["frames"];
-      c.tracked = s["tracked_percent"];
-      c.ms = s["computation_ms_per_frame"];
-      c.controllerMs = s.value("controller_ms_per_frame", 0.0);
-      if (s.contains("energy") && s["energy"].value("joules_per_frame", nlohmann::json()).is_number())
-        c.joulesPerFrame = s["energy"]["joules_per_frame"].get<double>();
+      // One bad summary is reported (file, key, value) and left out; the report of the rest is written.
+      try {
+        const std::string path = c.dir + "/summary.json";
+        const nlohmann::json s = readSummary(c.dir);
+        c.frames = summaryNumber(s, "frames", path);
+        c.tracked = summaryNumber(s, "tracked_percent", path);
+        c.ms = summaryNumber(s, "computation_ms_per_frame", path);
+        c.controllerMs = summaryNumber(s, "controller_ms_per_frame", path, 0.0);
+        c.joulesPerFrame = summaryNumber(s, "energy.joules_per_frame", path, NAN);
+        checkMachine(s, path);
+        summaries.push_back(s);
+      } catch (const Error& e) {
+        std::cerr << "slambooster bench: left out " << name << " / " << label << ": " << e.what() << "\n";
+        r.notes.push_back("Left out " + name + " / " + label + " (shown as -): " + e.what() + ".");
+        continue;
+      }
       try {
         if (!reference) throw Error("no reference trajectory");
         c.ateM = computeAte(readTumTrajectory(c.dir + "/trajectory.tum"), *reference).rmse;

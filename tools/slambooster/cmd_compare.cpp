@@ -10,6 +10,7 @@
 
 #include "core/config_reader.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "tools/slambooster/commands.h"
 
 namespace sb::cli {
@@ -21,8 +22,10 @@ struct CompareArgs {
 
 nlohmann::json readSummary(const std::string& dir) {
   const std::string path = dir + "/summary.json";
-  if (!std::ifstream(path))
-    throw Error("cannot read '" + path + "': is '" + dir + "' a finished run's output directory?");
+  const std::string problem = pathProblem(path);
+  if (!problem.empty())
+    throw Error("run summary " + quoteForMessage(path) + " " + problem + ": is " + quoteForMessage(dir) +
+                " a finished run's output directory?");
   return readJsonConfig(path, "run summary");  // bounded nesting, line and column, objects only
 }
 

@@ -8,12 +8,15 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <optional>
 
 #include "core/error.h"
+#include "core/image.h"
 #include "core/thread_pool.h"
 #include "core/trajectory.h"
 #include "synth/builtin_trajectory.h"
@@ -34,6 +37,22 @@ std::string joined(const std::vector<std::string>& names) {
 }
 
 constexpr double kMaxDriveVolumeM = 256.0;  // a drive's volume hint may be this large, metres
+// Stated ranges of the numeric options (refused with a clear message before anything is rendered). Sizes
+// stop at what `run` accepts; frame counts stay within what a run of hours needs (30 fps).
+constexpr int kMinImageSide = 16;  // pixels; three pyramid levels at csr 8 need at least this
+constexpr size_t kMaxSynthFrames = 1000000;
+constexpr double kMaxFocalPx = 100000.0;
+constexpr double kMaxDepthM = 100.0;
+constexpr unsigned kMaxThreads = 1024;
+
+// Refuses nan and infinities (CLI::Range lets nan through: it fails no comparison).
+const CLI::Validator kFinite(
+    [](std::string& text) {
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      return std::isfinite(v) ? std::string() : "must be a finite number, not " + text;
+    },
+    "FINITE");
 
 struct SynthArgs {
   synth::SynthOptions options;
@@ -139,7 +158,8 @@ void addSynthCommand(CLI::App& app) {
   auto* traj = sub->add_option("--trajectory", args->trajectory,
                                "TUM trajectory (camera-to-world), e.g. an ICL-NUIM living-room trajectory");
   auto* builtin = sub->add_option("--builtin-frames", args->builtinFrames,
-                                  "Use the built-in handheld-like orbit with this many frames (30 fps)");
+                                  "Use the built-in handheld-like orbit with this many frames (30 fps)")
+                     ->check(CLI::Range(size_t{1}, kMaxSynthFrames));
   auto* stress = sub->add_option("--stress", args->stress,
                                  "Render a stress trajectory for the controller experiments (seeded by --seed; "
                                  "segments.csv names its parts): bursts (calm handheld motion with four 0.5 s "
@@ -170,21 +190,34 @@ void addSynthCommand(CLI::App& app) {
       ->check(CLI::Range(0.5, 20.0))
       ->capture_default_str();
   sub->add_option("--seed", o.seed, "Seed of the furniture layout and the sensor noise")->capture_default_str();
-  sub->add_option("--frames", o.maxFrames, "Render at most this many frames (0 = all)")->capture_default_str();
+  sub->add_option("--frames", o.maxFrames, "Render at most this many frames (0 = all)")
+      ->check(CLI::Range(size_t{0}, kMaxSynthFrames))
+      ->capture_default_str();
   sub->add_flag("--no-noise", args->noNoise,
                 "Exact depth: no disparity noise, quantisation, or grazing/edge dropouts (range limits stay)");
   sub->add_option("--noise-sigma", o.sensor.sigmaDisparityPx, "Disparity noise std, pixels")
-      ->check(CLI::Range(0.0, 10.0))
+      ->check(kFinite & CLI::Range(0.0, 10.0))
       ->capture_default_str();
-  sub->add_option("--min-depth", o.sensor.minDepthM, "Nearest valid depth, metres")->capture_default_str();
-  sub->add_option("--max-depth", o.sensor.maxDepthM, "Farthest valid depth, metres")->capture_default_str();
-  sub->add_option("--width", args->width, "Image width, pixels (default 640)");
-  sub->add_option("--height", args->height, "Image height, pixels (default 480)");
-  sub->add_option("--fx", args->fx, "Focal length x, pixels (default 481.2)");
-  sub->add_option("--fy", args->fy, "Focal length y, pixels (default 480)");
-  sub->add_option("--cx", args->cx, "Principal point x, pixels (default (width-1)/2)");
-  sub->add_option("--cy", args->cy, "Principal point y, pixels (default (height-1)/2)");
-  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)");
+  sub->add_option("--min-depth", o.sensor.minDepthM, "Nearest valid depth, metres")
+      ->check(kFinite & CLI::Range(0.0, kMaxDepthM))
+      ->capture_default_str();
+  sub->add_option("--max-depth", o.sensor.maxDepthM, "Farthest valid depth, metres")
+      ->check(kFinite & CLI::Range(0.0, kMaxDepthM))
+      ->capture_default_str();
+  sub->add_option("--width", args->width, "Image width, pixels (default 640)")
+      ->check(CLI::Range(kMinImageSide, kMaxDepthImageSide));
+  sub->add_option("--height", args->height, "Image height, pixels (default 480)")
+      ->check(CLI::Range(kMinImageSide, kMaxDepthImageSide));
+  sub->add_option("--fx", args->fx, "Focal length x, pixels (default 481.2)")
+      ->check(kFinite & CLI::Range(0.0, kMaxFocalPx));
+  sub->add_option("--fy", args->fy, "Focal length y, pixels (default 480)")
+      ->check(kFinite & CLI::Range(0.0, kMaxFocalPx));
+  sub->add_option("--cx", args->cx, "Principal point x, pixels (default (width-1)/2)")
+      ->check(kFinite & CLI::Range(0, kMaxDepthImageSide));
+  sub->add_option("--cy", args->cy, "Principal point y, pixels (default (height-1)/2)")
+      ->check(kFinite & CLI::Range(0, kMaxDepthImageSide));
+  sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
+      ->check(CLI::Range(0u, kMaxThreads));
   sub->add_flag("--overwrite", o.overwrite, "Replace the contents of a non-empty --out directory");
   sub->callback([args] { runSynth(*args); });
 }

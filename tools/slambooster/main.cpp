@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "tools/slambooster/commands.h"
 #include "tools/slambooster/stop_signals.h"
 
@@ -32,13 +33,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   } catch (const sb::cli::Interrupted& e) {  // outputs written; exit as the shell reports a signal
-    std::cerr << "slambooster: " << e.what() << "\n";
+    std::cerr << "slambooster: " << sb::printable(e.what()) << "\n";
     return 128 + e.signal();
   } catch (const sb::Error& e) {
-    std::cerr << "slambooster: error: " << e.what() << "\n";
+    std::cerr << "slambooster: error: " << sb::printable(e.what()) << "\n";
     return 1;
   } catch (const std::exception& e) {
-    std::cerr << "slambooster: internal error: " << e.what() << "\n";
+    std::cerr << "slambooster: internal error: " << sb::printable(e.what()) << "\n";
     return 3;
   }
   return 0;

@@ -2,10 +2,12 @@
 
 #include <unistd.h>
 
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -49,6 +51,8 @@ void parseShard(const std::string& text, size_t& index, size_t& count) {
   const size_t slash = text.find('/');
   try {
     if (slash == std::string::npos) throw std::invalid_argument("no /");
+    if (text.find_first_not_of("0123456789/") != std::string::npos || slash == 0 || slash + 1 == text.size())
+      throw std::invalid_argument("not two unsigned integers");
     size_t used = 0;
     index = std::stoul(text.substr(0, slash), &used);
     if (used != slash) throw std::invalid_argument("index");
@@ -67,12 +71,36 @@ void addMatrixOptions(CLI::App& sub, MatrixMode& mode, const std::vector<std::st
   auto* plan = sub.add_option("--plan", mode.planPath,
                               "Write the matrix as one shell command per run (line I+1 runs run I) to FILE and run\n"
                               "nothing: for Slurm arrays and GNU parallel (scripts/slurm_matrix.sh, parallel_matrix.sh)");
+  // Checked as text before conversion: CLI11 would clamp a number past the range of `long`.
+  const CLI::Validator runIndexRange(
+      [](std::string& text) -> std::string {
+        unsigned long long value = 0;
+        const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (error != std::errc() || end != text.data() + text.size() ||
+            value > static_cast<unsigned long long>(std::numeric_limits<long>::max()))
+          return "--run-index '" + text + "': expected a run index from 0 to " +
+                 std::to_string(std::numeric_limits<long>::max()) + " (see --plan)";
+        return "";
+      },
+      "INDEX");
+  const CLI::Validator shardFormat(
+      [](std::string& text) -> std::string {
+        size_t index = 0, count = 0;
+        try {
+          parseShard(text, index, count);
+        } catch (const Error& e) {
+          return e.what();
+        }
+        return "";
+      },
+      "I/N");
   auto* index = sub.add_option("--run-index", mode.runIndex, "Run only run I of the matrix (0-based; see --plan)")
-                    ->check(CLI::NonNegativeNumber);
+                    ->check(runIndexRange);
   auto* runDir = sub.add_option("--run-dir", mode.runDir,
                                 "With --run-index: the run's directory as the plan has it; refused when the index\n"
                                 "now means another run (the matrix changed since the plan)");
-  auto* shard = sub.add_option("--shard", mode.shard, "I/N: run the runs whose index is I modulo N");
+  auto* shard = sub.add_option("--shard", mode.shard, "I/N: run the runs whose index is I modulo N")
+                    ->check(shardFormat);
   auto* report = sub.add_flag("--report-only", mode.reportOnly,
                               "Run nothing: build the tables from the runs that finished and list the missing ones");
   plan->excludes(index)->excludes(shard)->excludes(report);

@@ -20,6 +20,7 @@
 
 #include "core/config_reader.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "tools/slambooster/claim.h"
 
 namespace sb::cli {
@@ -70,19 +71,23 @@ pid_t spawn(const std::string& exe, const Job& job) {
 }  // namespace
 
 bool jobDone(const std::string& outDir) {
-  std::ifstream in(outDir + "/summary.json");
-  if (!in) return false;
   try {
+    InputFile in(outDir + "/summary.json", "run summary");  // missing or not a regular file: not done
     const auto j = nlohmann::json::parse(in);
     return j.value("complete", false);
   } catch (const nlohmann::json::exception&) {
+    return false;
+  } catch (const Error&) {
     return false;
   }
 }
 
 nlohmann::json readSummary(const std::string& outDir) {
   const std::string path = outDir + "/summary.json";
-  if (!std::ifstream(path)) throw Error("missing '" + path + "' (the run did not finish; see run.log there)");
+  const std::string problem = pathProblem(path);
+  if (problem == "does not exist")
+    throw Error("missing " + quoteForMessage(path) + " (the run did not finish; see run.log there)");
+  if (!problem.empty()) throw Error("run summary " + quoteForMessage(path) + " " + problem);
   return readJsonConfig(path, "run summary");  // bounded nesting, line and column, objects only
 }
 

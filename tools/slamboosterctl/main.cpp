@@ -12,6 +12,7 @@
 
 #include "client/connection.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "tools/slamboosterctl/human_format.h"
 
 namespace {
@@ -132,7 +133,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   } catch (const std::exception& e) {
-    std::cerr << "slamboosterctl: " << e.what() << "\n";
+    std::cerr << "slamboosterctl: " << sb::printable(e.what()) << "\n";
     return 1;
   }
 }
