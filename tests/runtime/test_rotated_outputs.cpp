@@ -3,6 +3,7 @@
 // agrees with a run that wrote single files, and the report reads only the newest segment.
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -41,7 +42,7 @@ struct Outcome {
   size_t frames = 0;
 };
 
-// kFrames of a camera moving 2 mm per frame along x; ground truth written to `groundTruth` first.
+// kFrames of a camera moving 2 mm per frame along x, swaying along y; ground truth written to `groundTruth` first.
 Outcome runRoom(const std::string& dir, const std::string& groundTruth, std::shared_ptr<sb::SegmentStore> segments) {
   sb::test::Room room;
   const sb::Intrinsics k = sb::test::roomIntrinsics(64, 48);
@@ -56,6 +57,7 @@ Outcome runRoom(const std::string& dir, const std::string& groundTruth, std::sha
   for (size_t i = 0; i < kFrames; ++i) {
     Eigen::Isometry3d pose = pipeline->initialPose();
     pose.translation().x() += 0.002 * double(i);
+    pose.translation().y() += 0.02 * std::sin(0.05 * double(i));  // not a straight line: ATE needs a plane
     frames.push_back(sb::test::renderRoom(room, pose, k, i));
     frames.back().timestamp = double(i) * kFramePeriodS;
     truth.push_back({frames.back().timestamp, pose});
