@@ -2,7 +2,6 @@
 
 #include <sys/statvfs.h>
 
-#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -12,10 +11,6 @@ namespace sb {
 
 namespace {
 
-// Bytes written between two reads of the free space: half the room left above the floor, within these bounds
-// (near the floor every few KiB, so that the outputs that do not rotate, such as summary.json, find room too).
-constexpr uint64_t kMinFreeCheckBytes = 4ull << 10;
-constexpr uint64_t kMaxFreeCheckBytes = 1ull << 20;
 constexpr uint64_t kMinSegmentBytes = 64ull << 10;
 constexpr uint64_t kStreamsPerDir = 4;  // trajectory, frames, energy, power trace: each has a current segment
 
@@ -49,7 +44,7 @@ void SegmentStore::addClosed(const std::string& path, uint64_t bytes, int64_t or
     closed_.emplace(order, std::make_pair(path, bytes));
     closedBytes_ += bytes;
   }
-  enforce(true);
+  enforce();
 }
 
 void SegmentStore::setCurrent(const void* writer, uint64_t bytes) {
@@ -91,20 +86,15 @@ bool SegmentStore::removeOldest() {
   return removeOldestLocked();
 }
 
-void SegmentStore::enforce(bool checkFree) {
+void SegmentStore::enforce() {
   std::lock_guard lock(mutex_);
   while (totalLocked() > limits_.keepBytes && removeOldestLocked()) {
   }
   while (limits_.keepSegments > 0 && closed_.size() > limits_.keepSegments && removeOldestLocked()) {
   }
-  const uint64_t total = totalLocked();
-  if (checkFree || !freeChecked_ || total >= totalAtFreeCheck_ + freeCheckBytes_ || total < totalAtFreeCheck_) {
-    uint64_t free = freeBytesLocked();
-    while (free < limits_.minFreeBytes && removeOldestLocked()) free = freeBytesLocked();
-    freeChecked_ = true;
-    totalAtFreeCheck_ = totalLocked();
-    const uint64_t room = free > limits_.minFreeBytes ? free - limits_.minFreeBytes : 0;
-    freeCheckBytes_ = std::clamp(room / 2, kMinFreeCheckBytes, kMaxFreeCheckBytes);
+  // The free space after every write (one statvfs, about a microsecond): another program may fill the disk at
+  // any moment, and the outputs that do not rotate (summary.json, rewritten every frame) need room too.
+  while (limits_.minFreeBytes > 0 && freeBytesLocked() < limits_.minFreeBytes && removeOldestLocked()) {
   }
 }
 

@@ -58,10 +58,9 @@ class SegmentStore {
   // The current size of the segment a writer has open (`writer`: any id unique to it, e.g. its address).
   void setCurrent(const void* writer, uint64_t bytes);
   void dropCurrent(const void* writer);
-  // Removes the oldest closed segments while a limit is passed. Called after every write (cheap: the free
-  // space is read again only after half the room above the floor (4 KiB to 1 MiB) was written, and at every
-  // rotation).
-  void enforce(bool checkFree = false);
+  // Removes the oldest closed segments while a limit is passed (the free space is read each time). Called
+  // after every write.
+  void enforce();
   // Removes the oldest closed segment (a write failed for lack of space); false when there is none.
   bool removeOldest();
   SegmentUsage usage() const;
@@ -80,9 +79,6 @@ class SegmentStore {
   std::map<const void*, uint64_t> current_;
   uint64_t closedBytes_ = 0;
   uint64_t removedSegments_ = 0, removedBytes_ = 0;
-  uint64_t totalAtFreeCheck_ = 0;  // bytes when free space was last read
-  uint64_t freeCheckBytes_ = 0;
-  bool freeChecked_ = false;
 };
 
 }  // namespace sb
