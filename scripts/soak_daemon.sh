@@ -94,10 +94,10 @@ pid=$!
 keep_bytes=$(awk -v m="$keep_mib" 'BEGIN { printf "%d", m * 1048576 }')
 segment_bytes() {  # the rotated outputs on disk
   find "$outputs" -maxdepth 2 -type f -regex '.*-[0-9][0-9][0-9][0-9][0-9][0-9]+\.[a-z]+$' -printf '%s\n' 2>/dev/null |
-    awk '{ s += $1 } END { printf "%d", s }'
+    awk '{ s += $1 } END { printf "%d", s }' || true  # a segment removed meanwhile: find says so, no matter
 }
 summary_frames() {
-  sed -n 's/^ *"frames": *\([0-9]*\).*/\1/p' "$outputs/summary.json" 2>/dev/null | head -n1
+  sed -n 's/^ *"frames": *\([0-9]*\).*/\1/p' "$outputs/summary.json" 2>/dev/null | head -n1 || true
 }
 echo "t_s,frames,rss_kib,segment_bytes,dir_bytes,free_bytes,segments,removed_segments"
 start=$(date +%s.%N)
@@ -109,12 +109,13 @@ while kill -0 "$pid" 2>/dev/null; do
   t=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
   rss=$(awk '/^VmRSS:/ { print $2 }' "/proc/$pid/status" 2>/dev/null || echo 0)
   seg=$(segment_bytes)
-  dir=$(du -sb "$outputs" 2>/dev/null | cut -f1)
+  # Files come and go while these look (the daemon rotates and removes segments): never fatal.
+  dir=$(du -sb "$outputs" 2>/dev/null | cut -f1 || true)
   free=$(df -B1 --output=avail "$outputs" | tail -n1 | tr -d ' ')
-  count=$(find "$outputs" -maxdepth 2 -type f -regex '.*-[0-9][0-9][0-9][0-9][0-9][0-9]+\.[a-z]+$' | wc -l)
+  count=$(find "$outputs" -maxdepth 2 -type f -regex '.*-[0-9][0-9][0-9][0-9][0-9][0-9]+\.[a-z]+$' 2>/dev/null | wc -l || true)
   # Segments removed so far: the frame log's highest number less the ones still there.
-  removed=$(find "$outputs" -maxdepth 1 -name 'frames-*.jsonl' -printf '%f\n' | sed 's/frames-0*\([0-9]*\)\.jsonl/\1/' |
-    awk '{ if ($1 > m) m = $1; c++ } END { print m - c }')
+  removed=$(find "$outputs" -maxdepth 1 -name 'frames-*.jsonl' -printf '%f\n' 2>/dev/null | sed 's/frames-0*\([0-9]*\)\.jsonl/\1/' |
+    awk '{ if ($1 > m) m = $1; c++ } END { print m - c }' || true)
   n=$(summary_frames); n=${n:-0}
   echo "$t,$n,$rss,$seg,$dir,$free,$count,$removed"
   [ "$seg" -le "$keep_bytes" ] || { echo "soak_daemon: rotated outputs $seg bytes > keep $keep_bytes" >&2; over=1; }
