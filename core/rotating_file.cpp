@@ -30,12 +30,14 @@ uint64_t segmentNumber(const std::string& file, const std::string& stem, const s
       file.compare(file.size() - ext.size(), ext.size(), ext) != 0)
     return 0;
   const std::string digits = file.substr(prefix.size(), file.size() - prefix.size() - ext.size());
-  if (digits.empty() || digits.size() > 18 || digits.find_first_not_of("0123456789") != std::string::npos) return 0;
+  if (digits.empty() || digits.size() > 18 || digits.find_first_not_of("0123456789") != std::string::npos)
+    return 0;
   return std::stoull(digits);
 }
 
 // number -> path of the stream's segments in `dir`.
-std::map<uint64_t, std::string> segmentsIn(const std::string& dir, const std::string& stem, const std::string& ext) {
+std::map<uint64_t, std::string> segmentsIn(const std::string& dir, const std::string& stem,
+                                           const std::string& ext) {
   std::map<uint64_t, std::string> found;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
@@ -71,8 +73,8 @@ std::vector<std::string> streamFiles(const std::string& dir, const std::string& 
   return files;
 }
 
-RotatingFile::RotatingFile(const std::string& dir, const std::string& name, std::string what, std::string header,
-                           std::shared_ptr<SegmentStore> store)
+RotatingFile::RotatingFile(const std::string& dir, const std::string& name, std::string what,
+                           std::string header, std::shared_ptr<SegmentStore> store)
     : dir_(dir), what_(std::move(what)), header_(std::move(header)), store_(std::move(store)) {
   std::tie(stem_, ext_) = splitName(name);
   if (!store_) {
@@ -173,7 +175,8 @@ void RotatingFile::write(std::string_view data) {
 int RotatingFile::writeOnce(std::string_view data) {
   size_t done = 0;
   while (done < data.size()) {
-    const ssize_t n = ::pwrite(fd_.get(), data.data() + done, data.size() - done, size_ + static_cast<off_t>(done));
+    const ssize_t n =
+        ::pwrite(fd_.get(), data.data() + done, data.size() - done, size_ + static_cast<off_t>(done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       const int error = n < 0 ? errno : ENOSPC;
@@ -187,7 +190,8 @@ int RotatingFile::writeOnce(std::string_view data) {
 }
 
 void RotatingFile::sync() {
-  if (::fsync(fd_.get()) != 0) throw Error("cannot sync " + what_ + " '" + path_ + "' to disk: " + std::strerror(errno));
+  if (::fsync(fd_.get()) != 0)
+    throw Error("cannot sync " + what_ + " '" + path_ + "' to disk: " + std::strerror(errno));
 }
 
 }  // namespace sb

@@ -8,9 +8,9 @@
 // segments already there join the store's retention. Reading a stream back: streamFiles().
 //
 // Each append() is one write(2) straight to the file (no user-space buffer), so a killed process leaves every
-// line it finished and none in part. A failed or short write is cut back to the last whole line; with a store,
-// a full disk (ENOSPC) removes the oldest segment and writes again (as a last resort the current segment is
-// closed and removed), so the service goes on; otherwise it throws sb::Error naming the file.
+// line it finished and none in part. A failed or short write is cut back to the last whole line; with a
+// store, a full disk (ENOSPC) removes the oldest segment and writes again (as a last resort the current
+// segment is closed and removed), so the service goes on; otherwise it throws sb::Error naming the file.
 //
 // One thread writes a RotatingFile; the store may be shared.
 
@@ -28,9 +28,10 @@
 
 namespace sb {
 
-static_assert(sizeof(off_t) == 8,
-              "off_t is 32 bits: outputs past 2 GiB would fail; build with -D_FILE_OFFSET_BITS=64 (the top-level "
-              "CMakeLists.txt sets it)");
+static_assert(
+    sizeof(off_t) == 8,
+    "off_t is 32 bits: outputs past 2 GiB would fail; build with -D_FILE_OFFSET_BITS=64 (the top-level "
+    "CMakeLists.txt sets it)");
 
 class RotatingFile {
  public:

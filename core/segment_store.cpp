@@ -18,8 +18,8 @@ constexpr uint64_t kStreamsPerDir = 4;  // trajectory, frames, energy, power tra
 
 void validateRetention(const RetentionLimits& l) {
   if (l.segmentBytes < kMinSegmentBytes)
-    throw Error("retention: segment size " + std::to_string(l.segmentBytes) + " bytes is below the minimum of " +
-                std::to_string(kMinSegmentBytes) + " (64 KiB)");
+    throw Error("retention: segment size " + std::to_string(l.segmentBytes) +
+                " bytes is below the minimum of " + std::to_string(kMinSegmentBytes) + " (64 KiB)");
   if (!(l.segmentSeconds >= 0.0))
     throw Error("retention: segment age must be >= 0 s (0 = rotate by size only)");
   if (l.keepBytes < 2 * kStreamsPerDir * l.segmentBytes)
@@ -29,12 +29,14 @@ void validateRetention(const RetentionLimits& l) {
                 "lower the segment size");
 }
 
-SegmentStore::SegmentStore(std::string dir, const RetentionLimits& limits) : dir_(std::move(dir)), limits_(limits) {
+SegmentStore::SegmentStore(std::string dir, const RetentionLimits& limits)
+    : dir_(std::move(dir)), limits_(limits) {
   validateRetention(limits_);
 }
 
 int64_t SegmentStore::nowOrder() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
       .count();
 }
 
@@ -73,7 +75,8 @@ bool SegmentStore::removeOldestLocked() {
   if (closed_.empty()) return false;
   const auto oldest = closed_.begin();
   std::error_code ec;
-  std::filesystem::remove(oldest->second.first, ec);  // already gone (removed by hand): forget it all the same
+  std::filesystem::remove(oldest->second.first,
+                          ec);  // already gone (removed by hand): forget it all the same
   closedBytes_ -= oldest->second.second;
   removedBytes_ += oldest->second.second;
   ++removedSegments_;

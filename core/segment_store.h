@@ -24,10 +24,10 @@ namespace sb {
 
 // How long rotated outputs live. Sizes in bytes, times in seconds; 0 turns a limit off where it says so.
 struct RetentionLimits {
-  uint64_t segmentBytes = 64ull << 20;  // a stream starts a new segment once its current one holds this much
-  double segmentSeconds = 3600.0;       // ... or is this old (s); 0 = by size only
-  uint64_t keepBytes = 4ull << 30;      // every segment of the directory together (current ones included)
-  size_t keepSegments = 0;              // closed segments kept at most (0 = no count limit)
+  uint64_t segmentBytes = 64ull << 20;   // a stream starts a new segment once its current one holds this much
+  double segmentSeconds = 3600.0;        // ... or is this old (s); 0 = by size only
+  uint64_t keepBytes = 4ull << 30;       // every segment of the directory together (current ones included)
+  size_t keepSegments = 0;               // closed segments kept at most (0 = no count limit)
   uint64_t minFreeBytes = 512ull << 20;  // oldest segments go while the file system has less free space
 };
 
@@ -37,12 +37,12 @@ void validateRetention(const RetentionLimits& limits);
 
 // What the segments take (STATUS "disk").
 struct SegmentUsage {
-  uint64_t bytes = 0;           // closed and current segments
-  size_t segments = 0;          // closed and current
+  uint64_t bytes = 0;            // closed and current segments
+  size_t segments = 0;           // closed and current
   uint64_t removedSegments = 0;  // removed by retention since the store was made
   uint64_t removedBytes = 0;
-  uint64_t freeBytes = 0;       // available to this process on the directory's file system
-  uint64_t keepBytes = 0;       // the limit
+  uint64_t freeBytes = 0;  // available to this process on the directory's file system
+  uint64_t keepBytes = 0;  // the limit
 };
 
 class SegmentStore {

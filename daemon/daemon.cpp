@@ -76,9 +76,8 @@ std::optional<power::PowerConfig> loadPowerSettings(const PowerRefConfig& power)
 nlohmann::json diskStatus(const SegmentStore* segments, const std::string& dir) {
   if (segments) {
     const SegmentUsage u = segments->usage();
-    return {{"rotation", true},          {"bytes", u.bytes},
-            {"free_bytes", u.freeBytes}, {"limit_bytes", u.keepBytes},
-            {"segments", u.segments},    {"removed_segments", u.removedSegments}};
+    return {{"rotation", true},           {"bytes", u.bytes},       {"free_bytes", u.freeBytes},
+            {"limit_bytes", u.keepBytes}, {"segments", u.segments}, {"removed_segments", u.removedSegments}};
   }
   uint64_t bytes = 0;
   std::error_code ec;
@@ -174,7 +173,8 @@ int Daemon::run() {
     p.worker->setSegments(p.segments);
     const RetentionLimits& l = p.segments->limits();
     spdlog::info("outputs rotated in {}: segments of {} MiB or {} s, {} MiB kept, {} MiB left free",
-                 config_.output.dir, l.segmentBytes >> 20, l.segmentSeconds, l.keepBytes >> 20, l.minFreeBytes >> 20);
+                 config_.output.dir, l.segmentBytes >> 20, l.segmentSeconds, l.keepBytes >> 20,
+                 l.minFreeBytes >> 20);
   }
   startPower();
   p.listener = openListeningSocket(config_.socket.path, config_.socket.mode);
@@ -241,7 +241,8 @@ void Daemon::startPower() {
   if (pc.meter == "none") return;
   try {
     std::filesystem::create_directories(config_.output.dir);
-    p.sampler = openSampler(pc, config_.output.dir, p.segments);  // the meter and trace of `slambooster run --power`
+    p.sampler =
+        openSampler(pc, config_.output.dir, p.segments);  // the meter and trace of `slambooster run --power`
     p.sampler->start();
   } catch (const std::exception& e) {
     // SLAM without energy beats no SLAM (a robot needs its poses); STATUS and the log say why.

@@ -89,7 +89,8 @@ void readRotation(ConfigReader& r, RotationConfig& c) {
   try {
     validateRetention(retentionLimits(c));
   } catch (const Error& e) {
-    r.fail("keep_mib", "at least 8 x segment_mib (" + std::to_string(8 * c.segmentMib) + " MiB): " + e.what());
+    r.fail("keep_mib",
+           "at least 8 x segment_mib (" + std::to_string(8 * c.segmentMib) + " MiB): " + e.what());
   }
 }
 

@@ -54,12 +54,12 @@ struct SlamConfig {
 // power.csv; core/rotating_file.h) for weeks of live capture. The defaults suit a 16 GB eMMC: at 30 fps the
 // outputs take about 40 KB/s (3.4 GB a day), so 4 GiB keeps the last day or so.
 struct RotationConfig {
-  std::string mode = "live";    // "live": rotate when the source is live (a camera); "always"; "never"
-  double segmentMib = 64.0;     // a stream starts a new segment past this size (MiB)
+  std::string mode = "live";       // "live": rotate when the source is live (a camera); "always"; "never"
+  double segmentMib = 64.0;        // a stream starts a new segment past this size (MiB)
   double segmentSeconds = 3600.0;  // ... or this age (s); 0 = by size only
-  double keepMib = 4096.0;      // all segments under output.dir together at most this (MiB); oldest go first
-  size_t keepSegments = 0;      // closed segments kept at most (0 = no count limit)
-  double minFreeMib = 512.0;    // oldest segments go while the file system has less free space (MiB)
+  double keepMib = 4096.0;    // all segments under output.dir together at most this (MiB); oldest go first
+  size_t keepSegments = 0;    // closed segments kept at most (0 = no count limit)
+  double minFreeMib = 512.0;  // oldest segments go while the file system has less free space (MiB)
 };
 
 // The store's limits in bytes for `rotation`.

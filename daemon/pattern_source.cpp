@@ -8,8 +8,8 @@ namespace sb::daemon {
 
 namespace {
 
-constexpr double kDepthScale = 1000.0;     // raw units per metre (millimetres)
-constexpr double kFocalPerWidth = 0.8;     // fx = fy = 0.8 x width: a 64-degree horizontal field of view
+constexpr double kDepthScale = 1000.0;  // raw units per metre (millimetres)
+constexpr double kFocalPerWidth = 0.8;  // fx = fy = 0.8 x width: a 64-degree horizontal field of view
 // The room around the camera (metres, camera axes: x right, y down, z forward): the first plane each ray
 // meets is the depth. Side walls, floor and ceiling at different distances keep every motion constrained.
 constexpr double kLeftWallX = -1.5, kRightWallX = 1.8, kCeilingY = -1.3, kFloorY = 1.0, kBackWallZ = 3.0;
@@ -80,12 +80,9 @@ nlohmann::json PatternSource::status() const {
     stopped = stopped_;
   }
   const bool ended = config_.maxFrames > 0 && frames_.load() >= config_.maxFrames;
-  return {{"type", "pattern"},
-          {"path", info_.path},
-          {"live", live()},
-          {"state", ended ? "ended" : stopped ? "stopped" : "running"},
-          {"pacing", config_.pacing},
-          {"frames", frames_.load()}};
+  return {{"type", "pattern"},        {"path", info_.path},
+          {"live", live()},           {"state", ended ? "ended" : stopped ? "stopped" : "running"},
+          {"pacing", config_.pacing}, {"frames", frames_.load()}};
 }
 
 }  // namespace sb::daemon

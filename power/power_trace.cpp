@@ -1,5 +1,7 @@
 #include "power/power_trace.h"
 
+#include <spdlog/spdlog.h>
+
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -7,7 +9,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 #include "core/error.h"
 
@@ -46,13 +47,16 @@ PowerTraceWriter::PowerTraceWriter(const std::string& path, const MeterInfo& met
     : file_(std::filesystem::path(path).parent_path().string().empty()
                 ? std::string(".")
                 : std::filesystem::path(path).parent_path().string(),
-            std::filesystem::path(path).filename().string(), "power trace", traceHeader(meter), std::move(segments)) {}
+            std::filesystem::path(path).filename().string(), "power trace", traceHeader(meter),
+            std::move(segments)) {}
 
-PowerTraceWriter::~PowerTraceWriter() { flush(); }
+PowerTraceWriter::~PowerTraceWriter() {
+  flush();
+}
 
 void PowerTraceWriter::sample(const PowerSample& s) {
-  pending_ += std::to_string(static_cast<long long>(s.tNs)) + "," + number(s.watts) + "," + number(s.volts) + "," +
-              number(s.amps) + "," + (s.gapBefore ? "gap" : "") + "\n";
+  pending_ += std::to_string(static_cast<long long>(s.tNs)) + "," + number(s.watts) + "," + number(s.volts) +
+              "," + number(s.amps) + "," + (s.gapBefore ? "gap" : "") + "\n";
   if (pending_.size() > kMaxPendingBytes) flush();
 }
 

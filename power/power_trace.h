@@ -35,7 +35,8 @@ class PowerTraceWriter {
  public:
   // Creates (truncates) `path` and writes the header. With `segments` the trace is rotated instead
   // (power-000001.csv, ..., each with the header; core/rotating_file.h). Throws sb::Error naming the file.
-  PowerTraceWriter(const std::string& path, const MeterInfo& meter, std::shared_ptr<SegmentStore> segments = nullptr);
+  PowerTraceWriter(const std::string& path, const MeterInfo& meter,
+                   std::shared_ptr<SegmentStore> segments = nullptr);
   ~PowerTraceWriter();
   PowerTraceWriter(const PowerTraceWriter&) = delete;
   PowerTraceWriter& operator=(const PowerTraceWriter&) = delete;

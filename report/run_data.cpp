@@ -1,7 +1,7 @@
 #include "report/run_data.h"
 
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -21,15 +21,16 @@ bool isFile(const fs::path& p) {
   return fs::is_regular_file(p, ec);
 }
 
-// The file of per-frame stream `name` the report reads: DIR/NAME, or with rotated outputs (a live session) only
-// its newest segment, so that the report's memory and time stay bounded however long the pass ran (the
+// The file of per-frame stream `name` the report reads: DIR/NAME, or with rotated outputs (a live session)
+// only its newest segment, so that the report's memory and time stay bounded however long the pass ran (the
 // summary covers the whole pass). Empty when the stream has no file.
 fs::path streamFile(RunData& run, const std::string& name) {
   const std::vector<std::string> files = streamFiles(run.dir, name);
   if (files.empty()) return (fs::path(run.dir) / name);
   if (files.size() > 1 || files.back() != (fs::path(run.dir) / name).string())
-    run.notes.push_back("rotated outputs: the per-frame plots read " + fs::path(files.back()).filename().string() +
-                        ", the newest of " + std::to_string(files.size()) + " segments of " + name +
+    run.notes.push_back("rotated outputs: the per-frame plots read " +
+                        fs::path(files.back()).filename().string() + ", the newest of " +
+                        std::to_string(files.size()) + " segments of " + name +
                         " on disk; summary.json covers the whole pass");
   return files.back();
 }

@@ -4,10 +4,9 @@
 // written as its frame ends (RotatingFile: a crash loses at most the frame in hand; a failed write throws).
 // With a segment store the log is rotated (frames-000001.jsonl, ...; core/rotating_file.h).
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
-
-#include <memory>
 
 #include "core/rotating_file.h"
 #include "runtime/output_sink.h"

@@ -52,11 +52,12 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
     : pipeline_(std::move(pipeline)),
       runner_(*pipeline_, std::move(controller), depthScale),
       dir_(outputs.dir),
-      outputs_(addStandardOutputs(runner_, outputs.dir, outputs.groundTruthPath, outputs.extra, outputs.comment,
-                                  outputs.segments)),
+      outputs_(addStandardOutputs(runner_, outputs.dir, outputs.groundTruthPath, outputs.extra,
+                                  outputs.comment, outputs.segments)),
       energy_(energy) {
   if (energy_)
-    energyLog_ = std::make_unique<RotatingFile>(dir_, "energy.jsonl", "per-frame energy log", "", outputs.segments);
+    energyLog_ =
+        std::make_unique<RotatingFile>(dir_, "energy.jsonl", "per-frame energy log", "", outputs.segments);
 }
 
 FrameRecord Run::step(const DepthFrame& frame) {
@@ -106,7 +107,8 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
   // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
   // server). `slambooster bench` / dse / profile count (and skip) only complete runs; an interrupted one runs
   // again.
-  for (const RotatingFile* file : {&outputs_.trajectory->file(), &outputs_.frameLog->file()}) syncFile(file->path());
+  for (const RotatingFile* file : {&outputs_.trajectory->file(), &outputs_.frameLog->file()})
+    syncFile(file->path());
   outputs_.summary->setExtra("complete", end.complete);
   outputs_.summary->flush();
 }

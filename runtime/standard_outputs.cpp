@@ -6,9 +6,9 @@
 
 namespace sb {
 
-StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir, const std::string& groundTruthPath,
-                                   const nlohmann::json& extra, const std::string& comment,
-                                   std::shared_ptr<SegmentStore> segments) {
+StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir,
+                                   const std::string& groundTruthPath, const nlohmann::json& extra,
+                                   const std::string& comment, std::shared_ptr<SegmentStore> segments) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);

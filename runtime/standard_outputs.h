@@ -1,6 +1,6 @@
 #pragma once
-// The standard outputs of a run in one directory: trajectory.tum, frames.jsonl and summary.json; with a segment
-// store the first two are rotated (core/rotating_file.h) and summary.json stays one file.
+// The standard outputs of a run in one directory: trajectory.tum, frames.jsonl and summary.json; with a
+// segment store the first two are rotated (core/rotating_file.h) and summary.json stays one file.
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -24,8 +24,9 @@ struct StandardOutputs {
 // summary its ATE; `extra` goes into summary.json as it is; `comment` heads the trajectory file; `segments`
 // (nullptr: single files) rotates the trajectory and the frame log. Throws sb::Error naming the directory or
 // file that cannot be written.
-StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir, const std::string& groundTruthPath,
-                                   const nlohmann::json& extra, const std::string& comment,
+StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir,
+                                   const std::string& groundTruthPath, const nlohmann::json& extra,
+                                   const std::string& comment,
                                    std::shared_ptr<SegmentStore> segments = nullptr);
 
 }  // namespace sb

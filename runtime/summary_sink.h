@@ -53,7 +53,8 @@ class SummarySink final : public OutputSink {
   void flush() override;
 
   void setExtra(const std::string& key, nlohmann::json value) { extra_[key] = std::move(value); }
-  // Where the ATE's trajectory comes from: read back at each flush (the trajectory file), never kept in memory.
+  // Where the ATE's trajectory comes from: read back at each flush (the trajectory file), never kept in
+  // memory.
   void setTrajectorySource(std::function<Trajectory()> read) { readTrajectory_ = std::move(read); }
   const RunStats& stats() const { return stats_; }
   // The ATE of the frames so far (computed at the last flush), when there is ground truth.

@@ -30,7 +30,9 @@ RetentionLimits smallLimits() {
   return l;
 }
 
-std::string line(size_t bytes) { return std::string(bytes - 1, 'x') + "\n"; }
+std::string line(size_t bytes) {
+  return std::string(bytes - 1, 'x') + "\n";
+}
 
 uint64_t bytesOf(const std::vector<std::string>& files) {
   uint64_t total = 0;
@@ -90,7 +92,8 @@ TEST_CASE("retention keeps every stream within the byte limit, oldest segments f
   for (int i = 0; i < 2000; ++i) {  // 2 MB of frames, 200 KB of trajectory: far past the 512 KiB limit
     frames.append(line(1000));
     trajectory.append(line(100));
-    const uint64_t onDisk = bytesOf(streamFiles(dir, "frames.jsonl")) + bytesOf(streamFiles(dir, "trajectory.tum"));
+    const uint64_t onDisk =
+        bytesOf(streamFiles(dir, "frames.jsonl")) + bytesOf(streamFiles(dir, "trajectory.tum"));
     REQUIRE(onDisk <= limits.keepBytes);
   }
   const SegmentUsage u = store->usage();
@@ -110,7 +113,7 @@ TEST_CASE("retention by segment count and by free space", "[core][rotation]") {
   auto store = std::make_shared<SegmentStore>(dir, limits);
   {
     RotatingFile f(dir, "energy.jsonl", "per-frame energy log", "", store);
-    for (int i = 0; i < 100; ++i) f.append(line(4096));  // 400 KiB: 7 segments
+    for (int i = 0; i < 100; ++i) f.append(line(4096));   // 400 KiB: 7 segments
     CHECK(streamFiles(dir, "energy.jsonl").size() == 3);  // 2 closed + the current one
   }
   // Free space below the floor: every closed segment goes (the file system has less than a petabyte free).
@@ -139,7 +142,8 @@ TEST_CASE("rotation by age", "[core][rotation]") {
 TEST_CASE("retention limits are validated with what to do", "[core][rotation]") {
   RetentionLimits l = smallLimits();
   l.keepBytes = 4 * kSegment;
-  CHECK_THROWS_WITH(validateRetention(l), Catch::Contains("less than 8 segments") && Catch::Contains("raise"));
+  CHECK_THROWS_WITH(validateRetention(l),
+                    Catch::Contains("less than 8 segments") && Catch::Contains("raise"));
   l = smallLimits();
   l.segmentBytes = 1000;
   CHECK_THROWS_WITH(validateRetention(l), Catch::Contains("64 KiB"));

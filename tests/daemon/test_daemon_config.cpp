@@ -138,12 +138,14 @@ TEST_CASE("daemon config: output rotation, its limits in bytes and when it appli
   CHECK(l.keepBytes == 4096ull << 20);
   CHECK(l.minFreeBytes == 512ull << 20);
 
-  const DaemonConfig a = parseDaemonConfig(
-      json{{"output", {{"rotation", {{"mode", "always"}, {"segment_mib", 0.25}, {"keep_mib", 2}, {"keep_segments", 5}}}}}});
+  const DaemonConfig a = parseDaemonConfig(json{
+      {"output",
+       {{"rotation", {{"mode", "always"}, {"segment_mib", 0.25}, {"keep_mib", 2}, {"keep_segments", 5}}}}}});
   CHECK(rotates(a.output.rotation, false));
   CHECK(retentionLimits(a.output.rotation).segmentBytes == 256u * 1024u);
   CHECK(retentionLimits(a.output.rotation).keepSegments == 5);
-  CHECK_FALSE(rotates(parseDaemonConfig(json{{"output", {{"rotation", {{"mode", "never"}}}}}}).output.rotation, true));
+  CHECK_FALSE(rotates(
+      parseDaemonConfig(json{{"output", {{"rotation", {{"mode", "never"}}}}}}).output.rotation, true));
 
   CHECK_THAT(errorOf(json{{"output", {{"rotation", {{"segment_mib", 64}, {"keep_mib", 100}}}}}}),
              Catch::Contains("output.rotation.keep_mib") && Catch::Contains("8 x segment_mib"));

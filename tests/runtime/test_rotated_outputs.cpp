@@ -42,8 +42,10 @@ struct Outcome {
   size_t frames = 0;
 };
 
-// kFrames of a camera moving 2 mm per frame along x, swaying along y; ground truth written to `groundTruth` first.
-Outcome runRoom(const std::string& dir, const std::string& groundTruth, std::shared_ptr<sb::SegmentStore> segments) {
+// kFrames of a camera moving 2 mm per frame along x, swaying along y; ground truth written to `groundTruth`
+// first.
+Outcome runRoom(const std::string& dir, const std::string& groundTruth,
+                std::shared_ptr<sb::SegmentStore> segments) {
   sb::test::Room room;
   const sb::Intrinsics k = sb::test::roomIntrinsics(64, 48);
   sb::PipelineConfig config;
@@ -72,7 +74,8 @@ Outcome runRoom(const std::string& dir, const std::string& groundTruth, std::sha
 
 }  // namespace
 
-TEST_CASE("rotated outputs: segments, the ATE read back from them, the report from the newest", "[runtime][rotation]") {
+TEST_CASE("rotated outputs: segments, the ATE read back from them, the report from the newest",
+          "[runtime][rotation]") {
   const std::string base = sb::test::scratchDir("runtime_rotated");
   const std::string single = base + "/single", rotated = base + "/rotated";
   sb::RetentionLimits limits;
