@@ -72,6 +72,25 @@ std::optional<power::PowerConfig> loadPowerSettings(const PowerRefConfig& power)
   }
 }
 
+// STATUS "disk": the outputs' bytes on disk and the file system's free space. With rotation the segment store
+// counts every segment under output.dir; without it the files of the current pass's directory are summed.
+nlohmann::json diskStatus(const SegmentStore* segments, const std::string& dir) {
+  if (segments) {
+    const SegmentUsage u = segments->usage();
+    return {{"rotation", true},           {"bytes", u.bytes},       {"free_bytes", u.freeBytes},
+            {"limit_bytes", u.keepBytes}, {"segments", u.segments}, {"removed_segments", u.removedSegments}};
+  }
+  uint64_t bytes = 0;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
+    if (entry.is_regular_file(ec)) {
+      const uintmax_t size = entry.file_size(ec);
+      if (!ec) bytes += size;
+    }
+  const std::filesystem::space_info space = std::filesystem::space(dir, ec);
+  return {{"rotation", false}, {"bytes", bytes}, {"free_bytes", ec ? 0 : space.available}};
+}
+
 }  // namespace
 
 struct Daemon::Parts {
@@ -82,6 +101,7 @@ struct Daemon::Parts {
   std::unique_ptr<Mailbox> mailbox;
   ListeningSocket listener;
   std::unique_ptr<SocketServer> server;
+  std::shared_ptr<SegmentStore> segments;        // rotation and retention of the outputs (nullptr: none)
   std::unique_ptr<power::PowerSampler> sampler;  // before the worker: destroyed after it
   std::string meterError;                        // why the configured meter is not in use
   std::unique_ptr<SlamWorker> worker;
@@ -157,6 +177,16 @@ int Daemon::run() {
   } catch (const Error& e) {
     throw ConfigError(e.what());  // the pipeline config file or the controller settings
   }
+  if (rotates(config_.output.rotation, p.source->live())) {
+    std::error_code ec;
+    std::filesystem::create_directories(config_.output.dir, ec);  // a failure is reported by the first output
+    p.segments = std::make_shared<SegmentStore>(config_.output.dir, retentionLimits(config_.output.rotation));
+    p.worker->setSegments(p.segments);
+    const RetentionLimits& l = p.segments->limits();
+    spdlog::info("outputs rotated in {}: segments of {} MiB or {} s, {} MiB kept, {} MiB left free",
+                 config_.output.dir, l.segmentBytes >> 20, l.segmentSeconds, l.keepBytes >> 20,
+                 l.minFreeBytes >> 20);
+  }
   startPower();
   p.listener = openListeningSocket(config_.socket.path, config_.socket.mode);
   p.server = std::make_unique<SocketServer>(p.loop, p.listener.fd.get(), config_.socket,
@@ -226,7 +256,8 @@ void Daemon::startPower() {
   if (pc.meter == "none") return;
   try {
     std::filesystem::create_directories(config_.output.dir);
-    p.sampler = openSampler(pc, config_.output.dir);  // the same meter and trace as `slambooster run --power`
+    p.sampler =
+        openSampler(pc, config_.output.dir, p.segments);  // the meter and trace of `slambooster run --power`
     p.sampler->start();
   } catch (const std::exception& e) {
     // SLAM without energy beats no SLAM (a robot needs its poses); STATUS and the log say why.
@@ -357,6 +388,7 @@ nlohmann::json Daemon::status() {
   }
   if (!s.error.empty()) j["error"] = s.error;
   if (!p.meterError.empty()) j["meter_error"] = p.meterError;
+  j["disk"] = diskStatus(p.segments.get(), s.outputDir.empty() ? config_.output.dir : s.outputDir);
   if (p.sampler) {
     const power::MeterStatus m = p.sampler->meterStatus();
     nlohmann::json energy = power::energyTotalsJson(p.sampler->totals(), {});

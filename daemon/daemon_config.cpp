@@ -86,11 +86,29 @@ void readSlam(ConfigReader& r, SlamConfig& s) {
   if (s.controller.empty()) r.fail("controller", "a controller name, e.g. \"default\"");
 }
 
+constexpr double kMib = 1024.0 * 1024.0;
+
+void readRotation(ConfigReader& r, RotationConfig& c) {
+  r.string("mode", c.mode, {"live", "always", "never"});
+  r.number("segment_mib", c.segmentMib, 0.0625, 1048576.0);
+  r.number("segment_s", c.segmentSeconds, 0.0, 31.0 * 86400.0);
+  r.number("keep_mib", c.keepMib, 0.5, 1073741824.0);
+  r.integer("keep_segments", c.keepSegments, 0, 100000000);
+  r.number("min_free_mib", c.minFreeMib, 0.0, 1073741824.0);
+  try {
+    validateRetention(retentionLimits(c));
+  } catch (const Error& e) {
+    r.fail("keep_mib",
+           "at least 8 x segment_mib (" + std::to_string(8 * c.segmentMib) + " MiB): " + e.what());
+  }
+}
+
 void readOutput(ConfigReader& r, OutputConfig& o) {
   r.string("dir", o.dir);
   r.boolean("mesh", o.mesh);
   r.boolean("model_png", o.modelPng);
   r.boolean("report", o.report);
+  r.section("rotation", [&](ConfigReader& s) { readRotation(s, o.rotation); });
   if (o.dir.empty()) r.fail("dir", "a directory for trajectory.tum, frames.jsonl and summary.json (not empty)");
 }
 
@@ -117,6 +135,20 @@ void readSocket(ConfigReader& r, SocketConfig& s) {
 DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string& where);
 
 }  // namespace
+
+RetentionLimits retentionLimits(const RotationConfig& c) {
+  RetentionLimits l;
+  l.segmentBytes = static_cast<uint64_t>(c.segmentMib * kMib);
+  l.segmentSeconds = c.segmentSeconds;
+  l.keepBytes = static_cast<uint64_t>(c.keepMib * kMib);
+  l.keepSegments = c.keepSegments;
+  l.minFreeBytes = static_cast<uint64_t>(c.minFreeMib * kMib);
+  return l;
+}
+
+bool rotates(const RotationConfig& c, bool liveSource) {
+  return c.mode == "always" || (c.mode == "live" && liveSource);
+}
 
 DaemonConfig parseDaemonConfig(const nlohmann::json& j, const std::string& where) {
   try {
@@ -219,7 +251,14 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
            {{"dir", c.output.dir},
             {"mesh", c.output.mesh},
             {"model_png", c.output.modelPng},
-            {"report", c.output.report}}},
+            {"report", c.output.report},
+            {"rotation",
+             {{"mode", c.output.rotation.mode},
+              {"segment_mib", c.output.rotation.segmentMib},
+              {"segment_s", c.output.rotation.segmentSeconds},
+              {"keep_mib", c.output.rotation.keepMib},
+              {"keep_segments", c.output.rotation.keepSegments},
+              {"min_free_mib", c.output.rotation.minFreeMib}}}}},
           {"socket",
            {{"path", c.socket.path},
             {"mode", formatMode(c.socket.mode)},

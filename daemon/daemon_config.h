@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/segment_store.h"
 
 namespace sb::daemon {
 
@@ -49,11 +50,29 @@ struct SlamConfig {
   std::string controllerConfig;        // controller settings JSON, re-read on SIGHUP; empty = defaults
 };
 
+// output.rotation: rotation and retention of the per-frame outputs (trajectory, frames.jsonl, energy.jsonl,
+// power.csv; core/rotating_file.h) for weeks of live capture. The defaults suit a 16 GB eMMC: at 30 fps the
+// outputs take about 40 KB/s (3.4 GB a day), so 4 GiB keeps the last day or so.
+struct RotationConfig {
+  std::string mode = "live";       // "live": rotate when the source is live (a camera); "always"; "never"
+  double segmentMib = 64.0;        // a stream starts a new segment past this size (MiB)
+  double segmentSeconds = 3600.0;  // ... or this age (s); 0 = by size only
+  double keepMib = 4096.0;    // all segments under output.dir together at most this (MiB); oldest go first
+  size_t keepSegments = 0;    // closed segments kept at most (0 = no count limit)
+  double minFreeMib = 512.0;  // oldest segments go while the file system has less free space (MiB)
+};
+
+// The store's limits in bytes for `rotation`.
+RetentionLimits retentionLimits(const RotationConfig& rotation);
+// Whether the outputs rotate with `rotation` and a source that is (or is not) live.
+bool rotates(const RotationConfig& rotation, bool liveSource);
+
 struct OutputConfig {
   std::string dir = "/var/lib/slambooster";  // trajectory.tum, frames.jsonl, summary.json land here
   bool mesh = false;                         // also write mesh.ply of the final volume at exit
   bool modelPng = false;                     // also write model.png (the model rendered from the last pose)
   bool report = true;                        // write report.html (report/) at the end of each pass
+  RotationConfig rotation;                   // per-frame outputs of long sessions
 };
 
 // Where the package installs the power meter's settings. At this default path a missing file means no meter

@@ -210,7 +210,8 @@ void SlamWorker::runPasses() {
         Pipeline::create(pipelineConfig_, sequence_.intrinsics, pool), createController(settings, context_),
         sequence_.depthScale,
         RunOutputs{dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
-                   "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)"},
+                   "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)",
+                   segments_},
         energy ? &*energy : nullptr);
     if (publishEnergy_)
       run->setEnergyListener([this](const power::FrameEnergy& e) {

@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "controller/registry.h"
+#include "core/segment_store.h"
 #include "daemon/daemon_config.h"
 #include "daemon/frame_queue.h"
 #include "daemon/protocol.h"
@@ -74,6 +75,9 @@ class SlamWorker {
   // passes known joules to the controller and to `publish` (called on the SLAM thread; must not block). At the
   // end the worker stops the sampler.
   void setPower(power::PowerSampler* sampler, EnergyPublish publish);
+  // Before start(): rotate every pass's per-frame outputs into `segments` (shared with the daemon, which
+  // reports its usage in STATUS); nullptr (the default): one file each.
+  void setSegments(std::shared_ptr<SegmentStore> segments) { segments_ = std::move(segments); }
 
   void start();
   void requestStop() { stop_ = true; }
@@ -99,6 +103,7 @@ class SlamWorker {
   Finished finished_;
   power::PowerSampler* sampler_ = nullptr;
   EnergyPublish publishEnergy_;
+  std::shared_ptr<SegmentStore> segments_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 

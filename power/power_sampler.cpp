@@ -45,7 +45,8 @@ PowerSampler::PowerSampler(std::unique_ptr<Meter> meter, SamplerOptions options,
       clock_(clock),
       maxGapNs_(effectiveMaxGapNs(options_, info_)),
       ledger_(ledgerOptions(info_, maxGapNs_)) {
-  if (!options_.tracePath.empty()) trace_ = std::make_unique<PowerTraceWriter>(options_.tracePath, info_);
+  if (!options_.tracePath.empty())
+    trace_ = std::make_unique<PowerTraceWriter>(options_.tracePath, info_, options_.traceSegments);
   int fds[2];
   if (pipe2(fds, O_CLOEXEC | O_NONBLOCK) != 0) throw Error(std::string("power sampler: pipe2: ") + std::strerror(errno));
   wakeRead_.reset(fds[0]);

@@ -32,6 +32,7 @@ struct SamplerOptions {
   int64_t maxSampleGapNs = 0;            // 0 = max(3 x the meter's nominal period, 1.5 s)
   int64_t drainTimeoutNs = 3'000'000'000;  // stop() waits this long for samples after the last frame
   std::string tracePath;                 // raw trace output (empty = none)
+  std::shared_ptr<SegmentStore> traceSegments;  // rotate the trace into these segments (nullptr: one file)
 };
 
 // The sampler options a PowerConfig asks for, with the trace written to `tracePath` (may be empty).

@@ -1,9 +1,12 @@
 #include "power/power_trace.h"
 
+#include <spdlog/spdlog.h>
+
 #include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -25,11 +28,7 @@ std::string number(double v) {
   return std::string(buffer, r.ptr);
 }
 
-}  // namespace
-
-PowerTraceWriter::PowerTraceWriter(const std::string& path, const MeterInfo& meter) : path_(path) {
-  file_ = std::fopen(path.c_str(), "w");
-  if (!file_) throw Error("cannot write power trace '" + path + "': " + std::strerror(errno));
+std::string traceHeader(const MeterInfo& meter) {
   const nlohmann::json header = {{"format", kFormat},
                                  {"version", 1},
                                  {"meter", meter.name},
@@ -37,22 +36,47 @@ PowerTraceWriter::PowerTraceWriter(const std::string& path, const MeterInfo& met
                                  {"kind", sampleKindName(meter.kind)},
                                  {"nominal_period_ns", meter.nominalPeriodNs},
                                  {"clock", "CLOCK_MONOTONIC"}};
-  std::fprintf(file_, "# %s\n%s\n", header.dump().c_str(), kColumns);
+  return "# " + header.dump() + "\n" + kColumns + "\n";
+}
+
+constexpr size_t kMaxPendingBytes = 64 * 1024;  // lines held between two flushes at most
+
+}  // namespace
+
+PowerTraceWriter::PowerTraceWriter(const std::string& path, const MeterInfo& meter,
+                                   std::shared_ptr<SegmentStore> segments)
+    : file_(std::filesystem::path(path).parent_path().string().empty()
+                ? std::string(".")
+                : std::filesystem::path(path).parent_path().string(),
+            std::filesystem::path(path).filename().string(), "power trace", traceHeader(meter),
+            std::move(segments)) {}
+
+PowerTraceWriter::~PowerTraceWriter() {
   flush();
 }
 
-PowerTraceWriter::~PowerTraceWriter() {
-  if (file_) std::fclose(file_);
-}
-
 void PowerTraceWriter::sample(const PowerSample& s) {
-  std::fprintf(file_, "%lld,%s,%s,%s,%s\n", static_cast<long long>(s.tNs), number(s.watts).c_str(),
-               number(s.volts).c_str(), number(s.amps).c_str(), s.gapBefore ? "gap" : "");
+  pending_ += std::to_string(static_cast<long long>(s.tNs)) + "," + number(s.watts) + "," + number(s.volts) +
+              "," + number(s.amps) + "," + (s.gapBefore ? "gap" : "") + "\n";
+  if (pending_.size() > kMaxPendingBytes) flush();
 }
 
-void PowerTraceWriter::lost(int64_t tNs) { std::fprintf(file_, "%lld,,,,lost\n", static_cast<long long>(tNs)); }
+void PowerTraceWriter::lost(int64_t tNs) {
+  pending_ += std::to_string(static_cast<long long>(tNs)) + ",,,,lost\n";
+  if (pending_.size() > kMaxPendingBytes) flush();
+}
 
-void PowerTraceWriter::flush() { std::fflush(file_); }
+void PowerTraceWriter::flush() {
+  if (pending_.empty()) return;
+  try {
+    file_.append(pending_);
+    failing_ = false;
+  } catch (const Error& e) {
+    if (!failing_) spdlog::error("{}; the trace misses samples until a write succeeds", e.what());
+    failing_ = true;
+  }
+  pending_.clear();
+}
 
 PowerTrace readPowerTrace(const std::string& path) {
   InputFile in(path, "power trace");

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/rotating_file.h"
 #include "power/meter.h"
 
 namespace sb::power {
@@ -32,21 +33,26 @@ struct PowerTrace {
 
 class PowerTraceWriter {
  public:
-  // Creates (truncates) `path` and writes the header. Throws sb::Error naming the file.
-  PowerTraceWriter(const std::string& path, const MeterInfo& meter);
+  // Creates (truncates) `path` and writes the header. With `segments` the trace is rotated instead
+  // (power-000001.csv, ..., each with the header; core/rotating_file.h). Throws sb::Error naming the file.
+  PowerTraceWriter(const std::string& path, const MeterInfo& meter,
+                   std::shared_ptr<SegmentStore> segments = nullptr);
   ~PowerTraceWriter();
   PowerTraceWriter(const PowerTraceWriter&) = delete;
   PowerTraceWriter& operator=(const PowerTraceWriter&) = delete;
 
   void sample(const PowerSample& s);
   void lost(int64_t tNs);
-  void flush();  // the sampler flushes after every batch: a crash loses at most one poll's samples
+  // The sampler flushes after every batch: a crash loses at most one poll's samples. A failed write is logged
+  // (once until writes succeed again), never thrown: the meter's accounting goes on without its trace.
+  void flush();
 
-  const std::string& path() const { return path_; }
+  const std::string& path() const { return file_.path(); }  // the file being written now
 
  private:
-  std::string path_;
-  std::FILE* file_ = nullptr;
+  RotatingFile file_;
+  std::string pending_;  // lines since the last flush
+  bool failing_ = false;
 };
 
 // Reads a trace. Throws sb::Error naming the file and line for anything malformed.

@@ -1,7 +1,7 @@
 #include "report/run_data.h"
 
-#include <filesystem>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -9,6 +9,7 @@
 #include "core/config_reader.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/rotating_file.h"
 
 namespace sb::report {
 
@@ -19,6 +20,20 @@ namespace {
 bool isFile(const fs::path& p) {
   std::error_code ec;
   return fs::is_regular_file(p, ec);
+}
+
+// The file of per-frame stream `name` the report reads: DIR/NAME, or with rotated outputs (a live session)
+// only its newest segment, so that the report's memory and time stay bounded however long the pass ran (the
+// summary covers the whole pass). Empty when the stream has no file.
+fs::path streamFile(RunData& run, const std::string& name) {
+  const std::vector<std::string> files = streamFiles(run.dir, name);
+  if (files.empty()) return (fs::path(run.dir) / name);
+  if (files.size() > 1 || files.back() != (fs::path(run.dir) / name).string())
+    run.notes.push_back("rotated outputs: the per-frame plots read " +
+                        fs::path(files.back()).filename().string() + ", the newest of " +
+                        std::to_string(files.size()) + " segments of " + name +
+                        " on disk; summary.json covers the whole pass");
+  return files.back();
 }
 
 void loadSummary(RunData& run) {
@@ -117,27 +132,31 @@ RunData loadRun(const std::string& dir, const RunLoadOptions& options) {
   const fs::path base(dir);
   bool any = false;
   for (const char* f : {"summary.json", "frames.jsonl", "trajectory.tum", "model.png"}) any |= isFile(base / f);
+  any |= !streamFiles(dir, "frames.jsonl").empty() || !streamFiles(dir, "trajectory.tum").empty();
   if (!any)
     throw Error("'" + dir + "' holds none of summary.json, frames.jsonl, trajectory.tum, model.png: is it the --out "
                 "directory of `slambooster run`?");
 
   loadSummary(run);
-  if (isFile(base / "frames.jsonl")) {
-    FrameLogReadResult log = readFrameLog((base / "frames.jsonl").string());
+  const fs::path framesFile = streamFile(run, "frames.jsonl");
+  if (isFile(framesFile)) {
+    FrameLogReadResult log = readFrameLog(framesFile.string());
     run.frames = std::move(log.log);
     run.problems.insert(run.problems.end(), log.problems.begin(), log.problems.end());
   } else {
-    run.problems.push_back("'" + (base / "frames.jsonl").string() + "' is missing (no per-frame plots)");
+    run.problems.push_back("'" + framesFile.string() + "' is missing (no per-frame plots)");
   }
-  if (isFile(base / "energy.jsonl")) mergeEnergyLog(run, base / "energy.jsonl");
-  if (isFile(base / "trajectory.tum")) {
+  const fs::path energyFile = streamFile(run, "energy.jsonl");
+  if (isFile(energyFile)) mergeEnergyLog(run, energyFile);
+  const fs::path trajectoryFile = streamFile(run, "trajectory.tum");
+  if (isFile(trajectoryFile)) {
     try {
-      run.trajectory = readTumTrajectory((base / "trajectory.tum").string());
+      run.trajectory = readTumTrajectory(trajectoryFile.string());
     } catch (const Error& e) {
       run.problems.push_back(std::string("trajectory not shown: ") + e.what());
     }
   } else {
-    run.problems.push_back("'" + (base / "trajectory.tum").string() + "' is missing (no trajectory plot)");
+    run.problems.push_back("'" + trajectoryFile.string() + "' is missing (no trajectory plot)");
   }
   findGroundTruth(run, options);
   if (isFile(base / "model.png"))

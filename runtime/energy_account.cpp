@@ -33,10 +33,12 @@ nlohmann::json EnergyAccount::totals() const {
   return j;
 }
 
-std::unique_ptr<power::PowerSampler> openSampler(const power::PowerConfig& config, const std::string& dir) {
+std::unique_ptr<power::PowerSampler> openSampler(const power::PowerConfig& config, const std::string& dir,
+                                                 std::shared_ptr<SegmentStore> segments) {
   if (config.meter == "none") return nullptr;
-  auto sampler = std::make_unique<power::PowerSampler>(power::openMeter(config),
-                                                       power::samplerOptions(config, dir + "/power.csv"));
+  power::SamplerOptions options = power::samplerOptions(config, dir + "/power.csv");
+  options.traceSegments = std::move(segments);
+  auto sampler = std::make_unique<power::PowerSampler>(power::openMeter(config), std::move(options));
   if (config.idleBaselineS > 0) {
     spdlog::info("measuring idle power for {} s before the run", config.idleBaselineS);
     const double watts = sampler->measureIdle(config.idleBaselineS);

@@ -41,9 +41,10 @@ class EnergyAccount {
   bool drained_ = false;
 };
 
-// The sampler for `config`, tracing to DIR/power.csv, or nullptr when config.meter is "none". Opens the meter
-// (throws sb::Error naming the device and what to do) and measures the idle baseline when
-// config.idleBaselineS > 0 (blocks that long).
-std::unique_ptr<power::PowerSampler> openSampler(const power::PowerConfig& config, const std::string& dir);
+// The sampler for `config`, tracing to DIR/power.csv (rotated into `segments` when given), or nullptr when
+// config.meter is "none". Opens the meter (throws sb::Error naming the device and what to do) and measures
+// the idle baseline when config.idleBaselineS > 0 (blocks that long).
+std::unique_ptr<power::PowerSampler> openSampler(const power::PowerConfig& config, const std::string& dir,
+                                                 std::shared_ptr<SegmentStore> segments = nullptr);
 
 }  // namespace sb

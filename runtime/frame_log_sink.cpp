@@ -68,7 +68,8 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   return j;
 }
 
-FrameLogSink::FrameLogSink(const std::string& path) : out_(path, "per-frame log") {}
+FrameLogSink::FrameLogSink(const std::string& dir, std::shared_ptr<SegmentStore> segments)
+    : out_(dir, "frames.jsonl", "per-frame log", "", std::move(segments)) {}
 
 void FrameLogSink::onFrame(const FrameRecord& record) {
   out_.append(frameRecordToJson(record).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) +

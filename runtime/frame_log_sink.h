@@ -1,12 +1,14 @@
 #pragma once
 // The per-frame log, frames.jsonl: one JSON object per frame with the knobs it ran with, stage times (ms,
 // classic stage names), tracking result, velocity, the controller's triggers and next knobs. Each line is
-// written as its frame ends (LineFile: a crash loses at most the frame in hand; a failed write throws).
+// written as its frame ends (RotatingFile: a crash loses at most the frame in hand; a failed write throws).
+// With a segment store the log is rotated (frames-000001.jsonl, ...; core/rotating_file.h).
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "runtime/line_file.h"
+#include "core/rotating_file.h"
 #include "runtime/output_sink.h"
 
 namespace sb {
@@ -18,13 +20,15 @@ nlohmann::json frameRecordToJson(const FrameRecord& record);
 
 class FrameLogSink final : public OutputSink {
  public:
-  // Creates (truncates) `path`. Throws sb::Error if it cannot.
-  explicit FrameLogSink(const std::string& path);
+  // Creates (truncates) DIR/frames.jsonl, or with `segments` its first new segment. Throws sb::Error if it
+  // cannot.
+  explicit FrameLogSink(const std::string& dir, std::shared_ptr<SegmentStore> segments = nullptr);
   void onFrame(const FrameRecord& record) override;
   void flush() override;
+  RotatingFile& file() { return out_; }
 
  private:
-  LineFile out_;
+  RotatingFile out_;
 };
 
 }  // namespace sb

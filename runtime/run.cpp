@@ -54,9 +54,12 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
     : pipeline_(std::move(pipeline)),
       runner_(*pipeline_, std::move(controller), depthScale),
       dir_(outputs.dir),
-      outputs_(addStandardOutputs(runner_, outputs.dir, outputs.groundTruthPath, outputs.extra, outputs.comment)),
+      outputs_(addStandardOutputs(runner_, outputs.dir, outputs.groundTruthPath, outputs.extra,
+                                  outputs.comment, outputs.segments)),
       energy_(energy) {
-  if (energy_) energyLog_.emplace((std::filesystem::path(dir_) / "energy.jsonl").string(), "per-frame energy log");
+  if (energy_)
+    energyLog_ =
+        std::make_unique<RotatingFile>(dir_, "energy.jsonl", "per-frame energy log", "", outputs.segments);
 }
 
 FrameRecord Run::step(const DepthFrame& frame) {
@@ -121,7 +124,8 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
   // again.
   attempt([&] {
     runner_.flush();
-    for (const char* file : {"trajectory.tum", "frames.jsonl"}) syncFile((out / file).string());
+    for (const RotatingFile* file : {&outputs_.trajectory->file(), &outputs_.frameLog->file()})
+      syncFile(file->path());
   });
   if (!failures.empty()) {
     std::string error = failures.front();

@@ -19,9 +19,9 @@
 #include <optional>
 #include <string>
 
+#include "core/rotating_file.h"
 #include "core/thread_pool.h"
 #include "runtime/energy_account.h"
-#include "runtime/line_file.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 
@@ -33,6 +33,9 @@ struct RunOutputs {
   std::string groundTruthPath;  // "" = no ATE in the summary
   nlohmann::json extra = nlohmann::json::object();  // into summary.json as it is
   std::string comment;          // heads trajectory.tum
+  // Rotation and retention of the per-frame outputs (trajectory, frame log, energy log;
+  // core/rotating_file.h), shared by the runs of one output directory; nullptr: one file each (replays).
+  std::shared_ptr<SegmentStore> segments;
 };
 
 // What a run writes at its end.
@@ -78,7 +81,7 @@ class Run {
   std::string dir_;
   StandardOutputs outputs_;
   EnergyAccount* energy_ = nullptr;
-  std::optional<LineFile> energyLog_;  // energy.jsonl, with an energy account
+  std::unique_ptr<RotatingFile> energyLog_;  // energy.jsonl, with an energy account
   std::function<void(const power::FrameEnergy&)> listener_;
 };
 

@@ -1,9 +1,12 @@
 #pragma once
-// The standard outputs of a run in one directory: trajectory.tum, frames.jsonl and summary.json.
+// The standard outputs of a run in one directory: trajectory.tum, frames.jsonl and summary.json; with a
+// segment store the first two are rotated (core/rotating_file.h) and summary.json stays one file.
 
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "core/segment_store.h"
 #include "runtime/frame_log_sink.h"
 #include "runtime/slam_runner.h"
 #include "runtime/summary_sink.h"
@@ -18,9 +21,12 @@ struct StandardOutputs {
 };
 
 // Creates `dir` when missing and adds the three sinks to `runner`. `groundTruthPath` ("" = none) gives the
-// summary its ATE; `extra` goes into summary.json as it is; `comment` heads the trajectory file.
-// Throws sb::Error naming the directory or file that cannot be written.
-StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir, const std::string& groundTruthPath,
-                                   const nlohmann::json& extra, const std::string& comment);
+// summary its ATE; `extra` goes into summary.json as it is; `comment` heads the trajectory file; `segments`
+// (nullptr: single files) rotates the trajectory and the frame log. Throws sb::Error naming the directory or
+// file that cannot be written.
+StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir,
+                                   const std::string& groundTruthPath, const nlohmann::json& extra,
+                                   const std::string& comment,
+                                   std::shared_ptr<SegmentStore> segments = nullptr);
 
 }  // namespace sb

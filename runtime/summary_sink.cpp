@@ -109,8 +109,6 @@ SummarySink::SummarySink(const std::string& path, const std::string& groundTruth
 
 void SummarySink::onFrame(const FrameRecord& record) {
   stats_.add(record);
-  if (record.hasPoseEstimate())
-    trajectory_.push_back(TimedPose{record.result.timestamp, record.result.T_camera_to_world});
   // A snapshot per frame (without the ATE, computed at flush()): after a crash summary.json agrees with the
   // trajectory and the per-frame log within one frame.
   nlohmann::json snapshot = extra_;
@@ -122,10 +120,10 @@ void SummarySink::flush() {
   summary_ = extra_;
   summary_.update(stats_.toJson());
   ate_.reset();
-  if (!groundTruthPath_.empty() && !trajectory_.empty()) {
+  if (!groundTruthPath_.empty() && readTrajectory_ && stats_.frames > 0) {
     try {
       if (!groundTruth_) groundTruth_ = readTumTrajectory(groundTruthPath_);
-      ate_ = computeAte(trajectory_, *groundTruth_);
+      ate_ = computeAte(readTrajectory_(), *groundTruth_);
       summary_["ate"] = {{"rmse_m", ate_->rmse},       {"mean_m", ate_->mean},
                          {"max_m", ate_->max},         {"median_m", ate_->median},
                          {"matches", ate_->matches},   {"unaligned_mean_m", ate_->unalignedMean}};

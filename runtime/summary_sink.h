@@ -1,11 +1,13 @@
 #pragma once
 // summary.json of a run: frame counts, % tracked, mean computation time and stage times per frame,
 // controller cost, corrections and trigger counts, time per knob setting, and the ATE against the
-// sequence's ground truth when it has one. Rewritten atomically (temporary file + rename) after every frame
+// sequence's ground truth when it has one (the trajectory read back from its file at each flush: memory does
+// not grow with the run). Rewritten atomically (temporary file + rename) after every frame
 // (without the ATE) and on every flush (with it), so a reader never sees half a file and a killed run keeps
 // a summary of every frame but at most the one in hand.
 
 #include <array>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -58,6 +60,9 @@ class SummarySink final : public OutputSink {
   void flush() override;
 
   void setExtra(const std::string& key, nlohmann::json value) { extra_[key] = std::move(value); }
+  // Where the ATE's trajectory comes from: read back at each flush (the trajectory file), never kept in
+  // memory.
+  void setTrajectorySource(std::function<Trajectory()> read) { readTrajectory_ = std::move(read); }
   const RunStats& stats() const { return stats_; }
   // The ATE of the frames so far (computed at the last flush), when there is ground truth.
   const std::optional<AteResult>& ate() const { return ate_; }
@@ -71,7 +76,7 @@ class SummarySink final : public OutputSink {
   std::optional<Trajectory> groundTruth_;
   nlohmann::json extra_;
   RunStats stats_;
-  Trajectory trajectory_;
+  std::function<Trajectory()> readTrajectory_;
   std::optional<AteResult> ate_;
   nlohmann::json summary_;
 };

@@ -2,20 +2,34 @@
 
 namespace sb {
 
-TrajectorySink::TrajectorySink(const std::string& path, const std::string& comment)
-    : out_(path, "trajectory") {
-  std::string header = "# timestamp tx ty tz qx qy qz qw\n";
-  if (!comment.empty()) header += "# " + comment + "\n";
-  out_.append(header);
+namespace {
+
+std::string header(const std::string& comment) {
+  std::string h = "# timestamp tx ty tz qx qy qz qw\n";
+  if (!comment.empty()) h += "# " + comment + "\n";
+  return h;
 }
+
+}  // namespace
+
+TrajectorySink::TrajectorySink(const std::string& dir, const std::string& comment,
+                               std::shared_ptr<SegmentStore> segments)
+    : out_(dir, "trajectory.tum", "trajectory", header(comment), std::move(segments)) {}
 
 void TrajectorySink::onFrame(const FrameRecord& record) {
   if (!record.hasPoseEstimate()) return;
-  const TimedPose pose{record.result.timestamp, record.result.T_camera_to_world};
-  out_.append(formatTumLine(pose) + "\n");
-  trajectory_.push_back(pose);
+  out_.append(formatTumLine(TimedPose{record.result.timestamp, record.result.T_camera_to_world}) + "\n");
 }
 
 void TrajectorySink::flush() {}  // every line is written as its frame ends
+
+Trajectory TrajectorySink::readBack() const {
+  Trajectory all;
+  for (const std::string& file : out_.files()) {
+    Trajectory part = readTumTrajectory(file);
+    all.insert(all.end(), part.begin(), part.end());
+  }
+  return all;
+}
 
 }  // namespace sb

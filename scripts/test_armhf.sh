@@ -56,7 +56,7 @@ spawns="starts the built armhf tool as a child process: the host kernel cannot e
 binfmt_misc, which CI machines and containers lack (check_deb.sh runs the packaged tools through qemu-arm)"
 declare -A not_armhf=(
   [test_eval_cli]=$spawns [test_energy_cli]=$spawns [test_slambooster_cli]=$spawns [test_dse_cli]=$spawns [test_run_report]=$spawns
-  [test_slamboosterd]=$spawns [test_openni2_record]=$spawns [test_openni2_daemon]=$spawns
+  [test_slamboosterd]=$spawns [soak_daemon_short]=$spawns [soak_daemon_disk_full]=$spawns [test_openni2_record]=$spawns [test_openni2_daemon]=$spawns
   [test_adaptive_cli]=$spawns [test_matrix_cli]=$spawns [test_run_reliability]=$spawns [test_daemon_hostile]=$spawns
   [test_cluster_reference]=$spawns [test_cluster_parallel]=$spawns [test_cluster_kill]=$spawns
   [test_cluster_slurm]="starts a Slurm cluster of the host's (amd64) daemons that run the armhf tool: $spawns"

@@ -131,3 +131,28 @@ TEST_CASE("daemon config: deep nesting in a value or a file is an error, not a c
   CHECK_THAT(errorOf({{"source", {{"path", json::parse(std::string(60, '[') + std::string(60, ']'))}}}}),
              Contains("'source.path' = an array of 1 elements"));
 }
+
+TEST_CASE("daemon config: output rotation, its limits in bytes and when it applies", "[daemon][config]") {
+  const DaemonConfig d = parseDaemonConfig(json::object());
+  CHECK(d.output.rotation.mode == "live");
+  CHECK(rotates(d.output.rotation, true));
+  CHECK_FALSE(rotates(d.output.rotation, false));  // replays keep single files unless asked
+  const sb::RetentionLimits l = retentionLimits(d.output.rotation);
+  CHECK(l.segmentBytes == 64ull << 20);
+  CHECK(l.keepBytes == 4096ull << 20);
+  CHECK(l.minFreeBytes == 512ull << 20);
+
+  const DaemonConfig a = parseDaemonConfig(json{
+      {"output",
+       {{"rotation", {{"mode", "always"}, {"segment_mib", 0.25}, {"keep_mib", 2}, {"keep_segments", 5}}}}}});
+  CHECK(rotates(a.output.rotation, false));
+  CHECK(retentionLimits(a.output.rotation).segmentBytes == 256u * 1024u);
+  CHECK(retentionLimits(a.output.rotation).keepSegments == 5);
+  CHECK_FALSE(rotates(
+      parseDaemonConfig(json{{"output", {{"rotation", {{"mode", "never"}}}}}}).output.rotation, true));
+
+  CHECK_THAT(errorOf(json{{"output", {{"rotation", {{"segment_mib", 64}, {"keep_mib", 100}}}}}}),
+             Catch::Contains("output.rotation.keep_mib") && Catch::Contains("8 x segment_mib"));
+  CHECK_THAT(errorOf(json{{"output", {{"rotation", {{"mode", "sometimes"}}}}}}),
+             Catch::Contains("output.rotation.mode") && Catch::Contains("always"));
+}

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Checks the slambooster .deb (cross-toolchain/packaging.cmake) as a user and dpkg will see it:
 #   control data (name, version, architecture, dependencies), the exact file list, owners and modes,
-#   conffiles, the binaries (architecture, stripped, hardened), the maintainer scripts (run against stubbed
+#   conffiles, the binaries (architecture, stripped, hardened, large-file support on 32-bit), the maintainer scripts (run against stubbed
 #   system commands: they create the user and its groups and enable/start nothing), the udev rule and the
 #   unit agreeing with the scripts (user, groups, ExecStart, config path), `systemd-analyze verify` of the
 #   packaged units, lintian (no error or warning; every override used), the /etc/slambooster files the packaged
@@ -202,6 +202,8 @@ for bin in usr/bin/slambooster usr/bin/slamboosterctl usr/sbin/slamboosterd; do
   fi
   check; ! readelf -S "$f" | grep -q '\.symtab' || fail "$bin is not stripped"
   check; readelf -d "$f" | grep -q 'BIND_NOW' || fail "$bin lacks BIND_NOW (full RELRO)"
+  # Large-file support (32-bit targets): outputs of a weeks-long session pass 2 GiB.
+  check; lfs_out=$(bash "$root/tests/packaging/check_lfs.sh" "$f") || fail "$bin: $(grep FAIL <<<"$lfs_out")"
 done
 
 # --- unit, udev rule and scripts agree --------------------------------------------------------------------
@@ -245,6 +247,9 @@ check; [ $verify_rc -eq 0 ] && [ -z "$verify_out" ] || fail "systemd-analyze ver
 lintian_out=$(lintian --fail-on error,warning -I "$deb" 2>&1 | grep -v 'running with root privileges')
 lintian_rc=${PIPESTATUS[0]}
 check; [ "$lintian_rc" -eq 0 ] || fail "lintian (exit $lintian_rc): $(grep -E '^[EW]:' <<<"$lintian_out")"
+# lintian reports a binary without large-file support as information only (I:); here it fails.
+check; ! grep -q 'binary-file-built-without-LFS-support' <<<"$lintian_out" ||
+  fail "lintian: $(grep 'binary-file-built-without-LFS-support' <<<"$lintian_out")"
 check; ! grep -Eq 'unused-override|mismatched-override' <<<"$lintian_out" ||
   fail "lintian overrides that no longer apply: $(grep -E 'unused-override|mismatched-override' <<<"$lintian_out")"
 

@@ -1,0 +1,116 @@
+#include "core/segment_store.h"
+
+#include <sys/statvfs.h>
+
+#include <chrono>
+#include <filesystem>
+
+#include "core/error.h"
+
+namespace sb {
+
+namespace {
+
+constexpr uint64_t kMinSegmentBytes = 64ull << 10;
+constexpr uint64_t kStreamsPerDir = 4;  // trajectory, frames, energy, power trace: each has a current segment
+
+}  // namespace
+
+void validateRetention(const RetentionLimits& l) {
+  if (l.segmentBytes < kMinSegmentBytes)
+    throw Error("retention: segment size " + std::to_string(l.segmentBytes) +
+                " bytes is below the minimum of " + std::to_string(kMinSegmentBytes) + " (64 KiB)");
+  if (!(l.segmentSeconds >= 0.0))
+    throw Error("retention: segment age must be >= 0 s (0 = rotate by size only)");
+  if (l.keepBytes < 2 * kStreamsPerDir * l.segmentBytes)
+    throw Error("retention: keep " + std::to_string(l.keepBytes) + " bytes is less than 8 segments (" +
+                std::to_string(2 * kStreamsPerDir * l.segmentBytes) +
+                " bytes): the current segments of the four streams alone could pass it; raise the limit or "
+                "lower the segment size");
+}
+
+SegmentStore::SegmentStore(std::string dir, const RetentionLimits& limits)
+    : dir_(std::move(dir)), limits_(limits) {
+  validateRetention(limits_);
+}
+
+int64_t SegmentStore::nowOrder() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+void SegmentStore::addClosed(const std::string& path, uint64_t bytes, int64_t order) {
+  {
+    std::lock_guard lock(mutex_);
+    closed_.emplace(order, std::make_pair(path, bytes));
+    closedBytes_ += bytes;
+  }
+  enforce();
+}
+
+void SegmentStore::setCurrent(const void* writer, uint64_t bytes) {
+  std::lock_guard lock(mutex_);
+  current_[writer] = bytes;
+}
+
+void SegmentStore::dropCurrent(const void* writer) {
+  std::lock_guard lock(mutex_);
+  current_.erase(writer);
+}
+
+uint64_t SegmentStore::totalLocked() const {
+  uint64_t total = closedBytes_;
+  for (const auto& c : current_) total += c.second;
+  return total;
+}
+
+uint64_t SegmentStore::freeBytesLocked() const {
+  struct statvfs fs {};
+  if (::statvfs(dir_.c_str(), &fs) != 0) return UINT64_MAX;  // unknown: no removal for space
+  return static_cast<uint64_t>(fs.f_bavail) * static_cast<uint64_t>(fs.f_frsize);
+}
+
+bool SegmentStore::removeOldestLocked() {
+  if (closed_.empty()) return false;
+  const auto oldest = closed_.begin();
+  std::error_code ec;
+  std::filesystem::remove(oldest->second.first,
+                          ec);  // already gone (removed by hand): forget it all the same
+  closedBytes_ -= oldest->second.second;
+  removedBytes_ += oldest->second.second;
+  ++removedSegments_;
+  closed_.erase(oldest);
+  return true;
+}
+
+bool SegmentStore::removeOldest() {
+  std::lock_guard lock(mutex_);
+  return removeOldestLocked();
+}
+
+void SegmentStore::enforce() {
+  std::lock_guard lock(mutex_);
+  while (totalLocked() > limits_.keepBytes && removeOldestLocked()) {
+  }
+  while (limits_.keepSegments > 0 && closed_.size() > limits_.keepSegments && removeOldestLocked()) {
+  }
+  // The free space after every write (one statvfs, about a microsecond): another program may fill the disk at
+  // any moment, and the outputs that do not rotate (summary.json, rewritten every frame) need room too.
+  while (limits_.minFreeBytes > 0 && freeBytesLocked() < limits_.minFreeBytes && removeOldestLocked()) {
+  }
+}
+
+SegmentUsage SegmentStore::usage() const {
+  std::lock_guard lock(mutex_);
+  SegmentUsage u;
+  u.bytes = totalLocked();
+  u.segments = closed_.size() + current_.size();
+  u.removedSegments = removedSegments_;
+  u.removedBytes = removedBytes_;
+  u.freeBytes = freeBytesLocked();
+  u.keepBytes = limits_.keepBytes;
+  return u;
+}
+
+}  // namespace sb

@@ -1,0 +1,84 @@
+#pragma once
+// The retention of rotated outputs (core/rotating_file.h): every closed segment of the rotating files of one
+// output directory, with their sizes, and the limits that bound them. When the segments together pass the
+// byte or count limit, or the file system's free space falls below its floor, the oldest closed segments are
+// removed first, across all streams (so every stream keeps about the same span of time). A full disk is
+// handled the same way: a write that fails with ENOSPC removes the oldest segment and tries again.
+//
+// Shared by the threads that write rotating files (the SLAM thread, the power sampler) and read for STATUS
+// (the event loop): every method is thread-safe.
+//
+//   auto store = std::make_shared<SegmentStore>(dir, RetentionLimits{});   // limits validated
+//   RotatingFile frames(dir, "frames.jsonl", "per-frame log", "", store);
+//   store->usage();   // bytes on disk, segments, free space
+
+#include <sys/types.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+
+namespace sb {
+
+// How long rotated outputs live. Sizes in bytes, times in seconds; 0 turns a limit off where it says so.
+struct RetentionLimits {
+  uint64_t segmentBytes = 64ull << 20;   // a stream starts a new segment once its current one holds this much
+  double segmentSeconds = 3600.0;        // ... or is this old (s); 0 = by size only
+  uint64_t keepBytes = 4ull << 30;       // every segment of the directory together (current ones included)
+  size_t keepSegments = 0;               // closed segments kept at most (0 = no count limit)
+  uint64_t minFreeBytes = 512ull << 20;  // oldest segments go while the file system has less free space
+};
+
+// Throws sb::Error naming the limit and what is allowed (keepBytes below 8 segments: the four per-frame
+// streams' current segments alone could pass it).
+void validateRetention(const RetentionLimits& limits);
+
+// What the segments take (STATUS "disk").
+struct SegmentUsage {
+  uint64_t bytes = 0;            // closed and current segments
+  size_t segments = 0;           // closed and current
+  uint64_t removedSegments = 0;  // removed by retention since the store was made
+  uint64_t removedBytes = 0;
+  uint64_t freeBytes = 0;  // available to this process on the directory's file system
+  uint64_t keepBytes = 0;  // the limit
+};
+
+class SegmentStore {
+ public:
+  // `dir`: the output directory (its file system's free space is watched). Validates `limits`.
+  SegmentStore(std::string dir, const RetentionLimits& limits);
+
+  const RetentionLimits& limits() const { return limits_; }
+  const std::string& dir() const { return dir_; }
+
+  // A closed segment (written to its end); `order` sorts segments from oldest (smallest) to newest.
+  void addClosed(const std::string& path, uint64_t bytes, int64_t order);
+  // The current size of the segment a writer has open (`writer`: any id unique to it, e.g. its address).
+  void setCurrent(const void* writer, uint64_t bytes);
+  void dropCurrent(const void* writer);
+  // Removes the oldest closed segments while a limit is passed (the free space is read each time). Called
+  // after every write.
+  void enforce();
+  // Removes the oldest closed segment (a write failed for lack of space); false when there is none.
+  bool removeOldest();
+  SegmentUsage usage() const;
+  // A number that orders segments closed now after every earlier one (nanoseconds of the wall clock).
+  static int64_t nowOrder();
+
+ private:
+  bool removeOldestLocked();
+  uint64_t freeBytesLocked() const;
+  uint64_t totalLocked() const;
+
+  std::string dir_;
+  RetentionLimits limits_;
+  mutable std::mutex mutex_;
+  std::multimap<int64_t, std::pair<std::string, uint64_t>> closed_;  // order -> (path, bytes)
+  std::map<const void*, uint64_t> current_;
+  uint64_t closedBytes_ = 0;
+  uint64_t removedSegments_ = 0, removedBytes_ = 0;
+};
+
+}  // namespace sb

@@ -1,0 +1,151 @@
+// Rotating output files and their retention (core/rotating_file.h, core/segment_store.h): segment names and
+// headers, numbering across restarts, the byte, count and free-space limits (oldest first, across streams),
+// and the single-file mode replays keep.
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "core/error.h"
+#include "core/rotating_file.h"
+#include "core/segment_store.h"
+#include "tests/support/files.h"
+#include "tests/support/test_data.h"
+
+using namespace sb;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr uint64_t kSegment = 64 * 1024;  // the smallest segment size allowed
+
+RetentionLimits smallLimits() {
+  RetentionLimits l;
+  l.segmentBytes = kSegment;
+  l.segmentSeconds = 0;
+  l.keepBytes = 8 * kSegment;
+  l.minFreeBytes = 0;
+  return l;
+}
+
+std::string line(size_t bytes) {
+  return std::string(bytes - 1, 'x') + "\n";
+}
+
+uint64_t bytesOf(const std::vector<std::string>& files) {
+  uint64_t total = 0;
+  for (const auto& f : files) total += fs::file_size(f);
+  return total;
+}
+
+}  // namespace
+
+TEST_CASE("without a store a rotating file is one file, truncated, with its header", "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_single");
+  {
+    RotatingFile f(dir, "trajectory.tum", "trajectory", "# header\n");
+    f.append("1\n");
+  }
+  RotatingFile f(dir, "trajectory.tum", "trajectory", "# header\n");
+  f.append("2\n");
+  CHECK(f.path() == dir + "/trajectory.tum");
+  CHECK(f.segment() == 0);
+  CHECK(test::readText(dir + "/trajectory.tum") == "# header\n2\n");
+  CHECK(streamFiles(dir, "trajectory.tum") == std::vector<std::string>{dir + "/trajectory.tum"});
+  CHECK(f.files() == std::vector<std::string>{dir + "/trajectory.tum"});
+}
+
+TEST_CASE("segments are numbered, start with the header, and a restart numbers on", "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_segments");
+  auto store = std::make_shared<SegmentStore>(dir, smallLimits());
+  {
+    RotatingFile f(dir, "frames.jsonl", "per-frame log", "# h\n", store);
+    CHECK(f.path() == dir + "/frames-000001.jsonl");
+    for (int i = 0; i < 40; ++i) f.append(line(4096));  // 160 KiB: segments of 64 KiB -> 3
+    CHECK(f.segment() == 3);
+    CHECK(f.files().size() == 3);
+  }
+  for (int n = 1; n <= 3; ++n) {
+    const std::string text = test::readText(dir + "/" + segmentName("frames.jsonl", n));
+    CHECK(text.rfind("# h\n", 0) == 0);
+    CHECK(text.back() == '\n');
+  }
+  // A second writer (a restarted daemon) keeps the old segments and numbers on after them.
+  auto again = std::make_shared<SegmentStore>(dir, smallLimits());
+  RotatingFile f(dir, "frames.jsonl", "per-frame log", "# h\n", again);
+  CHECK(f.path() == dir + "/frames-000004.jsonl");
+  CHECK(f.files() == std::vector<std::string>{dir + "/frames-000004.jsonl"});
+  CHECK(streamFiles(dir, "frames.jsonl").size() == 4);
+  CHECK(streamFiles(dir, "frames.jsonl").front() == dir + "/frames-000001.jsonl");
+  CHECK(again->usage().segments == 4);
+  CHECK(again->usage().bytes == bytesOf(streamFiles(dir, "frames.jsonl")));
+}
+
+TEST_CASE("retention keeps every stream within the byte limit, oldest segments first", "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_bytes");
+  const RetentionLimits limits = smallLimits();
+  auto store = std::make_shared<SegmentStore>(dir, limits);
+  RotatingFile frames(dir, "frames.jsonl", "per-frame log", "", store);
+  RotatingFile trajectory(dir, "trajectory.tum", "trajectory", "# t\n", store);
+  for (int i = 0; i < 2000; ++i) {  // 2 MB of frames, 200 KB of trajectory: far past the 512 KiB limit
+    frames.append(line(1000));
+    trajectory.append(line(100));
+    const uint64_t onDisk =
+        bytesOf(streamFiles(dir, "frames.jsonl")) + bytesOf(streamFiles(dir, "trajectory.tum"));
+    REQUIRE(onDisk <= limits.keepBytes);
+  }
+  const SegmentUsage u = store->usage();
+  CHECK(u.bytes == bytesOf(streamFiles(dir, "frames.jsonl")) + bytesOf(streamFiles(dir, "trajectory.tum")));
+  CHECK(u.removedSegments > 0);
+  // What is left is the newest: the frame log's last segments, and its first ones are gone.
+  CHECK_FALSE(fs::exists(dir + "/frames-000001.jsonl"));
+  CHECK(fs::exists(frames.path()));
+  CHECK(streamFiles(dir, "frames.jsonl").back() == frames.path());
+}
+
+TEST_CASE("retention by segment count and by free space", "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_count");
+  RetentionLimits limits = smallLimits();
+  limits.keepBytes = 1ull << 40;
+  limits.keepSegments = 2;
+  auto store = std::make_shared<SegmentStore>(dir, limits);
+  {
+    RotatingFile f(dir, "energy.jsonl", "per-frame energy log", "", store);
+    for (int i = 0; i < 100; ++i) f.append(line(4096));   // 400 KiB: 7 segments
+    CHECK(streamFiles(dir, "energy.jsonl").size() == 3);  // 2 closed + the current one
+  }
+  // Free space below the floor: every closed segment goes (the file system has less than a petabyte free).
+  limits.keepSegments = 0;
+  limits.minFreeBytes = 1ull << 50;
+  auto tight = std::make_shared<SegmentStore>(dir, limits);
+  RotatingFile f(dir, "energy.jsonl", "per-frame energy log", "", tight);
+  f.append("{}\n");
+  CHECK(streamFiles(dir, "energy.jsonl") == std::vector<std::string>{f.path()});
+  CHECK(tight->usage().freeBytes < limits.minFreeBytes);
+}
+
+TEST_CASE("rotation by age", "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_age");
+  RetentionLimits limits = smallLimits();
+  limits.segmentSeconds = 0.05;
+  auto store = std::make_shared<SegmentStore>(dir, limits);
+  RotatingFile f(dir, "power.csv", "power trace", "# meter\nt_ns,watts\n", store);
+  f.append("1,2\n");
+  std::this_thread::sleep_for(std::chrono::milliseconds(80));
+  f.append("3,4\n");
+  CHECK(f.segment() == 2);
+  CHECK(test::readText(f.path()) == "# meter\nt_ns,watts\n3,4\n");
+}
+
+TEST_CASE("retention limits are validated with what to do", "[core][rotation]") {
+  RetentionLimits l = smallLimits();
+  l.keepBytes = 4 * kSegment;
+  CHECK_THROWS_WITH(validateRetention(l),
+                    Catch::Contains("less than 8 segments") && Catch::Contains("raise"));
+  l = smallLimits();
+  l.segmentBytes = 1000;
+  CHECK_THROWS_WITH(validateRetention(l), Catch::Contains("64 KiB"));
+  CHECK_NOTHROW(validateRetention(RetentionLimits{}));
+}
