@@ -54,6 +54,7 @@ void readSource(ConfigReader& r, SourceConfig& s) {
   r.integer("max_frames", s.maxFrames, 0, 100000000);
   r.number("depth_scale", s.depthScale, 0.0, 1e6);
   r.integer("queue_frames", s.queueFrames, 1, 256);
+  r.string("depth_topic", s.depthTopic);
   r.section("camera", [&](ConfigReader& camera) { readCamera(camera, s.camera); });
   const auto types = sourceTypes();
   if (std::find(types.begin(), types.end(), s.type) == types.end()) {
@@ -188,6 +189,7 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"max_frames", c.source.maxFrames},
             {"depth_scale", c.source.depthScale},
             {"queue_frames", c.source.queueFrames},
+            {"depth_topic", c.source.depthTopic},
             {"camera",
              {{"uri", c.source.camera.uri},
               {"width", c.source.camera.width},

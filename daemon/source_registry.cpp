@@ -4,6 +4,7 @@
 
 #include "core/error.h"
 #include "daemon/openni2_capture.h"
+#include "daemon/push_source.h"
 #include "daemon/replay_source.h"
 
 namespace sb::daemon {
@@ -19,6 +20,7 @@ const std::vector<SourceEntry>& registry() {
   static const std::vector<SourceEntry> entries = {
       {"replay", [](const SourceConfig& c) { return std::make_unique<ReplaySource>(c); }},
       {"openni2", [](const SourceConfig& c) { return std::make_unique<OpenNI2Capture>(c); }},
+      {"push", [](const SourceConfig& c) { return std::make_unique<PushSource>(c); }},
   };
   return entries;
 }
