@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "drivers/sequence.h"
+
 namespace sb::test::ros_e2e {
 
 int freePort() {
@@ -82,6 +84,25 @@ std::vector<std::string> trajectoryLines(const std::string& path) {
   for (std::string line; std::getline(in, line);)
     if (!line.empty() && line[0] != '#') lines.push_back(line);
   return lines;
+}
+
+std::string pipelineConfigWithHints(const std::string& dir, const std::string& sequence) {
+  sb::SequenceOptions o;
+  o.prefetch = false;
+  const auto info = sb::openSequence(sequence, o)->info();
+  if (!info.volumeSize || !info.volumeInitialPosition)
+    throw std::runtime_error("the test sequence has no volume hints in calibration.json");
+  const nlohmann::json j = {{"volume_resolution", 64}, {"knobs", "csr=2,ir=1"}, {"volume_size_m", *info.volumeSize},
+                            {"initial_position", *info.volumeInitialPosition}};
+  const std::string path = dir + "/pipeline.json";
+  std::ofstream(path) << j.dump();
+  return path;
+}
+
+std::vector<std::string> withPipelineConfig(std::vector<std::string> args, const std::string& config) {
+  for (auto& a : args)
+    if (a.rfind("slam.pipeline_config=", 0) == 0) a = "slam.pipeline_config=" + config;
+  return args;
 }
 
 std::vector<double> lineValues(const std::string& line) {

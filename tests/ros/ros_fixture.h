@@ -51,6 +51,14 @@ bool waitFor(const std::function<bool()>& done, double seconds);
 // The data lines of a TUM trajectory file ("timestamp tx ty tz qx qy qz qw"), in file order.
 std::vector<std::string> trajectoryLines(const std::string& path);
 
+// A pipeline config (the daemon tests' settings) that also carries `sequence`'s volume hints
+// (calibration.json): a bag or a pushed stream has none, the TUM directory does; with them in the config both
+// reconstruct in the same volume. Written to dir/pipeline.json; returns its path.
+std::string pipelineConfigWithHints(const std::string& dir, const std::string& sequence);
+
+// daemonArgs(...) with the pipeline config replaced by `config`.
+std::vector<std::string> withPipelineConfig(std::vector<std::string> args, const std::string& config);
+
 // Values of one TUM trajectory line.
 std::vector<double> lineValues(const std::string& line);
 

@@ -23,20 +23,6 @@ std::string slurp(const std::string& path) {
   return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
-// A bag carries no volume hints (calibration.json's): the pipeline config gives the TUM directory's to both.
-std::string pipelineConfig(const std::string& dir, const std::string& sequence) {
-  sb::SequenceOptions o;
-  o.prefetch = false;
-  const auto info = sb::openSequence(sequence, o)->info();
-  REQUIRE(info.volumeSize);
-  REQUIRE(info.volumeInitialPosition);
-  nlohmann::json j = {{"volume_resolution", 64}, {"knobs", "csr=2,ir=1"}, {"volume_size_m", *info.volumeSize},
-                      {"initial_position", *info.volumeInitialPosition}};
-  const std::string path = dir + "/pipeline.json";
-  std::ofstream(path) << j.dump();
-  return path;
-}
-
 std::string runTool(const std::string& input, const std::string& out, const std::string& config,
                     const std::string& extra = "") {
   const auto r = runCommand(kTool + " run " + input + " --out " + out + " --config " + config +
@@ -70,7 +56,7 @@ std::string failingRun(const std::string& bag, const std::string& dir, const std
 TEST_CASE("a bag replays bit for bit like the TUM directory of the same frames", "[ros][bag]") {
   const auto& seq = fixture();
   const std::string dir = scratchDir("ros_bag_equal");
-  const std::string config = pipelineConfig(dir, seq.sequence);
+  const std::string config = pipelineConfigWithHints(dir, seq.sequence);
 
   SECTION("32FC1 metres, the depth topic found by its encoding beside an RGB topic; tool and daemon") {
     const std::string bag = dir + "/seq32.bag";

@@ -69,11 +69,12 @@ TEST_CASE("depth from a ROS topic reaches the daemon: same trajectory as the rep
   REQUIRE(frames.frames.size() == static_cast<size_t>(e2e::kFrames));
   e2e::TempDir tmp;
   const std::string socket = tmp.path + "/sb.sock", push = tmp.path + "/push.sock";
+  const std::string config = pipelineConfigWithHints(tmp.path, seq.sequence);  // pushed frames carry no hints
 
   // The reference: the daemon replaying the same frames.
   const std::string replayOut = tmp.path + "/replay";
   {
-    auto args = e2e::daemonArgs(tmp.path + "/replay.sock", replayOut, "fast", "exit");
+    auto args = withPipelineConfig(e2e::daemonArgs(tmp.path + "/replay.sock", replayOut, "fast", "exit"), config);
     ChildProcess replay(args, {}, tmp.path + "/replay.log");
     const int code = replay.wait(120.0);
     INFO(replay.log());
@@ -101,7 +102,7 @@ TEST_CASE("depth from a ROS topic reaches the daemon: same trajectory as the rep
   INFO(bridge->log());
   REQUIRE(waitFor([&] { return depthPub.getNumSubscribers() >= 1 && infoPub.getNumSubscribers() >= 1; }, 20.0));
 
-  auto daemonArgs = e2e::daemonArgs(socket, tmp.path + "/pushed", "recorded", "stop");
+  auto daemonArgs = withPipelineConfig(e2e::daemonArgs(socket, tmp.path + "/pushed", "recorded", "stop"), config);
   daemonArgs[2] = push;  // --input: the push source's socket
   daemonArgs.insert(daemonArgs.end(), {"--set", "source.type=push"});
   ChildProcess daemon(daemonArgs, {}, tmp.path + "/daemon.log");
