@@ -27,6 +27,7 @@ std::string DaemonLink::serveOnce() {
     throw Error("slamboosterd at '" + config_.socketPath + "' speaks protocol " + std::to_string(major) +
                 ", this bridge speaks " + std::to_string(kProtoMajor) + ": install matching versions");
   connection.send(R"(?WATCH={"enable":true,"pose":true,"knobs":true,"energy":true})");
+  announcedDown_ = false;
   ROS_INFO("connected to slamboosterd %s at %s", connection.version().value("release", "?").c_str(),
            config_.socketPath.c_str());
   while (ros::ok()) {
@@ -62,7 +63,8 @@ void DaemonLink::run() {
       ROS_WARN("%s; retrying every %.1f s", why.c_str(), config_.reconnectSeconds);
       lastError = why;
     }
-    publisher_.onDisconnected(why);
+    if (!announcedDown_) publisher_.onDisconnected(why);  // once per outage, not every attempt
+    announcedDown_ = true;
     ros::WallDuration(config_.reconnectSeconds).sleep();
   }
 }

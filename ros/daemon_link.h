@@ -21,6 +21,7 @@ class DaemonLink {
 
   const BridgeConfig& config_;
   OdometryPublisher& publisher_;
+  bool announcedDown_ = false;  // "disconnected" was published since the last connection
 };
 
 }  // namespace sb::ros_bridge

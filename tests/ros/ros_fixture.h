@@ -1,7 +1,8 @@
 #pragma once
 // Shared by the ROS system tests: a real ROS master (Debian's rosmaster) on a free port, this test program as
 // a ROS node of it, the bridge as a child process, and readers of the outputs. Builds on the daemon system
-// tests' fixture (tests/daemon/daemon_e2e.h: binaries, the short synthetic sequence, socket directories).
+// tests' fixture (tests/daemon/daemon_e2e.h, which each test includes: binaries, the short synthetic
+// sequence, socket directories).
 
 #include <ros/ros.h>
 
@@ -12,7 +13,6 @@
 #include <thread>
 #include <vector>
 
-#include "tests/daemon/daemon_e2e.h"
 #include "tests/daemon/process.h"
 
 namespace sb::test::ros_e2e {

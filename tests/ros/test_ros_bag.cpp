@@ -7,6 +7,7 @@
 
 #include "drivers/sequence.h"
 #include "tests/ros/bag_writer.h"
+#include "tests/daemon/daemon_e2e.h"
 #include "tests/ros/ros_fixture.h"
 
 namespace {

@@ -15,6 +15,7 @@
 
 #include "client/connection.h"
 #include "drivers/sequence.h"
+#include "tests/daemon/daemon_e2e.h"
 #include "tests/ros/ros_fixture.h"
 
 namespace {
