@@ -52,7 +52,6 @@ BagSource::BagSource(const std::string& path, const SequenceOptions& options)
                 " (a truncated or damaged file? `rosbag reindex` repairs an unindexed one)");
   }
   topic_ = chooseDepthTopic(options.depthTopic);
-  readIntrinsics(cameraInfoTopicFor(topic_), options);
 
   view_ = guarded("bag '" + path_ + "'", [&] { return std::make_unique<rosbag::View>(bag_, rosbag::TopicQuery(topic_)); });
   const size_t messages = view_->size();
@@ -61,7 +60,8 @@ BagSource::BagSource(const std::string& path, const SequenceOptions& options)
   const auto first = guarded(where(0), [&] { return view_->begin()->instantiate<sensor_msgs::Image>(); });
   if (!first) throw Error(where(0) + ": not a sensor_msgs/Image");
   info_.depthScale = options.depthScale ? *options.depthScale : defaultDepthScale(first->encoding);
-  (void)toDepthRaw(*first, info_.depthScale, where(0));
+  (void)toDepthRaw(*first, info_.depthScale, where(0));  // the encoding before anything else
+  readIntrinsics(cameraInfoTopicFor(topic_), options);
   if (static_cast<int>(first->width) != info_.intrinsics.width ||
       static_cast<int>(first->height) != info_.intrinsics.height)
     throw Error(where(0) + ": image " + std::to_string(first->width) + "x" + std::to_string(first->height) +
@@ -137,14 +137,13 @@ std::optional<DepthFrame> BagSource::next() {
     const bool atEnd = guarded(where(index), [&] { return it_ == view_->end(); });
     if (atEnd) return std::nullopt;
     const auto image = guarded(where(index), [&] { return it_->instantiate<sensor_msgs::Image>(); });
-    const ros::Time received = it_->getTime();
     guarded(where(index), [&] { ++it_; return 0; });
     ++message_;
     if (index < firstFrame_) continue;
     if (!image) throw Error(where(index) + ": not a sensor_msgs/Image");
     DepthFrame f;
     f.index = index;
-    f.timestamp = (image->header.stamp.isZero() ? received : image->header.stamp).toSec();
+    f.timestamp = image->header.stamp.toSec();  // the capture time (the bag's own time is when it was recorded)
     f.depth = toDepthRaw(*image, info_.depthScale, where(index));
     if (f.depth.width() != info_.intrinsics.width || f.depth.height() != info_.intrinsics.height)
       throw Error(where(index) + ": image " + std::to_string(f.depth.width()) + "x" +

@@ -17,6 +17,7 @@ namespace sb::test::ros_e2e {
 namespace {
 
 constexpr double kMillimetres = 1000.0;
+constexpr double kRecordDelayS = 0.01;
 
 std::unique_ptr<FrameSource> openPlain(const std::string& sequence) {
   SequenceOptions o;
@@ -35,6 +36,8 @@ size_t writeBag(const std::string& bagPath, const std::string& sequence, const B
   size_t n = 0;
   while (auto f = source->next()) {
     const ros::Time stamp(f->timestamp);
+    // When the recorder received it: a little later, and after ros::TIME_MIN (a synthetic frame 0 is at 0 s).
+    const ros::Time recorded = stamp + ros::Duration(kRecordDelayS);
     sensor_msgs::Image image;
     image.header.stamp = stamp;
     image.header.seq = static_cast<uint32_t>(n);
@@ -55,14 +58,14 @@ size_t writeBag(const std::string& bagPath, const std::string& sequence, const B
       image.data.resize(static_cast<size_t>(image.step) * image.height);
       std::memcpy(image.data.data(), f->depth.data(), image.data.size());
     }
-    bag.write(kBagDepthTopic, stamp, image);
+    bag.write(kBagDepthTopic, recorded, image);
     if (spec.cameraInfo) {
       sensor_msgs::CameraInfo ci;
       ci.header = image.header;
       ci.width = image.width;
       ci.height = image.height;
       ci.K = {info.intrinsics.fx, 0, info.intrinsics.cx, 0, info.intrinsics.fy, info.intrinsics.cy, 0, 0, 1};
-      bag.write("/camera/depth/camera_info", stamp, ci);
+      bag.write("/camera/depth/camera_info", recorded, ci);
     }
     if (spec.rgbTopic) {
       sensor_msgs::Image rgb;
@@ -72,7 +75,7 @@ size_t writeBag(const std::string& bagPath, const std::string& sequence, const B
       rgb.encoding = "rgb8";
       rgb.step = 12;
       rgb.data.assign(48, 128);
-      bag.write(kBagRgbTopic, stamp, rgb);
+      bag.write(kBagRgbTopic, recorded, rgb);
     }
     ++n;
   }

@@ -19,9 +19,11 @@ using sb::test::e2e::fixture;
 using sb::test::e2e::kDaemon;
 using sb::test::e2e::kTool;
 
+// The trajectory's data lines, byte for byte (the comment line names the input, which differs).
 std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
+  std::string out;
+  for (const auto& line : trajectoryLines(path)) out += line + "\n";
+  return out;
 }
 
 std::string runTool(const std::string& input, const std::string& out, const std::string& config,
