@@ -120,7 +120,7 @@ TEST_CASE("depth from a ROS topic reaches the daemon: same trajectory as the rep
     }
     // Paced by the daemon: the next frame only once this one was processed (no drops by construction).
     INFO("frame " << i);
-    REQUIRE(waitFor([&] { return request(*client, "?POLL;", "POLL").value("frames", 0) >= i + 1; }, 30.0));
+    REQUIRE(waitFor([&] { return request(*client, "?POLL;", "POLL").value("frames", size_t{0}) >= i + 1; }, 30.0));
   }
   const auto status = request(*client, "?STATUS;", "STATUS");
   INFO(status.dump());
