@@ -52,6 +52,14 @@ void Connection::send(const std::string& requestLine) {
 }
 
 std::optional<nlohmann::json> Connection::next(double timeoutSeconds) {
+  bool timedOut = false;
+  auto message = next(timeoutSeconds, timedOut);
+  if (timedOut) throw Error("no reply from slamboosterd within " + std::to_string(timeoutSeconds) + " s");
+  return message;
+}
+
+std::optional<nlohmann::json> Connection::next(double timeoutSeconds, bool& timedOut) {
+  timedOut = false;
   using Clock = std::chrono::steady_clock;
   const auto deadline =
       Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -71,8 +79,10 @@ std::optional<nlohmann::json> Connection::next(double timeoutSeconds) {
     if (timeoutSeconds > 0) {
       const auto left =
           std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now()).count();
-      if (left <= 0)
-        throw Error("no reply from slamboosterd within " + std::to_string(timeoutSeconds) + " s");
+      if (left <= 0) {
+        timedOut = true;
+        return std::nullopt;
+      }
       waitMs = static_cast<int>(left);
     }
     pollfd p{fd_.get(), POLLIN, 0};

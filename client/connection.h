@@ -25,6 +25,9 @@ class Connection {
   // The next message; nullopt when the daemon closed the connection. Throws sb::Error on a timeout
   // (timeoutSeconds <= 0: wait forever) or on a line that is not a JSON object.
   std::optional<nlohmann::json> next(double timeoutSeconds);
+  // Like next(), but a timeout is not an error: `timedOut` says whether nothing arrived within timeoutSeconds
+  // (> 0). For long-lived clients that must do other work while they wait (the ROS bridge).
+  std::optional<nlohmann::json> next(double timeoutSeconds, bool& timedOut);
   // The next message of class `cls`, or an ERROR (returned as it is), skipping streamed reports.
   nlohmann::json reply(const std::string& cls, double timeoutSeconds);
 

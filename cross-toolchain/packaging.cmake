@@ -106,4 +106,7 @@ set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA
   ${CMAKE_BINARY_DIR}/deb/conffiles)
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 set(CPACK_OUTPUT_FILE_PREFIX ${CMAKE_BINARY_DIR}/deb)
+# Only the main package's files: the optional ROS component (ros/, install COMPONENT ros) links ROS and is not
+# part of it, so that the daemon's package never depends on ROS.
+set(CPACK_COMPONENTS_ALL Unspecified)
 include(CPack)

@@ -63,6 +63,7 @@ void readSource(ConfigReader& r, SourceConfig& s) {
                               std::to_string(static_cast<int>(kMaxDepthScale)) +
                               " raw units per metre (1000 for millimetres, 5000 for TUM)");
   r.integer("queue_frames", s.queueFrames, 1, 256);
+  r.string("depth_topic", s.depthTopic);
   r.section("camera", [&](ConfigReader& camera) { readCamera(camera, s.camera); });
   const auto types = sourceTypes();
   if (std::find(types.begin(), types.end(), s.type) == types.end()) {
@@ -229,6 +230,7 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"max_frames", c.source.maxFrames},
             {"depth_scale", c.source.depthScale},
             {"queue_frames", c.source.queueFrames},
+            {"depth_topic", c.source.depthTopic},
             {"camera",
              {{"uri", c.source.camera.uri},
               {"width", c.source.camera.width},

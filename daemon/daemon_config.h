@@ -32,13 +32,15 @@ struct CameraConfig {
 
 struct SourceConfig {
   std::string type = "replay";      // a registered source (daemon/source_registry.cpp)
-  std::string path;                 // replay: sequence directory (TUM layout) or .raw file; required
+  std::string path;                 // replay: sequence directory (TUM layout), .raw or .bag file; push: its
+                                    // socket; required
   std::string pacing = "recorded";  // "recorded": frames at their recorded timestamps; "fast": no waiting
   double speed = 1.0;               // recorded pacing only: playback speed factor
   std::string atEnd = "stop";       // "stop": keep serving the socket; "loop": replay again; "exit": exit 0
   size_t maxFrames = 0;             // frames per pass (0 = all)
   double depthScale = 0.0;          // raw units per metre; 0 = from calibration.json / the format
   size_t queueFrames = 4;           // capacity of the capture -> SLAM queue (frames)
+  std::string depthTopic;           // replay of a ROS bag: its depth image topic; empty = the bag's only one
   CameraConfig camera;              // type "openni2"
 };
 

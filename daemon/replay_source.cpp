@@ -7,9 +7,10 @@ namespace sb::daemon {
 ReplaySource::ReplaySource(const SourceConfig& config)
     : config_(config), loop_(config.atEnd == "loop"), fast_(config.pacing == "fast") {
   if (config_.path.empty())
-    throw ConfigError("source.path is empty: set it to a sequence directory (TUM layout) or a .raw file");
+    throw ConfigError("source.path is empty: set it to a sequence directory (TUM layout), a .raw or a .bag file");
   if (config_.depthScale > 0) options_.depthScale = config_.depthScale;
   options_.maxFrames = config_.maxFrames;
+  options_.depthTopic = config_.depthTopic;
   options_.prefetchThreads = 1;  // decoding must not compete with the SLAM thread for the big cores
   options_.prefetchDepth = 4;
   source_ = open();

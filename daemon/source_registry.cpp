@@ -5,6 +5,7 @@
 #include "core/error.h"
 #include "daemon/openni2_capture.h"
 #include "daemon/pattern_source.h"
+#include "daemon/push_source.h"
 #include "daemon/replay_source.h"
 
 namespace sb::daemon {
@@ -21,6 +22,7 @@ const std::vector<SourceEntry>& registry() {
       {"replay", [](const SourceConfig& c) { return std::make_unique<ReplaySource>(c); }},
       {"openni2", [](const SourceConfig& c) { return std::make_unique<OpenNI2Capture>(c); }},
       {"pattern", [](const SourceConfig& c) { return std::make_unique<PatternSource>(c); }},
+      {"push", [](const SourceConfig& c) { return std::make_unique<PushSource>(c); }},
   };
   return entries;
 }

@@ -50,7 +50,11 @@ ListeningSocket openListeningSocket(const std::string& path, unsigned mode) {
     fcntl(fd, F_SETFD, FD_CLOEXEC);
     return s;
   }
+  return bindListeningSocket(path, mode);
+}
 
+ListeningSocket bindListeningSocket(const std::string& path, unsigned mode) {
+  ListeningSocket s;
   const sockaddr_un addr = unixSocketAddress(path);
   struct stat st {};
   if (lstat(path.c_str(), &st) == 0) {

@@ -23,6 +23,9 @@ struct ListeningSocket {
 // naming the path and what to do.
 ListeningSocket openListeningSocket(const std::string& path, unsigned mode);
 
+// The same without socket activation: always binds `path` (for a second socket, e.g. the push source's).
+ListeningSocket bindListeningSocket(const std::string& path, unsigned mode);
+
 // The client's side (connectUnix) is in the client library, client/connection.h.
 
 }  // namespace sb::daemon

@@ -7,6 +7,7 @@
 #include "core/image.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "drivers/bag_loader.h"
 #include "drivers/prefetch_source.h"
 #include "drivers/raw_reader.h"
 #include "drivers/tum_reader.h"
@@ -40,13 +41,15 @@ std::unique_ptr<FrameSource> openUnbuffered(const std::string& path, const Seque
   if (fs::is_directory(p, ec)) return std::make_unique<TumReader>(path, options);
   if (fs::is_regular_file(p, ec)) {
     if (p.extension() == ".raw") return std::make_unique<RawReader>(path, options);
+    if (p.extension() == ".bag") return openBag(path, options);
     if (p.filename() == "depth.txt") return std::make_unique<TumReader>(p.parent_path().string(), options);
     throw Error("cannot tell the format of '" + path +
-                "': give a TUM-layout directory (with depth.txt) or a SLAMBench file ending in .raw");
+                "': give a TUM-layout directory (with depth.txt), a SLAMBench file ending in .raw or a ROS bag "
+                "ending in .bag");
   }
   // Missing, or a FIFO, socket, device, symlink loop or unreadable path: say which (never opened).
   throw Error("sequence " + quoteForMessage(path) + " " + pathProblem(path) +
-              ": give a TUM-layout directory or a .raw file");
+              ": give a TUM-layout directory, a .raw file or a .bag file");
 }
 
 }  // namespace

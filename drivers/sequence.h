@@ -21,9 +21,11 @@ struct SequenceOptions {
   bool prefetch = true;              // decode ahead on worker threads (drivers/prefetch_source.h)
   size_t prefetchDepth = 8;          // frames decoded ahead
   size_t prefetchThreads = 2;        // decoding threads for TUM-layout sequences (a .raw file uses one)
+  std::string depthTopic;            // ROS bag: the sensor_msgs/Image depth topic; empty = the bag's only one
 };
 
-// Opens `path`: a directory in TUM layout (depth.txt; or the path of its depth.txt) or a `.raw` file; see
+// Opens `path`: a directory in TUM layout (depth.txt; or the path of its depth.txt), a `.raw` file or a ROS
+// `.bag` file (through the bag plugin, drivers/bag_loader.h: only where slambooster-ros is installed); see
 // drivers/tum_reader.h and drivers/raw_reader.h for each format's calibration and defaults. Precedence for
 // intrinsics and depth scale: options > calibration.json > format defaults (a warning lists the defaulted
 // values). Every invalid depth value (0, 65535, calibration.json's `invalid_depth_values`) is returned as 0.

@@ -16,6 +16,12 @@ packages=(
   chromium                                       # report tests: render the HTML run report headless
   munge slurmctld slurmd slurm-client            # tests/tools/test_cluster.sh: the matrix as a Slurm array job
   parallel                                       # the matrix on GNU parallel (scripts/parallel_matrix.sh, its test)
+  # ROS 1 (Debian 12 main), only for the optional ros/ component (slambooster_ros, the bag plugin) and its
+  # tests against a real master; the daemon and the tool build without them. The ROS 2 headers that
+  # rosbag/bag.h includes (pluginlib, class_loader, ...) come as dependencies of librosbag-dev.
+  libroscpp-dev libtf2-ros-dev librosbag-dev     # roscpp, TF broadcaster/listener, the rosbag C++ API
+  libnav-msgs-dev libsensor-msgs-dev libdiagnostic-msgs-dev libstd-msgs-dev  # the message types
+  python3-rosmaster                              # the ROS master (rosmaster --core) the tests start
 )
 
 missing=()

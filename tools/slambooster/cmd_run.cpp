@@ -58,6 +58,7 @@ struct RunOptions {
   bool mesh = false;
   bool quiet = false;
   std::string modelView = "last";  // viewpoint of model.png: "last" camera pose or "overview"
+  std::string depthTopic;          // ROS bag input: the depth image topic (empty: the bag's only one)
 };
 
 std::array<float, 3> parsePosition(const std::string& text) {
@@ -147,6 +148,7 @@ nlohmann::json machineOf(Pipeline& pipeline, const PipelineConfig& config, unsig
 void runCommand(const RunOptions& o) {
   SequenceOptions seqOptions;
   seqOptions.maxFrames = o.frames;
+  seqOptions.depthTopic = o.depthTopic;
   std::unique_ptr<FrameSource> source = openSequence(o.sequence, seqOptions);
   const SequenceInfo info = source->info();
   const RunSetup setup = buildSetup(o, info);
@@ -283,7 +285,11 @@ void runCommand(const RunOptions& o) {
 void addRunCommand(CLI::App& app) {
   auto options = std::make_shared<RunOptions>();
   auto* sub = app.add_subcommand("run", "Replay a sequence through KinectFusion under a controller");
-  sub->add_option("sequence", options->sequence, "Sequence directory (TUM layout) or .raw file")->required();
+  sub->add_option("sequence", options->sequence,
+                  "Sequence directory (TUM layout), .raw file or ROS .bag (needs slambooster-ros)")
+      ->required();
+  sub->add_option("--depth-topic", options->depthTopic,
+                  "ROS bag: the depth sensor_msgs/Image topic (default: the bag's only 16UC1/32FC1 image topic)");
   sub->add_option("--out", options->out, "Output directory")->required();
   sub->add_option("--config", options->configPath, "Pipeline config (JSON)");
   sub->add_option("--knobs", options->knobs, "Knobs, e.g. csr=2,icp=1e-4,pd=8:5:4,tr=1,ir=2 (on top of the preset)");

@@ -1,0 +1,79 @@
+#include "drivers/bag_loader.h"
+
+#include <dlfcn.h>
+
+#include <filesystem>
+#include <mutex>
+#include <vector>
+
+#include "core/error.h"
+#include "drivers/bag_plugin.h"
+
+namespace sb {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct LoadedPlugin {
+  SbOpenBagFn open = nullptr;
+  std::string error;  // why it could not be loaded (then open is null)
+};
+
+bool under(const fs::path& path, const fs::path& dir) {
+  const auto rel = path.lexically_normal().lexically_relative(fs::path(dir).lexically_normal());
+  return !rel.empty() && *rel.begin() != "..";
+}
+
+std::vector<std::string> candidates() {
+  std::vector<std::string> paths;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  // A build tree's executables use the build tree's plugin (never an older installed one).
+  if (!ec && under(exe, SB_BUILD_DIR)) paths.push_back(std::string(SB_BAG_PLUGIN_BUILD_DIR) + "/" + kBagPluginFile);
+  paths.push_back(std::string(SB_BAG_PLUGIN_INSTALL_DIR) + "/" + kBagPluginFile);
+  return paths;
+}
+
+LoadedPlugin load() {
+  LoadedPlugin plugin;
+  std::string tried;
+  for (const auto& path : candidates()) {
+    tried += (tried.empty() ? "" : ", ") + path;
+    std::error_code ec;
+    if (!fs::exists(path, ec)) continue;
+    // Never unloaded: the sources it creates must outlive any caller.
+    void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!handle) {
+      plugin.error = "the bag plugin '" + path + "' does not load: " + dlerror() +
+                     " (are the ROS libraries it was built against installed? scripts/install_deps.sh)";
+      return plugin;
+    }
+    const auto abi = reinterpret_cast<SbBagPluginAbiFn>(dlsym(handle, kBagPluginAbiSymbol));
+    const auto open = reinterpret_cast<SbOpenBagFn>(dlsym(handle, kBagPluginOpenSymbol));
+    if (!abi || !open || abi() != kBagPluginAbi) {
+      plugin.error = "the bag plugin '" + path + "' is of another version than this program (ABI " +
+                     (abi ? std::to_string(abi()) : std::string("unknown")) + ", expected " +
+                     std::to_string(kBagPluginAbi) + "): install matching slambooster and slambooster-ros";
+      return plugin;
+    }
+    plugin.open = open;
+    return plugin;
+  }
+  plugin.error = "reading ROS bag files needs the bag plugin (" + std::string(kBagPluginFile) +
+                 "), which is not installed (looked for " + tried +
+                 "): install the slambooster-ros package, or build with ROS 1 installed (scripts/install_deps.sh)";
+  return plugin;
+}
+
+}  // namespace
+
+std::unique_ptr<FrameSource> openBag(const std::string& path, const SequenceOptions& options) {
+  static std::once_flag once;
+  static LoadedPlugin plugin;
+  std::call_once(once, [] { plugin = load(); });
+  if (!plugin.open) throw Error("opening '" + path + "': " + plugin.error);
+  return std::unique_ptr<FrameSource>(plugin.open(path, options));
+}
+
+}  // namespace sb

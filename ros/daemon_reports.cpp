@@ -1,0 +1,115 @@
+#include "ros/daemon_reports.h"
+
+#include <nlohmann/json.hpp>
+
+#include "core/error.h"
+
+namespace sb::ros_bridge {
+
+namespace {
+
+const nlohmann::json& member(const nlohmann::json& j, const char* cls, const char* key) {
+  const auto it = j.find(key);
+  if (it == j.end()) throw Error(std::string(cls) + " report without '" + key + "': is this a slamboosterd socket?");
+  return *it;
+}
+
+double number(const nlohmann::json& j, const char* cls, const char* key) {
+  const auto& v = member(j, cls, key);
+  if (!v.is_number()) throw Error(std::string(cls) + " report: '" + key + "' is not a number: " + v.dump());
+  return v.get<double>();
+}
+
+bool flag(const nlohmann::json& j, const char* cls, const char* key) {
+  const auto& v = member(j, cls, key);
+  if (!v.is_boolean()) throw Error(std::string(cls) + " report: '" + key + "' is not true/false: " + v.dump());
+  return v.get<bool>();
+}
+
+template <size_t N>
+std::array<double, N> numbers(const nlohmann::json& j, const char* cls, const char* key) {
+  const auto& v = member(j, cls, key);
+  if (!v.is_array() || v.size() != N)
+    throw Error(std::string(cls) + " report: '" + key + "' is not an array of " + std::to_string(N) +
+                " numbers: " + v.dump());
+  std::array<double, N> out{};
+  for (size_t i = 0; i < N; ++i) {
+    if (!v[i].is_number())
+      throw Error(std::string(cls) + " report: '" + key + "' holds a non-number: " + v.dump());
+    out[i] = v[i].get<double>();
+  }
+  return out;
+}
+
+uint64_t frameOf(const nlohmann::json& j, const char* cls) {
+  const auto& v = member(j, cls, "frame");
+  if (!v.is_number_unsigned()) throw Error(std::string(cls) + " report: 'frame' is not a frame number: " + v.dump());
+  return v.get<uint64_t>();
+}
+
+}  // namespace
+
+const char* trackingStateName(TrackingState state) {
+  switch (state) {
+    case TrackingState::good: return "good";
+    case TrackingState::weak: return "weak";
+    case TrackingState::lost: return "lost";
+    case TrackingState::relocalised: return "relocalised";
+  }
+  return "lost";
+}
+
+TrackingState trackingStateOf(const PoseReport& pose) {
+  if (pose.state) {
+    for (auto s : {TrackingState::good, TrackingState::weak, TrackingState::lost, TrackingState::relocalised})
+      if (*pose.state == trackingStateName(s)) return s;
+    return TrackingState::lost;
+  }
+  if (!pose.tracked) return TrackingState::lost;
+  if (pose.corrected || pose.constrained == false) return TrackingState::weak;
+  return TrackingState::good;
+}
+
+PoseReport parsePose(const nlohmann::json& j) {
+  constexpr const char* cls = "POSE";
+  PoseReport p;
+  p.frame = frameOf(j, cls);
+  p.timestamp = number(j, cls, "timestamp");
+  p.position = numbers<3>(j, cls, "position");
+  p.quaternion = numbers<4>(j, cls, "quaternion");
+  p.tracked = flag(j, cls, "tracked");
+  if (j.contains("corrected")) p.corrected = flag(j, cls, "corrected");
+  if (j.contains("velocity")) p.velocity = number(j, cls, "velocity");
+  if (j.contains("constrained")) p.constrained = flag(j, cls, "constrained");
+  if (j.contains("conditioning")) p.conditioning = number(j, cls, "conditioning");
+  if (const auto it = j.find("weakest_motion"); it != j.end() && it->is_string()) p.weakestMotion = *it;
+  if (const auto it = j.find("state"); it != j.end() && it->is_string()) p.state = it->get<std::string>();
+  p.trackingState = trackingStateOf(p);
+  return p;
+}
+
+KnobsReport parseKnobs(const nlohmann::json& j) {
+  constexpr const char* cls = "KNOBS";
+  KnobsReport k;
+  k.frame = frameOf(j, cls);
+  if (const auto it = j.find("controller"); it != j.end() && it->is_string()) k.controller = *it;
+  k.csr = number(j, cls, "csr");
+  k.icp = number(j, cls, "icp");
+  k.pd = numbers<3>(j, cls, "pd");
+  k.tr = number(j, cls, "tr");
+  k.ir = number(j, cls, "ir");
+  if (j.contains("computation_ms")) k.computationMs = number(j, cls, "computation_ms");
+  return k;
+}
+
+EnergyReport parseEnergy(const nlohmann::json& j) {
+  constexpr const char* cls = "ENERGY";
+  EnergyReport e;
+  e.frame = frameOf(j, cls);
+  e.joules = number(j, cls, "joules");
+  if (j.contains("mean_w")) e.meanWatts = number(j, cls, "mean_w");
+  if (const auto it = j.find("meter"); it != j.end() && it->is_string()) e.meter = *it;
+  return e;
+}
+
+}  // namespace sb::ros_bridge

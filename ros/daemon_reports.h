@@ -1,0 +1,59 @@
+#pragma once
+// What the ROS bridge reads from slamboosterd's socket (docs/protocol.md): POSE, KNOBS and ENERGY reports as
+// typed structs. No ROS here, so the parsing is tested on its own. Unknown members are ignored (the protocol's
+// rule); a missing optional member keeps its default.
+
+#include <array>
+#include <nlohmann/json_fwd.hpp>
+#include <optional>
+#include <string>
+
+namespace sb::ros_bridge {
+
+// The tracking state of one frame (DESIGN section 4b).
+enum class TrackingState { good, weak, lost, relocalised };
+
+const char* trackingStateName(TrackingState state);
+
+struct PoseReport {
+  uint64_t frame = 0;
+  double timestamp = 0.0;                 // the frame's capture time, seconds (see docs/protocol.md)
+  std::array<double, 3> position{};       // T_camera_to_world translation, metres
+  std::array<double, 4> quaternion{0, 0, 0, 1};  // [qx, qy, qz, qw]
+  bool tracked = false;
+  bool corrected = false;
+  double velocity = 0.0;                  // metres per frame
+  std::optional<bool> constrained;        // protocol 1.1
+  std::optional<double> conditioning;
+  std::string weakestMotion;              // "tx".."rz", empty when absent
+  std::optional<std::string> state;       // the daemon's own state string when it sends one
+  TrackingState trackingState = TrackingState::lost;  // `state` when known, else derived (trackingStateOf)
+};
+
+struct KnobsReport {
+  uint64_t frame = 0;
+  std::string controller;
+  double csr = 0, icp = 0, tr = 0, ir = 0;
+  std::array<double, 3> pd{};
+  double computationMs = 0.0;
+};
+
+struct EnergyReport {
+  uint64_t frame = 0;
+  double joules = 0.0;
+  double meanWatts = 0.0;
+  std::string meter;
+};
+
+// The state a POSE says: its `state` member when present and known; otherwise derived from the older members:
+// not tracked -> lost; corrected (an extrapolated pose) or constrained == false -> weak; else good. An
+// unknown state string counts as lost: a state this bridge cannot interpret must not look certain.
+TrackingState trackingStateOf(const PoseReport& pose);
+
+// Parse one report. Throws sb::Error naming the class and member when a required member is missing or of
+// the wrong type (a daemon of another major version, or not a daemon).
+PoseReport parsePose(const nlohmann::json& j);
+KnobsReport parseKnobs(const nlohmann::json& j);
+EnergyReport parseEnergy(const nlohmann::json& j);
+
+}  // namespace sb::ros_bridge
