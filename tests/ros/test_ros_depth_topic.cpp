@@ -105,7 +105,9 @@ TEST_CASE("depth from a ROS topic reaches the daemon: same trajectory as the rep
 
   auto daemonArgs = withPipelineConfig(e2e::daemonArgs(socket, tmp.path + "/pushed", "recorded", "stop"), config);
   daemonArgs[2] = push;  // --input: the push source's socket
-  daemonArgs.insert(daemonArgs.end(), {"--set", "source.type=push"});
+  // A push source is live, so its outputs would rotate (frames-000001.jsonl, ...): single files here, to compare
+  // trajectory.tum with the replay's line for line.
+  daemonArgs.insert(daemonArgs.end(), {"--set", "source.type=push", "--set", "output.rotation.mode=never"});
   ChildProcess daemon(daemonArgs, {}, tmp.path + "/daemon.log");
   INFO(daemon.log());
   // The push source waits for the first frame (it sizes the pipeline); the daemon's socket appears after it.

@@ -96,7 +96,9 @@ TEST_CASE("After a kidnap to a place seen before the tracker relocalises; withou
     }
   }
   SECTION("without the relocaliser") {
-    run(seq, dir + "/off", "--controller default --config '{\"relocalise\": false}'");
+    const std::string config = dir + "/relocalise-off.json";
+    std::ofstream(config) << R"({"relocalise": false})";
+    run(seq, dir + "/off", "--controller default --config " + config);
     const States s = states(dir + "/off/frames.jsonl", after.first);
     CHECK(s.relocalised == 0);
     CHECK(s.firstRecovered < 0);  // lost from the kidnap to the end
