@@ -39,7 +39,7 @@ class KeyframeDatabase {
 
   size_t size() const { return keyframes_.size(); }
   size_t capacity() const { return capacity_; }
-  // Bytes held by the keyframes (codes and poses), for the README's bound and STATUS.
+  // Bytes held by the keyframes (codes and poses), for the bound stated in docs/tracking-state.md and STATUS.
   size_t memoryBytes() const;
 
  private:

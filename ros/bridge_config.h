@@ -1,6 +1,6 @@
 #pragma once
 // slambooster_ros's settings: one typed struct (units in the names), read once from the node's private ROS
-// parameters (ros_params.cpp) and validated there. README "With ROS" has the table.
+// parameters (ros_params.cpp) and validated there. docs/ros.md has the table.
 
 #include <string>
 
