@@ -132,11 +132,15 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     setLevel(level_ + 1, "relax (" + std::to_string(config_.relaxFrames) + " frames without doubt)", d);
   }
 
-  // Integration: only frames that bring something new and whose pose is trusted.
+  // Integration: only frames that bring something new and whose pose is trusted. A frame ICP left unconverged at
+  // the finest level is trusted as DEFAULT trusts it: no finer pass can settle it, and left unfused the map stops
+  // following the camera (a sparse corridor seen lengthwise: lost from frame 204 of 300, all tracked by DEFAULT).
   // An unconstrained frame is fused too: its pose can be off only along motions that leave the visible
   // geometry unchanged (sliding along the wall in view), so fusing it does not bend the model.
+  const bool finest = o.knobs == config_.ladder.coupled(0);
   const bool trusted = o.tracked && !corrected &&
                        (doubt.kind == Doubt::none || doubt.kind == Doubt::prediction ||
+                        (doubt.kind == Doubt::notConverged && finest) ||
                         (doubt.kind == Doubt::unconstrained && config_.integrateUnconstrained));
   d.integrate = gate_.decide(corrected ? *d.correctedPose : o.pose, trusted);
   if (!*d.integrate) {

@@ -19,8 +19,9 @@
 //      is learnt from every tracked frame, weakly constrained ones included: forgetting it there was measured
 //      worse (config/README.md, icp_hold_conditioning);
 //   5. fuse a frame only when it brings something new (integration_gate.h); a corrected frame or one doubted
-//      for anything but its view or a confirmed fast motion is never fused, and a frame not fused keeps the
-//      reference maps.
+//      for anything but its view or a confirmed fast motion is never fused (except a frame ICP left unconverged
+//      at the finest level, where no re-track can settle it: fused as DEFAULT fuses it, or the map stops
+//      following the camera), and a frame not fused keeps the reference maps.
 // Every decision is visible per frame: triggers (retrack, doubt, unconstrained, correction, skip_integrate)
 // and a reason whenever the level changes.
 

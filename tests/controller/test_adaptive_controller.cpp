@@ -260,6 +260,35 @@ TEST_CASE("adaptive does not learn a motion that ICP left unconverged or off the
   CHECK_FALSE(c.decide(moving).nextStartPose);
 }
 
+TEST_CASE("adaptive fuses an unconverged frame at the finest level, where no re-track can settle it",
+          "[controller][adaptive]") {
+  // At the finest level a frame that ICP left still moving cannot be re-tracked finer. Left unfused, the map
+  // stops following the camera and the next frames lose it (a sparse corridor seen lengthwise: lost from
+  // frame 204 of 300 while DEFAULT, which fuses such frames, tracked them all). Fused, it is what DEFAULT does;
+  // its motion is still not learnt (no runaway prior). A coarser level re-tracks instead.
+  const char* cfg = R"({"bootstrap_frames": 0, "max_level": 0, "integrate_translation_m": 0,
+      "integrate_rotation_deg": 0, "integrate_max_gap_frames": 1})";
+  AdaptiveController c("adaptive", config(cfg));
+  Driver drive(c);
+  for (int i = 0; i < 4; ++i) drive.step(moveX(0.0));
+  Observation moving = drive.observe(moveX(0.03));
+  moving.icpLevelIterations = {moving.knobs.pyramidIterations[0], 1, 1};
+  moving.icpUpdateNorm = 0.02;
+  const Decision d = c.decide(moving);
+  REQUIRE_FALSE(d.retrack);
+  REQUIRE(d.integrate);
+  CHECK(*d.integrate);
+  CHECK_FALSE(d.nextStartPose);
+  // The same frame at a coarser level is re-tracked finer, not fused as it is.
+  AdaptiveController coarse("adaptive", config(R"({"bootstrap_frames": 0, "initial_level": 2})"));
+  Driver other(coarse);
+  for (int i = 0; i < 4; ++i) other.step(moveX(0.0));
+  Observation unsettled = other.observe(moveX(0.03));
+  unsettled.icpLevelIterations = {unsettled.knobs.pyramidIterations[0], 1, 1};
+  unsettled.icpUpdateNorm = 0.02;
+  CHECK(coarse.decide(unsettled).retrack);
+}
+
 TEST_CASE("adaptive asks ICP to hold free motions only when configured", "[controller][adaptive]") {
   AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0})"));
   Driver drive(off);
