@@ -4,7 +4,8 @@
 // integration and raycast), a half-precision wish, and the triggers that fired (for the log).
 //
 // Lifecycle: create through the registry (controller/registry.h), ask initialKnobs() for frame 0, then call
-// decide() once per frame in order. A controller keeps whatever history it needs itself; it is not
+// decide() once per frame in order, twice on a frame the controller asked to re-track (the second call
+// carries the second pass's observation, retracked = true). A controller keeps whatever history it needs itself; it is not
 // thread-safe (one SLAM thread owns it).
 
 #include <Eigen/Geometry>

@@ -2,7 +2,7 @@
 // Creating controllers by name (architecture.md D4). Names and what they are: `controllerNames()` and
 // `slambooster run --help`. The config's controller section (config/controller.json) is either a name or
 // {"name": NAME, "<section>": {...}, ...} with one parameter object per controller family ("fixed",
-// "slambooster", "step", "tc", "offline", "budget"). Parsing validates every section present, so an error
+// "slambooster", "adaptive", "step", "tc", "offline", "budget"). Parsing validates every section present, so an error
 // in a section not selected is still reported at start-up, and a later switch by name (socket, SIGHUP) can
 // not fail on bad parameters.
 

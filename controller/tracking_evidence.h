@@ -24,8 +24,10 @@ struct EvidenceParams {
   int inlierWindowFrames = 15;           // frames of the inlier median
   double predictionTranslationM = 0.03;  // m: tracked vs predicted translation per frame
   double predictionRotationDeg = 3.0;    // degrees: tracked vs predicted rotation per frame
-  // Conditioning (pipeline/tracking_quality.h) below which the view is doubted as weakly constrained. The
-  // default is the pipeline's flag (a single plane). Raising it (e.g. 0.002) also doubts views that only a
+  // Conditioning (pipeline/tracking_quality.h) below which the view is doubted as weakly constrained, read on
+  // the per-pixel ICP conditioning (TrackingQuality::icpConditioning), not on the structure conditioning that
+  // sets the pipeline's `constrained` flag (PipelineConfig::constrainedMinConditioning, 0.0003): the default
+  // doubts a single plane, whose per-pixel value sits at the noise floor. Raising it (e.g. 0.002) also doubts views that only a
   // sliver of structure at the image edge constrains, which a coarse compute size loses first: measured on
   // stress-corridor 225 -> 82 cm ATE (still lost, like every controller there), on synth-office-traj0
   // 5.5 -> 9.5 ms/frame. 0 = never.

@@ -183,14 +183,6 @@ void writePng16(const std::string& path, const Image<uint16_t>& image) {
   writePngRows(path, image.width(), image.height(), 16, PNG_COLOR_TYPE_GRAY, rows, hostIsLittleEndian());
 }
 
-void writePngRgb(const std::string& path, const Image<Rgb8>& image) {
-  static_assert(sizeof(Rgb8) == 3, "Rgb8 must be packed");
-  std::vector<png_bytep> rows(image.height());
-  for (int y = 0; y < image.height(); ++y)
-    rows[y] = reinterpret_cast<png_bytep>(const_cast<Rgb8*>(&image(0, y)));
-  writePngRows(path, image.width(), image.height(), 8, PNG_COLOR_TYPE_RGB, rows, false);
-}
-
 void writePng8(const std::string& path, const Image<uint8_t>& image) {
   std::vector<png_bytep> rows(image.height());
   for (int y = 0; y < image.height(); ++y) rows[y] = const_cast<png_bytep>(&image(0, y));

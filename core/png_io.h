@@ -19,9 +19,6 @@ struct Rgb8 {
   uint8_t r = 0, g = 0, b = 0;
 };
 
-// Writes an 8-bit RGB PNG. Throws sb::Error on failure.
-void writePngRgb(const std::string& path, const Image<Rgb8>& image);
-
 // Writes an 8-bit grayscale PNG. Throws sb::Error on failure.
 void writePng8(const std::string& path, const Image<uint8_t>& image);
 

@@ -55,7 +55,6 @@ class Client {
   // Writes as much queued output as the socket takes. False when the peer is gone.
   bool flush();
   bool hasPendingOutput() const { return !queue_.empty(); }
-  size_t queuedBytes() const { return queuedBytes_; }
   uint64_t dropped() const { return dropped_; }
   // Since when messages are being dropped without the client draining its queue (nullopt: not stalled).
   std::optional<SteadyClock::time_point> stalledSince() const { return stalledSince_; }

@@ -37,14 +37,6 @@ std::unique_ptr<ComputeBackend> openclBackend(const PipelineConfig& config, cons
 
 }  // namespace
 
-bool openclCompiledIn() {
-#ifdef SB_HAVE_OPENCL
-  return true;
-#else
-  return false;
-#endif
-}
-
 std::unique_ptr<ComputeBackend> makeBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool) {
   validateConfig(config);
   if (config.backend == BackendKind::cpu) return std::make_unique<CpuBackend>(config, fullSize, pool);

@@ -17,7 +17,4 @@ namespace sb {
 // backend cannot start, the CPU backend after one warning (spdlog) that says why.
 std::unique_ptr<ComputeBackend> makeBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool);
 
-// True when this build has the OpenCL backend (the OpenCL headers and ICD loader were found).
-bool openclCompiledIn();
-
 }  // namespace sb

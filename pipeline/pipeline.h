@@ -119,7 +119,6 @@ class Pipeline {
   const Eigen::Isometry3d& pose() const { return pose_; }
   const Eigen::Isometry3d& initialPose() const { return initialPose_; }
   const PipelineConfig& config() const { return config_; }
-  size_t framesProcessed() const { return frameCount_; }
 
   // A shaded image of the model seen from the current pose at full size / csr (raycast + render).
   Image<uint8_t> renderModel(int csr = 1);

@@ -36,16 +36,6 @@ void validateHost(const PowerConfig& c, const std::string& where) {
 
 }  // namespace
 
-void validatePowerConfig(const PowerConfig& c, const std::string& where) {
-  validateHost(c, where);
-  for (const MeterType& type : meterTypes()) {
-    if (!type.readSettings) continue;
-    ConfigReader r(sectionOf(c, type), where, type.name);
-    type.readSettings(r, c.meter == type.name);
-    r.finish();
-  }
-}
-
 PowerConfig parsePowerConfig(const json& j, const PowerConfig& base, const std::string& where) {
   PowerConfig c = base;
   ConfigReader top(j, where);

@@ -36,9 +36,6 @@ PowerConfig parsePowerConfig(const nlohmann::json& j, const PowerConfig& base = 
 // Reads a JSON file (see parsePowerConfig); I/O and syntax errors name the file.
 PowerConfig loadPowerConfig(const std::string& path, const PowerConfig& base = {});
 
-// Throws sb::Error for values out of range (used by parsePowerConfig; call it after building a config in code).
-void validatePowerConfig(const PowerConfig& config, const std::string& where = "power config");
-
 // The whole config as JSON (the keys parsePowerConfig reads, every meter's section complete).
 nlohmann::json powerConfigToJson(const PowerConfig& config);
 

@@ -23,8 +23,8 @@ namespace sb {
 
 class CpuBackend : public ComputeBackend {
  public:
-  // log2 of the side (voxels) of the empty-space skipping blocks (kernels/raycast.h, SB_SKIP_SHIFT).
   static constexpr int kRowsPerChunk = 8;  // image rows per parallel chunk (fixed: determinism)
+  // log2 of the side (voxels) of the empty-space skipping blocks (kernels/raycast.h, SB_SKIP_SHIFT).
   static constexpr int kSkipShift = SB_SKIP_SHIFT;
 
   // `fullSize`: intrinsics of the sensor image. `pool` is borrowed and must outlive the backend.
