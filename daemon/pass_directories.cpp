@@ -34,9 +34,10 @@ PassDirectories::PassDirectories(std::string outputDir, std::shared_ptr<SegmentS
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(outputDir_, ec)) {
     const uint64_t n = passNumber(entry.path().filename().string());
-    if (n == 0 || !entry.is_directory(ec)) continue;
-    last_ = std::max(last_, n);
-    if (store_) store_->addClosedDirectory(entry.path().string(), modifiedNs(entry.path().string()));
+    if (n == 0) continue;
+    last_ = std::max(last_, n);  // a file of that name too: the next pass takes another
+    if (store_ && entry.is_directory(ec))
+      store_->addClosedDirectory(entry.path().string(), modifiedNs(entry.path().string()));
   }
 }
 
