@@ -2,8 +2,8 @@
 // An output file of whole lines that survives crashes and full disks in a known state: each append() is one
 // write(2) straight to the file (no user-space buffer), so a killed process leaves every line it finished
 // and none in part; a failed or short write (disk full, I/O error) is cut back to the last whole line and
-// throws sb::Error naming the file (sb::DiskFullError when the disk is full), so the file stays a line-complete
-// prefix of the run.
+// throws sb::Error naming the file (sb::DiskFullError when the disk is full), so the file stays a
+// line-complete prefix of the run.
 
 #include <sys/types.h>
 
