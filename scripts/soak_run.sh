@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Soak test of `slambooster run` (issue 34; docs/running-for-weeks.md): the same 32x24 synthetic room corner
 # as the daemon's test-pattern source (scripts/soak_daemon.sh), written as a SLAMBench .raw file of N frames
-# (1552 bytes a frame, no RGB), replayed as fast as one thread goes, with the process's RSS sampled every
+# (1552 bytes a frame at 32x24, no RGB), replayed as fast as one thread goes, with the process's RSS sampled every
 # INTERVAL seconds. One CSV line per sample:
 #   t_s,frames,rss_kib
 # and at the end it checks: RSS at the last sample in the frame loop (the frame count still moving) within
@@ -15,11 +15,14 @@
 #     --warmup S         seconds before the reference RSS (default 60)
 #     --interval S       seconds between samples (default 5)
 #     --rss-slack-kib K  allowed RSS growth after the warm-up (default 5120)
+#     --size WxH         frame size (default 32x24; as scripts/soak_daemon.sh says, frames of that size are lost)
+#     --pipeline JSON    the pipeline config (default {"volume_resolution": 32, "knobs": "csr=1,ir=30"})
 #     --out DIR          keep the input, the outputs and the log there (default: a temporary directory, removed)
 # Exits 1 when a check fails, 2 on bad use.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-build="$root/build" frames=1000000 warmup=60 interval=5 rss_slack_kib=5120 out=""
+build="$root/build" frames=1000000 warmup=60 interval=5 rss_slack_kib=5120 out="" size=32x24
+pipeline='{"volume_resolution": 32, "knobs": "csr=1,ir=30"}'
 while [ $# -gt 0 ]; do
   case $1 in
     --build) build=$2; shift 2 ;;
@@ -28,6 +31,8 @@ while [ $# -gt 0 ]; do
     --interval) interval=$2; shift 2 ;;
     --rss-slack-kib) rss_slack_kib=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
+    --size) size=$2; shift 2 ;;
+    --pipeline) pipeline=$2; shift 2 ;;
     *) echo "soak_run: unknown option $1 (see the comment at the top of $0)" >&2; exit 2 ;;
   esac
 done
@@ -45,10 +50,10 @@ trap cleanup EXIT
 
 # The room of daemon/pattern_source.cpp: fx = fy = 0.8 x width, depth in millimetres, the same frame N times.
 raw="$out/room.raw"
-python3 - "$raw" "$frames" <<'PY'
+python3 - "$raw" "$frames" "${size%x*}" "${size#*x}" <<'PY'
 import struct, sys
 path, n = sys.argv[1], int(sys.argv[2])
-w, h = 32, 24
+w, h = int(sys.argv[3]), int(sys.argv[4])
 f = 0.8 * w
 cx, cy = 0.5 * (w - 1), 0.5 * (h - 1)
 def depth(x, y):
@@ -68,9 +73,7 @@ with open(path + '.json', 'w') as out:
     out.write('{"width": %d, "height": %d, "fx": %g, "fy": %g, "cx": %g, "cy": %g, "depth_scale": 1000}\n'
               % (w, h, f, f, cx, cy))
 PY
-cat > "$out/pipeline.json" <<JSON
-{"volume_resolution": 32, "knobs": "csr=1,ir=30"}
-JSON
+echo "$pipeline" > "$out/pipeline.json"
 
 log="$out/run.log"
 "$tool" run "$raw" --out "$out/outputs" --config "$out/pipeline.json" --threads 1 --quiet >"$log" 2>&1 &
