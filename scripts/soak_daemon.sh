@@ -24,8 +24,8 @@
 #     --size WxH         the test pattern's frame size (default 32x24: every frame after the first four is lost,
 #                        the tracker cannot hold a 32^3 volume at that size; 64x48 with --pipeline below tracks)
 #     --pipeline JSON    the pipeline config (default {"volume_resolution": 32, "knobs": "csr=1,ir=30"}; one
-#                        that tracks every frame at 64x48: {"volume_resolution": 64, "mu_m": 0.3,
-#                        "knobs": "csr=1,ir=4"})
+#                        that tracks at 64x48, for the first 16,370 frames (then the pose of the weak view
+#                        has slid too far): {"volume_resolution": 64, "mu_m": 0.3, "knobs": "csr=1,ir=4"})
 #     --out DIR          keep the outputs and the log there (default: a temporary directory, removed)
 # Exits 1 when a check fails, 2 on bad use, 77 (a skip for ctest) when --tmpfs-mib cannot mount a tmpfs here.
 set -euo pipefail
