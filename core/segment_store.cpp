@@ -5,6 +5,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "core/disk_full.h"
 #include "core/error.h"
 
 namespace sb {
@@ -49,6 +50,37 @@ void SegmentStore::addClosed(const std::string& path, uint64_t bytes, int64_t or
   enforce();
 }
 
+void SegmentStore::addClosedDirectory(const std::string& dir, int64_t order) {
+  namespace fs = std::filesystem;
+  const std::string root = fs::path(dir).lexically_normal().string();
+  uint64_t bytes = 0;
+  std::error_code ec;
+  for (auto it = fs::recursive_directory_iterator(root, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
+    std::error_code sizeError;
+    if (it->is_regular_file(sizeError)) {
+      const uintmax_t size = it->file_size(sizeError);
+      if (!sizeError) bytes += size;
+    }
+  }
+  {
+    std::lock_guard lock(mutex_);
+    const std::string prefix = root + "/";
+    for (auto it = closed_.begin(); it != closed_.end();) {
+      const std::string path = fs::path(it->second.first).lexically_normal().string();
+      if (path.compare(0, prefix.size(), prefix) == 0) {
+        closedBytes_ -= it->second.second;
+        it = closed_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    closed_.emplace(order, std::make_pair(root, bytes));
+    closedBytes_ += bytes;
+  }
+  enforce();
+}
+
 void SegmentStore::setCurrent(const void* writer, uint64_t bytes) {
   std::lock_guard lock(mutex_);
   current_[writer] = bytes;
@@ -75,8 +107,8 @@ bool SegmentStore::removeOldestLocked() {
   if (closed_.empty()) return false;
   const auto oldest = closed_.begin();
   std::error_code ec;
-  std::filesystem::remove(oldest->second.first,
-                          ec);  // already gone (removed by hand): forget it all the same
+  // A segment file or a closed directory; already gone (removed by hand): forget it all the same.
+  std::filesystem::remove_all(oldest->second.first, ec);
   closedBytes_ -= oldest->second.second;
   removedBytes_ += oldest->second.second;
   ++removedSegments_;
@@ -87,6 +119,17 @@ bool SegmentStore::removeOldestLocked() {
 bool SegmentStore::removeOldest() {
   std::lock_guard lock(mutex_);
   return removeOldestLocked();
+}
+
+void SegmentStore::writeMakingRoom(const std::function<void()>& write) {
+  while (true) {
+    try {
+      write();
+      return;
+    } catch (const DiskFullError&) {
+      if (!removeOldest()) throw;
+    }
+  }
 }
 
 void SegmentStore::enforce() {

@@ -4,6 +4,8 @@
 // byte or count limit, or the file system's free space falls below its floor, the oldest closed segments are
 // removed first, across all streams (so every stream keeps about the same span of time). A full disk is
 // handled the same way: a write that fails with ENOSPC removes the oldest segment and tries again.
+// A closed unit may also be a whole directory (a looping replay's pass directory, daemon/pass_directories.h):
+// it counts once, with every file under it, and is removed whole.
 //
 // Shared by the threads that write rotating files (the SLAM thread, the power sampler) and read for STATUS
 // (the event loop): every method is thread-safe.
@@ -16,11 +18,18 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <ctime>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
 
 namespace sb {
+
+static_assert(
+    sizeof(time_t) == 8,
+    "time_t is 32 bits: file times (the age order of segments) end in 2038; build with -D_TIME_BITS=64 "
+    "(the top-level CMakeLists.txt sets it on 32-bit targets)");
 
 // How long rotated outputs live. Sizes in bytes, times in seconds; 0 turns a limit off where it says so.
 struct RetentionLimits {
@@ -55,6 +64,9 @@ class SegmentStore {
 
   // A closed segment (written to its end); `order` sorts segments from oldest (smallest) to newest.
   void addClosed(const std::string& path, uint64_t bytes, int64_t order);
+  // A closed directory (every file under it written): one unit of retention, with the bytes of every file
+  // under it, removed whole. The closed segments already added from inside it become part of it.
+  void addClosedDirectory(const std::string& dir, int64_t order);
   // The current size of the segment a writer has open (`writer`: any id unique to it, e.g. its address).
   void setCurrent(const void* writer, uint64_t bytes);
   void dropCurrent(const void* writer);
@@ -63,6 +75,10 @@ class SegmentStore {
   void enforce();
   // Removes the oldest closed segment (a write failed for lack of space); false when there is none.
   bool removeOldest();
+  // Calls `write`, and again after removing the oldest closed segment for as long as it throws
+  // sb::DiskFullError (core/disk_full.h) and a segment is left; then the error goes to the caller. For the
+  // outputs that do not rotate but must go on when the disk fills (summary.json, rewritten every frame).
+  void writeMakingRoom(const std::function<void()>& write);
   SegmentUsage usage() const;
   // A number that orders segments closed now after every earlier one (nanoseconds of the wall clock).
   static int64_t nowOrder();

@@ -72,12 +72,13 @@ std::optional<power::PowerConfig> loadPowerSettings(const PowerRefConfig& power)
   }
 }
 
-// STATUS "disk": the outputs' bytes on disk and the file system's free space. With rotation the segment store
-// counts every segment under output.dir; without it the files of the current pass's directory are summed.
-nlohmann::json diskStatus(const SegmentStore* segments, const std::string& dir) {
-  if (segments) {
-    const SegmentUsage u = segments->usage();
-    return {{"rotation", true},           {"bytes", u.bytes},       {"free_bytes", u.freeBytes},
+// STATUS "disk": the outputs' bytes on disk and the file system's free space. With a retention store
+// (rotation, or a looping replay) the store counts every segment and ended pass directory under output.dir;
+// without one the files of the current pass's directory are summed.
+nlohmann::json diskStatus(const SegmentStore* retention, bool rotating, const std::string& dir) {
+  if (retention) {
+    const SegmentUsage u = retention->usage();
+    return {{"rotation", rotating},       {"bytes", u.bytes},       {"free_bytes", u.freeBytes},
             {"limit_bytes", u.keepBytes}, {"segments", u.segments}, {"removed_segments", u.removedSegments}};
   }
   uint64_t bytes = 0;
@@ -102,6 +103,7 @@ struct Daemon::Parts {
   ListeningSocket listener;
   std::unique_ptr<SocketServer> server;
   std::shared_ptr<SegmentStore> segments;        // rotation and retention of the outputs (nullptr: none)
+  std::shared_ptr<SegmentStore> retention;       // `segments`, or the pass directories' of a looping replay
   std::unique_ptr<power::PowerSampler> sampler;  // before the worker: destroyed after it
   std::string meterError;                        // why the configured meter is not in use
   std::unique_ptr<SlamWorker> worker;
@@ -177,15 +179,29 @@ int Daemon::run() {
   } catch (const Error& e) {
     throw ConfigError(e.what());  // the pipeline config file or the controller settings
   }
-  if (rotates(config_.output.rotation, p.source->live())) {
+  // Retention: of the rotated outputs, and of the pass directories of a looping replay (one store for both).
+  const bool rotating = rotates(config_.output.rotation, p.source->live());
+  const bool looping = config_.source.atEnd == "loop";
+  if (rotating || looping) {
     std::error_code ec;
     std::filesystem::create_directories(config_.output.dir, ec);  // a failure is reported by the first output
-    p.segments = std::make_shared<SegmentStore>(config_.output.dir, retentionLimits(config_.output.rotation));
-    p.worker->setSegments(p.segments);
-    const RetentionLimits& l = p.segments->limits();
-    spdlog::info("outputs rotated in {}: segments of {} MiB or {} s, {} MiB kept, {} MiB left free",
-                 config_.output.dir, l.segmentBytes >> 20, l.segmentSeconds, l.keepBytes >> 20,
-                 l.minFreeBytes >> 20);
+    p.retention =
+        std::make_shared<SegmentStore>(config_.output.dir, retentionLimits(config_.output.rotation));
+    const RetentionLimits& l = p.retention->limits();
+    if (rotating) {
+      p.segments = p.retention;
+      p.worker->setSegments(p.segments);
+      spdlog::info("outputs rotated in {}: segments of {} MiB or {} s, {} MiB kept, {} MiB left free",
+                   config_.output.dir, l.segmentBytes >> 20, l.segmentSeconds, l.keepBytes >> 20,
+                   l.minFreeBytes >> 20);
+    }
+    if (looping) {
+      p.worker->setPassRetention(p.retention);
+      spdlog::info("pass directories in {}: the oldest removed past {} MiB{}, or with less than {} MiB free",
+                   config_.output.dir, l.keepBytes >> 20,
+                   l.keepSegments ? " or " + std::to_string(l.keepSegments) + " kept" : std::string(),
+                   l.minFreeBytes >> 20);
+    }
   }
   startPower();
   p.listener = openListeningSocket(config_.socket.path, config_.socket.mode);
@@ -388,7 +404,8 @@ nlohmann::json Daemon::status() {
   }
   if (!s.error.empty()) j["error"] = s.error;
   if (!p.meterError.empty()) j["meter_error"] = p.meterError;
-  j["disk"] = diskStatus(p.segments.get(), s.outputDir.empty() ? config_.output.dir : s.outputDir);
+  j["disk"] = diskStatus(p.retention.get(), p.segments != nullptr,
+                         s.outputDir.empty() ? config_.output.dir : s.outputDir);
   if (p.sampler) {
     const power::MeterStatus m = p.sampler->meterStatus();
     nlohmann::json energy = power::energyTotalsJson(p.sampler->totals(), {});

@@ -3,15 +3,14 @@
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Geometry>
-#include <cstdio>
 #include <deque>
-#include <filesystem>
 #include <optional>
 
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/thread_pool.h"
 #include "daemon/cpu_affinity.h"
+#include "daemon/pass_directories.h"
 #include "pipeline/pipeline.h"
 #include "runtime/energy_account.h"
 #include "runtime/run.h"
@@ -155,6 +154,8 @@ void SlamWorker::runPasses() {
   ThreadPool pool(stats().threads);
   std::unique_ptr<Run> run;  // of the pass
   const bool loop = config_.source.atEnd == "loop";
+  std::optional<PassDirectories> passDirs;  // pass-NNNN under output.dir, within the retention limits
+  if (loop) passDirs.emplace(config_.output.dir, passRetention_);
   uint32_t pass = 0;
   std::deque<Clock::time_point> recent;
   double computationSum = 0.0;
@@ -182,15 +183,12 @@ void SlamWorker::runPasses() {
     spdlog::info("pass {}: {} frames; outputs in {}", pass, run->runner().frames(), run->dir());
   };
   const auto startPass = [&] {
+    const std::string ended = run ? run->dir() : std::string();
     finishPass(false);
-    run.reset();
+    run.reset();  // closes its files
+    if (passDirs && !ended.empty()) passDirs->close(ended);
     ++pass;
-    std::string dir = config_.output.dir;
-    if (loop) {
-      char name[32];
-      std::snprintf(name, sizeof name, "pass-%04u", pass);
-      dir = (std::filesystem::path(dir) / name).string();
-    }
+    const std::string dir = passDirs ? passDirs->next() : config_.output.dir;
     ControllerSettings settings;
     {
       std::lock_guard lock(mutex_);

@@ -78,6 +78,9 @@ class SlamWorker {
   // Before start(): rotate every pass's per-frame outputs into `segments` (shared with the daemon, which
   // reports its usage in STATUS); nullptr (the default): one file each.
   void setSegments(std::shared_ptr<SegmentStore> segments) { segments_ = std::move(segments); }
+  // Before start(), with source.at_end "loop": the retention that each ended pass's directory joins
+  // (daemon/pass_directories.h), so that the passes of a replay looping for weeks never fill the disk.
+  void setPassRetention(std::shared_ptr<SegmentStore> retention) { passRetention_ = std::move(retention); }
 
   void start();
   void requestStop() { stop_ = true; }
@@ -104,6 +107,7 @@ class SlamWorker {
   power::PowerSampler* sampler_ = nullptr;
   EnergyPublish publishEnergy_;
   std::shared_ptr<SegmentStore> segments_;
+  std::shared_ptr<SegmentStore> passRetention_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 

@@ -6,7 +6,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "core/error.h"
+#include "core/disk_full.h"
 
 namespace sb {
 
@@ -28,8 +28,10 @@ void LineFile::append(std::string_view lines) {
     if (n <= 0) {
       const int error = n < 0 ? errno : ENOSPC;
       (void)!::ftruncate(fd_.get(), size_);  // drop the part line: the file stays whole lines
-      throw Error("writing " + what_ + " '" + path_ + "' failed: " + std::strerror(error) +
-                  "; the file keeps the lines before it (free disk space and run again)");
+      const std::string message = "writing " + what_ + " '" + path_ + "' failed: " + std::strerror(error) +
+                                  "; the file keeps the lines before it (free disk space and run again)";
+      if (error == ENOSPC || error == EDQUOT) throw DiskFullError(message);
+      throw Error(message);
     }
     done += static_cast<size_t>(n);
   }

@@ -2,7 +2,8 @@
 // An output file of whole lines that survives crashes and full disks in a known state: each append() is one
 // write(2) straight to the file (no user-space buffer), so a killed process leaves every line it finished
 // and none in part; a failed or short write (disk full, I/O error) is cut back to the last whole line and
-// throws sb::Error naming the file, so the file stays a line-complete prefix of the run.
+// throws sb::Error naming the file (sb::DiskFullError when the disk is full), so the file stays a
+// line-complete prefix of the run.
 
 #include <sys/types.h>
 
@@ -17,7 +18,8 @@ class LineFile {
  public:
   // Creates (truncates) `path`. `what` names the file in errors ("trajectory", "per-frame log").
   LineFile(const std::string& path, std::string what);
-  // Appends `lines` (one or more, each ending in '\n') with one write. Throws sb::Error on failure.
+  // Appends `lines` (one or more, each ending in '\n') with one write. Throws sb::DiskFullError when the
+  // disk is full, sb::Error on any other failure.
   void append(std::string_view lines);
   const std::string& path() const { return path_; }
 

@@ -18,8 +18,8 @@ StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir,
   o.trajectory =
       static_cast<TrajectorySink*>(&runner.addSink(std::make_unique<TrajectorySink>(dir, comment, segments)));
   o.frameLog = static_cast<FrameLogSink*>(&runner.addSink(std::make_unique<FrameLogSink>(dir, segments)));
-  o.summary = static_cast<SummarySink*>(
-      &runner.addSink(std::make_unique<SummarySink>((out / "summary.json").string(), groundTruthPath, extra)));
+  o.summary = static_cast<SummarySink*>(&runner.addSink(
+      std::make_unique<SummarySink>((out / "summary.json").string(), groundTruthPath, extra, segments)));
   o.summary->setTrajectorySource([trajectory = o.trajectory] { return trajectory->readBack(); });
   return o;
 }

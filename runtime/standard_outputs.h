@@ -1,6 +1,7 @@
 #pragma once
 // The standard outputs of a run in one directory: trajectory.tum, frames.jsonl and summary.json; with a
-// segment store the first two are rotated (core/rotating_file.h) and summary.json stays one file.
+// segment store the first two are rotated (core/rotating_file.h) and summary.json stays one file, whose
+// rewrite on a full disk removes the oldest segments as theirs do.
 
 #include <memory>
 #include <nlohmann/json.hpp>

@@ -102,8 +102,12 @@ nlohmann::json machineJson(unsigned threadsUsed, const std::string& backend, con
           {"device", device}};
 }
 
-SummarySink::SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra)
-    : path_(path), groundTruthPath_(groundTruthPath), extra_(std::move(extra)) {
+SummarySink::SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra,
+                         std::shared_ptr<SegmentStore> segments)
+    : path_(path),
+      groundTruthPath_(groundTruthPath),
+      segments_(std::move(segments)),
+      extra_(std::move(extra)) {
   if (!extra_.is_object()) extra_ = nlohmann::json::object();
 }
 
@@ -137,11 +141,21 @@ void SummarySink::flush() {
 void SummarySink::write(const nlohmann::json& summary) const {
   // Whole or not at all: a temporary file renamed over the old one (which stays as it was on failure).
   const std::string tmp = path_ + ".tmp";
+  const std::string text = summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  const auto writeTemporary = [&] {
+    try {
+      LineFile(tmp, "summary").append(text);
+    } catch (...) {
+      std::remove(tmp.c_str());
+      throw;
+    }
+  };
   try {
-    LineFile(tmp, "summary")
-        .append(summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+    if (segments_)
+      segments_->writeMakingRoom(writeTemporary);  // a full disk: the oldest segments go, as for the others
+    else
+      writeTemporary();
   } catch (const Error& e) {
-    std::remove(tmp.c_str());
     throw Error(std::string(e.what()) + "; '" + path_ + "' keeps the previous summary");
   }
   if (std::rename(tmp.c_str(), path_.c_str()) != 0) throw Error("cannot rename '" + tmp + "' to '" + path_ + "'");

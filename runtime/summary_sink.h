@@ -4,15 +4,18 @@
 // sequence's ground truth when it has one (the trajectory read back from its file at each flush: memory does
 // not grow with the run). Rewritten atomically (temporary file + rename) after every frame
 // (without the ATE) and on every flush (with it), so a reader never sees half a file and a killed run keeps
-// a summary of every frame but at most the one in hand.
+// a summary of every frame but at most the one in hand. With the segment store of rotated outputs, a rewrite
+// that fails because the disk is full removes the oldest segment and writes again (the service goes on).
 
 #include <array>
 #include <functional>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
+#include "core/segment_store.h"
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
 #include "runtime/output_sink.h"
@@ -54,8 +57,10 @@ std::string cpuModel();
 class SummarySink final : public OutputSink {
  public:
   // `groundTruthPath`: TUM trajectory to compute the ATE against ("" = none). `extra` keys are written as
-  // they are (sequence, config, ...); setExtra() may change them later.
-  SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra);
+  // they are (sequence, config, ...); setExtra() may change them later. `segments`: the retention that makes
+  // room on a full disk (nullptr: a full disk fails the write).
+  SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra,
+              std::shared_ptr<SegmentStore> segments = nullptr);
   void onFrame(const FrameRecord& record) override;
   void flush() override;
 
@@ -73,6 +78,7 @@ class SummarySink final : public OutputSink {
 
   std::string path_;
   std::string groundTruthPath_;
+  std::shared_ptr<SegmentStore> segments_;
   std::optional<Trajectory> groundTruth_;
   nlohmann::json extra_;
   RunStats stats_;

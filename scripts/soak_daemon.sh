@@ -21,12 +21,18 @@
 #     --fill-after S     with --tmpfs-mib: after S seconds another file takes all the free space left (the disk
 #                        fills from elsewhere): writes fail with ENOSPC, and the oldest segments must go
 #     --rss-slack-kib K  allowed RSS growth after the warm-up (default 5120)
+#     --size WxH         the test pattern's frame size (default 32x24: every frame after the first four is lost,
+#                        the tracker cannot hold a 32^3 volume at that size; 64x48 with --pipeline below tracks)
+#     --pipeline JSON    the pipeline config (default {"volume_resolution": 32, "knobs": "csr=1,ir=30"}; one
+#                        that tracks at 64x48, for the first 16,370 frames (then the pose of the weak view
+#                        has slid too far): {"volume_resolution": 64, "mu_m": 0.3, "knobs": "csr=1,ir=4"})
 #     --out DIR          keep the outputs and the log there (default: a temporary directory, removed)
 # Exits 1 when a check fails, 2 on bad use, 77 (a skip for ctest) when --tmpfs-mib cannot mount a tmpfs here.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build="$root/build" frames=1000000 seconds=1800 warmup="" interval=5 segment_mib=1 keep_mib=16 min_free_mib=1
-tmpfs_mib="" fill_after="" rss_slack_kib=5120 out="" in_ns=0
+tmpfs_mib="" fill_after="" rss_slack_kib=5120 out="" in_ns=0 size=32x24
+pipeline='{"volume_resolution": 32, "knobs": "csr=1,ir=30"}'
 args=("$@")
 while [ $# -gt 0 ]; do
   case $1 in
@@ -42,6 +48,8 @@ while [ $# -gt 0 ]; do
     --rss-slack-kib) rss_slack_kib=$2; shift 2 ;;
     --fill-after) fill_after=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
+    --size) size=$2; shift 2 ;;
+    --pipeline) pipeline=$2; shift 2 ;;
     --in-namespace) in_ns=1; shift ;;
     *) echo "soak_daemon: unknown option $1 (see the comment at the top of $0)" >&2; exit 2 ;;
   esac
@@ -78,12 +86,10 @@ cleanup() {
 }
 trap cleanup EXIT
 
-cat > "$out/pipeline.json" <<JSON
-{"volume_resolution": 32, "knobs": "csr=1,ir=30"}
-JSON
+echo "$pipeline" > "$out/pipeline.json"
 "$daemon" --out "$outputs" --socket "$out/soak.sock" --controller fixed --at-end stop \
   --set source.type=pattern --set source.pacing=fast --set source.max_frames="$frames" \
-  --set source.camera.width=32 --set source.camera.height=24 \
+  --set source.camera.width="${size%x*}" --set source.camera.height="${size#*x}" \
   --set slam.pipeline_config="$out/pipeline.json" --set slam.cpus=all --set slam.threads=1 \
   --set output.report=false --set power.config= \
   --set output.rotation.mode=always --set output.rotation.segment_mib="$segment_mib" \

@@ -4,10 +4,12 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
 
+#include "core/disk_full.h"
 #include "core/error.h"
 #include "core/rotating_file.h"
 #include "core/segment_store.h"
@@ -148,4 +150,61 @@ TEST_CASE("retention limits are validated with what to do", "[core][rotation]") 
   l.segmentBytes = 1000;
   CHECK_THROWS_WITH(validateRetention(l), Catch::Contains("64 KiB"));
   CHECK_NOTHROW(validateRetention(RetentionLimits{}));
+}
+
+TEST_CASE("a closed directory is one unit of retention: its segments join it and it goes whole",
+          "[core][rotation]") {
+  // A looping replay's pass directories (daemon/pass_directories.h): rotated segments and other files inside.
+  const std::string dir = test::scratchDir("rotation_directories");
+  RetentionLimits limits = smallLimits();  // 512 KiB kept
+  auto store = std::make_shared<SegmentStore>(dir, limits);
+  const auto pass = [&](int n) {
+    const std::string passDir = dir + "/pass-000" + std::to_string(n);
+    fs::create_directories(passDir);
+    {
+      RotatingFile f(passDir, "frames.jsonl", "per-frame log", "", store);
+      for (int i = 0; i < 30; ++i) f.append(line(4096));  // 120 KiB: 2 segments
+    }
+    std::ofstream(passDir + "/summary.json") << std::string(10000, ' ') << "{}\n";
+    store->addClosedDirectory(passDir, SegmentStore::nowOrder());
+    return passDir;
+  };
+  const std::string first = pass(1);
+  SegmentUsage u = store->usage();
+  CHECK(u.segments == 1);  // the directory, not its two segments
+  CHECK(u.bytes == bytesOf(streamFiles(first, "frames.jsonl")) + fs::file_size(first + "/summary.json"));
+  for (int n = 2; n <= 6; ++n) pass(n);  // 6 x 130 KiB: past the 512 KiB limit
+  u = store->usage();
+  CHECK(u.bytes <= limits.keepBytes);
+  CHECK(u.removedSegments >= 2);
+  CHECK_FALSE(fs::exists(first));  // removed whole, oldest first
+  CHECK(fs::exists(dir + "/pass-0006/summary.json"));
+}
+
+TEST_CASE("writeMakingRoom removes the oldest segments while a write finds the disk full",
+          "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_making_room");
+  auto store = std::make_shared<SegmentStore>(dir, smallLimits());
+  {
+    RotatingFile f(dir, "frames.jsonl", "per-frame log", "", store);
+    for (int i = 0; i < 40; ++i) f.append(line(4096));  // 3 segments: 2 closed, then the third closes too
+  }
+  REQUIRE(streamFiles(dir, "frames.jsonl").size() == 3);
+  int tries = 0;
+  store->writeMakingRoom([&] {
+    if (++tries <= 2) throw DiskFullError("disk full");  // the disk has room once two segments went
+  });
+  CHECK(tries == 3);
+  CHECK(store->usage().removedSegments == 2);
+  CHECK(streamFiles(dir, "frames.jsonl") == std::vector<std::string>{dir + "/frames-000003.jsonl"});
+  // Nothing left to remove: the error goes to the caller. Other errors are never retried.
+  CHECK_THROWS_AS(store->writeMakingRoom([] { throw DiskFullError("disk full"); }), DiskFullError);
+  CHECK(store->usage().removedSegments == 3);
+  tries = 0;
+  CHECK_THROWS_WITH(store->writeMakingRoom([&] {
+    ++tries;
+    throw Error("permission denied");
+  }),
+                    "permission denied");
+  CHECK(tries == 1);
 }

@@ -1,6 +1,6 @@
 // slamboosterd end to end, as systemd and users run it: a short synthetic replay, slamboosterctl against
-// the real socket, SIGTERM mid-run, SIGHUP reload, a fake NOTIFY_SOCKET, socket activation, and exit code 2
-// for bad configuration.
+// the real socket, SIGTERM mid-run, SIGHUP reload, a fake NOTIFY_SOCKET, socket activation, exit code 2
+// for bad configuration, and the retention of a looping replay's pass directories.
 
 #include <fcntl.h>
 #include <signal.h>
@@ -8,8 +8,10 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -23,6 +25,7 @@
 #include "tests/daemon/daemon_e2e.h"
 #include "tests/daemon/process.h"
 #include "tests/support/constant_power.h"
+#include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
 
@@ -90,6 +93,70 @@ TEST_CASE("slamboosterd: at_end=exit replays every frame and exits 0", "[daemon]
   CHECK(dataLines(out + "/trajectory.tum") == 10);
   CHECK(dataLines(out + "/frames.jsonl") == 10);
   CHECK(fs::file_size(out + "/report.html") > 0);  // output.report defaults to true
+}
+
+namespace {
+
+// The pass-NNNN directories in `out`, by number.
+std::vector<int> passDirectories(const std::string& out) {
+  std::vector<int> passes;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(out, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("pass-", 0) == 0) passes.push_back(std::stoi(name.substr(5)));
+  }
+  std::sort(passes.begin(), passes.end());
+  return passes;
+}
+
+std::string passDirectory(const std::string& out, int n) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/pass-%04d", n);
+  return out + name;
+}
+
+// Waits until pass directory `n` exists (a looping replay got that far).
+bool waitForPass(const std::string& out, int n) {
+  return sb::test::waitForPath(passDirectory(out, n), 60);
+}
+
+}  // namespace
+
+TEST_CASE("slamboosterd: a looping replay keeps its passes within the retention; a restart numbers on",
+          "[daemon][system]") {
+  // Before (issue 34), every pass of a looping replay left a directory behind, without limit.
+  TempDir tmp;
+  const std::string socket = tmp.path + "/s.sock", out = tmp.path + "/out";
+  auto args = daemonArgs(socket, out, "fast", "loop");
+  args.insert(args.end(), {"--set", "source.max_frames=5", "--set", "output.report=false", "--set",
+                           "output.rotation.keep_segments=2"});
+  {
+    ChildProcess d(args, {}, tmp.path + "/log1.txt");
+    REQUIRE(waitForPass(out, 6));
+    const json status = ctlJson(socket, "status");
+    INFO(status.dump(1) << d.log());
+    CHECK(status["disk"]["rotation"] == false);  // a replay: single files, but its passes under retention
+    CHECK(status["disk"]["removed_segments"].get<int>() >= 3);
+    d.signal(SIGTERM);
+    REQUIRE(d.wait(30) == 0);
+  }
+  std::vector<int> passes = passDirectories(out);
+  INFO("passes after the first start: " << passes.size());
+  REQUIRE(passes.size() <= 3);  // two ended passes and the last one
+  CHECK(passes.back() >= 6);
+  CHECK(passes.front() >= passes.back() - 2);
+  const int last = passes.back();
+  // A restart keeps the directories there (within the limit) and numbers on after them.
+  ChildProcess d(args, {}, tmp.path + "/log2.txt");
+  REQUIRE(waitForPass(out, last + 2));
+  d.signal(SIGTERM);
+  INFO(d.log());
+  REQUIRE(d.wait(30) == 0);
+  passes = passDirectories(out);
+  REQUIRE(passes.size() <= 3);
+  CHECK(passes.front() > last - 2);
+  CHECK(passes.back() >= last + 2);
+  CHECK(sb::test::readJson(passDirectory(out, passes.front()) + "/summary.json")["complete"] == true);
 }
 
 TEST_CASE("slamboosterd: ?CONTROL and SIGHUP switch the controller; pins apply", "[daemon][system]") {

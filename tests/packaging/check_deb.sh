@@ -204,6 +204,9 @@ for bin in usr/bin/slambooster usr/bin/slamboosterctl usr/sbin/slamboosterd; do
   check; readelf -d "$f" | grep -q 'BIND_NOW' || fail "$bin lacks BIND_NOW (full RELRO)"
   # Large-file support (32-bit targets): outputs of a weeks-long session pass 2 GiB.
   check; lfs_out=$(bash "$root/tests/packaging/check_lfs.sh" "$f") || fail "$bin: $(grep FAIL <<<"$lfs_out")"
+  # 64-bit time (32-bit targets): file times and clock stamps past 2038, and no library call whose time_t or
+  # timeval is 32 bits on the library's side.
+  check; time_out=$(bash "$root/tests/packaging/check_time64.sh" "$f") || fail "$bin: $(grep FAIL <<<"$time_out")"
 done
 
 # --- unit, udev rule and scripts agree --------------------------------------------------------------------

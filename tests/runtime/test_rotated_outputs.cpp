@@ -1,6 +1,7 @@
 // The outputs of a long session (issue 34): with a segment store the trajectory and the frame log rotate into
 // numbered segments, the summary's ATE reads the trajectory back from them (nothing is kept in memory) and
-// agrees with a run that wrote single files, and the report reads only the newest segment.
+// agrees with a run that wrote single files, and the report reads only the newest segment; summary.json's
+// rewrite on a full disk makes room as the segments' writes do.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -9,13 +10,17 @@
 #include <memory>
 #include <optional>
 
+#include "core/disk_full.h"
 #include "core/rotating_file.h"
 #include "core/segment_store.h"
 #include "core/trajectory.h"
 #include "report/run_data.h"
+#include "runtime/line_file.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
+#include "runtime/summary_sink.h"
 #include "tests/pipeline/synthetic_room.h"
+#include "tests/support/files.h"
 #include "tests/support/test_data.h"
 
 namespace {
@@ -116,4 +121,35 @@ TEST_CASE("rotated outputs: segments, the ATE read back from them, the report fr
   bool noted = false;
   for (const std::string& note : run.notes) noted |= note.find("rotated outputs") != std::string::npos;
   CHECK(noted);
+}
+
+TEST_CASE("a full disk is a DiskFullError; summary.json's rewrite then removes the oldest segment",
+          "[runtime][rotation]") {
+  // /dev/full: every write fails with ENOSPC.
+  sb::LineFile full("/dev/full", "summary");
+  CHECK_THROWS_AS(full.append("{}\n"), sb::DiskFullError);
+
+  // The summary's temporary file is a link to /dev/full: its first write finds the disk full (and the link is
+  // removed with the failed temporary, so the next write has room). Before, summary.json was not covered by
+  // the retention: the first full disk stopped the run (issue 34).
+  const std::string dir = sb::test::scratchDir("rotation_summary_full");
+  sb::RetentionLimits limits;
+  limits.minFreeBytes = 0;
+  auto store = std::make_shared<sb::SegmentStore>(dir, limits);
+  std::ofstream(dir + "/frames-000001.jsonl") << "{}\n";
+  store->addClosed(dir + "/frames-000001.jsonl", 3, 1);
+  const std::string summaryPath = dir + "/summary.json";
+  std::filesystem::create_symlink("/dev/full", summaryPath + ".tmp");
+  sb::SummarySink withRetention(summaryPath, "", {}, store);
+  CHECK_NOTHROW(withRetention.onFrame(sb::FrameRecord{}));
+  CHECK(store->usage().removedSegments == 1);
+  CHECK_FALSE(std::filesystem::exists(dir + "/frames-000001.jsonl"));
+  CHECK(sb::test::readJson(summaryPath)["frames"] == 1);
+
+  // Without a segment store (a replay) the full disk is the caller's error, naming the file.
+  std::filesystem::create_symlink("/dev/full", summaryPath + ".tmp");
+  sb::SummarySink alone(summaryPath, "", {});
+  CHECK_THROWS_WITH(alone.onFrame(sb::FrameRecord{}),
+                    Catch::Contains("summary.json.tmp") && Catch::Contains("keeps the previous summary"));
+  CHECK(sb::test::readJson(summaryPath)["frames"] == 1);
 }
