@@ -26,6 +26,7 @@ void MapSlabs::add(const VolumeSlab& slab) {
   view.first = slab.first;
   view.extent = slab.extent;
   Mesh mesh = extractMesh(view, MeshOptions{});
+  if (mesh.triangles.empty()) return;  // nothing observed left (e.g. the space behind the first view)
   transformMesh(mesh, Eigen::Isometry3f(Eigen::Translation3f(slab.corner.cast<float>())));
   char name[32];
   std::snprintf(name, sizeof name, "slab-%06zu.ply", slab.shift);

@@ -22,7 +22,8 @@ class MapSlabs {
   // Slabs go to `dir`/map_slabs (created at the first slab).
   explicit MapSlabs(std::string dir);
 
-  // Meshes `slab` (world frame) and writes it. Throws sb::Error naming the file that cannot be written.
+  // Meshes `slab` (world frame) and writes it (nothing when it holds no surface). Throws sb::Error naming the
+  // file that cannot be written.
   void add(const VolumeSlab& slab);
   // Writes `path` from the slabs so far and `finalVolume` (world frame); returns its triangles.
   size_t writeMap(const std::string& path, const Mesh& finalVolume) const;
