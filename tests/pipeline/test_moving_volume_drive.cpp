@@ -1,4 +1,4 @@
-// System test of the moving volume (pipeline/volume_window.h): a drive of 3.2 m along the long axis of the
+// The moving volume in the pipeline (pipeline/volume_window.h), in process: a drive of 3.2 m along the long axis of the
 // synth living room (camera 1.25 m above the floor looking sideways at the furnished wall 1.5 m away, weaving
 // +-10 cm across the axis, 2.5 cm/frame), tracked in a 2 m volume (64^3) that the camera leaves after about a
 // metre. With the volume fixed the model falls
@@ -61,7 +61,9 @@ DriveResult runDrive(bool moving) {
   config.volumeResolution = 64;
   config.volumeSize = 2.0f;
   config.initialPosition = {0.2f, 0.5f, 0.2f};  // the wall 1.5 m ahead is inside; the drive goes along +x
-  config.movingVolume = moving;
+  config.volumeMode = moving ? sb::VolumeMode::moving : sb::VolumeMode::fixed;
+  config.volumeShiftThreshold = 0.5f;  // a quarter of the side
+  config.volumeViewDistance = 0.6f;
   config.backend = sb::BackendKind::cpu;
   sb::ThreadPool pool(2);
   const auto pipeline = sb::Pipeline::createCpu(config, drive().k, pool);
