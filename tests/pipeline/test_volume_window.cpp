@@ -106,14 +106,14 @@ TEST_CASE("a shifted volume holds what a fixed volume placed there holds, voxel 
   CHECK(observed > voxels / 50);
   // Logical voxel for voxel (the moving one read through its offset).
   const SbVoxelOffset o = moving.placement().offset();
-  size_t equal = 0;
+  size_t sameVoxels = 0;
   for (int z = 0; z < 64; ++z)
     for (int y = 0; y < 64; ++y)
       for (int x = 0; x < 64; ++x) {
         const size_t m = size_t(sbVoxelIndex(64, o, x, y, z)), f = size_t(x) + 64 * (size_t(y) + 64 * size_t(z));
-        equal += std::memcmp(moving.volumeData() + 2 * m, fixed.volumeData() + 2 * f, 4) == 0;
+        sameVoxels += std::memcmp(moving.volumeData() + 2 * m, fixed.volumeData() + 2 * f, 4) == 0;
       }
-  CHECK(equal == voxels);
+  CHECK(sameVoxels == voxels);
 
   // The raycast of the shifted volume (its skipping grid moved, not rebuilt) is the fixed volume's, in the world.
   sb::StageTimes times;
