@@ -56,6 +56,7 @@ PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& i
   if (info.volumeInitialPosition)
     for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
   if (!slam.pipelineConfig.empty()) c = loadConfigFile(slam.pipelineConfig, c);
+  if (c.volumeMode == VolumeMode::automatic) c.volumeMode = VolumeMode::moving;  // docs/moving-volume.md
   validateConfig(c);
   return c;
 }
@@ -209,7 +210,7 @@ void SlamWorker::runPasses() {
         sequence_.depthScale,
         RunOutputs{dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
                    "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)",
-                   segments_},
+                   segments_, config_.output.mesh},
         energy ? &*energy : nullptr);
     if (publishEnergy_)
       run->setEnergyListener([this](const power::FrameEnergy& e) {

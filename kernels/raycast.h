@@ -31,17 +31,18 @@ SB_INLINE unsigned char sbSurfaceMaskBits(int faces) {
 // whose stored tsdf is below `below` (raw units, pipeline/block_distance.h's surfaceTsdfBelow), or-ed. One
 // block per call (the OpenCL backend's surfaceMaskKernel); the CPU backend or-s the same bits row by row
 // inside its integrate, hand-vectorised (tests/pipeline/cpu/test_cpu_integrate.cpp checks its masks).
-SB_INLINE unsigned char sbBlockSurfaceMask(SB_GLOBAL const short* volume, int resolution, int shift,
+// Blocks are logical (the grid follows a moving volume); the voxels are read through the cyclic offset.
+SB_INLINE unsigned char sbBlockSurfaceMask(SB_GLOBAL const short* volume, int resolution, SbVoxelOffset o, int shift,
                                            int below, int bx, int by, int bz) {
   const int side = 1 << shift;
   unsigned char mask = 0;
   for (int dz = 0; dz < side; ++dz)
     for (int dy = 0; dy < side; ++dy) {
-      const int z = (bz << shift) + dz, y = (by << shift) + dy;
+      const int z = sbWrapVoxel((bz << shift) + dz, o.z, resolution), y = sbWrapVoxel((by << shift) + dy, o.y, resolution);
       SB_GLOBAL const short* row = volume + 2 * (y * resolution + z * resolution * resolution);
       const int rowFaces = (dy == 0 ? 2 : 0) + (dz == 0 ? 4 : 0);
       for (int dx = 0; dx < side; ++dx)
-        if (row[2 * ((bx << shift) + dx)] < below)
+        if (row[2 * sbWrapVoxel((bx << shift) + dx, o.x, resolution)] < below)
           mask = (unsigned char)(mask | sbSurfaceMaskBits(rowFaces + (dx == 0 ? 1 : 0)));
     }
   return mask;
@@ -98,7 +99,7 @@ SB_INLINE void sbVoxelRange(float3 sOrigin, float3 sDirection, int resolution, f
 // (1 << distanceShift)^3 voxels) when it is not 0, else none. Samples are interpolated in voxel coordinates
 // s(t) = sOrigin + t * sDirection.
 SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
-                              SB_GLOBAL const short* volume, int resolution, float size,
+                              SB_GLOBAL const short* volume, int resolution, SbVoxelOffset offset, float size,
                               SB_GLOBAL const unsigned char* blockDistance, int distanceShift,
                               SbMat34 cameraToWorld, SbCamera k, float nearPlane, float farPlane,
                               float largeStep, float smallStep, float smallStepBelow, int x, int y) {
@@ -143,7 +144,7 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
     float step = largeStep;
     int smallSteps = 0;  // the step is smallStep
     float t = tEnter;
-    float fPrevious = sbInterpolateTsdfVoxel(volume, resolution, sOrigin + sDirection * t);
+    float fPrevious = sbInterpolateTsdfVoxel(volume, resolution, offset, sOrigin + sDirection * t);
     float fCurrent = fPrevious;
     int first = 1;            // the first sample is at tEnter, already interpolated
     int previousSkipped = 0;  // the sample before the current one was left out (fPrevious is not its value)
@@ -165,11 +166,11 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
           previousSkipped = 1;
           first = 0;
         } else {
-          fCurrent = first ? fPrevious : sbInterpolateTsdfVoxel(volume, resolution, s);
+          fCurrent = first ? fPrevious : sbInterpolateTsdfVoxel(volume, resolution, offset, s);
           first = 0;
           if (fCurrent < 0.0f) {
             if (previousSkipped)
-              fPrevious = sbInterpolateTsdfVoxel(volume, resolution,
+              fPrevious = sbInterpolateTsdfVoxel(volume, resolution, offset,
                                                  sOrigin + sDirection * (tBase + (float)(n - 1) * step));
             break;
           }
@@ -187,7 +188,7 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
       }
       if (fCurrent < 0.0f) {
         t = t + step * fCurrent / (fPrevious - fCurrent);
-        const float3 g = sbTsdfGradientVoxel(volume, resolution, sOrigin + sDirection * t);
+        const float3 g = sbTsdfGradientVoxel(volume, resolution, offset, sOrigin + sDirection * t);
         const float len = sbLength(g);
         if (len > 0.0f) {
           vertex = origin + direction * t;
@@ -208,12 +209,20 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
 // sbRaycastPixel): only the number of samples differs. Writes the surface point and unit normal
 // (volume frame) or vertex 0 and an invalid normal.
 SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
-                       SB_GLOBAL const short* volume, int resolution, float size,
+                       SB_GLOBAL const short* volume, int resolution, SbVoxelOffset offset, float size,
                        SB_GLOBAL const unsigned char* blockDistance, SbMat34 cameraToWorld, SbCamera k,
                        float nearPlane, float farPlane, float largeStep, float smallStep,
                        float smallStepBelow, int x, int y) {
-  sbRaycastPixel(outVertex, outNormal, width, volume, resolution, size, blockDistance, SB_SKIP_SHIFT,
+  sbRaycastPixel(outVertex, outNormal, width, volume, resolution, offset, size, blockDistance, SB_SKIP_SHIFT,
                  cameraToWorld, k, nearPlane, farPlane, largeStep, smallStep, smallStepBelow, x, y);
+}
+
+// The moving volume: moves pixel `index` of raycast maps from the frame of a volume whose corner lies at
+// `corner` (world, metres) to the world frame. Pixels without a surface stay as they are. Only run for a
+// volume that has moved, so a fixed volume's maps are untouched.
+SB_INLINE void offsetVertex(SB_GLOBAL sb_map_t* vertex, SB_GLOBAL const sb_map_t* normal, float3 corner, int index) {
+  if (SB_LOAD_MAP(normal, 3 * index) == SB_INVALID_NORMAL) return;
+  SB_STORE_MAP3(SB_LOAD_MAP3(vertex, index) + corner, vertex, index);
 }
 
 // render: grey shading of raycast maps lit from `light` (volume frame, metres): 255 * clamp(ambient +

@@ -4,6 +4,13 @@
 // in the volume (world) frame. Unobserved voxels hold (+1, 0).
 //
 // integrate: fusion of one depth image into the volume, one voxel per call.
+//
+// A moving volume (docs/moving-volume.md) is a cyclic buffer: the voxel at logical coordinates (x, y, z),
+// counted from the volume's corner in the world, is stored at physical voxel ((x + o.x) mod R, (y + o.y) mod R,
+// (z + o.z) mod R) for the offset o (SbVoxelOffset). Shifting the volume changes the offset and clears the slab
+// that left; no voxel is copied. A fixed volume has offset 0: physical = logical. Every function below takes
+// logical coordinates and reads through the offset; positions (metres) are in the volume frame, whose origin
+// is the volume's corner.
 
 #include "kernels/common.h"
 
@@ -11,8 +18,39 @@
 // Voxels closer to the camera plane than this (metres) are not projected.
 #define SB_MIN_PROJECTION_DEPTH 0.0001f
 
-SB_INLINE float sbVoxelTsdf(SB_GLOBAL const short* volume, int resolution, int x, int y, int z) {
-  return (float)volume[2 * (x + y * resolution + z * resolution * resolution)] * (1.0f / SB_TSDF_SCALE);
+// The cyclic buffer's offset, voxels per axis, each in [0, R).
+typedef struct {
+  int x, y, z;
+} SbVoxelOffset;
+
+// The physical coordinate of logical coordinate v in [0, R) on an axis of offset o in [0, R).
+SB_INLINE int sbWrapVoxel(int v, int o, int resolution) {
+  const int p = v + o;
+  return p >= resolution ? p - resolution : p;
+}
+
+// The index (in voxels) of logical voxel (x, y, z), each in [0, R).
+SB_INLINE int sbVoxelIndex(int resolution, SbVoxelOffset o, int x, int y, int z) {
+  return sbWrapVoxel(x, o.x, resolution) +
+         resolution * (sbWrapVoxel(y, o.y, resolution) + resolution * sbWrapVoxel(z, o.z, resolution));
+}
+
+SB_INLINE float sbVoxelTsdf(SB_GLOBAL const short* volume, int resolution, SbVoxelOffset o, int x, int y, int z) {
+  return (float)volume[2 * sbVoxelIndex(resolution, o, x, y, z)] * (1.0f / SB_TSDF_SCALE);
+}
+
+// clearSlab: voxel (u, v, w) of the slab that leaves a moving volume, made unobserved (+1, 0): `count` physical
+// planes normal to `axis` (0 x, 1 y, 2 z) from physical plane `first`, wrapping at R; u in [0, count) counts
+// the planes, v and w in [0, R) the other two axes in order.
+SB_INLINE void clearSlab(SB_GLOBAL short* volume, int resolution, int axis, int first, int u, int v, int w) {
+  int p = first + u;
+  if (p >= resolution) p -= resolution;
+  const int x = axis == 0 ? p : v;
+  const int y = axis == 1 ? p : (axis == 0 ? v : w);
+  const int z = axis == 2 ? p : w;
+  const int index = x + resolution * (y + resolution * z);
+  volume[2 * index] = (short)SB_TSDF_SCALE;
+  volume[2 * index + 1] = 0;
 }
 
 // Updates voxel `index` whose centre is `pos` in the camera frame (metres) with the depth image (metres,
@@ -46,19 +84,21 @@ SB_INLINE void integrateVoxel(SB_GLOBAL short* volume, int index, float3 pos, SB
   volume[2 * index + 1] = (short)(oldWeight + 1 < maxWeight ? oldWeight + 1 : maxWeight);
 }
 
-// integrate: voxel (x, y, z) with the world-to-camera transform `worldToCamera`.
-SB_INLINE void integrate(SB_GLOBAL short* volume, int resolution, float size, SbMat34 worldToCamera,
-                         SB_GLOBAL const sb_map_t* depth, int width, int height, SbCamera k, float mu, int maxWeight,
-                         int x, int y, int z) {
+// integrate: logical voxel (x, y, z) with the volume-to-camera transform `worldToCamera` (the volume frame is
+// the world frame for a volume that never moved).
+SB_INLINE void integrate(SB_GLOBAL short* volume, int resolution, SbVoxelOffset offset, float size,
+                         SbMat34 worldToCamera, SB_GLOBAL const sb_map_t* depth, int width, int height, SbCamera k,
+                         float mu, int maxWeight, int x, int y, int z) {
   const float voxel = size / (float)resolution;
   const float3 centre = sbMakeFloat3(((float)x + 0.5f) * voxel, ((float)y + 0.5f) * voxel, ((float)z + 0.5f) * voxel);
-  const int index = x + y * resolution + z * resolution * resolution;
+  const int index = sbVoxelIndex(resolution, offset, x, y, z);
   integrateVoxel(volume, index, sbTransform(worldToCamera, centre), depth, width, height, k, mu, maxWeight);
 }
 
 // Trilinear interpolation of the tsdf at `s` in voxel coordinates (pos * resolution / size - 0.5: voxel
-// centres at integers), clamped at the borders.
-SB_INLINE float sbInterpolateTsdfVoxel(SB_GLOBAL const short* volume, int resolution, float3 s) {
+// centres at integers), clamped at the borders. Read through the cyclic offset: a cell across the physical
+// wrap reads the same voxels as in a volume that never moved.
+SB_INLINE float sbInterpolateTsdfVoxel(SB_GLOBAL const short* volume, int resolution, SbVoxelOffset o, float3 s) {
   const float sx = s.x, sy = s.y, sz = s.z;
   const int last = resolution - 1;
   const float lastF = (float)last;
@@ -93,7 +133,14 @@ SB_INLINE float sbInterpolateTsdfVoxel(SB_GLOBAL const short* volume, int resolu
     dy = (iy >= 0 && iy < last) ? 2 * resolution : 0;
     dz = (iz >= 0 && iz < last) ? 2 * resolution * resolution : 0;
   }
-  SB_GLOBAL const short* p = volume + 2 * (x0 + y0 * resolution + z0 * resolution * resolution);
+  // Physical corners: the step to the upper corner goes back by R - 1 voxels where the lower one is the
+  // buffer's last (its upper neighbour is stored at 0).
+  const int px = sbWrapVoxel(x0, o.x, resolution), py = sbWrapVoxel(y0, o.y, resolution),
+            pz = sbWrapVoxel(z0, o.z, resolution);
+  if (px == last) dx -= dx * resolution;
+  if (py == last) dy -= dy * resolution;
+  if (pz == last) dz -= dz * resolution;
+  SB_GLOBAL const short* p = volume + 2 * (px + py * resolution + pz * resolution * resolution);
   const float c00 = (float)p[0] * (1.0f - fx) + (float)p[dx] * fx;
   const float c10 = (float)p[dy] * (1.0f - fx) + (float)p[dy + dx] * fx;
   const float c01 = (float)p[dz] * (1.0f - fx) + (float)p[dz + dx] * fx;
@@ -104,17 +151,18 @@ SB_INLINE float sbInterpolateTsdfVoxel(SB_GLOBAL const short* volume, int resolu
 }
 
 // Trilinear interpolation of the tsdf at `pos` (volume frame, metres), clamped at the borders.
-SB_INLINE float sbInterpolateTsdf(SB_GLOBAL const short* volume, int resolution, float size, float3 pos) {
+SB_INLINE float sbInterpolateTsdf(SB_GLOBAL const short* volume, int resolution, SbVoxelOffset o, float size,
+                                  float3 pos) {
   const float scale = (float)resolution / size;
-  return sbInterpolateTsdfVoxel(volume, resolution,
+  return sbInterpolateTsdfVoxel(volume, resolution, o,
                                 sbMakeFloat3(pos.x * scale - 0.5f, pos.y * scale - 0.5f, pos.z * scale - 0.5f));
 }
 
 // Gradient of the interpolated tsdf at voxel coordinates `s` (as sbInterpolateTsdfVoxel; unnormalised, in raw
 // tsdf units per two voxels): on each axis the trilinear blend of the central differences v(i + 1) - v(i - 1)
 // and v(i + 2) - v(i) around the interpolation cell's corners i, i + 1, indices clamped into the volume
-// (SLAMBench KinectFusion's Volume::grad). 32 voxel reads.
-SB_INLINE float3 sbTsdfGradientVoxel(SB_GLOBAL const short* volume, int resolution, float3 s) {
+// (SLAMBench KinectFusion's Volume::grad). 32 voxel reads, through the cyclic offset.
+SB_INLINE float3 sbTsdfGradientVoxel(SB_GLOBAL const short* volume, int resolution, SbVoxelOffset o, float3 s) {
   const float bx = sbFloor(s.x);
   const float by = sbFloor(s.y);
   const float bz = sbFloor(s.z);
@@ -128,13 +176,19 @@ SB_INLINE float3 sbTsdfGradientVoxel(SB_GLOBAL const short* volume, int resoluti
   // Offsets (in shorts) from voxel (x0, y0, z0) to i - 1, i + 1, i + 2 per axis; constant away from the
   // borders, clamped near them.
   const int sx = 2, sy = 2 * resolution, sz = 2 * resolution * resolution;
-  const int x0 = sbClampInt(ix, 0, last), y0 = sbClampInt(iy, 0, last), z0 = sbClampInt(iz, 0, last);
-  const int xm = (sbClampInt(ix - 1, 0, last) - x0) * sx, x1 = (sbClampInt(ix + 1, 0, last) - x0) * sx,
-            x2 = (sbClampInt(ix + 2, 0, last) - x0) * sx;
-  const int ym = (sbClampInt(iy - 1, 0, last) - y0) * sy, y1 = (sbClampInt(iy + 1, 0, last) - y0) * sy,
-            y2 = (sbClampInt(iy + 2, 0, last) - y0) * sy;
-  const int zm = (sbClampInt(iz - 1, 0, last) - z0) * sz, z1 = (sbClampInt(iz + 1, 0, last) - z0) * sz,
-            z2 = (sbClampInt(iz + 2, 0, last) - z0) * sz;
+  // Physical coordinates of the clamped logical ones (sbWrapVoxel).
+  const int x0 = sbWrapVoxel(sbClampInt(ix, 0, last), o.x, resolution);
+  const int y0 = sbWrapVoxel(sbClampInt(iy, 0, last), o.y, resolution);
+  const int z0 = sbWrapVoxel(sbClampInt(iz, 0, last), o.z, resolution);
+  const int xm = (sbWrapVoxel(sbClampInt(ix - 1, 0, last), o.x, resolution) - x0) * sx,
+            x1 = (sbWrapVoxel(sbClampInt(ix + 1, 0, last), o.x, resolution) - x0) * sx,
+            x2 = (sbWrapVoxel(sbClampInt(ix + 2, 0, last), o.x, resolution) - x0) * sx;
+  const int ym = (sbWrapVoxel(sbClampInt(iy - 1, 0, last), o.y, resolution) - y0) * sy,
+            y1 = (sbWrapVoxel(sbClampInt(iy + 1, 0, last), o.y, resolution) - y0) * sy,
+            y2 = (sbWrapVoxel(sbClampInt(iy + 2, 0, last), o.y, resolution) - y0) * sy;
+  const int zm = (sbWrapVoxel(sbClampInt(iz - 1, 0, last), o.z, resolution) - z0) * sz,
+            z1 = (sbWrapVoxel(sbClampInt(iz + 1, 0, last), o.z, resolution) - z0) * sz,
+            z2 = (sbWrapVoxel(sbClampInt(iz + 2, 0, last), o.z, resolution) - z0) * sz;
   SB_GLOBAL const short* p = volume + 2 * (x0 + y0 * resolution + z0 * resolution * resolution);
   // The cell's corners c[z][y][x] (0: lower, 1: upper).
   const float c000 = (float)p[0], c001 = (float)p[x1];

@@ -24,11 +24,24 @@ constexpr int kZAxisBit = 4;  // the z bit of a corner index / edge direction
 // Read-only access to the interleaved (tsdf, weight) volume.
 class VolumeSampler {
  public:
-  VolumeSampler(const VolumeView& v, int minWeight)
-      : data_(v.data), r_(v.resolution), minWeight_(std::max(1, minWeight)) {}
+  VolumeSampler(const VolumeView& v, int minWeight) : data_(v.data), r_(v.resolution), minWeight_(std::max(1, minWeight)) {
+    const bool box = v.extent[0] > 0;
+    for (int a = 0; a < kAxes; ++a) {
+      n_[a] = box ? v.extent[size_t(a)] : v.resolution;
+      // Box voxel i of this axis is logical voxel first + i, stored at physical (first + i + offset) mod R.
+      physical_[a].resize(size_t(n_[a]));
+      for (int i = 0; i < n_[a]; ++i)
+        physical_[a][size_t(i)] = ((box ? v.first[size_t(a)] : 0) + i + v.offset[size_t(a)]) % v.resolution;
+    }
+  }
 
-  int resolution() const { return r_; }
-  int64_t index(int x, int y, int z) const { return x + int64_t(r_) * (y + int64_t(r_) * z); }
+  int side(int axis) const { return n_[axis]; }  // voxels along the axis
+  // The box's own numbering of voxel (x, y, z) (the edge keys).
+  int64_t key(int x, int y, int z) const { return x + int64_t(n_[0]) * (y + int64_t(n_[1]) * z); }
+  // Where voxel (x, y, z) of the box is stored.
+  int64_t index(int x, int y, int z) const {
+    return physical_[0][size_t(x)] + int64_t(r_) * (physical_[1][size_t(y)] + int64_t(r_) * physical_[2][size_t(z)]);
+  }
   bool valid(int64_t i) const { return data_[2 * i + 1] >= minWeight_; }
   float tsdf(int64_t i) const { return data_[2 * i] / kTsdfScale; }
 
@@ -42,7 +55,7 @@ class VolumeSampler {
       lo[a] -= 1;
       hi[a] += 1;
       const bool hasLo = lo[a] >= 0 && valid(index(lo.x(), lo.y(), lo.z()));
-      const bool hasHi = hi[a] < r_ && valid(index(hi.x(), hi.y(), hi.z()));
+      const bool hasHi = hi[a] < n_[a] && valid(index(hi.x(), hi.y(), hi.z()));
       const float fLo = hasLo ? tsdf(index(lo.x(), lo.y(), lo.z())) : centre;
       const float fHi = hasHi ? tsdf(index(hi.x(), hi.y(), hi.z())) : centre;
       const int span = int(hasLo) + int(hasHi);
@@ -54,6 +67,8 @@ class VolumeSampler {
  private:
   const int16_t* data_;
   int r_;
+  int n_[kAxes];
+  std::vector<int> physical_[kAxes];
   int minWeight_;
 };
 
@@ -67,11 +82,11 @@ struct DecodedEdge {
   int dir;
 };
 
-DecodedEdge decodeEdge(uint64_t key, int r) {
+DecodedEdge decodeEdge(uint64_t key, int nx, int ny) {
   const uint64_t voxel = key / kEdgeDirections;
   const int dir = int(key % kEdgeDirections) + 1;
-  const uint64_t ur = uint64_t(r);
-  return {Eigen::Vector3i(int(voxel % ur), int((voxel / ur) % ur), int(voxel / (ur * ur))), dir};
+  const uint64_t ux = uint64_t(nx), uy = uint64_t(ny);
+  return {Eigen::Vector3i(int(voxel % ux), int((voxel / ux) % uy), int(voxel / (ux * uy))), dir};
 }
 
 // Triangles of cells z in [z0, z1), with vertices indexed locally in first-use order.
@@ -89,19 +104,19 @@ class SlabExtractor {
   void run(int z0, int z1, SlabMesh& out) {
     out_ = &out;
     local_.clear();
-    const int r = volume_.resolution();
+    const int nx = volume_.side(0), ny = volume_.side(1);
     const TetraTable& table = tetraTable();
-    std::vector<uint8_t> lower(size_t(r) * size_t(r)), upper(lower.size());
+    std::vector<uint8_t> lower(size_t(nx) * size_t(ny)), upper(lower.size());
     classifyPlane(z0, upper);
     for (int z = z0; z < z1; ++z) {
       lower.swap(upper);
       classifyPlane(z + 1, upper);
-      for (int y = 0; y + 1 < r; ++y) {
+      for (int y = 0; y + 1 < ny; ++y) {
         // Corner c of cell (x, y) is rows[c >> 1][x + (c & 1)]: rows ordered (y, z), (y+1, z), (y, z+1), (y+1, z+1).
-        const size_t row = size_t(r) * size_t(y);
-        const std::array<const uint8_t*, 4> rows = {&lower[row], &lower[row + size_t(r)], &upper[row],
-                                                    &upper[row + size_t(r)]};
-        for (int x = 0; x + 1 < r; ++x) {
+        const size_t row = size_t(nx) * size_t(y);
+        const std::array<const uint8_t*, 4> rows = {&lower[row], &lower[row + size_t(nx)], &upper[row],
+                                                    &upper[row + size_t(nx)]};
+        for (int x = 0; x + 1 < nx; ++x) {
           std::array<uint8_t, kCellCorners> f;
           for (int c = 0; c < kCellCorners; ++c) f[size_t(c)] = rows[size_t(c >> 1)][x + (c & 1)];
           uint8_t all = f[0], any = f[0];
@@ -137,18 +152,18 @@ class SlabExtractor {
 
   // Per voxel of plane z: observed enough (weight >= minimum) and inside (tsdf < 0).
   void classifyPlane(int z, std::vector<uint8_t>& flags) const {
-    const int r = volume_.resolution();
-    for (int y = 0; y < r; ++y)
-      for (int x = 0; x < r; ++x) {
+    const int nx = volume_.side(0), ny = volume_.side(1);
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x) {
         const int64_t i = volume_.index(x, y, z);
-        flags[size_t(x) + size_t(r) * size_t(y)] =
+        flags[size_t(x) + size_t(nx) * size_t(y)] =
             uint8_t((volume_.valid(i) ? kObservedFlag : 0) | (volume_.tsdf(i) < 0.0f ? kInsideFlag : 0));
       }
   }
 
   uint32_t vertexOn(const Eigen::Vector3i& cell, const CellEdge& e) {
     const Eigen::Vector3i low = cell + cornerOffset(e.low);
-    const uint64_t key = edgeKey(volume_.index(low.x(), low.y(), low.z()), e.dir);
+    const uint64_t key = edgeKey(volume_.key(low.x(), low.y(), low.z()), e.dir);
     const auto found = local_.find(key);
     if (found != local_.end()) return found->second;
     const uint32_t id = static_cast<uint32_t>(out_->keys.size());
@@ -180,11 +195,21 @@ void validate(const VolumeView& v) {
                 " is too small; it must be at least 2 voxels per side");
   if (!std::isfinite(v.size) || v.size <= 0.0f)
     throw Error("extractMesh: volume size " + std::to_string(v.size) + " m is invalid; it must be > 0");
+  for (int a = 0; a < kAxes; ++a)
+    if (v.offset[size_t(a)] < 0 || v.offset[size_t(a)] >= v.resolution)
+      throw Error("extractMesh: cyclic offset " + std::to_string(v.offset[size_t(a)]) + " along axis " +
+                  std::to_string(a) + " is outside [0, " + std::to_string(v.resolution) + ")");
+  if (v.extent[0] != 0 || v.extent[1] != 0 || v.extent[2] != 0)
+    for (int a = 0; a < kAxes; ++a)
+      if (v.extent[size_t(a)] < 1 || v.first[size_t(a)] < 0 || v.first[size_t(a)] + v.extent[size_t(a)] > v.resolution)
+        throw Error("extractMesh: box of " + std::to_string(v.extent[size_t(a)]) + " voxels from " +
+                    std::to_string(v.first[size_t(a)]) + " along axis " + std::to_string(a) +
+                    " is not inside the cube of " + std::to_string(v.resolution) + " (all extents 0: the whole cube)");
 }
 
 // Concatenates slabs in z order, mapping each slab's edges on its lower plane to the vertices the previous
 // slab made there: the result equals a single serial sweep, whatever the thread count.
-Mesh mergeSlabs(std::vector<SlabMesh>& slabs, int resolution) {
+Mesh mergeSlabs(std::vector<SlabMesh>& slabs, int nx, int ny) {
   Mesh mesh;
   std::unordered_map<uint64_t, uint32_t> previousTop;  // edges in the plane z = start of the current slab
   for (size_t s = 0; s < slabs.size(); ++s) {
@@ -194,7 +219,7 @@ Mesh mergeSlabs(std::vector<SlabMesh>& slabs, int resolution) {
     std::unordered_map<uint64_t, uint32_t> top;
     std::vector<uint32_t> remap(slab.keys.size());
     for (size_t i = 0; i < slab.keys.size(); ++i) {
-      const DecodedEdge e = decodeEdge(slab.keys[i], resolution);
+      const DecodedEdge e = decodeEdge(slab.keys[i], nx, ny);
       const bool inPlane = (e.dir & kZAxisBit) == 0;
       const auto shared = inPlane && e.low.z() == z0 ? previousTop.find(slab.keys[i]) : previousTop.end();
       if (shared != previousTop.end()) {
@@ -221,14 +246,14 @@ Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPoo
   validate(volume);
   const VolumeSampler sampler(volume, options.minWeight);
   const float voxelSize = volume.size / static_cast<float>(volume.resolution);
-  const int cells = volume.resolution - 1;
+  const int cells = sampler.side(2) - 1;
   const int slabCount = ThreadPool::chunkCount(0, cells, kSlabCells);
   std::vector<SlabMesh> slabs(static_cast<size_t>(slabCount));
   pool.parallelFor(0, slabCount, 1, [&](int, int begin, int end) {
     SlabExtractor extractor(sampler, voxelSize);
     for (int s = begin; s < end; ++s) extractor.run(s * kSlabCells, std::min(cells, (s + 1) * kSlabCells), slabs[size_t(s)]);
   });
-  return mergeSlabs(slabs, volume.resolution);
+  return mergeSlabs(slabs, sampler.side(0), sampler.side(1));
 }
 
 Mesh extractMesh(const VolumeView& volume, const MeshOptions& options) {

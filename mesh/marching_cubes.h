@@ -33,6 +33,14 @@ struct VolumeView {
   const int16_t* data = nullptr;  // 2 * resolution^3 int16 values, interleaved (tsdf, weight)
   int resolution = 0;             // voxels per side
   float size = 0.0f;              // side length of the cube, metres
+  // A moving volume's cyclic buffer (kernels/volume.h): logical voxel v is stored at (v + offset) mod
+  // resolution on each axis. All zero: a fixed volume.
+  std::array<int, 3> offset{0, 0, 0};
+  // A box of the cube instead of all of it (a slab that leaves a moving volume, pipeline/volume_window.h):
+  // logical voxels first .. first + extent - 1 on each axis. The mesh is then in the box's frame (voxel
+  // `first`'s centre at (0.5, 0.5, 0.5) voxels). All extents zero: the whole cube.
+  std::array<int, 3> first{0, 0, 0};
+  std::array<int, 3> extent{0, 0, 0};
 };
 
 // tsdf value that means +1.0 in VolumeView::data.

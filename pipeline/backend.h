@@ -49,8 +49,16 @@ class ComputeBackend {
   // render: shades the current reference maps (light at `lightPosition`, volume frame, metres).
   virtual Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) = 0;
 
-  // The volume on the host (2 * R^3 int16, layout in kernels/volume.h); valid until the next call.
+  // The volume on the host (2 * R^3 int16, layout in kernels/volume.h: physical voxels, read through the
+  // cyclic offset of a moving volume, VolumePlacement::offset); valid until the next call.
   virtual const int16_t* volumeData() = 0;
+
+  // The moving volume (pipeline/volume_placement.h, docs/moving-volume.md): places the volume's corner at
+  // `cornerVoxels` (world, voxels; each axis moves by a multiple of VolumePlacement::kBlockVoxels). The voxel
+  // addresses take the new cyclic offset, so no voxel is copied; the planes that left are cleared (unobserved)
+  // and the empty-space skipping grid follows. Poses given to integrate and raycast and the raycast's maps stay
+  // in the world frame. A volume never moved has its corner at 0, the world's origin.
+  virtual void moveVolume(const Eigen::Vector3i& cornerVoxels) = 0;
 
   // Reduced precision (architecture.md D3, the paper's "+half"): preprocessed maps (mm2meters output and the
   // pyramid's depth, vertex and normal maps) and the raycast maps stored as half, arithmetic in float. May be

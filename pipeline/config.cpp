@@ -27,6 +27,8 @@ struct IntField {
 const std::vector<FloatField>& floatFields() {
   static const std::vector<FloatField> fields = {
       {"bilateral_spatial_sigma_px", &PipelineConfig::bilateralSpatialSigma, 0.1, 100.0},
+      {"volume_view_distance_m", &PipelineConfig::volumeViewDistance, 0.0, 10.0},
+      {"volume_shift_threshold_m", &PipelineConfig::volumeShiftThreshold, 0.05, 100.0},
       {"bilateral_range_sigma_m", &PipelineConfig::bilateralRangeSigma, 1e-4, 10.0},
       {"half_sample_max_difference_m", &PipelineConfig::halfSampleMaxDifference, 1e-4, 10.0},
       {"icp_distance_threshold_m", &PipelineConfig::icpDistanceThreshold, 1e-4, 10.0},
@@ -95,6 +97,15 @@ void readSelector(ConfigReader& r, const char* key, std::string& out) {
 
 }  // namespace
 
+const char* volumeModeName(VolumeMode mode) {
+  switch (mode) {
+    case VolumeMode::moving: return "moving";
+    case VolumeMode::fixed: return "fixed";
+    case VolumeMode::automatic: break;
+  }
+  return "auto";
+}
+
 const char* backendKindName(BackendKind kind) {
   switch (kind) {
     case BackendKind::cpu: return "cpu";
@@ -133,6 +144,11 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
   for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>(position[i]);
   r.boolean("empty_space_skipping", c.emptySpaceSkipping);
   r.boolean("relocalise", c.relocalise);
+  std::string volumeMode = volumeModeName(c.volumeMode);
+  r.string("volume_mode", volumeMode, {"auto", "moving", "fixed"});
+  c.volumeMode = volumeMode == "moving" ? VolumeMode::moving
+                 : volumeMode == "fixed" ? VolumeMode::fixed
+                                         : VolumeMode::automatic;
   std::string backend = backendKindName(c.backend);
   r.string("backend", backend, {"auto", "cpu", "opencl"});
   c.backend = backend == "cpu" ? BackendKind::cpu : backend == "opencl" ? BackendKind::opencl : BackendKind::automatic;
@@ -172,6 +188,7 @@ nlohmann::json configToJson(const PipelineConfig& c) {
   j["initial_position"] = {c.initialPosition[0], c.initialPosition[1], c.initialPosition[2]};
   j["empty_space_skipping"] = c.emptySpaceSkipping;
   j["relocalise"] = c.relocalise;
+  j["volume_mode"] = volumeModeName(c.volumeMode);
   j["backend"] = backendKindName(c.backend);
   j["opencl_platform"] = c.openclPlatform;
   j["opencl_device"] = c.openclDevice;

@@ -16,6 +16,12 @@ namespace sb {
 enum class BackendKind { automatic, cpu, opencl };
 const char* backendKindName(BackendKind kind);  // "auto", "cpu", "opencl"
 
+// Whether the volume follows the camera (pipeline/volume_window.h, docs/moving-volume.md). `automatic`: the
+// command decides: `slambooster run` and the daemon move it (the product), the library and the experiment
+// matrix (bench, dse, profile run `slambooster run --fixed-volume`: the paper's reproduction) keep it fixed.
+enum class VolumeMode { automatic, moving, fixed };
+const char* volumeModeName(VolumeMode mode);  // "auto", "moving", "fixed"
+
 struct PipelineConfig {
   // --- preprocessing ---
   int bilateralRadius = 2;              // pixels: the filter window is (2r+1)^2 = 5x5
@@ -56,7 +62,13 @@ struct PipelineConfig {
   int keyframeCapacity = 300;               // keyframes held (the oldest goes when full)
   float keyframeMinDissimilarity = 0.2f;    // a view unlike every keyframe by more than this becomes one
 
-  // --- volume (fixed per run) ---
+  // --- volume (its size fixed per run; it may follow the camera) ---
+  VolumeMode volumeMode = VolumeMode::automatic;  // Pipeline treats automatic as fixed
+  // The moving volume shifts along an axis when the centre of the view (the point this far in front of the
+  // camera along its optical axis, metres; 0: the camera itself) is farther than volumeShiftThreshold (metres)
+  // from the volume's centre on that axis; the shift, whole blocks of 8 voxels, brings it back to the centre.
+  float volumeViewDistance = 1.5f;
+  float volumeShiftThreshold = 1.0f;
   int volumeResolution = 256;                           // voxels per side (multiple of 8)
   float volumeSize = 5.0f;                              // metres, side of the cube
   std::array<float, 3> initialPosition{0.5f, 0.5f, 0.3f};  // first camera position, fractions of the side
@@ -70,6 +82,8 @@ struct PipelineConfig {
   float raycastSmallStep = 1.0f;        // in voxels: step near the surface
   float raycastSmallStepBelow = 0.8f;   // tsdf value under which the small step is used
   bool emptySpaceSkipping = true;       // jump over blocks that hold no surface (same surface, fewer samples)
+
+  bool movesVolume() const { return volumeMode == VolumeMode::moving; }
 
   // --- render (output only) ---
   float renderAmbient = 0.1f;           // shade added to every lit pixel, [0, 1]

@@ -18,6 +18,7 @@ Pipeline::Pipeline(const PipelineConfig& config, const Intrinsics& intrinsics, s
   pose_ = initialPose_;
   referencePose_ = initialPose_;
   lastFinalPose_ = initialPose_;
+  if (config_.movesVolume()) window_ = std::make_unique<VolumeWindow>(config_);
 }
 
 std::unique_ptr<Pipeline> Pipeline::create(const PipelineConfig& config, const Intrinsics& intrinsics, ThreadPool& pool) {
@@ -210,6 +211,8 @@ void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d
   r.velocity = (pose_.translation() - previous.translation()).norm();
   lastFinalPose_ = pose_;
   ++frameCount_;
+  // The reference maps are in the world frame: they stay valid for the next frame's track across a shift.
+  if (window_) window_->follow(pose_, *backend_);
 }
 
 FrameResult Pipeline::processFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs) {

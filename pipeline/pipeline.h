@@ -10,7 +10,8 @@
 // processFrame() does both without a correction. A controller that doubts a coarse result may have the same
 // frame tracked again with other knobs before finishing it (retrackFrame), and may override the integration
 // rate and keep the current reference maps for the next frame (FrameOverrides). Poses are T_camera_to_world in the volume frame (the
-// cube [0, size]^3, metres); the first camera sits at initialPosition * size looking along +z.
+// cube [0, size]^3, metres); the first camera sits at initialPosition * size looking along +z. A moving volume
+// (config volume_mode, volume_window.h) keeps that frame as the world's: poses never see a shift.
 
 #include <Eigen/Geometry>
 #include <memory>
@@ -23,6 +24,7 @@
 #include "pipeline/config.h"
 #include "pipeline/knobs.h"
 #include "pipeline/tracking_quality.h"
+#include "pipeline/volume_window.h"
 
 namespace sb {
 
@@ -128,6 +130,9 @@ class Pipeline {
   // The volume (2 * R^3 int16 pairs, layout in kernels/volume.h), valid until the next call.
   const int16_t* volumeData() { return backend_->volumeData(); }
   ComputeBackend& backend() { return *backend_; }
+  // The moving volume's window (config volume_mode "moving"; it shifts at the end of finishFrame), or nullptr
+  // for a fixed volume. Poses stay in the world frame either way.
+  VolumeWindow* volumeWindow() { return window_.get(); }
 
  private:
   void checkInput(const DepthFrame& frame, double depthScale, const Knobs& knobs) const;
@@ -140,6 +145,7 @@ class Pipeline {
   PipelineConfig config_;
   Intrinsics intrinsics_;
   std::unique_ptr<ComputeBackend> backend_;
+  std::unique_ptr<VolumeWindow> window_;  // config_.movesVolume()
   Eigen::Isometry3d initialPose_;
   Eigen::Isometry3d pose_;          // latest camera pose (volume frame)
   Eigen::Isometry3d referencePose_;  // pose of the last raycast

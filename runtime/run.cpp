@@ -60,6 +60,10 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
   if (energy_)
     energyLog_ =
         std::make_unique<RotatingFile>(dir_, "energy.jsonl", "per-frame energy log", "", outputs.segments);
+  if (VolumeWindow* window = pipeline_->volumeWindow(); window && outputs.mapSlabs) {
+    mapSlabs_ = std::make_unique<MapSlabs>(dir_);
+    window->setSlabListener([this](const VolumeSlab& slab) { mapSlabs_->add(slab); });
+  }
 }
 
 FrameRecord Run::step(const DepthFrame& frame) {
@@ -103,22 +107,21 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
     }
   };
   const std::filesystem::path out(dir_);
-  const PipelineConfig& config = pipeline_->config();
   if (!end.modelView.empty())
     attempt([&] {
       const Image<uint8_t> model = end.modelView == "overview"
-                                       ? pipeline_->renderModel(overviewPose(config), 1)
+                                       ? pipeline_->renderModel(movingVolumeOverview(*pipeline_), 1)
                                        : pipeline_->renderModel(1);
       outputs_.summary->setExtra("model_view", end.modelView);
       writePng8((out / "model.png").string(), model);  // whole or not at all (temporary file + rename)
     });
   if (end.mesh)
     attempt([&] {
-      const VolumeView view{pipeline_->volumeData(), config.volumeResolution, config.volumeSize};
-      const Mesh mesh = extractMesh(view, MeshOptions{}, pool);
-      writePly((out / "mesh.ply").string(), mesh);  // whole or not at all (temporary file + rename)
-      outputs_.summary->setExtra("mesh_triangles", mesh.triangles.size());
+      // The final volume and, with a moving volume, every slab that left (runtime/map_slabs.h).
+      writeRunMesh((out / "mesh.ply").string(), *pipeline_, mapSlabs_.get(), pool, *outputs_.summary);
     });
+  if (const VolumeWindow* window = pipeline_->volumeWindow())
+    outputs_.summary->setExtra("moving_volume", movingVolumeJson(*window));
   // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
   // server). `slambooster bench` / dse / profile count (and skip) only complete runs; an interrupted one runs
   // again.

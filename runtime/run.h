@@ -22,6 +22,7 @@
 #include "core/rotating_file.h"
 #include "core/thread_pool.h"
 #include "runtime/energy_account.h"
+#include "runtime/map_slabs.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 
@@ -36,12 +37,15 @@ struct RunOutputs {
   // Rotation and retention of the per-frame outputs (trajectory, frame log, energy log;
   // core/rotating_file.h), shared by the runs of one output directory; nullptr: one file each (replays).
   std::shared_ptr<SegmentStore> segments;
+  // With a moving volume: mesh every slab that leaves into DIR/map_slabs/ as it leaves (runtime/map_slabs.h),
+  // for mesh.ply at the end (RunEnd::mesh). false: the slabs are dropped.
+  bool mapSlabs = false;
 };
 
 // What a run writes at its end.
 struct RunEnd {
   std::string modelView = "last";  // model.png from the "last" camera pose or an "overview"; "" = none
-  bool mesh = false;               // mesh.ply (marching cubes of the volume)
+  bool mesh = false;               // mesh.ply (marching cubes of the volume; with a moving volume, the map)
   bool drainEnergy = true;         // wait for the energy of the last frames (false: they land in a later run)
   bool complete = true;            // summary.json "complete" once every output is on disk
   std::string error;               // why the run ended early (e.g. the input failed): "error", not complete
@@ -83,6 +87,7 @@ class Run {
   EnergyAccount* energy_ = nullptr;
   std::unique_ptr<RotatingFile> energyLog_;  // energy.jsonl, with an energy account
   std::function<void(const power::FrameEnergy&)> listener_;
+  std::unique_ptr<MapSlabs> mapSlabs_;  // RunOutputs::mapSlabs with a moving volume
 };
 
 // The "overview" viewpoint of model.png: above and behind the volume centre, looking at it.

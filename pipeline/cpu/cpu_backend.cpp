@@ -60,18 +60,21 @@ void clipLinear(double a, double b, double& lo, double& hi) {
 // `innerBits` for the others (the row's y and z faces are in both). sbBlockSurfaceMask by rows, kept for speed:
 // fused into integrate, it reads rows still in cache (test_cpu_integrate.cpp checks it against the kernel).
 // Branch-free, one store per block: a freshly integrated row's tsdf is below the threshold in no pattern.
-void orRowSurfaceMask(const int16_t* row, int x0, int x1, int16_t below, uint8_t innerBits, uint8_t faceBits,
-                      uint8_t* masks) {
+// Voxel x (logical) is stored at row[2 * (x + delta)] (its physical place in the cyclic buffer; delta 0 for a
+// fixed volume).
+void orRowSurfaceMask(const int16_t* row, int delta, int x0, int x1, int16_t below, uint8_t innerBits,
+                      uint8_t faceBits, uint8_t* masks) {
   static_assert(CpuBackend::kSkipShift == 2, "blocks of 4 voxels along x");
   const auto bitsIf = [](bool set, uint8_t bits) { return static_cast<uint8_t>(-static_cast<int>(set) & bits); };
+  const auto tsdf = [&](int x) { return row[2 * (x + delta)]; };
   int x = x0;
-  for (; x < x1 && (x & 3) != 0; ++x) masks[x >> 2] |= bitsIf(row[2 * x] < below, innerBits);
+  for (; x < x1 && (x & 3) != 0; ++x) masks[x >> 2] |= bitsIf(tsdf(x) < below, innerBits);
   for (; x + 4 <= x1; x += 4) {
-    const int16_t* v = row + 2 * x;
+    const int16_t* v = row + 2 * (x + delta);
     masks[x >> 2] |= static_cast<uint8_t>(bitsIf(v[0] < below, faceBits) |
                                           bitsIf((v[2] < below) | (v[4] < below) | (v[6] < below), innerBits));
   }
-  for (; x < x1; ++x) masks[x >> 2] |= bitsIf(row[2 * x] < below, (x & 3) == 0 ? faceBits : innerBits);
+  for (; x < x1; ++x) masks[x >> 2] |= bitsIf(tsdf(x) < below, (x & 3) == 0 ? faceBits : innerBits);
 }
 
 // The interior pixels x in [r, w - r) of row y (rows y - r .. y + r exist) of bilateralFilter, tap by tap (a
@@ -103,7 +106,7 @@ SB_SIMD_CLONES void bilateralInteriorRow(float* out, const float* in, int w, int
 }  // namespace
 
 CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool)
-    : config_(config), full_(fullSize), pool_(pool) {
+    : config_(config), full_(fullSize), pool_(pool), placement_(config.volumeResolution, config.voxelSize()) {
   validateConfig(config_);
   const int r = config_.bilateralRadius;
   for (int i = -r; i <= r; ++i)
@@ -202,9 +205,14 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
   StageTimer t(times, Stage::integrate);
   const int res = config_.volumeResolution;
   const float voxel = config_.voxelSize();
-  const Eigen::Isometry3f worldToCamera = cameraToWorld.inverse();
+  // Voxel positions are in the volume frame (the world frame until the volume moves).
+  const Eigen::Isometry3f worldToCamera = placement_.toVolumeFrame(cameraToWorld).inverse();
   const SbMat34 w2c = toMat34(worldToCamera.matrix());
   const SbCamera k = toCamera(computeK_);
+  const SbVoxelOffset offset = placement_.offset();
+  // A logical row of voxels lies in the cyclic buffer as two runs: x < seam at physical x + offset.x, the rest
+  // at x + offset.x - R.
+  const int seam = res - offset.x;
   const int w = computeK_.width, h = computeK_.height;
   const float maxDepth = depth_.empty() ? 0.0f : *std::max_element(depth_.begin(), depth_.end());
   const double zLimit = maxDepth + config_.mu;  // farther voxels cannot be within the truncation band
@@ -251,7 +259,8 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
           if (hi < lo) continue;
           const int x0 = std::max(0, static_cast<int>(std::floor(lo)) - 1);
           const int x1 = std::min(res, static_cast<int>(std::ceil(hi)) + 2);
-          const size_t rowIndex = static_cast<size_t>(y) * res + static_cast<size_t>(z) * res * res;
+          const size_t rowIndex = static_cast<size_t>(sbWrapVoxel(y, offset.y, res)) * res +
+                                  static_cast<size_t>(sbWrapVoxel(z, offset.z, res)) * res * res;
           const size_t blockRow = static_cast<size_t>(y >> kSkipShift) * blocks;
           const int rowFaces = ((y & (kSide - 1)) == 0 ? 2 : 0) + ((z & (kSide - 1)) == 0 ? 4 : 0);
           int16_t* rowVoxels = vol + 2 * rowIndex;
@@ -264,9 +273,15 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
             int runEnd = runStart;
             while (runEnd < x1 && live[runEnd >> kCullShift]) runEnd = ((runEnd >> kCullShift) + 1) << kCullShift;
             runEnd = std::min(runEnd, x1);
-            integrateRow(rowVoxels, runStart, runEnd, base, step, depth, w, h, k, mu, maxWeight);
-            orRowSurfaceMask(rowVoxels, runStart, runEnd, flagBelow, maskBits[rowFaces], maskBits[rowFaces + 1],
-                             &mask[blockRow]);
+            for (int part = 0; part < 2; ++part) {  // the runs before and after the seam
+              const int a = part == 0 ? runStart : std::max(runStart, seam);
+              const int b = part == 0 ? std::min(runEnd, seam) : runEnd;
+              if (a >= b) continue;
+              const int delta = part == 0 ? offset.x : offset.x - res;
+              integrateRow(rowVoxels, delta, a, b, base, step, depth, w, h, k, mu, maxWeight);
+              orRowSurfaceMask(rowVoxels, delta, a, b, flagBelow, maskBits[rowFaces], maskBits[rowFaces + 1],
+                               &mask[blockRow]);
+            }
             for (int bx = runStart >> kSkipShift; bx * kSide < runEnd; ++bx)
               visited[blockRow + bx] += std::min(runEnd, (bx + 1) * kSide) - std::max(runStart, bx * kSide);
             runStart = runEnd;
@@ -291,10 +306,11 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   RaycastInputs in;
   in.volume = volume_.data();
   in.resolution = config_.volumeResolution;
+  in.offset = placement_.offset();
   in.size = config_.volumeSize;
   in.blockDistance = config_.emptySpaceSkipping ? blockDistance_.data() : nullptr;
   in.distanceShift = kSkipShift;
-  in.cameraToWorld = toMat34(cameraToWorld.matrix());
+  in.cameraToWorld = toMat34(placement_.toVolumeFrame(cameraToWorld).matrix());
   in.camera = toCamera(referenceK_);
   in.nearPlane = config_.nearPlane;
   in.farPlane = config_.farPlane;
@@ -307,6 +323,35 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   pool_.parallelFor(0, h, kTile, [&](int, int y0, int y1) {
     for (int tx = 0; tx < w; tx += kTile) raycastRect(in, outV, outN, w, tx, std::min(w, tx + kTile), y0, y1);
   });
+  if (placement_.moved()) {  // the maps in the world frame (a volume that never moved skips this)
+    const Eigen::Vector3f c = placement_.cornerMetres();
+    const float3 corner = sbMakeFloat3(c.x(), c.y(), c.z());
+    forEachPixel(pool_, w, h, [&](int x, int y) { offsetVertex(outV, outN, corner, y * w + x); });
+  }
+}
+
+void CpuBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
+  const Eigen::Vector3i before = placement_.corner();
+  const int res = config_.volumeResolution;
+  int16_t* vol = volume_.data();
+  for (const VolumePlacement::Clear& c : placement_.moveTo(cornerVoxels)) {
+    // kernels/volume.h's clearSlab, rows of x innermost.
+    pool_.parallelFor(0, res, 8, [&](int, int w0, int w1) {
+      for (int w = w0; w < w1; ++w) {
+        if (c.axis == 0) {
+          for (int v = 0; v < res; ++v)
+            for (int u = 0; u < c.count; ++u) clearSlab(vol, res, c.axis, c.first, u, v, w);
+        } else {
+          for (int u = 0; u < c.count; ++u)
+            for (int v = 0; v < res; ++v) clearSlab(vol, res, c.axis, c.first, u, v, w);
+        }
+      }
+    });
+    // The skipping grid is kept in logical blocks: it moves with the volume, the blocks that came in are empty.
+    const int moved = cornerVoxels[c.axis] - before[c.axis];
+    shiftGrid(blockSurfaceMask_.data(), res >> kSkipShift, c.axis, moved / (1 << kSkipShift), 0, pool_);
+  }
+  computeBlockDistance(blockSurfaceMask_, res >> kSkipShift, blockDistance_, pool_);
 }
 
 Image<uint8_t> CpuBackend::render(const Eigen::Vector3f& lightPosition, StageTimes& times) {

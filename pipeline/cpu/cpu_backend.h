@@ -18,6 +18,7 @@
 #include "pipeline/config.h"
 #include "pipeline/cpu/cpu_track.h"
 #include "pipeline/cpu/integrate_cull.h"
+#include "pipeline/volume_placement.h"
 
 namespace sb {
 
@@ -38,6 +39,8 @@ class CpuBackend : public ComputeBackend {
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
   const int16_t* volumeData() override { return volume_.data(); }
+  void moveVolume(const Eigen::Vector3i& cornerVoxels) override;
+  const VolumePlacement& placement() const { return placement_; }
 
   // Host views for tests and tools: 3 floats per pixel (vertex, normal), 1 per pixel (depth), row-major.
   const Intrinsics& levelIntrinsics(int level) const { return levels_[level].k; }
@@ -49,7 +52,7 @@ class CpuBackend : public ComputeBackend {
   const std::vector<float>& referenceVertices() const { return referenceVertex_; }
   const std::vector<float>& referenceNormals() const { return referenceNormal_; }
   const IntegrateCull& integrateCull() const { return cull_; }  // what the last integrate skipped
-  // Empty-space skipping surface masks, one per block of (1 << kSkipShift)^3 voxels, x fastest.
+  // Empty-space skipping surface masks, one per logical block of (1 << kSkipShift)^3 voxels, x fastest.
   const std::vector<uint8_t>& blockSurfaceMasks() const { return blockSurfaceMask_; }
 
  private:
@@ -78,6 +81,7 @@ class CpuBackend : public ComputeBackend {
   std::vector<uint8_t> blockSurfaceMask_;  // per block: where its voxels below the small-step tsdf lie
   std::vector<uint8_t> blockDistance_;     // per block: Chebyshev distance to a block with surface
   IntegrateCull cull_;                     // integrate's blocks that the current frame cannot change
+  VolumePlacement placement_;              // the moving volume's corner and cyclic offset (fixed: 0)
 };
 
 }  // namespace sb

@@ -10,10 +10,11 @@
 
 namespace sb {
 
-// integrateVoxel() for voxels x in [x0, x1) of one row: `row` points at the row's first voxel (x = 0; two
-// int16 per voxel), voxel x's centre in the camera frame is base + step * x (metres). The other arguments
-// are integrateVoxel()'s.
-void integrateRow(int16_t* row, int x0, int x1, float3 base, float3 step, const float* depth, int width, int height,
-                  SbCamera k, float mu, int maxWeight);
+// integrateVoxel() for voxels x in [x0, x1) of one row: `row` points at the row's first physical voxel (two
+// int16 per voxel), logical voxel x is stored at physical x + delta (kernels/volume.h's cyclic buffer; 0 for a
+// fixed volume; [x0 + delta, x1 + delta) lies inside the row), its centre in the camera frame is
+// base + step * x (metres). The other arguments are integrateVoxel()'s.
+void integrateRow(int16_t* row, int delta, int x0, int x1, float3 base, float3 step, const float* depth, int width,
+                  int height, SbCamera k, float mu, int maxWeight);
 
 }  // namespace sb

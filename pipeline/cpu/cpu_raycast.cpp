@@ -23,6 +23,8 @@ inline float3 toFloat3(F4 a) { return sbMakeFloat3(lane<0>(a), lane<1>(a), lane<
 struct Volume {
   const int16_t* data;
   int resolution;
+  SbVoxelOffset offset;  // cyclic (kernels/volume.h)
+  bool cyclic;           // offset not 0: a cell may straddle the buffer's wrap
   int dy, dz;        // shorts from voxel (x, y, z) to (x, y + 1, z) and (x, y, z + 1)
   F4 one;            // 1 in every lane
   F4 interiorEnd;    // R - 1: interpolation cells with both corners inside
@@ -33,6 +35,8 @@ struct Volume {
   explicit Volume(const RaycastInputs& in)
       : data(in.volume),
         resolution(in.resolution),
+        offset(in.offset),
+        cyclic(in.offset.x != 0 || in.offset.y != 0 || in.offset.z != 0),
         dy(2 * in.resolution),
         dz(2 * in.resolution * in.resolution),
         one(splat(1.0f)),
@@ -48,12 +52,30 @@ struct Volume {
 // two vectors of 4 (z = z0 and z0 + 1, each (y0, x0), (y0, x0 + 1), (y0 + 1, x0), (y0 + 1, x0 + 1)), blended
 // along x, then y (4 and 2 lanes), then z; each blend is the kernel's `a * (1 - f) + b * f`. Elsewhere the
 // kernel itself (its clamped border case).
+// The cell's physical lower corner (cyclic buffer): the vector paths read it contiguously, so a cell whose
+// reach (below, above voxels around it) crosses the buffer's wrap on some axis takes the kernel instead.
+SB_HOT_INLINE bool physicalCorner(const Volume& vol, I4 i, int below, int above, int& x, int& y, int& z) {
+  x = lane<0>(i);
+  y = lane<1>(i);
+  z = lane<2>(i);
+  if (!vol.cyclic) return true;
+  const int r = vol.resolution;
+  x = sbWrapVoxel(x, vol.offset.x, r);
+  y = sbWrapVoxel(y, vol.offset.y, r);
+  z = sbWrapVoxel(z, vol.offset.z, r);
+  return x >= below && y >= below && z >= below && x + above < r && y + above < r && z + above < r;
+}
+
 SB_HOT_INLINE float interpolate(const Volume& vol, F4 s) {
-  if (!insideXyz(s, vol.one, vol.interiorEnd)) return sbInterpolateTsdfVoxel(vol.data, vol.resolution, toFloat3(s));
+  if (!insideXyz(s, vol.one, vol.interiorEnd))
+    return sbInterpolateTsdfVoxel(vol.data, vol.resolution, vol.offset, toFloat3(s));
   const I4 i = truncate(s);  // floor: s >= 1
+  int x, y, z;
+  if (!physicalCorner(vol, i, 0, 1, x, y, z))
+    return sbInterpolateTsdfVoxel(vol.data, vol.resolution, vol.offset, toFloat3(s));
   const F4 f = s - toFloat(i);
   const F4 g = vol.one - f;
-  const int16_t* p = vol.data + 2 * (lane<0>(i) + lane<1>(i) * vol.resolution + lane<2>(i) * vol.resolution * vol.resolution);
+  const int16_t* p = vol.data + 2 * (x + y * vol.resolution + z * vol.resolution * vol.resolution);
   const F4 wx = weights0(g, f);
   const F4 c = pairSum(tsdf2x2(p, p + vol.dy) * wx, tsdf2x2(p + vol.dz, p + vol.dz + vol.dy) * wx);  // c00 c10 c01 c11
   const F4 m = c * weights1(g, f);
@@ -68,12 +90,16 @@ SB_HOT_INLINE float interpolate(const Volume& vol, F4 s) {
 // difference blends D (along that axis), then the blend of D's pairs along the kernel's second axis, then
 // along its third, in the kernel's order: gx over y then z, gy over x then z, gz over x then y.
 inline float3 gradient(const Volume& vol, F4 s) {
-  if (!insideXyz(s, vol.one, vol.gradientEnd)) return sbTsdfGradientVoxel(vol.data, vol.resolution, toFloat3(s));
+  if (!insideXyz(s, vol.one, vol.gradientEnd))
+    return sbTsdfGradientVoxel(vol.data, vol.resolution, vol.offset, toFloat3(s));
   const I4 i = truncate(s);
+  int x, y, z;
+  if (!physicalCorner(vol, i, 1, 2, x, y, z))
+    return sbTsdfGradientVoxel(vol.data, vol.resolution, vol.offset, toFloat3(s));
   const F4 f = s - toFloat(i);
   const F4 g = vol.one - f;
   const int sy = vol.dy, sz = vol.dz;
-  const int16_t* p = vol.data + 2 * (lane<0>(i) + lane<1>(i) * vol.resolution + lane<2>(i) * vol.resolution * vol.resolution);
+  const int16_t* p = vol.data + 2 * (x + y * vol.resolution + z * vol.resolution * vol.resolution);
   const F4 x0 = tsdf4(p - 2), x1 = tsdf4(p - 2 + sy), x2 = tsdf4(p - 2 + sz), x3 = tsdf4(p - 2 + sy + sz);
   const F4 wx = weights0(g, f), wy = weights1(g, f), wz = weights2(g, f);
   // x: rows r = 0..3, (v(x0 + 1) - v(x0 - 1)) * (1 - fx) + (v(x0 + 2) - v(x0)) * fx.

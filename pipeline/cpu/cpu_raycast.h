@@ -11,7 +11,7 @@
 
 #include <cstdint>
 
-#include "kernels/common.h"
+#include "kernels/volume.h"
 
 namespace sb {
 
@@ -19,6 +19,7 @@ namespace sb {
 struct RaycastInputs {
   const int16_t* volume = nullptr;  // resolution^3 (tsdf, weight) pairs, kernels/volume.h's layout
   int resolution = 0;               // voxels per side
+  SbVoxelOffset offset{};           // the moving volume's cyclic offset (kernels/volume.h); 0 for a fixed volume
   float size = 0.0f;                // metres per side
   // pipeline/block_distance.h's distances for blocks of (1 << distanceShift)^3 voxels; nullptr: no skipping.
   const uint8_t* blockDistance = nullptr;

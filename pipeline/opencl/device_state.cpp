@@ -38,8 +38,10 @@ Kernels::Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfSt
   reduceFinal = createKernel(p, "reduceFinalKernel");
   initVolume = createKernel(p, "initVolumeKernel");
   integrate = createKernel(p, "integrateKernel");
+  clearSlab = createKernel(p, "clearSlabKernel");
   surfaceMask = createKernel(p, "surfaceMaskKernel");
   raycast = createKernel(p, "raycastKernel");
+  offsetVertex = createKernel(p, "offsetVertexKernel");
   render = createKernel(p, "renderKernel");
   halfToFloat = createKernel(p, "halfToFloatKernel");
   floatToHalf = createKernel(p, "floatToHalfKernel");
@@ -51,7 +53,13 @@ using opencl::createBuffer;
 using opencl::Launcher;
 
 OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize, const opencl::DeviceInfo& d)
-    : config(c), full(fullSize), device(d), launcher(d), computeK(fullSize), referenceK(fullSize) {
+    : config(c),
+      full(fullSize),
+      device(d),
+      launcher(d),
+      computeK(fullSize),
+      referenceK(fullSize),
+      placement(c.volumeResolution, c.voxelSize()) {
   validateConfig(config);
   const cl_context ctx = launcher.context();
   const size_t n = size_t(full.width) * full.height;
@@ -106,7 +114,7 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
 void OpenClBackend::State::updateSkipping(Stage stage) {
   const int res = config.volumeResolution, blocks = res >> SB_SKIP_SHIFT;
   const size_t b = size_t(blocks);
-  launcher.run(stage, kernels().surfaceMask, {b, b, b}, {16, 4, 2}, blockMasks, volume, res, blocks,
+  launcher.run(stage, kernels().surfaceMask, {b, b, b}, {16, 4, 2}, blockMasks, volume, res, placement.offset(), blocks,
                static_cast<int>(surfaceTsdfBelow(config.raycastSmallStepBelow)));
   read(blockMasks, blockMasksHost.data(), blockMasksHost.size());
   computeBlockDistance(blockMasksHost, blocks, blockDistanceHost, skipPool);

@@ -11,6 +11,7 @@
 #include "core/thread_pool.h"
 #include "pipeline/opencl/launcher.h"
 #include "pipeline/opencl/opencl_backend.h"
+#include "pipeline/volume_placement.h"
 
 namespace sb {
 
@@ -28,8 +29,8 @@ struct Kernels {
   Program program;
   Kernel mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal;
   Kernel track, block, reduce, reduceFinal;
-  Kernel initVolume, integrate, surfaceMask;
-  Kernel raycast, render;
+  Kernel initVolume, integrate, clearSlab, surfaceMask;
+  Kernel raycast, offsetVertex, render;
   Kernel halfToFloat, floatToHalf;
 };
 
@@ -91,6 +92,7 @@ struct OpenClBackend::State {
   bool hasFrame = false, hasReference = false;
   std::vector<int16_t> volumeHost;
   bool volumeOnHost = false;
+  VolumePlacement placement;  // the moving volume's corner and cyclic offset (fixed: 0)
 };
 
 }  // namespace sb

@@ -108,9 +108,9 @@ void OpenClBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes
   const opencl::Kernels& k = s.kernels();
   const PipelineConfig& c = s.config;
   const size_t r = size_t(c.volumeResolution);
-  s.launcher.run(Stage::integrate, k.integrate, {r, r, r}, kVolumeGroup, s.volume, c.volumeResolution, c.volumeSize,
-                 toMat34(cameraToWorld.inverse().matrix()), s.depth, s.computeK.width, s.computeK.height,
-                 toCamera(s.computeK), c.mu, c.maxWeight);
+  s.launcher.run(Stage::integrate, k.integrate, {r, r, r}, kVolumeGroup, s.volume, c.volumeResolution,
+                 s.placement.offset(), c.volumeSize, toMat34(s.placement.toVolumeFrame(cameraToWorld).inverse().matrix()),
+                 s.depth, s.computeK.width, s.computeK.height, toCamera(s.computeK), c.mu, c.maxWeight);
   // As the CPU backend, but only when the raycast uses it.
   if (c.emptySpaceSkipping) s.updateSkipping(Stage::integrate);
   s.volumeOnHost = false;
@@ -127,9 +127,16 @@ void OpenClBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, Sta
   const opencl::Buffer* blockDistance = c.emptySpaceSkipping ? &s.blockDistance : nullptr;
   s.launcher.run(Stage::raycast, s.kernels().raycast, imageSize(s.referenceK), kImageGroup, s.referenceVertex,
                  s.referenceNormal, s.referenceK.width, s.referenceK.height, s.volume, c.volumeResolution,
-                 c.volumeSize, blockDistance, toMat34(cameraToWorld.matrix()),
-                 toCamera(s.referenceK), c.nearPlane, c.farPlane, c.raycastLargeStep * c.mu,
-                 c.raycastSmallStep * c.voxelSize(), c.raycastSmallStepBelow);
+                 s.placement.offset(), c.volumeSize, blockDistance,
+                 toMat34(s.placement.toVolumeFrame(cameraToWorld).matrix()), toCamera(s.referenceK), c.nearPlane,
+                 c.farPlane, c.raycastLargeStep * c.mu, c.raycastSmallStep * c.voxelSize(), c.raycastSmallStepBelow);
+  if (s.placement.moved()) {  // the maps in the world frame (a volume that never moved skips this)
+    cl_float4 corner{};
+    const Eigen::Vector3f c3 = s.placement.cornerMetres();
+    for (int a = 0; a < 3; ++a) corner.s[a] = c3[a];
+    s.launcher.run(Stage::raycast, s.kernels().offsetVertex, imageSize(s.referenceK), kImageGroup, s.referenceVertex,
+                   s.referenceNormal, s.referenceK.width, s.referenceK.height, corner);
+  }
   s.launcher.finish(times, start);
 }
 
@@ -156,6 +163,23 @@ const int16_t* OpenClBackend::volumeData() {
     s.volumeOnHost = true;
   }
   return s.volumeHost.data();
+}
+
+void OpenClBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
+  State& s = *s_;
+  const int res = s.config.volumeResolution;
+  bool cleared = false;
+  for (const VolumePlacement::Clear& c : s.placement.moveTo(cornerVoxels)) {
+    s.launcher.run(Stage::integrate, s.kernels().clearSlab, {size_t(c.count), size_t(res), size_t(res)},
+                   kVolumeGroup, s.volume, res, c.axis, c.first, c.count);
+    cleared = true;
+  }
+  if (!cleared) return;
+  s.volumeOnHost = false;
+  // The skipping grid from the volume as it is now (blocks are logical: the offset moved them).
+  s.updateSkipping(Stage::integrate);
+  StageTimes ignored;
+  s.launcher.finish(ignored, Clock::now());
 }
 
 void OpenClBackend::setHalfPrecision(bool enabled) {

@@ -33,6 +33,7 @@ class OpenClBackend : public ComputeBackend {
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
   const int16_t* volumeData() override;
+  void moveVolume(const Eigen::Vector3i& cornerVoxels) override;  // clearSlabKernel, the skipping grid anew
 
   // Half storage through vload_half / vstore_half is core OpenCL 1.2: every device has it. Switching converts
   // the maps already on the device, so a switch between trackFrame calls keeps the reference maps valid.

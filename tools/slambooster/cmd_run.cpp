@@ -56,6 +56,7 @@ struct RunOptions {
   unsigned threads = 0;
   std::string powerConfig;
   bool mesh = false;
+  bool fixedVolume = false;  // the paper's fixed volume whatever the config says (volume_mode "fixed")
   bool quiet = false;
   std::string modelView = "last";  // viewpoint of model.png: "last" camera pose or "overview"
   std::string depthTopic;          // ROS bag input: the depth image topic (empty: the bag's only one)
@@ -104,6 +105,9 @@ RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
   if (o.volumeSize) c.volumeSize = static_cast<float>(*o.volumeSize);
   if (o.volumeResolution) c.volumeResolution = *o.volumeResolution;
   if (!o.initialPosition.empty()) c.initialPosition = parsePosition(o.initialPosition);
+  // The product follows the camera unless the config or --fixed-volume says otherwise (docs/moving-volume.md).
+  if (o.fixedVolume) c.volumeMode = VolumeMode::fixed;
+  if (c.volumeMode == VolumeMode::automatic) c.volumeMode = VolumeMode::moving;
   try {
     validateConfig(c);
   } catch (const Error& e) {
@@ -180,7 +184,8 @@ void runCommand(const RunOptions& o) {
   Run run(std::move(pipeline), std::move(controller), info.depthScale,
           RunOutputs{o.out, info.groundTruthPath, extra,
                      "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
-                         formatKnobs(initial) + " (volume frame)"},
+                         formatKnobs(initial) + " (volume frame)",
+                     nullptr, o.mesh},
           energy ? &*energy : nullptr);
   SummarySink& summary = run.summary();
   const fs::path out(o.out);
@@ -311,7 +316,12 @@ void addRunCommand(CLI::App& app) {
   sub->add_option("--power", options->powerConfig,
                   "Power meter config (config/power.json keys): joules per frame in energy.jsonl and the summary,\n"
                   "raw trace in power.csv (meter \"none\": no energy accounting)");
-  sub->add_flag("--mesh", options->mesh, "Also write mesh.ply (marching cubes of the final volume)");
+  sub->add_flag("--mesh", options->mesh,
+                "Also write mesh.ply (marching cubes of the final volume; with the moving volume, of the whole run:\n"
+                "every slab that left, written to map_slabs/ as it leaves, and the final volume)");
+  sub->add_flag("--fixed-volume", options->fixedVolume,
+                "The paper's fixed volume (volume_mode fixed): the volume never follows the camera\n"
+                "(bench, dse and profile runs always pass it)");
   sub->add_option(
          "--model-view", options->modelView,
          "Viewpoint of model.png: last (the last camera pose) or overview (above and behind the volume "

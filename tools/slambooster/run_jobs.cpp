@@ -43,7 +43,8 @@ pid_t spawn(const std::string& exe, const Job& job) {
     const std::vector<std::string> more = job.argsAtStart();
     args.insert(args.end(), more.begin(), more.end());
   }
-  args.insert(args.end(), {"--out", job.outDir, "--quiet"});
+  // The experiment matrix reproduces the paper: a fixed volume (docs/moving-volume.md).
+  args.insert(args.end(), {"--out", job.outDir, "--quiet", "--fixed-volume"});
   const std::string log = job.outDir + "/run.log";
   const pid_t parent = getpid();
   const pid_t pid = fork();

@@ -73,7 +73,7 @@ TEST_CASE("integrateRow leaves every voxel bit-identical to integrateVoxel", "[p
         for (int x = x0; x < x1; ++x)
           integrateVoxel(expected.data(), x, base + step * static_cast<float>(x), depth.data(), k.width, k.height,
                          camera, kMu, kMaxWeight);
-        sb::integrateRow(actual.data(), x0, x1, base, step, depth.data(), k.width, k.height, camera, kMu, kMaxWeight);
+        sb::integrateRow(actual.data(), 0, x0, x1, base, step, depth.data(), k.width, k.height, camera, kMu, kMaxWeight);
         INFO("row y " << y << " z " << z << " x " << x0 << ".." << x1 << (unobserved ? " unobserved" : " random"));
         REQUIRE(std::memcmp(expected.data(), actual.data(), expected.size() * sizeof(int16_t)) == 0);
         ++rows;
@@ -161,7 +161,7 @@ TEST_CASE("CpuBackend::integrate with block culling leaves the volume bit-identi
     for (int bz = 0; bz < n; ++bz)
       for (int by = 0; by < n; ++by)
         for (int bx = 0; bx < n; ++bx) {
-          const uint8_t mask = sbBlockSurfaceMask(cpu.volumeData(), kResolution, sb::CpuBackend::kSkipShift, below,
+          const uint8_t mask = sbBlockSurfaceMask(cpu.volumeData(), kResolution, SbVoxelOffset{}, sb::CpuBackend::kSkipShift, below,
                                                   bx, by, bz);
           const uint8_t got = cpu.blockSurfaceMasks()[bx + (by + static_cast<size_t>(bz) * n) * n];
           REQUIRE((got & mask) == mask);

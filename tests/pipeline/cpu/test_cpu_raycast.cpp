@@ -35,7 +35,7 @@ std::vector<uint8_t> distanceGrid(const int16_t* volume, int resolution, int shi
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x)
         masks[x + (y + size_t(z) * n) * n] =
-            sbBlockSurfaceMask(volume, resolution, shift, sb::surfaceTsdfBelow(below), x, y, z);
+            sbBlockSurfaceMask(volume, resolution, SbVoxelOffset{}, shift, sb::surfaceTsdfBelow(below), x, y, z);
   sb::ThreadPool pool(1);
   sb::computeBlockDistance(masks, n, distance, pool);
   return distance;
@@ -63,7 +63,7 @@ Maps kernelMaps(const sb::RaycastInputs& in, int w, int h) {
   Maps m(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
-      sbRaycastPixel(m.vertex.data(), m.normal.data(), w, in.volume, in.resolution, in.size, in.blockDistance,
+      sbRaycastPixel(m.vertex.data(), m.normal.data(), w, in.volume, in.resolution, in.offset, in.size, in.blockDistance,
                      in.distanceShift, in.cameraToWorld, in.camera, in.nearPlane, in.farPlane,
                      in.largeStep, in.smallStep, in.smallStepBelow, x, y);
   return m;

@@ -1,0 +1,78 @@
+#pragma once
+// The moving volume's policy (docs/moving-volume.md; after Kintinuous, Whelan et al. 2012): after each frame
+// the window looks at the centre of the camera's view; when it lies farther than a threshold from the volume's
+// centre on some axis, the volume shifts along that axis by the whole blocks that bring the view centre back
+// to the centre. The backend does the shift as a cyclic buffer (ComputeBackend::moveVolume: a new address
+// offset, the planes that left cleared, no voxel copied); before it, the slab that leaves is handed to a
+// listener (the run meshes it into the whole run's map). Poses stay in the world frame, the frame of the
+// first volume: a client never sees a shift, and a run that never shifts is exactly the fixed-volume run.
+//
+//   VolumeWindow window(config);
+//   window.setSlabListener([&](const VolumeSlab& slab) { ... mesh it ... });
+//   after every frame: window.follow(T_camera_to_world, backend);
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <functional>
+
+#include "pipeline/backend.h"
+#include "pipeline/config.h"
+
+namespace sb {
+
+// A box of voxels about to leave the volume, read in place: logical voxels first .. first + extent - 1 of the
+// cyclic buffer `volume` (kernels/volume.h: physical (v + offset) mod R per axis). It holds one voxel more than
+// leaves, on the side of what stays, so that the cells between the slab and the rest are meshed once, with
+// the slab. Valid only during the listener call.
+struct VolumeSlab {
+  const int16_t* volume = nullptr;  // 2 * R^3 (tsdf, weight), the backend's volumeData()
+  int resolution = 0;
+  std::array<int, 3> offset{};      // the cyclic offset
+  std::array<int, 3> first{};       // the box, logical voxels
+  std::array<int, 3> extent{};
+  Eigen::Vector3d corner = Eigen::Vector3d::Zero();  // world, metres: the lower corner of voxel `first`
+  float voxelSize = 0.0f;           // metres
+  int axis = 0;                     // the axis of the shift that makes it leave
+  size_t shift = 0;                 // 1-based count of the window's shifts
+};
+
+struct VolumeWindowStats {
+  size_t shifts = 0;     // per axis: a shift along x and y in one frame counts 2
+  double shiftMs = 0.0;  // the backend's moveVolume (clear, skipping grid), summed
+  double slabMs = 0.0;   // the listener (meshing and writing the slabs), summed
+};
+
+class VolumeWindow {
+ public:
+  explicit VolumeWindow(const PipelineConfig& config);
+
+  // The shift (whole blocks, voxels per axis) that the view from `T_camera_to_world` (world frame) asks of a
+  // volume whose corner is at `cornerVoxels`; zero when the view centre is within the threshold on every axis.
+  Eigen::Vector3i shiftFor(const Eigen::Isometry3d& T_camera_to_world, const Eigen::Vector3i& cornerVoxels) const;
+
+  // Shifts `backend`'s volume when the view is far from its centre (shiftFor), axis by axis, each slab to the
+  // listener first; returns the shift in voxels per axis (0: none).
+  Eigen::Vector3i follow(const Eigen::Isometry3d& T_camera_to_world, ComputeBackend& backend);
+
+  // Called with every slab that leaves, before it is cleared. None: slabs are dropped.
+  void setSlabListener(std::function<void(const VolumeSlab&)> listener) { listener_ = std::move(listener); }
+
+  // The world position of the volume's corner, voxels and metres; the cyclic offset.
+  const Eigen::Vector3i& cornerVoxels() const { return corner_; }
+  Eigen::Vector3d cornerMetres() const { return corner_.cast<double>() * voxelSize_; }
+  std::array<int, 3> offset() const;
+  const VolumeWindowStats& stats() const { return stats_; }
+
+ private:
+  int resolution_;
+  double size_;           // metres
+  double voxelSize_;      // metres
+  double threshold_;      // metres
+  double viewDistance_;   // metres
+  Eigen::Vector3i corner_ = Eigen::Vector3i::Zero();
+  std::function<void(const VolumeSlab&)> listener_;
+  VolumeWindowStats stats_;
+};
+
+}  // namespace sb
