@@ -68,7 +68,7 @@ struct PipelineConfig {
   // camera along its optical axis, metres; 0: the camera itself) is farther than volumeShiftThreshold (metres)
   // from the volume's centre on that axis; the shift, whole blocks of 8 voxels, brings it back to the centre.
   float volumeViewDistance = 1.5f;
-  float volumeShiftThreshold = 1.0f;
+  float volumeShiftThreshold = 1.5f;
   int volumeResolution = 256;                           // voxels per side (multiple of 8)
   float volumeSize = 5.0f;                              // metres, side of the cube
   std::array<float, 3> initialPosition{0.5f, 0.5f, 0.3f};  // first camera position, fractions of the side
