@@ -1,5 +1,6 @@
 #include "report/frame_log.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -123,6 +124,24 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   }
 }
 
+// Drops the `count` oldest frames from every column (and the trigger frames before the first one kept).
+void dropOldest(FrameLog& log, size_t count) {
+  count = std::min(count, log.size());
+  if (count == 0) return;
+  const auto cut = [count](std::vector<double>& column) {
+    column.erase(column.begin(), column.begin() + static_cast<std::ptrdiff_t>(std::min(count, column.size())));
+  };
+  for (auto* column : {&log.frame, &log.timestamp, &log.csr, &log.icp, &log.pd0, &log.computationMs, &log.tracked,
+                       &log.trackingAttempted, &log.velocity, &log.joules, &log.powerW, &log.level,
+                       &log.conditioning, &log.constrained, &log.state})
+    cut(*column);
+  for (auto& column : log.stageMs) cut(column);
+  if (log.frame.empty()) return;
+  const double first = log.frame.front();
+  for (auto& t : log.triggers)
+    t.frames.erase(t.frames.begin(), std::lower_bound(t.frames.begin(), t.frames.end(), first));
+}
+
 }  // namespace
 
 const std::vector<double>& FrameLog::triggerFrames(const std::string& name) const {
@@ -138,7 +157,7 @@ bool FrameLog::hasColumn(const std::vector<double>& column) const {
   return false;
 }
 
-FrameLogReadResult readFrameLog(const std::string& path) {
+FrameLogReadResult readFrameLog(const std::string& path, size_t maxFrames) {
   FrameLogReadResult result;
   const std::string problem = pathProblem(path);  // never opens (nor waits on) a FIFO
   if (!problem.empty()) {
@@ -146,20 +165,22 @@ FrameLogReadResult readFrameLog(const std::string& path) {
     return result;
   }
   InputFile in(path, "per-frame log");
-  std::vector<std::string> lines;
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  in.clear();
-  in.seekg(-1, std::ios::end);
-  const bool endsWithNewline = in && in.get() == '\n';
 
+  // Streamed, one line ahead (to know the last line), never the whole file in memory: a long run's log keeps
+  // only its newest maxFrames frames (trimmed whenever twice as many are held).
   ProblemList problems(result.problems);
-  size_t nonEmpty = 0;
-  for (size_t n = 0; n < lines.size(); ++n) {
-    const std::string& line = lines[n];
+  size_t nonEmpty = 0, frames = 0;
+  std::string line, next;
+  bool have = static_cast<bool>(std::getline(in, line));
+  bool terminated = !in.eof();  // getline stops at the end of the file without a newline: an unterminated line
+  for (size_t n = 0; have; ++n, line.swap(next)) {
+    const bool endsWithNewline = terminated;
+    const bool last = !std::getline(in, next);
+    terminated = !in.eof();
+    have = !last;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     ++nonEmpty;
     const std::string where = path + " line " + std::to_string(n + 1);
-    const bool last = n + 1 == lines.size();
     json j;
     try {
       j = json::parse(line);
@@ -176,7 +197,13 @@ FrameLogReadResult readFrameLog(const std::string& path) {
       continue;
     }
     addFrame(result.log, j, where, problems);
+    ++frames;
+    if (maxFrames > 0 && result.log.size() >= 2 * maxFrames) dropOldest(result.log, result.log.size() - maxFrames);
   }
+  if (maxFrames > 0 && result.log.size() > maxFrames) dropOldest(result.log, result.log.size() - maxFrames);
+  if (result.log.size() < frames)
+    problems.add(path + " holds " + std::to_string(frames) + " frames; the per-frame plots show the newest " +
+                 std::to_string(result.log.size()) + " (a report reads a bounded share of a long run)");
   if (nonEmpty == 0) problems.add(path + " is empty: the run recorded no frames (no per-frame plots)");
   problems.finish();
   return result;

@@ -48,7 +48,12 @@ struct FrameLogReadResult {
   std::vector<std::string> problems;  // "frames.jsonl line 7: ..." (capped, with a count of the rest)
 };
 
-// Reads `path`. A missing or unreadable file is a problem, not an exception.
-FrameLogReadResult readFrameLog(const std::string& path);
+// Frames a report reads at most (the newest): 100,000 frames (about 55 minutes at 30 fps) keep the report's
+// memory and size bounded (a 10^6-frame replay read whole took 1.9 GiB and wrote a 440 MB report).
+constexpr size_t kMaxReportFrames = 100000;
+
+// Reads `path`, keeping the newest `maxFrames` frames (0: all). A missing or unreadable file is a problem, not
+// an exception.
+FrameLogReadResult readFrameLog(const std::string& path, size_t maxFrames = kMaxReportFrames);
 
 }  // namespace sb::report

@@ -89,3 +89,22 @@ TEST_CASE("empty and missing logs are problems, many bad lines are capped", "[re
   REQUIRE(many.problems.size() == 9);
   CHECK(many.problems.back() == "... and 12 more problems");
 }
+
+TEST_CASE("a long log is read in bounded memory: the newest frames, and the report says so", "[report]") {
+  // Frames 0..9; every frame from 5 on fires "doubt". Kept at most 3 (trimmed whenever 6 are held).
+  std::string content;
+  for (int i = 0; i < 10; ++i) content += line(i, i >= 5 ? ",\"triggers\":[\"doubt\"]" : ",\"triggers\":[\"bootstrap\"]");
+  const auto r = readFrameLog(writeFile("long", content), 3);
+  const auto& f = r.log;
+  REQUIRE(f.size() == 3);
+  CHECK(f.frame == std::vector<double>{7, 8, 9});
+  CHECK(f.timestamp.size() == 3);
+  CHECK(f.stageMs.size() == 2);
+  CHECK(f.stageMs[0].size() == 3);
+  CHECK(f.triggerFrames("doubt") == std::vector<double>{7, 8, 9});
+  CHECK(f.triggerFrames("bootstrap").empty());
+  REQUIRE(r.problems.size() == 1);
+  CHECK_THAT(r.problems[0], Catch::Contains("holds 10 frames") && Catch::Contains("newest 3"));
+  // 0: the whole log.
+  CHECK(readFrameLog(writeFile("long_all", content), 0).log.size() == 10);
+}
