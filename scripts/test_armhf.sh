@@ -31,7 +31,7 @@ build=${1:-"$root/build-armhf"}
 subset=(
   test_core test_drivers test_eval test_mesh
   test_pipeline test_default_config test_opencl_select test_opencl_noplatform
-  test_controller test_reloc test_runtime
+  test_controller test_reloc test_runtime test_map_slabs
   test_power_ledger test_power_meters test_power_io test_power_sampler
   test_report
   test_daemon_config test_protocol test_protocol_golden test_socket_server
@@ -51,6 +51,8 @@ declare -A slow=(
   [test_cpu_portable]="the lane layer's portable C++ path (no NEON), the same on every target: runs natively;
 test_pipeline checks the NEON path here"
   [test_pipeline_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_pipeline"
+  [test_moving_volume_drive]="renders a synthetic drive and runs the pipeline over it (minutes under qemu-arm); the
+moving volume's address math, shifts and raycast across the wrap run in the subset (test_pipeline [volume_window])"
 )
 spawns="starts the built armhf tool as a child process: the host kernel cannot exec an armhf binary without
 binfmt_misc, which CI machines and containers lack (check_deb.sh runs the packaged tools through qemu-arm)"
