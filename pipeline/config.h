@@ -56,7 +56,7 @@ struct PipelineConfig {
   int relocaliseCsr = 2;                // compute size ratio of the relocaliser's ICP (1, 2, 4 or 8)
   // A candidate's ICP must pass the tracked tests, be constrained, and agree with this share of the pairs for
   // which the model has a surface (TrackAttempt::pairAgreement).
-  float relocaliseMinPairAgreement = 0.9f;
+  float relocaliseMinPairAgreement = 0.87f;
   float relocaliseMaxMotion = 0.1f;         // metres: motion between two confirming frames, at most
   float relocaliseMaxRotationDeg = 10.0f;   // degrees: the same for rotation
   int keyframeCapacity = 300;               // keyframes held (the oldest goes when full)

@@ -27,7 +27,7 @@ namespace sb {
 struct RelocaliserParams {
   int candidates = 3;               // keyframes tried per lost frame (plus the last good pose)
   int confirmFrames = 3;            // consecutive frames a candidate must hold (the first included)
-  double minPairAgreement = 0.9;    // of an attempt's pairs, [0, 1]
+  double minPairAgreement = 0.87;   // of an attempt's pairs, [0, 1]
   double maxMotionM = 0.1;          // metres between two confirming frames
   double maxRotationDeg = 10.0;     // degrees between two confirming frames
   size_t keyframeCapacity = 300;
