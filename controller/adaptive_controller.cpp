@@ -17,6 +17,7 @@ AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::str
   r.boolean("predict_start", c.predictStart);
   r.boolean("integrate_unconstrained", c.integrateUnconstrained);
   r.number("icp_hold_conditioning", c.icpHoldConditioning, 0.0, 1.0);
+  r.number("learn_conditioning", c.learnConditioning, 0.0, 1.0);
   r.number("confirm_translation_m", c.confirmTranslationM, 0.0, 10.0);
   r.number("confirm_rotation_deg", c.confirmRotationDeg, 0.0, 180.0);
   c.evidence.read(r);
@@ -70,10 +71,20 @@ Decision AdaptiveController::decide(const Observation& o) {
   return finish(o, doubt, d);
 }
 
+bool AdaptiveController::passesAgree(const Observation& o) const {
+  return translationBetween(firstPassPose_, o.pose) <= config_.confirmTranslationM &&
+         rotationBetweenDeg(firstPassPose_, o.pose) <= config_.confirmRotationDeg;
+}
+
 Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, Decision d) {
-  // Pose: corrected only when ICP failed.
+  // Pose: corrected only when ICP failed, or when a re-track measured nothing: doubted on its own evidence,
+  // away from the first pass and off the prediction by more than a camera changes its motion in one frame (the
+  // 5 m-volume drive: an unconverged csr 8 pass, then a csr 4 pass 0.13 m off with half the inliers).
+  const bool unconfirmed = o.tracked && o.retracked && motion_.known() && doubt.doubtful() &&
+                           doubt.kind != Doubt::prediction && !passesAgree(o) &&
+                           evidence_.offPrediction(o, motion_.predict(o.previousPose));
   bool corrected = false;
-  if (!o.tracked) {
+  if (!o.tracked || unconfirmed) {
     ++failedInARow_;
     if (failedInARow_ <= config_.maxExtrapolatedFrames && motion_.known()) {
       d.correctedPose = motion_.predict(o.previousPose);
@@ -90,10 +101,15 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     // constrains becomes the next start pose, the next slide adds to it, and the prior feeds on itself (a sparse
     // corridor seen lengthwise: 0.05 -> 0.50 m/frame in 5 frames while the robot stood; with the prediction
     // doubt alone left out it still ran away from frame 13).
-    if ((doubt.kind == Doubt::prediction || doubt.kind == Doubt::notConverged) && !o.retracked)
+    // A re-track is no confirmation by itself: a second pass that is doubted too and lands away from the first
+    // one confirms nothing (the 5 m-volume drive: csr 8 unconverged, the csr 4 re-track 0.13 m off the
+    // prediction with half the inliers; learnt, it lost the next frames).
+    const bool unsettled = o.retracked ? doubt.doubtful() && !passesAgree(o)
+                                       : doubt.kind == Doubt::prediction || doubt.kind == Doubt::notConverged;
+    if (unsettled)
       motion_.forget();
     else
-      motion_.learn(o.previousPose, o.pose);
+      motion_.learn(o.previousPose, o.pose, o.quality, config_.learnConditioning);
     evidence_.accept(o);
   }
   if (o.quality.known && !o.quality.constrained) d.triggers |= kTriggerUnconstrained;
@@ -114,9 +130,7 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     doubted = secondDoubted || evidence_.wellConstrained(o);
     confirmed = !doubted;
   } else {
-    confirmed = !secondDoubted && firstPass_.kind != Doubt::failed &&
-                translationBetween(firstPassPose_, o.pose) <= config_.confirmTranslationM &&
-                rotationBetweenDeg(firstPassPose_, o.pose) <= config_.confirmRotationDeg;
+    confirmed = !secondDoubted && firstPass_.kind != Doubt::failed && passesAgree(o);
     doubted = !confirmed;
   }
   if (seen_ <= static_cast<size_t>(config_.bootstrapFrames)) {

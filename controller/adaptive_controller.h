@@ -53,6 +53,10 @@ struct AdaptiveConfig {
   // with a sliver of structure (conditioning 0.0002-0.0006) still carries the motion, and holding it there
   // lost a new sequence (config/README.md); 0.0006 helps on a blank wall (stress-corridor).
   double icpHoldConditioning = 0.0;
+  // The learnt motion follows a tracked frame along each motion by c / (c + learn_conditioning), c the view's
+  // structure conditioning along it (blendByStructure): whole where the view fixes the motion, hardly at all
+  // along what it leaves free. 0: the whole measured motion.
+  double learnConditioning = 0.0;
   EvidenceParams evidence;
   IntegrationParams integration;
   KnobLadder ladder;
@@ -75,6 +79,8 @@ class AdaptiveController final : public Controller {
  private:
   Decision finish(const Observation& o, const Doubt& doubt, Decision d);
   void setLevel(int level, const std::string& reason, Decision& d);
+  // The re-tracked pose `o.pose` lands within confirm_translation_m / confirm_rotation_deg of the first pass.
+  bool passesAgree(const Observation& o) const;
 
   std::string name_;
   AdaptiveConfig config_;

@@ -41,8 +41,15 @@ Eigen::Isometry3d MotionModel::predict(const Eigen::Isometry3d& previousPose) co
   return nearestRigid(motion_ * previousPose);
 }
 
-void MotionModel::learn(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose) {
-  motion_ = nearestRigid(pose * previousPose.inverse());
+void MotionModel::learn(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose,
+                        const TrackingQuality& quality, double lambda) {
+  const Eigen::Isometry3d measured = nearestRigid(pose * previousPose.inverse());
+  const Eigen::Isometry3d previous = motion_;
+  motion_ = measured;
+  if (known_ && lambda > 0 && quality.known) {
+    const Twist learnt = blendByStructure(quality, transformToTwist(previous), transformToTwist(measured), lambda);
+    if (learnt.allFinite()) motion_ = nearestRigid(twistToTransform(learnt));
+  }
   known_ = true;
 }
 
@@ -68,6 +75,11 @@ Doubt TrackingEvidence::judge(const Observation& o, const Eigen::Isometry3d& pre
     if (dr > params_.predictionRotationDeg) return {Doubt::prediction, format("prediction off by %.1f deg", dr)};
   }
   return {};
+}
+
+bool TrackingEvidence::offPrediction(const Observation& o, const Eigen::Isometry3d& predicted) const {
+  return translationBetween(o.pose, predicted) > params_.predictionTranslationM ||
+         rotationBetweenDeg(o.pose, predicted) > params_.predictionRotationDeg;
 }
 
 void TrackingEvidence::accept(const Observation& o) {

@@ -51,7 +51,10 @@ class MotionModel {
   // The predicted pose of a frame whose previous final pose is `previousPose`.
   Eigen::Isometry3d predict(const Eigen::Isometry3d& previousPose) const;
   // Learns the motion between two accepted poses (world frame); forget() after a frame that was not tracked.
-  void learn(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose);
+  // With the frame's tracking quality and a positive `lambda`, only as far as the view fixed each motion
+  // (blendByStructure): the prior does not feed on ICP's slide along what the view leaves free.
+  void learn(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose,
+             const TrackingQuality& quality = {}, double lambda = 0.0);
   void forget() { motion_ = Eigen::Isometry3d::Identity(); known_ = false; }
   bool known() const { return known_; }
 
@@ -70,6 +73,8 @@ class TrackingEvidence {
   bool wellConstrained(const Observation& o) const {
     return !o.quality.known || o.quality.icpConditioning >= params_.weakConditioning;
   }
+  // The pose is off `predicted` by more than doubt_prediction_translation_m or doubt_prediction_rotation_deg.
+  bool offPrediction(const Observation& observation, const Eigen::Isometry3d& predicted) const;
   // Adds a kept frame's inlier fraction to the recent history.
   void accept(const Observation& observation);
 

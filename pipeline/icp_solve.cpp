@@ -118,4 +118,20 @@ Eigen::Isometry3d twistToTransform(const Twist& x) {
   return T;
 }
 
+Twist transformToTwist(const Eigen::Isometry3d& T) {
+  const Eigen::AngleAxisd turn(T.linear());
+  const double theta = turn.angle();
+  const Eigen::Vector3d w = theta * turn.axis();
+  // V^-1 = I - W/2 + c W^2 with c = (1 - theta sin(theta) / (2 (1 - cos(theta)))) / theta^2; below 1e-3 rad its
+  // series (1 - cos(theta) cancels to nothing in doubles near 0).
+  const double t2 = theta * theta;
+  const double c = theta < 1e-3 ? 1.0 / 12.0 + t2 / 720.0
+                                : (1.0 - theta * std::sin(theta) / (2.0 * (1.0 - std::cos(theta)))) / t2;
+  const Eigen::Matrix3d W = skew(w);
+  const Eigen::Matrix3d Vinv = Eigen::Matrix3d::Identity() - 0.5 * W + c * W * W;
+  Twist x;
+  x << Vinv * T.translation(), w;
+  return x;
+}
+
 }  // namespace sb

@@ -40,5 +40,7 @@ bool normalisedNormalMatrix(const Matrix6& A, double inliers, const Eigen::Isome
 
 // The rigid motion exp(x): rotation by the axis-angle x.tail<3>, translation V * x.head<3>.
 Eigen::Isometry3d twistToTransform(const Twist& x);
+// Its inverse, log(T), for rotations below pi.
+Twist transformToTwist(const Eigen::Isometry3d& T);
 
 }  // namespace sb

@@ -1,6 +1,8 @@
 #include "pipeline/tracking_quality.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 
 #include "pipeline/icp_solve.h"
@@ -17,8 +19,8 @@ namespace {
 // The smallest eigenvalue of J^T J (from `sums`) normalised per inlier (tracking_quality.h) and the camera
 // axis its eigenvector lies along most; false when the matrix is not usable.
 bool weakestMotion(const TrackSums& sums, double inliers, const Eigen::Isometry3d& T_camera_to_world,
-                   double& value, WeakDirection& axis) {
-  Matrix6 A, An, T;
+                   double& value, WeakDirection& axis, Matrix6& An, Matrix6& T) {
+  Matrix6 A;
   Twist b;
   icpNormalEquations(sums, A, b);
   if (!A.allFinite()) return false;
@@ -47,10 +49,28 @@ TrackingQuality trackingQuality(const TrackSums& icp, const TrackSums& blocks,
   const double inliers = icp[28];
   if (inliers < kMinIcpInliers) return q;
   WeakDirection unused = WeakDirection::tx;
-  if (!weakestMotion(icp, inliers, T_camera_to_world, q.icpConditioning, unused)) return q;
-  if (!weakestMotion(blocks, inliers, T_camera_to_world, q.conditioning, q.weakest)) return q;
+  Matrix6 An, T;
+  if (!weakestMotion(icp, inliers, T_camera_to_world, q.icpConditioning, unused, An, T)) return q;
+  if (!weakestMotion(blocks, inliers, T_camera_to_world, q.conditioning, q.weakest, An, T)) return q;
   q.constrained = q.conditioning >= minConditioning;
+  q.structure = An;
+  q.basis = T;
   return q;
+}
+
+Twist blendByStructure(const TrackingQuality& q, const Twist& previous, const Twist& measured, double lambda) {
+  if (!(lambda > 0) || !q.known || q.structure.isZero()) return measured;
+  Eigen::SelfAdjointEigenSolver<Matrix6> eig(q.structure);
+  if (eig.info() != Eigen::Success) return measured;
+  const Eigen::FullPivLU<Matrix6> basis(q.basis);
+  if (!basis.isInvertible()) return measured;
+  const Twist change = eig.eigenvectors().transpose() * basis.solve(measured - previous);
+  Twist kept;
+  for (int i = 0; i < 6; ++i) {
+    const double c = std::max(0.0, eig.eigenvalues()(i));
+    kept(i) = change(i) * c / (c + lambda);
+  }
+  return previous + q.basis * (eig.eigenvectors() * kept);
 }
 
 }  // namespace sb

@@ -26,6 +26,7 @@
 #include <string>
 
 #include "pipeline/backend.h"
+#include "pipeline/icp_solve.h"
 
 namespace sb {
 
@@ -39,7 +40,18 @@ struct TrackingQuality {
   double icpConditioning = 0.0;  // of the per-pixel ICP normal matrix, [0, 1/3]
   WeakDirection weakest = WeakDirection::tx;  // the camera axis the structure's weakest motion lies along most
   bool constrained = true;     // conditioning >= the configured minimum (true when not known)
+  // The structure's normal matrix (block rows, per inlier) in the motion basis, and that basis: a twist x in
+  // the world frame (icp_solve.h) is basis * x_n. Zero when not known.
+  Matrix6 structure = Matrix6::Zero();
+  Matrix6 basis = Matrix6::Identity();
 };
+
+// A motion learnt from a frame, kept only as far as the view fixed it: along each eigenvector of the structure
+// with eigenvalue (conditioning) c, the result moves from `previous` towards `measured` by c / (c + lambda).
+// Along a motion the view leaves free, ICP returns its start pose plus a slide; the start is the prediction,
+// so learning the slide whole makes the prior a random walk along that motion (a robot stopping before a bare
+// end wall: 5 cm/frame upwards within 15 frames). lambda <= 0 or quality not known: `measured`.
+Twist blendByStructure(const TrackingQuality& quality, const Twist& previous, const Twist& measured, double lambda);
 
 // The quality of the ICP problem whose reduced sums are `icp` (kernels/track.h layout, Jacobian columns in the
 // volume frame) and whose block sums are `blocks` (ComputeBackend::blockSums of the same pass), solved around

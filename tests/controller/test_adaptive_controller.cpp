@@ -304,3 +304,79 @@ TEST_CASE("adaptive asks ICP to hold free motions only when configured", "[contr
   CHECK(d.nextStartPose);
   CHECK((d.triggers & sb::kTriggerUnconstrained) != 0);
 }
+
+TEST_CASE("adaptive replaces a re-tracked pose that confirms nothing by the prediction, and does not learn it",
+          "[controller][adaptive]") {
+  // The 5 m-volume drive: an unconverged csr 8 pass, then a csr 4 pass with half the inliers 0.14 m ahead of
+  // both the prediction and the first pass. Learnt, it lost the next frames.
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
+  Driver drive(c);
+  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
+  REQUIRE(c.level() == 3);
+  Observation first = drive.observe(moveX(0.01));
+  first.icpLevelIterations = {first.knobs.pyramidIterations[0], 1, 1};
+  first.icpUpdateNorm = 0.02;
+  Decision d = c.decide(first);
+  REQUIRE(d.retrack);
+  Observation second = first;
+  second.retracked = true;
+  second.firstKnobs = first.knobs;
+  second.knobs = *d.retrack;
+  second.icpUpdateNorm = 0.001;
+  second.pose = moveX(0.15) * first.previousPose;
+  second.inlierFraction = 0.2;  // below half the recent median (0.6)
+  d = c.decide(second);
+  const Eigen::Vector3d predicted = first.previousPose.translation() + Eigen::Vector3d(0.01, 0, 0);
+  REQUIRE(d.correctedPose);
+  CHECK(d.correctedPose->translation().isApprox(predicted));
+  CHECK((d.triggers & sb::kTriggerCorrection) != 0);
+  REQUIRE(d.integrate);
+  CHECK_FALSE(*d.integrate);
+  REQUIRE(d.nextStartPose);  // the motion model still holds the 0.01 m/frame it had
+  CHECK(d.nextStartPose->translation().isApprox(predicted + Eigen::Vector3d(0.01, 0, 0)));
+  drive.finish(second, d);
+
+  // A re-track that lands on the first pass confirms it, even off the prediction: a real change of motion.
+  AdaptiveController other("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
+  Driver again(other);
+  for (int i = 0; i < 12; ++i) again.step(moveX(0.01));
+  Observation fast = again.observe(moveX(0.06));
+  d = other.decide(fast);
+  REQUIRE(d.retrack);
+  Observation agreeing = fast;
+  agreeing.retracked = true;
+  agreeing.firstKnobs = fast.knobs;
+  agreeing.knobs = *d.retrack;
+  d = other.decide(agreeing);
+  CHECK_FALSE(d.correctedPose);
+  REQUIRE(d.nextStartPose);
+  CHECK(d.nextStartPose->translation().isApprox(fast.pose.translation() + Eigen::Vector3d(0.06, 0, 0)));
+}
+
+TEST_CASE("adaptive learns a motion only as far as the view fixes it (learn_conditioning)", "[controller][adaptive]") {
+  // The view fixes x and the rotations but leaves y free (walls only, no floor): ICP's 0.02 m slide along y
+  // is not learnt; its x motion is.
+  const char* cfg = R"({"bootstrap_frames": 0, "max_level": 0, "learn_conditioning": 0.001})";
+  AdaptiveController c("adaptive", config(cfg));
+  Driver drive(c);
+  for (int i = 0; i < 6; ++i) drive.step(moveX(0.01));
+  Observation walls = drive.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));
+  sb::TrackingQuality q{true, 1e-7, 0.01, sb::WeakDirection::ty, false};
+  q.structure = sb::Matrix6::Identity() * 0.05;
+  q.structure(1, 1) = 1e-7;
+  walls.quality = q;
+  const Decision d = c.decide(walls);
+  REQUIRE(d.nextStartPose);
+  const Eigen::Vector3d step = d.nextStartPose->translation() - walls.pose.translation();
+  CHECK(step.x() == Approx(0.01 + 0.002 * 0.05 / 0.051).margin(1e-6));
+  CHECK(step.y() == Approx(0.0).margin(1e-5));
+  // Off (the default), the whole measured motion is learnt.
+  AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0})"));
+  Driver other(off);
+  for (int i = 0; i < 6; ++i) other.step(moveX(0.01));
+  Observation same = other.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));
+  same.quality = q;
+  const Decision all = off.decide(same);
+  REQUIRE(all.nextStartPose);
+  CHECK((all.nextStartPose->translation() - same.pose.translation()).isApprox(Eigen::Vector3d(0.012, 0.02, 0)));
+}

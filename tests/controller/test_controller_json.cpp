@@ -45,6 +45,7 @@ TEST_CASE("config/controller.json holds the defaults", "[controller][config]") {
   CHECK(adaptive.predictStart == adaptiveDefaults.predictStart);
   CHECK(adaptive.integrateUnconstrained == adaptiveDefaults.integrateUnconstrained);
   CHECK(adaptive.icpHoldConditioning == adaptiveDefaults.icpHoldConditioning);
+  CHECK(adaptive.learnConditioning == adaptiveDefaults.learnConditioning);
   CHECK(adaptive.confirmTranslationM == adaptiveDefaults.confirmTranslationM);
   CHECK(adaptive.confirmRotationDeg == adaptiveDefaults.confirmRotationDeg);
   CHECK(adaptive.evidence.maxUpdateNorm == adaptiveDefaults.evidence.maxUpdateNorm);
