@@ -32,7 +32,8 @@ class VolumeSampler {
       // in a box stored alone, at i.
       physical_[a].resize(size_t(n_[a]));
       for (int i = 0; i < n_[a]; ++i)
-        physical_[a][size_t(i)] = v.boxOnly ? i : ((box ? v.first[size_t(a)] : 0) + i + v.offset[size_t(a)]) % v.resolution;
+        physical_[a][size_t(i)] =
+            v.boxOnly ? i : ((box ? v.first[size_t(a)] : 0) + i + v.offset[size_t(a)]) % v.resolution;
     }
     rowVoxels_ = v.boxOnly ? n_[0] : v.resolution;
     planeVoxels_ = int64_t(rowVoxels_) * (v.boxOnly ? n_[1] : v.resolution);
@@ -43,7 +44,8 @@ class VolumeSampler {
   int64_t key(int x, int y, int z) const { return x + int64_t(n_[0]) * (y + int64_t(n_[1]) * z); }
   // Where voxel (x, y, z) of the box is stored.
   int64_t index(int x, int y, int z) const {
-    return physical_[0][size_t(x)] + rowVoxels_ * physical_[1][size_t(y)] + planeVoxels_ * physical_[2][size_t(z)];
+    return physical_[0][size_t(x)] + rowVoxels_ * physical_[1][size_t(y)] +
+           planeVoxels_ * physical_[2][size_t(z)];
   }
   bool valid(int64_t i) const { return data_[2 * i + 1] >= minWeight_; }
   float tsdf(int64_t i) const { return data_[2 * i] / kTsdfScale; }

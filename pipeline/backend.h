@@ -57,7 +57,8 @@ class ComputeBackend {
   // through the cyclic offset of a moving volume (VolumePlacement::boxPieces), into `out`: 2 * extent[0] *
   // extent[1] * extent[2] int16 (tsdf, weight), x fastest, box voxel (x, y, z) at x + extent[0] * (y +
   // extent[1] * z). Reads only the box (a leaving slab, pipeline/volume_window.h), not the whole volume.
-  virtual void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent, int16_t* out) = 0;
+  virtual void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                             int16_t* out) = 0;
 
   // The moving volume (pipeline/volume_placement.h, docs/moving-volume.md): places the volume's corner at
   // `cornerVoxels` (world, voxels; each axis moves by a multiple of VolumePlacement::kBlockVoxels). The voxel

@@ -63,8 +63,9 @@ std::vector<BoxPiece> boxPieces(const std::array<int, 3>& first, const std::arra
   for (int a = 0; a < 3; ++a) {
     const int f = first[size_t(a)], n = extent[size_t(a)];
     if (f < 0 || n < 1 || f + n > resolution)
-      throw Error("volume box of " + std::to_string(n) + " voxels from " + std::to_string(f) + " along axis " +
-                  std::to_string(a) + " is not inside the cube of " + std::to_string(resolution));
+      throw Error("volume box of " + std::to_string(n) + " voxels from " + std::to_string(f) +
+                  " along axis " + std::to_string(a) + " is not inside the cube of " +
+                  std::to_string(resolution));
     const int start = positiveModulo(f + o[a], resolution);
     const int beforeWrap = std::min(n, resolution - start);
     runs[size_t(a)].push_back({start, 0, beforeWrap});

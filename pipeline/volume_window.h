@@ -1,11 +1,12 @@
 #pragma once
 // The moving volume's policy (docs/moving-volume.md; after Kintinuous, Whelan et al. 2012): after each frame
-// the window looks at the centre of the camera's view; when it lies farther than a threshold from the volume's
-// centre on some axis, the volume shifts along that axis by the whole blocks that bring the view centre back
-// to the centre. The backend does the shift as a cyclic buffer (ComputeBackend::moveVolume: a new address
-// offset, the planes that left cleared, no voxel copied); before it, a copy of the slab that leaves is handed to
-// a listener (the run meshes it into the whole run's map). Poses stay in the world frame, the frame of the
-// first volume: a client never sees a shift, and a run that never shifts is exactly the fixed-volume run.
+// the window looks at the centre of the camera's view; when it lies farther than a threshold from the
+// volume's centre on some axis, the volume shifts along that axis by the whole blocks that bring the view
+// centre back to the centre. The backend does the shift as a cyclic buffer (ComputeBackend::moveVolume: a new
+// address offset, the planes that left cleared, no voxel copied); before it, a copy of the slab that leaves
+// is handed to a listener (the run meshes it into the whole run's map). Poses stay in the world frame, the
+// frame of the first volume: a client never sees a shift, and a run that never shifts is exactly the
+// fixed-volume run.
 //
 //   VolumeWindow window(config);
 //   window.setSlabListener([&](VolumeSlab&& slab) { ... mesh it (runtime/map_slabs.h) ... });
@@ -25,14 +26,14 @@ namespace sb {
 // A box of voxels about to leave the volume, copied out of it before the shift clears them
 // (ComputeBackend::readVolumeBox: only the box is read): logical voxels first .. first + extent - 1 of the
 // volume. It holds one voxel more than leaves, on the side of what stays, so that the cells between the slab
-// and the rest are meshed once, with the slab. The listener owns it (it may keep it: the volume is cleared and
-// reused at once).
+// and the rest are meshed once, with the slab. The listener owns it (it may keep it: the volume is cleared
+// and reused at once).
 struct VolumeSlab {
   // 2 * extent[0] * extent[1] * extent[2] int16 (tsdf, weight), x fastest: box voxel (x, y, z) at
   // x + extent[0] * (y + extent[1] * z), the layout of kernels/volume.h without the offset.
   std::vector<int16_t> voxels;
-  int resolution = 0;               // of the volume it left
-  std::array<int, 3> first{};       // the box, logical voxels of the volume
+  int resolution = 0;          // of the volume it left
+  std::array<int, 3> first{};  // the box, logical voxels of the volume
   std::array<int, 3> extent{};
   Eigen::Vector3d corner = Eigen::Vector3d::Zero();  // world, metres: the lower corner of voxel `first`
   float voxelSize = 0.0f;           // metres

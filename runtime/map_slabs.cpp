@@ -1,8 +1,10 @@
 #include "runtime/map_slabs.h"
 
 #include <spdlog/spdlog.h>
+#include <sys/resource.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +24,7 @@ double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
+constexpr int kWorkerNice = 10;  // the worker's nice above the SLAM thread's
 constexpr const char* kPrefix = "slab-";
 constexpr const char* kSuffix = ".ply";
 
@@ -32,7 +35,8 @@ size_t slabNumber(const std::string& name) {
       name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
     return 0;
   const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
-  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) || digits.size() > 18)
+  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
+      digits.size() > 18)
     return 0;
   return std::stoull(digits);
 }
@@ -90,6 +94,12 @@ void MapSlabs::drain() {
 }
 
 void MapSlabs::workerLoop() {
+  // Below the SLAM thread and its pool (nice + kWorkerNice, this thread only: Linux's nice is per thread), so
+  // that where they fill the cores the slabs take the idle time; when the queue fills, the SLAM thread waits.
+  errno = 0;
+  const int nice = getpriority(PRIO_PROCESS, 0);
+  if (errno == 0)
+    setpriority(PRIO_PROCESS, 0, std::min(nice + kWorkerNice, 19));  // best effort: any failure keeps it
   ThreadPool serial(1);  // this thread alone: the global pool is the SLAM thread's (same mesh for any count)
   std::unique_lock lock(mutex_);
   for (;;) {
@@ -121,7 +131,8 @@ void MapSlabs::openFolder() {
   std::error_code ec;
   std::filesystem::create_directories(folder, ec);
   if (ec) throw Error("cannot create '" + folder.string() + "': " + ec.message());
-  // Slab files of an earlier start: in the retention (oldest first), not in this run's map; numbered on after.
+  // Slab files of an earlier start: in the retention (oldest first), not in this run's map; numbered on
+  // after.
   std::vector<std::pair<size_t, Written>> earlier;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const size_t number = slabNumber(entry.path().filename().string());
@@ -173,7 +184,8 @@ void MapSlabs::enforceRetentionLocked() {
     const Written& oldest = written_.front();
     std::error_code ec;
     std::filesystem::remove(oldest.path, ec);
-    if (ec) throw Error("cannot remove the old slab '" + oldest.path + "' (map_slabs retention): " + ec.message());
+    if (ec)
+      throw Error("cannot remove the old slab '" + oldest.path + "' (map_slabs retention): " + ec.message());
     writtenBytes_ -= oldest.bytes;
     ++stats_.removedFiles;
     stats_.removedBytes += oldest.bytes;

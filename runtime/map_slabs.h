@@ -1,7 +1,8 @@
 #pragma once
 // The whole run's map with a moving volume (issue 30): every slab that leaves the volume
 // (pipeline/volume_window.h: a copy of its voxels, read before the shift clears them) is meshed and written
-// by one worker thread to DIR/map_slabs/slab-NNNNNN.ply, a complete file (written aside, then renamed), so a
+// by one worker thread (at nice +10: it takes the cores the SLAM thread leaves idle) to
+// DIR/map_slabs/slab-NNNNNN.ply, a complete file (written aside, then renamed), so a
 // killed run keeps the slabs written so far. The SLAM thread only queues the copy; the queue is bounded in
 // bytes and, when full, the SLAM thread waits for room (no slab is ever dropped). At the end mesh.ply holds
 // every slab kept and the final volume, in the world frame, once the worker has written every slab queued.
@@ -32,11 +33,11 @@
 namespace sb {
 
 struct MapSlabsStats {
-  double workerMs = 0.0;        // meshing and writing the slabs on the worker, summed
-  double waitMs = 0.0;          // the adding thread waiting for room in the queue, summed
-  size_t waits = 0;             // adds that waited
-  size_t peakQueuedBytes = 0;   // the most bytes of slab copies queued or being meshed at once
-  size_t removedFiles = 0;      // slab files removed by the retention limit (Options::keepBytes)
+  double workerMs = 0.0;       // meshing and writing the slabs on the worker (wall time, summed)
+  double waitMs = 0.0;         // the adding thread waiting for room in the queue, summed
+  size_t waits = 0;            // adds that waited
+  size_t peakQueuedBytes = 0;  // the most bytes of slab copies queued or being meshed at once
+  size_t removedFiles = 0;     // slab files removed by the retention limit (Options::keepBytes)
   uint64_t removedBytes = 0;
 };
 
@@ -57,9 +58,9 @@ class MapSlabs {
   using Options = MapSlabsOptions;
   static constexpr size_t kDefaultQueueBytes = kMapSlabsQueueBytes;
 
-  // Slabs go to `dir`/map_slabs (created at the first slab). Slab files already there (an earlier start of the
-  // daemon) count in the retention, oldest first, and this run's are numbered on after them; they are not part
-  // of this run's map.
+  // Slabs go to `dir`/map_slabs (created at the first slab). Slab files already there (an earlier start of
+  // the daemon) count in the retention, oldest first, and this run's are numbered on after them; they are not
+  // part of this run's map.
   explicit MapSlabs(std::string dir, const Options& options = Options{});
   // Writes every slab still queued, then stops the worker (a failure there is logged: finish() reports it).
   ~MapSlabs();
@@ -88,7 +89,7 @@ class MapSlabs {
   };
   void workerLoop();
   void write(const VolumeSlab& slab, ThreadPool& serial);  // on the worker
-  void openFolder();                                        // on the worker, at the first slab
+  void openFolder();                                       // on the worker, at the first slab
   void enforceRetentionLocked();
   void rethrowLocked();
 
@@ -98,12 +99,12 @@ class MapSlabs {
   mutable std::mutex mutex_;
   std::condition_variable work_, room_;
   std::deque<VolumeSlab> queue_;
-  size_t pending_ = 0;       // slabs queued or being written
-  size_t queuedBytes_ = 0;   // their bytes
+  size_t pending_ = 0;      // slabs queued or being written
+  size_t queuedBytes_ = 0;  // their bytes
   bool stop_ = false;
-  std::exception_ptr error_;  // the first failure not yet thrown
-  bool folderOpen_ = false;   // the worker's
-  size_t firstNumber_ = 0;    // files are numbered firstNumber_ + shift
+  std::exception_ptr error_;     // the first failure not yet thrown
+  bool folderOpen_ = false;      // the worker's
+  size_t firstNumber_ = 0;       // files are numbered firstNumber_ + shift
   std::deque<Written> written_;  // every slab file kept, oldest first (earlier starts' first)
   uint64_t writtenBytes_ = 0;
   std::vector<std::string> files_;  // this run's kept, refreshed by files()
@@ -111,10 +112,10 @@ class MapSlabs {
   MapSlabsStats stats_;
 };
 
-// mesh.ply of a run (Run::finish): the final volume (read through a moving volume's cyclic offset and moved to
-// the world frame) after every slab of `slabs` (nullptr or none: the volume alone, as a fixed volume always
-// was); waits for `slabs`' worker first. Sets the summary's "mesh_triangles" (and "mesh_slabs"). Throws
-// sb::Error naming a file.
+// mesh.ply of a run (Run::finish): the final volume (read through a moving volume's cyclic offset and moved
+// to the world frame) after every slab of `slabs` (nullptr or none: the volume alone, as a fixed volume
+// always was); waits for `slabs`' worker first. Sets the summary's "mesh_triangles" (and "mesh_slabs").
+// Throws sb::Error naming a file.
 void writeRunMesh(const std::string& path, Pipeline& pipeline, MapSlabs* slabs, ThreadPool& pool,
                   SummarySink& summary);
 

@@ -68,10 +68,10 @@ class Run {
 
   // Every output on disk reflects every frame so far (the energy totals too).
   void flush();
-  // The end of the run: energy totals, every slab of the map written (the worker drained), model.png, mesh.ply,
-  // then trajectory and frame log synced to disk and
-  // summary.json marked complete last (a run killed at any point never leaves a complete summary beside a
-  // half-written trajectory). Throws sb::Error naming a file that cannot be written.
+  // The end of the run: energy totals, every slab of the map written (the worker drained), model.png,
+  // mesh.ply, then trajectory and frame log synced to disk and summary.json marked complete last (a run
+  // killed at any point never leaves a complete summary beside a half-written trajectory). Throws sb::Error
+  // naming a file that cannot be written.
   void finish(const RunEnd& end, ThreadPool& pool);
   // report.html from the outputs on disk; returns its path. Throws sb::Error when it cannot be written.
   std::string writeReport() const;

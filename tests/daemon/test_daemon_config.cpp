@@ -160,7 +160,8 @@ TEST_CASE("daemon config: output rotation, its limits in bytes and when it appli
 TEST_CASE("daemon config: the map slabs' retention, output.rotation.keep_slabs_mib", "[daemon][config]") {
   CHECK(parseDaemonConfig(json::object()).output.rotation.keepSlabsMib == 1024.0);
   const auto keep = [](double mib) {
-    return parseDaemonConfig(json{{"output", {{"rotation", {{"keep_slabs_mib", mib}}}}}}).output.rotation.keepSlabsMib;
+    return parseDaemonConfig(json{{"output", {{"rotation", {{"keep_slabs_mib", mib}}}}}})
+        .output.rotation.keepSlabsMib;
   };
   CHECK(keep(0) == 0.0);  // no limit
   CHECK(keep(16) == 16.0);

@@ -1,14 +1,14 @@
 // The moving volume on the OpenCL backend against the CPU backend (the oracle): the same body on both. A
-// volume of the analytic room (160x120, 64^3 of 4 m) moved along x and z (a cyclic buffer: a new address offset,
-// kernels/volume.h): on each backend the move is exact, bit for bit (every voxel that stays keeps its physical
-// address and content, the planes that left are cleared and nothing else changes), so the two backends'
-// volumes differ after it exactly where they differed before it; after one more frame fused (across the
-// buffer's wrap) and a raycast from a world pose (interpolating across it), the backends agree within the stage
-// tolerances of test_opencl_stages.cpp, which hold without a move too (the backends' integrate is not bitwise
-// equal: contracted multiply-adds on the device)
-// (weights identical except 1e-4 of the voxels, tsdf within 2/32767; raycast validity differing on <= 0.2%
-// of the pixels, world-frame vertices within 1 mm). A box read alone (readVolumeBox, a leaving slab) across
-// the wrap is the volume read through the offset, voxel for voxel, on each backend.
+// volume of the analytic room (160x120, 64^3 of 4 m) moved along x and z (a cyclic buffer: a new address
+// offset, kernels/volume.h): on each backend the move is exact, bit for bit (every voxel that stays keeps its
+// physical address and content, the planes that left are cleared and nothing else changes), so the two
+// backends' volumes differ after it exactly where they differed before it; after one more frame fused (across
+// the buffer's wrap) and a raycast from a world pose (interpolating across it), the backends agree within the
+// stage tolerances of test_opencl_stages.cpp, which hold without a move too (the backends' integrate is not
+// bitwise equal: contracted multiply-adds on the device) (weights identical except 1e-4 of the voxels, tsdf
+// within 2/32767; raycast validity differing on <= 0.2% of the pixels, world-frame vertices within 1 mm). A
+// box read alone (readVolumeBox, a leaving slab) across the wrap is the volume read through the offset, voxel
+// for voxel, on each backend.
 
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -211,8 +211,9 @@ TEST_CASE("the volume window shifts by whole blocks past the threshold and hands
   CHECK(copiedExactly[1] == size_t(33) * 64 * 64);
   CHECK(copiedExactly[2] == size_t(64) * 25 * 64);
   int16_t voxel[2];
-  CHECK_THROWS_WITH(backend.readVolumeBox({60, 0, 0}, {8, 1, 1}, voxel),
-                    Catch::Contains("8 voxels from 60 along axis 0") && Catch::Contains("not inside the cube of 64"));
+  CHECK_THROWS_WITH(
+      backend.readVolumeBox({60, 0, 0}, {8, 1, 1}, voxel),
+      Catch::Contains("8 voxels from 60 along axis 0") && Catch::Contains("not inside the cube of 64"));
   CHECK(window.stats().shifts == 3);
   CHECK(window.offset() == std::array<int, 3>{48, 24, 0});  // (-16 mod 64, 24, 0)
 }

@@ -5,7 +5,8 @@
 //   offset before the shift, as before the worker) and writing it gives, whatever the queue's bound (one slab
 //   at a time: back-pressure, never a drop);
 // - the destructor writes what is still queued; a write that fails is thrown at the next drain, naming it;
-// - retention: past keepBytes the oldest files go (the newest stays), mesh.ply holds the kept ones; files of an
+// - retention: past keepBytes the oldest files go (the newest stays), mesh.ply holds the kept ones; files of
+// an
 //   earlier start count first and this run's number on after them.
 
 #include <catch2/catch.hpp>
@@ -102,7 +103,8 @@ TEST_CASE("map slabs: the worker writes the files the SLAM thread wrote, byte fo
   REQUIRE(d.slabs.size() == 3);
   size_t withSurface = 0;
   for (const std::string& r : d.reference) withSurface += !r.empty();
-  for (size_t i = 0; i < d.reference.size(); ++i) UNSCOPED_INFO("slab " << i + 1 << ": " << d.reference[i].size() << " bytes");
+  for (size_t i = 0; i < d.reference.size(); ++i)
+    UNSCOPED_INFO("slab " << i + 1 << ": " << d.reference[i].size() << " bytes");
   REQUIRE(withSurface >= 3);
   // The default bound, and one slab at a time (every add after the first waits for the worker).
   const bool oneAtATime = GENERATE(false, true);
@@ -134,7 +136,8 @@ TEST_CASE("map slabs: the worker writes the files the SLAM thread wrote, byte fo
     CHECK(entry.path().extension() == ".ply");  // no .partial left
 }
 
-TEST_CASE("map slabs: the destructor writes what is queued; a failed write is thrown, naming it", "[map_slabs]") {
+TEST_CASE("map slabs: the destructor writes what is queued; a failed write is thrown, naming it",
+          "[map_slabs]") {
   const Drive& d = drive();
   const std::string dir = freshDir("map_slabs_worker_end");
   {
@@ -143,7 +146,8 @@ TEST_CASE("map slabs: the destructor writes what is queued; a failed write is th
   }  // no drain: the destructor finishes the queue
   size_t expected = 0;
   for (const std::string& r : d.reference) expected += !r.empty();
-  CHECK(size_t(std::distance(fs::directory_iterator(dir + "/map_slabs"), fs::directory_iterator())) == expected);
+  CHECK(size_t(std::distance(fs::directory_iterator(dir + "/map_slabs"), fs::directory_iterator())) ==
+        expected);
 
   const std::string blocked = freshDir("map_slabs_worker_blocked");
   fs::create_directories(fs::path(blocked).parent_path());
@@ -175,7 +179,8 @@ TEST_CASE("map slabs: retention keeps the newest files within the bound, earlier
   const std::vector<std::string> files = slabs.files();
   REQUIRE(files.size() == 2);
   std::vector<std::string> left;
-  for (const auto& entry : fs::directory_iterator(dir + "/map_slabs")) left.push_back(entry.path().filename());
+  for (const auto& entry : fs::directory_iterator(dir + "/map_slabs"))
+    left.push_back(entry.path().filename());
   std::sort(left.begin(), left.end());
   CHECK(left == std::vector<std::string>{fs::path(files[0]).filename(), fs::path(files[1]).filename()});
   // Numbered on after the earlier start's 7: this run's shift n is file 7 + n.
