@@ -210,7 +210,8 @@ void SlamWorker::runPasses() {
         sequence_.depthScale,
         RunOutputs{dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
                    "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)",
-                   segments_, config_.output.mesh},
+                   segments_, config_.output.mesh,
+                   static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0)},
         energy ? &*energy : nullptr);
     if (publishEnergy_)
       run->setEnergyListener([this](const power::FrameEnergy& e) {
