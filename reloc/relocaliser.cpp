@@ -52,8 +52,9 @@ double Relocaliser::requiredAgreement() const {
   constexpr size_t kMinKnown = 10;
   if (tracked_.size() < kMinKnown) return params_.minPairAgreement;
   std::vector<double> sorted(tracked_.begin(), tracked_.end());
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  return std::max(params_.minPairAgreement, sorted[sorted.size() / 2] - params_.agreementMargin);
+  const auto p90 = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() * 9 / 10);
+  std::nth_element(sorted.begin(), p90, sorted.end());
+  return std::max(params_.minPairAgreement, *p90 - params_.agreementMargin);
 }
 
 bool Relocaliser::acceptable(const TrackAttempt& a) const {
