@@ -59,7 +59,7 @@ struct PipelineConfig {
   float relocaliseMinPairAgreement = 0.87f;
   // ... and at least the 90th percentile of the agreement of the last 300 good frames less this
   // (reloc/relocaliser.h; 1: off).
-  float relocaliseAgreementMargin = 0.03f;
+  float relocaliseAgreementMargin = 0.015f;
   float relocaliseMaxMotion = 0.1f;         // metres: motion between two confirming frames, at most
   float relocaliseMaxRotationDeg = 10.0f;   // degrees: the same for rotation
   int keyframeCapacity = 300;               // keyframes held (the oldest goes when full)
