@@ -14,6 +14,7 @@
 #include "pipeline/pipeline.h"
 #include "runtime/energy_account.h"
 #include "runtime/run.h"
+#include "runtime/run_setup.h"
 
 namespace sb::daemon {
 
@@ -201,14 +202,13 @@ void SlamWorker::runPasses() {
       stats_.outputDir = dir;
       stats_.controller = settings.name;
     }
-    const nlohmann::json extra = {
-        {"sequence", sequence_.path},
-        {"daemon", {{"pass", pass}, {"cpus", stats().cpus}, {"threads", stats().threads}}},
-        {"config", configToJson(pipelineConfig_)}};
+    auto pipeline = Pipeline::create(pipelineConfig_, sequence_.intrinsics, pool);
+    auto controller = createController(settings, context_);
+    RunSummary header = runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, pool.threadCount());
+    header.daemon = DaemonPass{pass, stats().cpus, stats().threads};
     run = std::make_unique<Run>(
-        Pipeline::create(pipelineConfig_, sequence_.intrinsics, pool), createController(settings, context_),
-        sequence_.depthScale,
-        RunOutputs{dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
+        std::move(pipeline), std::move(controller), sequence_.depthScale,
+        RunOutputs{dir, pass == 1 ? sequence_.groundTruthPath : "", header,
                    "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)",
                    segments_, config_.output.mesh},
         energy ? &*energy : nullptr);

@@ -41,40 +41,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A number of a run's summary.json; throws sb::Error naming the file, the key and the value when it is
-// missing (and has no default) or not a number.
-double summaryNumber(const nlohmann::json& s, const std::string& key, const std::string& path,
-                     std::optional<double> fallback = std::nullopt) {
-  const auto dot = key.find('.');
-  const nlohmann::json* v = &s;
-  for (const std::string& part : {key.substr(0, dot), dot == std::string::npos ? "" : key.substr(dot + 1)}) {
-    if (part.empty()) break;
-    if (!v->is_object() || !v->contains(part)) {
-      if (fallback) return *fallback;
-      throw Error(quoteForMessage(path) + ": key \"" + key + "\" is missing");
-    }
-    v = &(*v)[part];
-  }
-  if (fallback && v->is_null()) return *fallback;
-  if (!v->is_number())
-    throw Error(quoteForMessage(path) + ": key \"" + key + "\" is " + describeJson(*v) + "; expected a number");
-  return v->get<double>();
-}
-
-// The machine record of a summary, when present, must hold what machineMix() reads with those types.
-void checkMachine(const nlohmann::json& s, const std::string& path) {
-  if (!s.contains("machine")) return;
-  const nlohmann::json& m = s["machine"];
-  const auto bad = [&](const std::string& key, const nlohmann::json& v, const char* expected) {
-    return Error(quoteForMessage(path) + ": key \"" + key + "\" is " + describeJson(v) + "; expected " + expected);
-  };
-  if (!m.is_object()) throw bad("machine", m, "an object");
-  for (const char* key : {"backend", "device", "cpu_model", "host"})
-    if (m.contains(key) && !m[key].is_string()) throw bad(std::string("machine.") + key, m[key], "a string");
-  if (m.contains("threads_used") && !m["threads_used"].is_number_integer())
-    throw bad("machine.threads_used", m["threads_used"], "an integer");
-}
-
 struct BenchOptions {
   std::vector<std::string> sequences;
   std::string out, config, dseDir, plotSequence, powerConfig;
@@ -228,7 +194,7 @@ void benchCommand(const BenchOptions& o) {
   std::vector<std::string> allLabels = labels;
   if (r.offline) allLabels.push_back("offline");
   std::map<std::string, std::string> referenceOf;
-  std::vector<nlohmann::json> summaries;
+  std::vector<RunSummary> summaries;
   std::ofstream csv(o.out + "/results.csv");
   csv << "sequence,controller,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,reference,controller_ms_per_frame,joules_per_frame\n";
   for (const std::string& name : r.sequences) {
@@ -248,14 +214,12 @@ void benchCommand(const BenchOptions& o) {
       c.dir = dirOf[{name, label}];
       // One bad summary is reported (file, key, value) and left out; the report of the rest is written.
       try {
-        const std::string path = c.dir + "/summary.json";
-        const nlohmann::json s = readSummary(c.dir);
-        c.frames = summaryNumber(s, "frames", path);
-        c.tracked = summaryNumber(s, "tracked_percent", path);
-        c.ms = summaryNumber(s, "computation_ms_per_frame", path);
-        c.controllerMs = summaryNumber(s, "controller_ms_per_frame", path, 0.0);
-        c.joulesPerFrame = summaryNumber(s, "energy.joules_per_frame", path, NAN);
-        checkMachine(s, path);
+        const RunSummary s = readSummary(c.dir);  // the types of its fields checked
+        c.frames = double(s.frames);
+        c.tracked = s.trackedPercent;
+        c.ms = s.computationMsPerFrame;
+        c.controllerMs = s.controllerMsPerFrame;
+        c.joulesPerFrame = s.joulesPerFrame();  // NaN without a meter
         summaries.push_back(s);
       } catch (const Error& e) {
         std::cerr << "slambooster bench: left out " << name << " / " << label << ": " << e.what() << "\n";

@@ -27,11 +27,11 @@
 #include "drivers/sequence.h"
 #include "eval/trajectory_eval.h"
 #include "pipeline/config.h"
-#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/pipeline.h"
 #include "power/power_config.h"
 #include "runtime/energy_account.h"
 #include "runtime/run.h"
+#include "runtime/run_setup.h"
 #include "tools/slambooster/commands.h"
 #include "tools/slambooster/stop_signals.h"
 
@@ -79,27 +79,11 @@ struct RunSetup {
   ControllerSettings controller;
 };
 
-// Reads the --config file: the pipeline keys (config/pipeline.json) and an optional "controller" section
-// (config/controller.json).
-nlohmann::json readConfigFile(const std::string& path) { return readJsonConfig(path, "config file"); }
-
-// defaults < sequence volume hints < config file < command-line flags.
+// defaults < sequence volume hints < config file < command-line flags (runtime/run_setup.h).
 RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
-  PipelineConfig c;
-  if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
-  if (info.volumeInitialPosition)
-    for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
-  nlohmann::json controllerSection = "fixed";
-  std::string controllerWhere = "controller";
-  if (!o.configPath.empty()) {
-    nlohmann::json file = readConfigFile(o.configPath);
-    if (file.contains("controller")) {
-      controllerSection = file["controller"];
-      controllerWhere = o.configPath + ": controller";
-      file.erase("controller");
-    }
-    c = parseConfig(file, c, o.configPath);
-  }
+  SettingsFile file;
+  if (!o.configPath.empty()) file = readSettingsFile(o.configPath);
+  PipelineConfig c = pipelineConfigFor(info, file.pipeline, o.configPath);
   if (!o.preset.empty()) c.knobs = knobPreset(o.preset);
   if (!o.knobs.empty()) c.knobs = parseKnobs(o.knobs, c.knobs);
   if (o.volumeSize) c.volumeSize = static_cast<float>(*o.volumeSize);
@@ -107,21 +91,11 @@ RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
   if (!o.initialPosition.empty()) c.initialPosition = parsePosition(o.initialPosition);
   // The product follows the camera unless the config or --fixed-volume says otherwise (docs/moving-volume.md).
   if (o.fixedVolume) c.volumeMode = VolumeMode::fixed;
-  if (c.volumeMode == VolumeMode::automatic) c.volumeMode = VolumeMode::moving;
-  try {
-    validateConfig(c);
-  } catch (const Error& e) {
-    throw Error(std::string("run options: ") + e.what());
-  }
-  if (!o.controller.empty()) {
-    if (controllerSection.is_object())
-      controllerSection["name"] = o.controller;
-    else
-      controllerSection = o.controller;
-    if (controllerWhere == "controller") controllerWhere = "--controller";
-  }
-  const ControllerContext context{c.knobs};
-  return RunSetup{c, parseControllerSettings(controllerSection, context, controllerWhere)};
+  finishPipelineConfig(c, "run options");
+  const std::string where = !file.controller.is_null() ? o.configPath + ": controller"
+                            : o.controller.empty()     ? "controller"
+                                                       : "--controller";
+  return RunSetup{c, controllerSettingsFrom(file.controller, o.controller, true, ControllerContext{c.knobs}, where)};
 }
 
 // CPU time (user + system) of the process so far, milliseconds.
@@ -140,15 +114,6 @@ void printProgress(size_t done, size_t total, double msPerFrame) {
   std::cerr << "  " << std::fixed << std::setprecision(1) << msPerFrame << " ms/frame" << std::flush;
 }
 
-// Where this run is timed (summary.json "machine"): the CPU backend runs on this CPU; for OpenCL the device
-// is named by the config's selectors (the backend logs the device it picked in run.log).
-nlohmann::json machineOf(Pipeline& pipeline, const PipelineConfig& config, unsigned threads) {
-  if (dynamic_cast<CpuBackend*>(&pipeline.backend())) return machineJson(threads, "cpu", cpuModel());
-  const std::string platform = config.openclPlatform.empty() ? "first with a GPU" : config.openclPlatform;
-  const std::string device = config.openclDevice.empty() ? "first GPU" : config.openclDevice;
-  return machineJson(threads, "opencl", "platform " + platform + ", device " + device);
-}
-
 void runCommand(const RunOptions& o) {
   SequenceOptions seqOptions;
   seqOptions.maxFrames = o.frames;
@@ -162,14 +127,8 @@ void runCommand(const RunOptions& o) {
   auto pipeline = Pipeline::create(config, info.intrinsics, pool);
   auto controller = createController(setup.controller, ControllerContext{config.knobs});
   const Knobs initial = controller->initialKnobs();
-  nlohmann::json extra;
-  extra["sequence"] = o.sequence;
-  extra["controller"] = setup.controller.name;
-  extra["controller_sections"] = setup.controller.sections;
-  extra["knobs"] = knobsToJson(initial);
-  extra["config"] = configToJson(config);
-  extra["threads"] = pool.threadCount();
-  extra["machine"] = machineOf(*pipeline, config, pool.threadCount());
+  const RunSummary header =
+      runSummaryHeader("run", o.sequence, setup.controller, *controller, *pipeline, pool.threadCount());
   // Energy: the run borrows the account of a sampler this command owns.
   std::unique_ptr<power::PowerSampler> sampler;
   std::optional<EnergyAccount> energy;
@@ -182,7 +141,7 @@ void runCommand(const RunOptions& o) {
     }
   }
   Run run(std::move(pipeline), std::move(controller), info.depthScale,
-          RunOutputs{o.out, info.groundTruthPath, extra,
+          RunOutputs{o.out, info.groundTruthPath, header,
                      "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
                          formatKnobs(initial) + " (volume frame)",
                      nullptr, o.mesh},
@@ -210,8 +169,8 @@ void runCommand(const RunOptions& o) {
     // A bad frame or a failed write stops the run; the outputs keep every frame before it and the summary
     // says why (best effort: on a full disk it may not be written).
     if (progress) std::cerr << "\n";
-    summary.setExtra("error", e.what());
-    summary.setExtra("complete", false);
+    summary.header().error = e.what();
+    summary.header().complete = false;
     try {
       run.flush();
     } catch (const Error&) {
@@ -230,18 +189,18 @@ void runCommand(const RunOptions& o) {
   if (count == 0) throw Error("sequence '" + o.sequence + "' has no frames");
   // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
   // times to other load on the machine.
-  summary.setExtra("cpu_ms_per_frame", cpuMs / count);
+  RunSummary& ending = summary.header();
+  ending.cpuMsPerFrame = cpuMs / count;
   if (stopped)  // complete as asked, but not the whole sequence: its ATE and times cover the frames run
-    summary.setExtra("stopped", {{"at_frame", count}, {"limit_ms", o.stopAfterMs},
-                                 {"computation_ms", stats.stageSums.computationMs()}});
-  if (stopSignal) summary.setExtra("interrupted", {{"signal", StopSignals::name(stopSignal)}, {"at_frame", count}});
+    ending.stopped = StoppedSummary{count, o.stopAfterMs, stats.stageSums.computationMs()};
+  if (stopSignal) ending.interrupted = InterruptedSummary{StopSignals::name(stopSignal), count};
   RunEnd end;
   end.modelView = o.modelView;
   end.mesh = o.mesh;
   end.complete = stopSignal == 0;  // an interrupted run runs again under bench / dse / profile
   run.finish(end, pool);
   const std::optional<AteResult>& ate = summary.ate();
-  const nlohmann::json& json = summary.summary();
+  const RunSummary& written = summary.summary();
 
   std::cout << std::fixed << std::setprecision(1);
   if (stopped)
@@ -261,10 +220,10 @@ void runCommand(const RunOptions& o) {
   if (ate)
     std::cout << "ATE rmse " << ate->rmse * 100 << " cm, mean " << ate->mean * 100 << " cm, max " << ate->max * 100
               << " cm, unaligned mean " << ate->unalignedMean * 100 << " cm (" << ate->matches << " matches)\n";
-  else if (json.contains("ate_error"))
-    std::cout << "ATE not computed: " << json["ate_error"].get<std::string>() << "\n";
+  else if (!written.ateError.empty())
+    std::cout << "ATE not computed: " << written.ateError << "\n";
   if (energy) {
-    const nlohmann::json& e = json["energy"];
+    const nlohmann::json& e = written.energy;
     std::cout << "energy (" << e["meter"].get<std::string>() << "): " << e["known_frames"] << "/" << e["frames"]
               << " frames known";
     if (e["joules_per_frame"].is_number())
