@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <Eigen/Geometry>
 #include <deque>
 #include <optional>
 
@@ -13,6 +12,7 @@
 #include "daemon/pass_directories.h"
 #include "pipeline/pipeline.h"
 #include "runtime/energy_account.h"
+#include "runtime/frame_log_sink.h"
 #include "runtime/run.h"
 #include "runtime/run_setup.h"
 
@@ -23,31 +23,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr auto kFlushInterval = std::chrono::seconds(2);  // outputs on disk lag by at most this much
 constexpr size_t kFpsWindow = 30;                         // frames in the frame-rate average
-
-FrameReport makeReport(const FrameRecord& record, const std::vector<std::string>& pinned) {
-  const FrameResult& r = record.result;
-  FrameReport report;
-  report.frame = r.frame;
-  report.timestamp = r.timestamp;
-  const Eigen::Vector3d t = r.T_camera_to_world.translation();
-  report.position = {t.x(), t.y(), t.z()};
-  const Eigen::Quaterniond q(r.T_camera_to_world.rotation());
-  report.quaternion = {q.x(), q.y(), q.z(), q.w()};
-  report.tracked = r.tracked;
-  report.corrected = r.poseOverridden;
-  report.velocity = r.velocity;
-  report.constrained = r.quality.constrained;
-  report.state = trackingStateName(record.state);
-  if (r.quality.known) {
-    report.conditioning = r.quality.conditioning;
-    report.weakestMotion = weakDirectionName(r.quality.weakest);
-  }
-  report.computationMs = r.times.computationMs();
-  report.knobs = r.knobs;
-  report.controller = record.controller;
-  report.pinned = pinned;
-  return report;
-}
 
 }  // namespace
 
@@ -241,7 +216,7 @@ void SlamWorker::runPasses() {
       stats_.busySince = Clock::now();
     }
     const FrameRecord record = run->step(item->frame);
-    publish_(makeReport(record, pinned));
+    publish_(FrameReport{frameRecordToJson(record), std::move(pinned)});
     const auto now = Clock::now();
     recent.push_back(now);
     if (recent.size() > kFpsWindow) recent.pop_front();
