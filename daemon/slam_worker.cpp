@@ -27,26 +27,28 @@ constexpr size_t kFpsWindow = 30;                         // frames in the frame
 }  // namespace
 
 PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& info) {
-  PipelineConfig c;
-  if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
-  if (info.volumeInitialPosition)
-    for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
-  if (!slam.pipelineConfig.empty()) c = loadConfigFile(slam.pipelineConfig, c);
-  if (c.volumeMode == VolumeMode::automatic) c.volumeMode = VolumeMode::moving;  // docs/moving-volume.md
-  validateConfig(c);
+  SettingsFile file;
+  if (!slam.pipelineConfig.empty()) file = readSettingsFile(slam.pipelineConfig);
+  if (!file.controller.is_null())
+    throw Error(slam.pipelineConfig + ": 'controller' is not read here; the daemon reads the controller from "
+                "slam.controller and slam.controller_config");
+  PipelineConfig c = pipelineConfigFor(info, file.pipeline, slam.pipelineConfig);
+  finishPipelineConfig(c, slam.pipelineConfig.empty() ? "pipeline config" : slam.pipelineConfig);
   return c;
 }
 
 ControllerSettings loadControllerSettings(const SlamConfig& slam, const ControllerContext& context) {
   if (slam.controllerConfig.empty())
-    return parseControllerSettings(slam.controller, context, "slam.controller");
-  nlohmann::json j = readJsonFile(slam.controllerConfig);
-  // The shipped config/controller.json wraps the settings in a "controller" object (the form a `slambooster
-  // run --config` file takes); the bare settings object is accepted too.
-  if (j.is_object() && j.size() == 1 && j.contains("controller") && j["controller"].is_object())
-    j = nlohmann::json(j["controller"]);
-  if (j.is_object() && !j.contains("name")) j["name"] = slam.controller;
-  return parseControllerSettings(j, context, slam.controllerConfig);
+    return controllerSettingsFrom(nullptr, slam.controller, true, context, "slam.controller");
+  // The shipped config/controller.json wraps the settings in a "controller" key (the form a `slambooster run
+  // --config` file takes); the bare settings object is accepted too.
+  SettingsFile file = readSettingsFile(slam.controllerConfig);
+  const bool wrapped = !file.controller.is_null();
+  if (wrapped && !file.pipeline.empty())
+    throw Error(slam.controllerConfig + ": holds keys beside 'controller' (" + file.pipeline.begin().key() +
+                "); pipeline keys go in slam.pipeline_config");
+  return controllerSettingsFrom(wrapped ? file.controller : file.pipeline, slam.controller, false, context,
+                                slam.controllerConfig);
 }
 
 SlamWorker::SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence, FrameQueue& queue,
@@ -94,6 +96,11 @@ nlohmann::json SlamWorker::changePins(const ControlRequest& request) {
   pins_ = pins;
   pinsChanged_ = true;
   return pins_.toJson();
+}
+
+ControllerSettings SlamWorker::controllerSettings() const {
+  std::lock_guard lock(mutex_);
+  return settings_;
 }
 
 WorkerStats SlamWorker::stats() const {

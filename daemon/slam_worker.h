@@ -91,6 +91,9 @@ class SlamWorker {
   // Any thread. Applies pin/unpin changes to a copy and installs it; throws sb::Error (nothing changes).
   nlohmann::json changePins(const ControlRequest& request);
   const ControllerContext& controllerContext() const { return context_; }
+  // Any thread. The controller settings in force (read at construction, replaced by switchController): the
+  // daemon's one copy, whose sections ?CONTROL's switches use.
+  ControllerSettings controllerSettings() const;
   WorkerStats stats() const;
 
  private:
