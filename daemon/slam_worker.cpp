@@ -85,7 +85,8 @@ void SlamWorker::join() {
 void SlamWorker::switchController(const ControllerSettings& settings, const std::string& name) {
   std::lock_guard lock(mutex_);
   settings_ = settings;
-  pendingController_ = name;
+  settings_.name = name;
+  controllerChanged_ = true;
 }
 
 nlohmann::json SlamWorker::changePins(const ControlRequest& request) {
@@ -134,131 +135,138 @@ void SlamWorker::run() {
   finished_();
 }
 
-void SlamWorker::runPasses() {
-  ThreadPool pool(stats().threads);
-  std::unique_ptr<Run> run;  // of the pass
-  const bool loop = config_.source.atEnd == "loop";
-  std::optional<PassDirectories> passDirs;  // pass-NNNN under output.dir, within the retention limits
-  if (loop) passDirs.emplace(config_.output.dir, passRetention_);
+struct SlamWorker::Passes {
+  ThreadPool pool;
+  std::unique_ptr<Run> run;                 // of the pass in hand
+  std::optional<PassDirectories> dirs;      // looping: pass-NNNN under output.dir, within the retention limits
   uint32_t pass = 0;
-  std::deque<Clock::time_point> recent;
-  double computationSum = 0.0;
-  auto lastFlush = Clock::now();
   // The meter's account since the daemon started: the energy of a pass's last frames may land in the next
   // pass's energy.jsonl, and summary.json carries the totals since the start (one pass: exactly this run's).
   std::optional<EnergyAccount> energy;
-  if (sampler_) energy.emplace(*sampler_);
+  std::deque<Clock::time_point> recent;     // the last frames' ends, for the frame rate
+  double computationSum = 0.0;
+  Clock::time_point lastFlush = Clock::now();
+  explicit Passes(unsigned threads) : pool(threads) {}
+};
 
-  const auto finishPass = [&](bool last, const std::string& error = {}) {
-    if (!run) return;
-    RunEnd end;
-    end.error = error;  // the input failed: summary.json says so ("complete": false, "error")
-    end.modelView = config_.output.modelPng ? "last" : "";
-    end.mesh = config_.output.mesh;
-    end.drainEnergy = last;
-    run->finish(end, pool);
-    if (config_.output.report) {
-      try {
-        spdlog::info("report {}", run->writeReport());
-      } catch (const std::exception& e) {
-        spdlog::warn("report.html not written: {}", sb::printable(e.what()));
-      }
-    }
-    spdlog::info("pass {}: {} frames; outputs in {}", pass, run->runner().frames(), run->dir());
-  };
-  const auto startPass = [&] {
-    const std::string ended = run ? run->dir() : std::string();
-    finishPass(false);
-    run.reset();  // closes its files
-    if (passDirs && !ended.empty()) passDirs->close(ended);
-    ++pass;
-    const std::string dir = passDirs ? passDirs->next() : config_.output.dir;
-    ControllerSettings settings;
-    {
-      std::lock_guard lock(mutex_);
-      settings = settings_;
-      if (!pendingController_.empty()) settings.name = pendingController_;
-      pendingController_.clear();
-      pinsChanged_ = true;
-      stats_.pass = pass;
-      stats_.outputDir = dir;
-      stats_.controller = settings.name;
-    }
-    auto pipeline = Pipeline::create(pipelineConfig_, sequence_.intrinsics, pool);
-    auto controller = createController(settings, context_);
-    RunSummary header = runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, pool.threadCount());
-    header.daemon = DaemonPass{pass, stats().cpus, stats().threads};
-    run = std::make_unique<Run>(
-        std::move(pipeline), std::move(controller), sequence_.depthScale,
-        RunOutputs{dir, pass == 1 ? sequence_.groundTruthPath : "", header,
-                   "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)",
-                   segments_, config_.output.mesh},
-        energy ? &*energy : nullptr);
-    if (publishEnergy_)
-      run->setEnergyListener([this](const power::FrameEnergy& e) {
-        if (e.known) publishEnergy_(e);
-      });
-  };
-
+void SlamWorker::runPasses() {
+  Passes p(stats().threads);
+  if (config_.source.atEnd == "loop") p.dirs.emplace(config_.output.dir, passRetention_);
+  if (sampler_) p.energy.emplace(*sampler_);
   while (!stop_) {
     std::optional<CapturedFrame> item = queue_.pop();
     if (!item || stop_) break;
-    if (!run || item->restart) startPass();
-    SlamRunner& runner = run->runner();
-    std::vector<std::string> pinned;
-    {
-      std::lock_guard lock(mutex_);
-      if (!pendingController_.empty()) {
-        runner.setController(createController(pendingController_, settings_, context_));
-        stats_.controller = pendingController_;
-        pendingController_.clear();
-        pinsChanged_ = true;
-      }
-      if (pinsChanged_) {  // the runner applies the pins over the controller's choice of every frame
-        runner.setPins(pins_);
-        pinsChanged_ = false;
-      }
-      pinned = pins_.names();
-      stats_.pinned = pins_.toJson();
-      stats_.busySince = Clock::now();
-    }
-    const FrameRecord record = run->step(item->frame);
+    if (!p.run || item->restart) startPass(p);
+    std::vector<std::string> pinned = applyChanges(p.run->runner());
+    const FrameRecord record = p.run->step(item->frame);
     publish_(FrameReport{frameRecordToJson(record), std::move(pinned)});
-    const auto now = Clock::now();
-    recent.push_back(now);
-    if (recent.size() > kFpsWindow) recent.pop_front();
-    computationSum += record.result.times.computationMs();
-    {
-      std::lock_guard lock(mutex_);
-      stats_.busySince.reset();
-      stats_.state = "running";
-      ++stats_.frames;
-      stats_.tracked += record.result.tracked;
-      const bool lost = record.state == TrackingState::lost;
-      stats_.lostStretches += lost && stats_.trackingState != "lost";
-      stats_.lostFrames += lost;
-      stats_.relocalisations += record.state == TrackingState::relocalised;
-      stats_.trackingState = trackingStateName(record.state);
-      stats_.computationMs = computationSum / static_cast<double>(stats_.frames);
-      if (recent.size() > 1)
-        stats_.fps = static_cast<double>(recent.size() - 1) /
-                     std::chrono::duration<double>(recent.back() - recent.front()).count();
-    }
-    if (now - lastFlush > kFlushInterval) {
-      run->flush();
-      lastFlush = now;
-    }
+    countFrame(p, record);
   }
-  // The energy of the last frames needs the samples after their end: finishPass(true) waits up to the
-  // sampler's drain timeout.
   // A failed input (a truncated PNG) fails the pass: its summary and STATUS say so, never "complete".
   const std::string inputError = stop_ ? std::string() : queue_.error();
-  if (run) {
-    finishPass(true, inputError);  // throws the input's error after writing the summary
-  } else if (energy) {
-    energy->drain();
+  if (p.run) {
+    finishPass(p, true, inputError);  // throws the input's error after writing the summary
+  } else if (p.energy) {
+    p.energy->drain();
   }
   if (!inputError.empty()) throw Error(inputError);
+}
+
+void SlamWorker::finishPass(Passes& p, bool last, const std::string& error) {
+  RunEnd end;
+  end.error = error;  // the input failed: summary.json says so ("complete": false, "error")
+  end.modelView = config_.output.modelPng ? "last" : "";
+  end.mesh = config_.output.mesh;
+  end.drainEnergy = last;  // the energy of the last frames needs the samples after their end
+  p.run->finish(end, p.pool);
+  if (config_.output.report) {
+    try {
+      spdlog::info("report {}", p.run->writeReport());
+    } catch (const std::exception& e) {
+      spdlog::warn("report.html not written: {}", sb::printable(e.what()));
+    }
+  }
+  spdlog::info("pass {}: {} frames; outputs in {}", p.pass, p.run->runner().frames(), p.run->dir());
+}
+
+void SlamWorker::startPass(Passes& p) {
+  if (p.run) {
+    const std::string ended = p.run->dir();
+    finishPass(p, false);
+    p.run.reset();  // closes its files
+    if (p.dirs) p.dirs->close(ended);
+  }
+  ++p.pass;
+  const std::string dir = p.dirs ? p.dirs->next() : config_.output.dir;
+  ControllerSettings settings;
+  {
+    std::lock_guard lock(mutex_);
+    settings = settings_;  // the controller in force, switched or not: the new run starts with it
+    controllerChanged_ = false;
+    pinsChanged_ = true;
+    stats_.pass = p.pass;
+    stats_.outputDir = dir;
+    stats_.controller = settings.name;
+  }
+  auto pipeline = Pipeline::create(pipelineConfig_, sequence_.intrinsics, p.pool);
+  auto controller = createController(settings, context_);
+  RunSummary header =
+      runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, p.pool.threadCount());
+  header.daemon = DaemonPass{p.pass, stats().cpus, stats().threads};
+  p.run = std::make_unique<Run>(
+      std::move(pipeline), std::move(controller), sequence_.depthScale,
+      RunOutputs{dir, p.pass == 1 ? sequence_.groundTruthPath : "", header,
+                 "slamboosterd " + sequence_.path + " pass " + std::to_string(p.pass) + " (volume frame)",
+                 segments_, config_.output.mesh},
+      p.energy ? &*p.energy : nullptr);
+  if (publishEnergy_)
+    p.run->setEnergyListener([this](const power::FrameEnergy& e) {
+      if (e.known) publishEnergy_(e);
+    });
+}
+
+std::vector<std::string> SlamWorker::applyChanges(SlamRunner& runner) {
+  std::lock_guard lock(mutex_);
+  if (controllerChanged_) {
+    runner.setController(createController(settings_, context_));
+    stats_.controller = settings_.name;
+    controllerChanged_ = false;
+    pinsChanged_ = true;
+  }
+  if (pinsChanged_) {  // the runner applies the pins over the controller's choice of every frame
+    runner.setPins(pins_);
+    pinsChanged_ = false;
+  }
+  stats_.pinned = pins_.toJson();
+  stats_.busySince = Clock::now();
+  return pins_.names();
+}
+
+void SlamWorker::countFrame(Passes& p, const FrameRecord& record) {
+  const auto now = Clock::now();
+  p.recent.push_back(now);
+  if (p.recent.size() > kFpsWindow) p.recent.pop_front();
+  p.computationSum += record.result.times.computationMs();
+  {
+    std::lock_guard lock(mutex_);
+    stats_.busySince.reset();
+    stats_.state = "running";
+    ++stats_.frames;
+    stats_.tracked += record.result.tracked;
+    const bool lost = record.state == TrackingState::lost;
+    stats_.lostStretches += lost && stats_.trackingState != "lost";
+    stats_.lostFrames += lost;
+    stats_.relocalisations += record.state == TrackingState::relocalised;
+    stats_.trackingState = trackingStateName(record.state);
+    stats_.computationMs = p.computationSum / static_cast<double>(stats_.frames);
+    if (p.recent.size() > 1)
+      stats_.fps = static_cast<double>(p.recent.size() - 1) /
+                   std::chrono::duration<double>(p.recent.back() - p.recent.front()).count();
+  }
+  if (now - p.lastFlush > kFlushInterval) {
+    p.run->flush();
+    p.lastFlush = now;
+  }
 }
 
 }  // namespace sb::daemon
