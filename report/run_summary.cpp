@@ -34,7 +34,8 @@ class Fields {
   template <typename T>
   void count(const char* key, T& out) const {
     if (const json* v = find(key)) {
-      if (!v->is_number_integer() || v->get<int64_t>() < 0) fail(key, "a count (an integer of at least 0)", *v);
+      if (!v->is_number_integer() || v->get<int64_t>() < 0)
+        fail(key, "a count (an integer of at least 0)", *v);
       out = v->get<T>();
     }
   }
@@ -87,8 +88,12 @@ class Fields {
 };
 
 json machineJson(const MachineInfo& m) {
-  return {{"host", m.host},         {"cpu_model", m.cpuModel}, {"cores_online", m.coresOnline},
-          {"threads_used", m.threadsUsed}, {"backend", m.backend}, {"device", m.device}};
+  return {{"host", m.host},
+          {"cpu_model", m.cpuModel},
+          {"cores_online", m.coresOnline},
+          {"threads_used", m.threadsUsed},
+          {"backend", m.backend},
+          {"device", m.device}};
 }
 
 MachineInfo readMachine(const Fields& f) {
@@ -172,12 +177,14 @@ json RunSummary::toJson() const {
   if (machine) j["machine"] = machineJson(*machine);
   if (daemon) j["daemon"] = {{"pass", daemon->pass}, {"cpus", daemon->cpus}, {"threads", daemon->threads}};
   if (ate)
-    j["ate"] = {{"rmse_m", ate->rmseM},   {"mean_m", ate->meanM},       {"max_m", ate->maxM},
-                {"median_m", ate->medianM}, {"matches", ate->matches}, {"unaligned_mean_m", ate->unalignedMeanM}};
+    j["ate"] = {{"rmse_m", ate->rmseM},    {"mean_m", ate->meanM},
+                {"max_m", ate->maxM},      {"median_m", ate->medianM},
+                {"matches", ate->matches}, {"unaligned_mean_m", ate->unalignedMeanM}};
   if (!ateError.empty()) j["ate_error"] = ateError;
   if (cpuMsPerFrame) j["cpu_ms_per_frame"] = *cpuMsPerFrame;
   if (stopped)
-    j["stopped"] = {{"at_frame", stopped->atFrame}, {"limit_ms", stopped->limitMs},
+    j["stopped"] = {{"at_frame", stopped->atFrame},
+                    {"limit_ms", stopped->limitMs},
                     {"computation_ms", stopped->computationMs}};
   if (interrupted) j["interrupted"] = {{"signal", interrupted->signal}, {"at_frame", interrupted->atFrame}};
   if (!energy.is_null()) j["energy"] = energy;
@@ -197,7 +204,8 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.count("schema_version", s.schemaVersion);
   if (s.schemaVersion > kRunSummarySchema)
     throw Error(where + ": schema_version " + std::to_string(s.schemaVersion) + " is newer than this " +
-                "slambooster reads (" + std::to_string(kRunSummarySchema) + "); use the release that wrote it");
+                "slambooster reads (" + std::to_string(kRunSummarySchema) +
+                "); use the release that wrote it");
   f.string("front_end", s.frontEnd);
   f.string("sequence", s.sequence);
   f.string("controller", s.controller);

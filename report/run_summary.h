@@ -28,10 +28,10 @@ inline constexpr int kRunSummarySchema = 1;
 
 // Where a run was timed ("machine"): runs timed on different machines are not comparable.
 struct MachineInfo {
-  std::string host, cpuModel;    // host name; "model name" of /proc/cpuinfo
-  unsigned coresOnline = 0;      // cores online
-  unsigned threadsUsed = 0;      // the run's worker threads
-  std::string backend, device;   // compute backend ("cpu", "opencl") and its device
+  std::string host, cpuModel;   // host name; "model name" of /proc/cpuinfo
+  unsigned coresOnline = 0;     // cores online
+  unsigned threadsUsed = 0;     // the run's worker threads
+  std::string backend, device;  // compute backend ("cpu", "opencl") and its device
 };
 
 // The daemon's pass ("daemon"): absent for `slambooster run`.
@@ -68,39 +68,39 @@ struct InterruptedSummary {  // a signal ended the run ("interrupted")
 struct RunSummary {
   int schemaVersion = kRunSummarySchema;
   // What ran: set at the start by the run setup (runtime/run_setup.h), the same for both front ends.
-  std::string frontEnd;  // "run" (slambooster run) or "daemon" (a pass of slamboosterd)
-  std::string sequence;  // the input's path
+  std::string frontEnd;    // "run" (slambooster run) or "daemon" (a pass of slamboosterd)
+  std::string sequence;    // the input's path
   std::string controller;  // the controller the run started with (a daemon may switch: controllerFrames)
   nlohmann::json controllerSections = nlohmann::json::object();  // its settings sections
-  nlohmann::json knobs = nlohmann::json::object();   // the controller's initial knobs
-  nlohmann::json config = nlohmann::json::object();  // the pipeline config
-  unsigned threads = 0;                              // worker threads
+  nlohmann::json knobs = nlohmann::json::object();               // the controller's initial knobs
+  nlohmann::json config = nlohmann::json::object();              // the pipeline config
+  unsigned threads = 0;                                          // worker threads
   std::optional<MachineInfo> machine;
   std::optional<DaemonPass> daemon;
 
   // Counts over the frames so far (runtime/summary_sink.h RunStats).
   size_t frames = 0, trackingAttempted = 0, tracked = 0, integrated = 0, corrected = 0;
   size_t halfWishFrames = 0, unconstrained = 0, retracked = 0, halfAppliedFrames = 0;
-  double trackedPercent = 0.0;          // of the frames where tracking was attempted
-  double computationMsPerFrame = 0.0;   // preprocessing + tracking + integration + raycast, mean
-  double controllerMsPerFrame = 0.0;    // Controller::decide, mean
-  std::map<std::string, double> stageMsPerFrame;      // classic stage name -> mean ms
+  double trackedPercent = 0.0;                    // of the frames where tracking was attempted
+  double computationMsPerFrame = 0.0;             // preprocessing + tracking + integration + raycast, mean
+  double controllerMsPerFrame = 0.0;              // Controller::decide, mean
+  std::map<std::string, double> stageMsPerFrame;  // classic stage name -> mean ms
   std::map<std::string, size_t> triggers, knobFrames;  // trigger -> frames; formatKnobs -> frames
-  std::map<std::string, size_t> controllerFrames;     // controller -> frames it decided
+  std::map<std::string, size_t> controllerFrames;      // controller -> frames it decided
   TrackingStateSummary trackingState;
 
   // At flushes and at the end.
   std::optional<AteSummary> ate;
-  std::string ateError;                    // why the ATE is missing although ground truth was given
-  std::optional<double> cpuMsPerFrame;     // process CPU time per frame (slambooster run)
+  std::string ateError;                 // why the ATE is missing although ground truth was given
+  std::optional<double> cpuMsPerFrame;  // process CPU time per frame (slambooster run)
   std::optional<StoppedSummary> stopped;
   std::optional<InterruptedSummary> interrupted;
-  nlohmann::json energy;                   // energy totals (power/energy_json.h); null without a meter
-  std::string modelView;                   // model.png's viewpoint ("last", "overview"); "" = none written
-  nlohmann::json movingVolume;             // runtime/map_slabs.h movingVolumeJson; null with a fixed volume
+  nlohmann::json energy;        // energy totals (power/energy_json.h); null without a meter
+  std::string modelView;        // model.png's viewpoint ("last", "overview"); "" = none written
+  nlohmann::json movingVolume;  // runtime/map_slabs.h movingVolumeJson; null with a fixed volume
   std::optional<size_t> meshTriangles, meshSlabs;  // mesh.ply (and the slabs it merged)
-  std::optional<bool> complete;            // every output on disk; absent while the run goes on
-  std::string error;                       // why the run ended early or an output failed
+  std::optional<bool> complete;                    // every output on disk; absent while the run goes on
+  std::string error;                               // why the run ended early or an output failed
 
   // A number of the energy totals ("joules_per_frame", "mean_watts"); NaN when absent or unknown.
   double energyNumber(const std::string& key) const;

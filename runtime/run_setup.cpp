@@ -50,8 +50,8 @@ ControllerSettings controllerSettingsFrom(nlohmann::json section, const std::str
 }
 
 RunSummary runSummaryHeader(const std::string& frontEnd, const std::string& sequence,
-                            const ControllerSettings& settings, const Controller& controller, Pipeline& pipeline,
-                            unsigned threads) {
+                            const ControllerSettings& settings, const Controller& controller,
+                            Pipeline& pipeline, unsigned threads) {
   const PipelineConfig& config = pipeline.config();
   RunSummary s;
   s.frontEnd = frontEnd;

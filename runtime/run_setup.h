@@ -22,7 +22,8 @@
 namespace sb {
 
 // A settings file: one JSON object whose "controller" key, when present, is the controller section (a name
-// or a settings object, config/controller.json) and whose other keys are pipeline keys (config/pipeline.json).
+// or a settings object, config/controller.json) and whose other keys are pipeline keys
+// (config/pipeline.json).
 struct SettingsFile {
   nlohmann::json pipeline = nlohmann::json::object();  // every key but "controller"
   nlohmann::json controller;                           // the "controller" value; null when absent
@@ -48,7 +49,7 @@ ControllerSettings controllerSettingsFrom(nlohmann::json section, const std::str
 // sequence, the controller, its sections and initial knobs, the pipeline config, the worker threads and the
 // machine the run is timed on (the CPU backend names this CPU; OpenCL the config's device selectors).
 RunSummary runSummaryHeader(const std::string& frontEnd, const std::string& sequence,
-                            const ControllerSettings& settings, const Controller& controller, Pipeline& pipeline,
-                            unsigned threads);
+                            const ControllerSettings& settings, const Controller& controller,
+                            Pipeline& pipeline, unsigned threads);
 
 }  // namespace sb

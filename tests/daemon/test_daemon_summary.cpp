@@ -35,18 +35,19 @@ nlohmann::json comparable(const sb::RunSummary& s) {
 
 TEST_CASE("slamboosterd and slambooster run write the same summary of the same frames", "[daemon][system]") {
   TempDir tmp;
-  const std::string socket = tmp.path + "/s.sock", daemonOut = tmp.path + "/daemon", runOut = tmp.path + "/run";
+  const std::string socket = tmp.path + "/s.sock", daemonOut = tmp.path + "/daemon",
+                    runOut = tmp.path + "/run";
   for (const std::string controller : {"fixed", "adaptive"}) {
     INFO("controller " << controller);
     auto args = daemonArgs(socket, daemonOut + controller, "fast", "exit");
-    args.back() = controller;  // --controller
+    args.back() = controller;                                                                // --controller
     args.insert(args.end(), {"--set", "slam.threads=1", "--set", "output.model_png=true"});  // as `run` does
     ChildProcess d(args, {}, tmp.path + "/log-" + controller + ".txt");
     INFO(d.log());
     REQUIRE(d.wait(60) == 0);
-    const auto run = runCommand(kTool + " run " + fixture().sequence + " --out " + runOut + controller +
-                                " --config " + fixture().pipelineConfig + " --controller " + controller +
-                                " --threads 1 --quiet");
+    const auto run =
+        runCommand(kTool + " run " + fixture().sequence + " --out " + runOut + controller + " --config " +
+                   fixture().pipelineConfig + " --controller " + controller + " --threads 1 --quiet");
     INFO(run.output);
     REQUIRE(run.exitCode == 0);
 

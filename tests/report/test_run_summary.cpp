@@ -1,16 +1,15 @@
 // report/run_summary.h: summary.json's type round-trips, refuses wrong types and newer schemas by key, and
 // reads a summary from before the type.
 
-#include "report/run_summary.h"
-
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "report/run_summary.h"
 
-using sb::RunSummary;
 using Catch::Matchers::Contains;
+using sb::RunSummary;
 using json = nlohmann::json;
 
 namespace {
@@ -71,8 +70,8 @@ TEST_CASE("RunSummary: every field survives toJson and fromJson", "[report][summ
 
 TEST_CASE("RunSummary: optional sections are absent until set", "[report][summary]") {
   const json j = RunSummary{}.toJson();
-  for (const char* key : {"ate", "ate_error", "machine", "daemon", "stopped", "energy", "complete", "moving_volume",
-                          "mesh_triangles", "error", "model_view", "cpu_ms_per_frame"})
+  for (const char* key : {"ate", "ate_error", "machine", "daemon", "stopped", "energy", "complete",
+                          "moving_volume", "mesh_triangles", "error", "model_view", "cpu_ms_per_frame"})
     CHECK_FALSE(j.contains(key));
   CHECK(j["schema_version"] == sb::kRunSummarySchema);
 }
@@ -80,8 +79,9 @@ TEST_CASE("RunSummary: optional sections are absent until set", "[report][summar
 TEST_CASE("RunSummary: a wrong type is refused naming the file and the dotted key", "[report][summary]") {
   json j = sample().toJson();
   j["ate"]["rmse_m"] = "small";
-  CHECK_THROWS_WITH(RunSummary::fromJson(j, "run summary 'x/summary.json'"),
-                    Contains("x/summary.json") && Contains("\"ate.rmse_m\"") && Contains("expected a number"));
+  CHECK_THROWS_WITH(
+      RunSummary::fromJson(j, "run summary 'x/summary.json'"),
+      Contains("x/summary.json") && Contains("\"ate.rmse_m\"") && Contains("expected a number"));
   j = sample().toJson();
   j["frames"] = -3;
   CHECK_THROWS_WITH(RunSummary::fromJson(j, "s"), Contains("\"frames\"") && Contains("count"));
@@ -96,9 +96,14 @@ TEST_CASE("RunSummary: a newer schema is refused, an older summary is read", "[r
   j["schema_version"] = sb::kRunSummarySchema + 1;
   CHECK_THROWS_WITH(RunSummary::fromJson(j, "s"), Contains("newer"));
   // A daemon summary from before the type: no version, no controller, null ATE-less fields.
-  const json old = {{"frames", 10}, {"tracked_percent", 90.0}, {"computation_ms_per_frame", 3.0},
-                    {"controller_frames", {{"adaptive", 10}}}, {"daemon", {{"pass", 1}, {"cpus", "0"}, {"threads", 1}}},
-                    {"energy", {{"joules_per_frame", nullptr}}}, {"complete", true}, {"unknown_later_key", 1}};
+  const json old = {{"frames", 10},
+                    {"tracked_percent", 90.0},
+                    {"computation_ms_per_frame", 3.0},
+                    {"controller_frames", {{"adaptive", 10}}},
+                    {"daemon", {{"pass", 1}, {"cpus", "0"}, {"threads", 1}}},
+                    {"energy", {{"joules_per_frame", nullptr}}},
+                    {"complete", true},
+                    {"unknown_later_key", 1}};
   const RunSummary s = RunSummary::fromJson(old, "s");
   CHECK(s.schemaVersion == 0);
   CHECK(s.frames == 10);

@@ -2,13 +2,12 @@
 // and a controller section, the sequence's hints come before the file, and the front end's controller name
 // wins or yields as it asks.
 
-#include "runtime/run_setup.h"
-
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <string>
 
 #include "core/error.h"
+#include "runtime/run_setup.h"
 #include "tests/support/test_data.h"
 
 using Catch::Matchers::Contains;
@@ -28,7 +27,7 @@ TEST_CASE("run setup: the sequence's hints, then the file; automatic becomes mov
   info.volumeSize = 6.0;
   info.volumeInitialPosition = std::array<double, 3>{0.5, 0.5, 0.1};
   sb::PipelineConfig c = sb::pipelineConfigFor(info, {{"volume_size_m", 3.0}}, "f.json");
-  CHECK(c.volumeSize == 3.0f);               // the file wins over the hint
+  CHECK(c.volumeSize == 3.0f);                 // the file wins over the hint
   CHECK(c.initialPosition[2] == Approx(0.1));  // the hint wins over the default
   sb::finishPipelineConfig(c, "f.json");
   CHECK(c.volumeMode == sb::VolumeMode::moving);
@@ -42,7 +41,8 @@ TEST_CASE("run setup: the front end's controller name wins or yields", "[runtime
   // `run --controller` wins over the file's name; the daemon's slam.controller yields to its file's name.
   CHECK(sb::controllerSettingsFrom(section, "accurate", true, context, "f").name == "accurate");
   CHECK(sb::controllerSettingsFrom(section, "accurate", false, context, "f").name == "step");
-  CHECK(sb::controllerSettingsFrom(nlohmann::json::object(), "accurate", false, context, "f").name == "accurate");
+  CHECK(sb::controllerSettingsFrom(nlohmann::json::object(), "accurate", false, context, "f").name ==
+        "accurate");
   CHECK(sb::controllerSettingsFrom("step", "accurate", true, context, "f").name == "accurate");
   CHECK(sb::controllerSettingsFrom(nullptr, "", true, context, "f").name == "fixed");
   CHECK_THROWS_WITH(sb::controllerSettingsFrom(nullptr, "nosuch", true, context, "--controller"),
