@@ -264,6 +264,16 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   return s;
 }
 
+bool runSummaryComplete(const std::string& path) {
+  try {
+    const json j = readJsonConfig(path, "run summary");
+    const auto it = j.find("complete");
+    return it != j.end() && it->is_boolean() && it->get<bool>();
+  } catch (const Error&) {
+    return false;
+  }
+}
+
 RunSummary readRunSummary(const std::string& path) {
   const std::string where = "run summary " + quoteForMessage(path);
   return RunSummary::fromJson(readJsonConfig(path, "run summary"), where);

@@ -114,5 +114,9 @@ struct RunSummary {
 
 // Reads DIR/summary.json-style files: readJsonConfig (bounded nesting, line and column) + fromJson.
 RunSummary readRunSummary(const std::string& path);
+// Whether the summary file says "complete": true, read alone: a finished run with a damaged field is then
+// reported by whoever reads the field (bench leaves it out, naming file, key and value), not run again.
+// False when the file is missing or not JSON.
+bool runSummaryComplete(const std::string& path);
 
 }  // namespace sb

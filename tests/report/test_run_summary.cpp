@@ -3,10 +3,12 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
 #include "report/run_summary.h"
+#include "tests/support/test_data.h"
 
 using Catch::Matchers::Contains;
 using sb::RunSummary;
@@ -112,4 +114,20 @@ TEST_CASE("RunSummary: a newer schema is refused, an older summary is read", "[r
   CHECK(std::isnan(s.joulesPerFrame()));
   CHECK(s.complete == true);
   CHECK_FALSE(s.machine);
+}
+
+TEST_CASE("RunSummary: completion is read alone, so a damaged field does not hide a finished run",
+          "[report][summary]") {
+  const std::string dir = sb::test::scratchDir("run_summary_complete");
+  json j = sample().toJson();
+  j["complete"] = true;
+  j["tracked_percent"] = "x";  // bench reports it (file, key, value) and leaves the run out; never reruns it
+  std::ofstream(dir + "/done.json") << j.dump();
+  CHECK(sb::runSummaryComplete(dir + "/done.json"));
+  CHECK_THROWS_WITH(sb::readRunSummary(dir + "/done.json"), Contains("tracked_percent") && Contains("\"x\""));
+  std::ofstream(dir + "/running.json") << R"({"frames": 3})";
+  CHECK_FALSE(sb::runSummaryComplete(dir + "/running.json"));
+  std::ofstream(dir + "/torn.json") << R"({"complete": tr)";
+  CHECK_FALSE(sb::runSummaryComplete(dir + "/torn.json"));
+  CHECK_FALSE(sb::runSummaryComplete(dir + "/absent.json"));
 }

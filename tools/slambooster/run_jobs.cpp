@@ -72,11 +72,7 @@ pid_t spawn(const std::string& exe, const Job& job) {
 }  // namespace
 
 bool jobDone(const std::string& outDir) {
-  try {
-    return readRunSummary(outDir + "/summary.json").complete.value_or(false);  // missing or broken: not done
-  } catch (const Error&) {
-    return false;
-  }
+  return runSummaryComplete(outDir + "/summary.json");  // missing or not JSON: not done
 }
 
 RunSummary readSummary(const std::string& outDir) {
