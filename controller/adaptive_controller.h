@@ -56,7 +56,7 @@ struct AdaptiveConfig {
   // The learnt motion follows a tracked frame along each motion by c / (c + learn_conditioning), c the view's
   // structure conditioning along it (blendByStructure): whole where the view fixes the motion, hardly at all
   // along what it leaves free. 0: the whole measured motion.
-  double learnConditioning = 0.0;
+  double learnConditioning = 0.003;
   EvidenceParams evidence;
   IntegrationParams integration;
   KnobLadder ladder;

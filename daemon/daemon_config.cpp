@@ -88,6 +88,7 @@ void readSlam(ConfigReader& r, SlamConfig& s) {
 }
 
 constexpr double kMib = 1024.0 * 1024.0;
+constexpr double kMinKeepSlabsMib = 16.0;
 
 void readRotation(ConfigReader& r, RotationConfig& c) {
   r.string("mode", c.mode, {"live", "always", "never"});
@@ -96,6 +97,10 @@ void readRotation(ConfigReader& r, RotationConfig& c) {
   r.number("keep_mib", c.keepMib, 0.5, 1073741824.0);
   r.integer("keep_segments", c.keepSegments, 0, 100000000);
   r.number("min_free_mib", c.minFreeMib, 0.0, 1073741824.0);
+  r.number("keep_slabs_mib", c.keepSlabsMib, 0.0, 1073741824.0);
+  if (c.keepSlabsMib > 0.0 && c.keepSlabsMib < kMinKeepSlabsMib)
+    r.fail("keep_slabs_mib", "0 (no limit) or at least " + std::to_string(int(kMinKeepSlabsMib)) +
+                                 " MiB (a few slabs of a 256^3 volume's map)");
   try {
     validateRetention(retentionLimits(c));
   } catch (const Error& e) {
@@ -251,7 +256,8 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
               {"segment_s", c.output.rotation.segmentSeconds},
               {"keep_mib", c.output.rotation.keepMib},
               {"keep_segments", c.output.rotation.keepSegments},
-              {"min_free_mib", c.output.rotation.minFreeMib}}}}},
+              {"min_free_mib", c.output.rotation.minFreeMib},
+              {"keep_slabs_mib", c.output.rotation.keepSlabsMib}}}}},
           {"socket",
            {{"path", c.socket.path},
             {"mode", formatMode(c.socket.mode)},

@@ -62,6 +62,9 @@ struct RotationConfig {
   double keepMib = 4096.0;    // all segments under output.dir together at most this (MiB); oldest go first
   size_t keepSegments = 0;    // closed segments kept at most (0 = no count limit)
   double minFreeMib = 512.0;  // oldest segments go while the file system has less free space (MiB)
+  // The moving volume's map (output.mesh): the slab files of a pass's map_slabs/ together at most this (MiB);
+  // the oldest slabs go first. 0 = no limit. Applies whatever `mode` is.
+  double keepSlabsMib = 1024.0;
 };
 
 // The store's limits in bytes for `rotation`.

@@ -24,15 +24,19 @@ constexpr int kZAxisBit = 4;  // the z bit of a corner index / edge direction
 // Read-only access to the interleaved (tsdf, weight) volume.
 class VolumeSampler {
  public:
-  VolumeSampler(const VolumeView& v, int minWeight) : data_(v.data), r_(v.resolution), minWeight_(std::max(1, minWeight)) {
+  VolumeSampler(const VolumeView& v, int minWeight) : data_(v.data), minWeight_(std::max(1, minWeight)) {
     const bool box = v.extent[0] > 0;
     for (int a = 0; a < kAxes; ++a) {
       n_[a] = box ? v.extent[size_t(a)] : v.resolution;
-      // Box voxel i of this axis is logical voxel first + i, stored at physical (first + i + offset) mod R.
+      // Box voxel i of this axis is logical voxel first + i, stored at physical (first + i + offset) mod R;
+      // in a box stored alone, at i.
       physical_[a].resize(size_t(n_[a]));
       for (int i = 0; i < n_[a]; ++i)
-        physical_[a][size_t(i)] = ((box ? v.first[size_t(a)] : 0) + i + v.offset[size_t(a)]) % v.resolution;
+        physical_[a][size_t(i)] =
+            v.boxOnly ? i : ((box ? v.first[size_t(a)] : 0) + i + v.offset[size_t(a)]) % v.resolution;
     }
+    rowVoxels_ = v.boxOnly ? n_[0] : v.resolution;
+    planeVoxels_ = int64_t(rowVoxels_) * (v.boxOnly ? n_[1] : v.resolution);
   }
 
   int side(int axis) const { return n_[axis]; }  // voxels along the axis
@@ -40,7 +44,8 @@ class VolumeSampler {
   int64_t key(int x, int y, int z) const { return x + int64_t(n_[0]) * (y + int64_t(n_[1]) * z); }
   // Where voxel (x, y, z) of the box is stored.
   int64_t index(int x, int y, int z) const {
-    return physical_[0][size_t(x)] + int64_t(r_) * (physical_[1][size_t(y)] + int64_t(r_) * physical_[2][size_t(z)]);
+    return physical_[0][size_t(x)] + rowVoxels_ * physical_[1][size_t(y)] +
+           planeVoxels_ * physical_[2][size_t(z)];
   }
   bool valid(int64_t i) const { return data_[2 * i + 1] >= minWeight_; }
   float tsdf(int64_t i) const { return data_[2 * i] / kTsdfScale; }
@@ -66,7 +71,7 @@ class VolumeSampler {
 
  private:
   const int16_t* data_;
-  int r_;
+  int64_t rowVoxels_ = 0, planeVoxels_ = 0;  // strides of y and z in `data_`
   int n_[kAxes];
   std::vector<int> physical_[kAxes];
   int minWeight_;
@@ -199,6 +204,8 @@ void validate(const VolumeView& v) {
     if (v.offset[size_t(a)] < 0 || v.offset[size_t(a)] >= v.resolution)
       throw Error("extractMesh: cyclic offset " + std::to_string(v.offset[size_t(a)]) + " along axis " +
                   std::to_string(a) + " is outside [0, " + std::to_string(v.resolution) + ")");
+  if (v.boxOnly && (v.extent[0] == 0 || v.offset != std::array<int, 3>{} || v.first != std::array<int, 3>{}))
+    throw Error("extractMesh: a box stored alone (boxOnly) needs its extent, with offset and first 0");
   if (v.extent[0] != 0 || v.extent[1] != 0 || v.extent[2] != 0)
     for (int a = 0; a < kAxes; ++a)
       if (v.extent[size_t(a)] < 1 || v.first[size_t(a)] < 0 || v.first[size_t(a)] + v.extent[size_t(a)] > v.resolution)

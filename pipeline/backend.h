@@ -53,6 +53,13 @@ class ComputeBackend {
   // cyclic offset of a moving volume, VolumePlacement::offset); valid until the next call.
   virtual const int16_t* volumeData() = 0;
 
+  // A box of the volume copied to the host: logical voxels first .. first + extent - 1 on each axis, read
+  // through the cyclic offset of a moving volume (VolumePlacement::boxPieces), into `out`: 2 * extent[0] *
+  // extent[1] * extent[2] int16 (tsdf, weight), x fastest, box voxel (x, y, z) at x + extent[0] * (y +
+  // extent[1] * z). Reads only the box (a leaving slab, pipeline/volume_window.h), not the whole volume.
+  virtual void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                             int16_t* out) = 0;
+
   // The moving volume (pipeline/volume_placement.h, docs/moving-volume.md): places the volume's corner at
   // `cornerVoxels` (world, voxels; each axis moves by a multiple of VolumePlacement::kBlockVoxels). The voxel
   // addresses take the new cyclic offset, so no voxel is copied; the planes that left are cleared (unobserved)

@@ -57,6 +57,9 @@ struct PipelineConfig {
   // A candidate's ICP must pass the tracked tests, be constrained, and agree with this share of the pairs for
   // which the model has a surface (TrackAttempt::pairAgreement).
   float relocaliseMinPairAgreement = 0.87f;
+  // ... and at least the 90th percentile of the agreement of the last 300 good frames less this
+  // (reloc/relocaliser.h; 1: off).
+  float relocaliseAgreementMargin = 0.03f;
   float relocaliseMaxMotion = 0.1f;         // metres: motion between two confirming frames, at most
   float relocaliseMaxRotationDeg = 10.0f;   // degrees: the same for rotation
   int keyframeCapacity = 300;               // keyframes held (the oldest goes when full)

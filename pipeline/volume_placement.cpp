@@ -55,6 +55,30 @@ std::vector<VolumePlacement::Clear> VolumePlacement::moveTo(const Eigen::Vector3
   return clears;
 }
 
+std::vector<BoxPiece> boxPieces(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                                const SbVoxelOffset& offset, int resolution) {
+  // Per axis: one or two runs (physical start, start in the box, length).
+  std::array<std::vector<std::array<int, 3>>, 3> runs;
+  const int o[3] = {offset.x, offset.y, offset.z};
+  for (int a = 0; a < 3; ++a) {
+    const int f = first[size_t(a)], n = extent[size_t(a)];
+    if (f < 0 || n < 1 || f + n > resolution)
+      throw Error("volume box of " + std::to_string(n) + " voxels from " + std::to_string(f) +
+                  " along axis " + std::to_string(a) + " is not inside the cube of " +
+                  std::to_string(resolution));
+    const int start = positiveModulo(f + o[a], resolution);
+    const int beforeWrap = std::min(n, resolution - start);
+    runs[size_t(a)].push_back({start, 0, beforeWrap});
+    if (beforeWrap < n) runs[size_t(a)].push_back({0, beforeWrap, n - beforeWrap});
+  }
+  std::vector<BoxPiece> pieces;
+  for (const auto& z : runs[2])
+    for (const auto& y : runs[1])
+      for (const auto& x : runs[0])
+        pieces.push_back(BoxPiece{{x[0], y[0], z[0]}, {x[1], y[1], z[1]}, {x[2], y[2], z[2]}});
+  return pieces;
+}
+
 void shiftGrid(uint8_t* grid, int n, int axis, int cells, uint8_t empty, ThreadPool& pool) {
   if (axis < 0 || axis > 2) throw Error("shiftGrid: axis " + std::to_string(axis) + " is not 0 (x), 1 (y) or 2 (z)");
   if (cells == 0 || n <= 0) return;

@@ -5,6 +5,7 @@
 // the volume frame is the world frame and every pose passes through unchanged, bit for bit.
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -47,6 +48,19 @@ class VolumePlacement {
   float voxelSize_;  // metres
   Eigen::Vector3i corner_ = Eigen::Vector3i::Zero();
 };
+
+// A logical box of the cyclic buffer (logical voxels first .. first + extent - 1 per axis, inside [0, R)) as
+// the physical boxes that store it: per axis the range starts at physical (first + offset) mod R and splits
+// in two where it wraps, so a box is 1 to 8 pieces. Each piece: where it is stored, where it lies in the box,
+// its size (voxels). For reading a slab alone (ComputeBackend::readVolumeBox). Throws sb::Error on a box
+// outside the cube.
+struct BoxPiece {
+  std::array<int, 3> physical{};  // the piece's first voxel in the buffer
+  std::array<int, 3> inBox{};     // ... in the box
+  std::array<int, 3> extent{};    // voxels per axis
+};
+std::vector<BoxPiece> boxPieces(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                                const SbVoxelOffset& offset, int resolution);
 
 // Moves the content of an n^3 grid of one-byte cells (x fastest) by `cells` along `axis` (0 x, 1 y, 2 z): cell v
 // then holds what cell v + cells held; the cells that came in get `empty`. |cells| >= n fills the whole grid.

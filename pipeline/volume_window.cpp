@@ -58,17 +58,17 @@ Eigen::Vector3i VolumeWindow::follow(const Eigen::Isometry3d& T_camera_to_world,
       const int leaving = std::min(std::abs(voxels), resolution_);
       const int thickness = std::min(leaving + 1, resolution_);
       VolumeSlab slab;
-      slab.volume = backend.volumeData();
       slab.resolution = resolution_;
-      slab.offset = offset();
       slab.extent = {resolution_, resolution_, resolution_};
       slab.extent[size_t(axis)] = thickness;
       slab.first[size_t(axis)] = voxels > 0 ? 0 : resolution_ - thickness;
+      slab.voxels.resize(2 * size_t(slab.extent[0]) * size_t(slab.extent[1]) * size_t(slab.extent[2]));
+      backend.readVolumeBox(slab.first, slab.extent, slab.voxels.data());
       slab.corner = (corner_ + Eigen::Vector3i(slab.first[0], slab.first[1], slab.first[2])).cast<double>() * voxelSize_;
       slab.voxelSize = static_cast<float>(voxelSize_);
       slab.axis = axis;
       slab.shift = stats_.shifts;
-      listener_(slab);
+      listener_(std::move(slab));
     }
     stats_.slabMs += msSince(start);
     start = std::chrono::steady_clock::now();

@@ -1,5 +1,7 @@
 #include "reloc/relocaliser.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -40,8 +42,23 @@ Relocaliser::Relocaliser(const RelocaliserParams& p)
     throw Error("Relocaliser: candidates must be >= 0 and confirm frames >= 1");
 }
 
+void Relocaliser::noteTracked(double pairAgreement) {
+  if (!std::isfinite(pairAgreement) || params_.agreementWindowFrames == 0) return;
+  tracked_.push_back(pairAgreement);
+  while (tracked_.size() > params_.agreementWindowFrames) tracked_.pop_front();
+}
+
+double Relocaliser::requiredAgreement() const {
+  constexpr size_t kMinKnown = 10;
+  if (tracked_.size() < kMinKnown) return params_.minPairAgreement;
+  std::vector<double> sorted(tracked_.begin(), tracked_.end());
+  const auto p90 = sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() * 9 / 10);
+  std::nth_element(sorted.begin(), p90, sorted.end());
+  return std::max(params_.minPairAgreement, *p90 - params_.agreementMargin);
+}
+
 bool Relocaliser::acceptable(const TrackAttempt& a) const {
-  return a.tracked && a.quality.known && a.quality.constrained && a.pairAgreement >= params_.minPairAgreement &&
+  return a.tracked && a.quality.known && a.quality.constrained && a.pairAgreement >= requiredAgreement() &&
          a.T_camera_to_world.matrix().allFinite();
 }
 
@@ -86,7 +103,9 @@ RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Iso
     if (acceptable(a) && (!best || better(a, *best))) best = a;
   }
   if (!best) {
-    out.why += "no candidate of " + std::to_string(starts.size()) + " passed";
+    char bar[64];
+    std::snprintf(bar, sizeof bar, " (agreement needed %.2f)", requiredAgreement());
+    out.why += "no candidate of " + std::to_string(starts.size()) + " passed" + bar;
     return out;
   }
   pending_ = best->T_camera_to_world;

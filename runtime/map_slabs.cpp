@@ -1,5 +1,11 @@
 #include "runtime/map_slabs.h"
 
+#include <spdlog/spdlog.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
@@ -10,40 +16,210 @@
 
 namespace sb {
 
-MapSlabs::MapSlabs(std::string dir) : dir_(std::move(dir)) {}
+namespace {
 
-void MapSlabs::add(const VolumeSlab& slab) {
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+constexpr int kWorkerNice = 10;  // the worker's nice above the SLAM thread's
+constexpr const char* kPrefix = "slab-";
+constexpr const char* kSuffix = ".ply";
+
+// The number of a slab file's name (slab-NNNNNN.ply), 0 for any other name.
+size_t slabNumber(const std::string& name) {
+  const std::string prefix = kPrefix, suffix = kSuffix;
+  if (name.size() <= prefix.size() + suffix.size() || name.compare(0, prefix.size(), prefix) != 0 ||
+      name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+    return 0;
+  const std::string digits = name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; }) ||
+      digits.size() > 18)
+    return 0;
+  return std::stoull(digits);
+}
+
+}  // namespace
+
+MapSlabs::MapSlabs(std::string dir, const Options& options) : dir_(std::move(dir)), options_(options) {}
+
+MapSlabs::~MapSlabs() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  work_.notify_all();
+  if (worker_.joinable()) worker_.join();  // the worker writes what is queued before it stops
+  if (error_) {
+    try {
+      std::rethrow_exception(error_);
+    } catch (const std::exception& e) {
+      spdlog::error("map slabs: {}", e.what());
+    }
+  }
+}
+
+void MapSlabs::rethrowLocked() {
+  if (!error_) return;
+  std::exception_ptr error = error_;
+  error_ = nullptr;  // thrown once
+  std::rethrow_exception(error);
+}
+
+void MapSlabs::add(VolumeSlab&& slab) {
+  std::unique_lock lock(mutex_);
+  rethrowLocked();
+  const size_t bytes = slab.bytes();
+  const auto fits = [&] { return pending_ == 0 || queuedBytes_ + bytes <= options_.queueBytes; };
+  if (!fits()) {  // back-pressure: the SLAM thread waits for the worker rather than dropping a slab
+    const auto start = Clock::now();
+    room_.wait(lock, fits);
+    stats_.waitMs += msSince(start);
+    ++stats_.waits;
+  }
+  queuedBytes_ += bytes;
+  ++pending_;
+  stats_.peakQueuedBytes = std::max(stats_.peakQueuedBytes, queuedBytes_);
+  queue_.push_back(std::move(slab));
+  if (!worker_.joinable()) worker_ = std::thread([this] { workerLoop(); });
+  work_.notify_one();
+}
+
+void MapSlabs::drain() {
+  std::unique_lock lock(mutex_);
+  room_.wait(lock, [&] { return pending_ == 0; });
+  rethrowLocked();
+}
+
+void MapSlabs::workerLoop() {
+  // Below the SLAM thread and its pool (nice + kWorkerNice, this thread only: Linux's nice is per thread), so
+  // that where they fill the cores the slabs take the idle time; when the queue fills, the SLAM thread waits.
+  errno = 0;
+  const int nice = getpriority(PRIO_PROCESS, 0);
+  if (errno == 0)
+    setpriority(PRIO_PROCESS, 0, std::min(nice + kWorkerNice, 19));  // best effort: any failure keeps it
+  ThreadPool serial(1);  // this thread alone: the global pool is the SLAM thread's (same mesh for any count)
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    work_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopped, and every slab written
+    VolumeSlab slab = std::move(queue_.front());
+    queue_.pop_front();
+    lock.unlock();
+    const auto start = Clock::now();
+    std::exception_ptr failure;
+    try {
+      write(slab, serial);
+    } catch (...) {
+      failure = std::current_exception();
+    }
+    const size_t bytes = slab.bytes();
+    slab = VolumeSlab{};  // its memory goes back before the room is counted
+    lock.lock();
+    stats_.workerMs += msSince(start);
+    if (failure && !error_) error_ = failure;
+    queuedBytes_ -= bytes;
+    --pending_;
+    room_.notify_all();
+  }
+}
+
+void MapSlabs::openFolder() {
   const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
   std::error_code ec;
   std::filesystem::create_directories(folder, ec);
   if (ec) throw Error("cannot create '" + folder.string() + "': " + ec.message());
-  // The slab read in place through the cyclic offset (no copy of its voxels).
+  // Slab files of an earlier start: in the retention (oldest first), not in this run's map; numbered on
+  // after.
+  std::vector<std::pair<size_t, Written>> earlier;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+    const size_t number = slabNumber(entry.path().filename().string());
+    std::error_code sizeError;
+    const uint64_t bytes = entry.is_regular_file(sizeError) ? entry.file_size(sizeError) : 0;
+    if (number > 0 && !sizeError) earlier.push_back({number, Written{entry.path().string(), bytes, false}});
+  }
+  if (ec) throw Error("cannot list '" + folder.string() + "': " + ec.message());
+  std::sort(earlier.begin(), earlier.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::lock_guard lock(mutex_);
+  for (auto& [number, file] : earlier) {
+    firstNumber_ = number;
+    writtenBytes_ += file.bytes;
+    written_.push_back(std::move(file));
+  }
+  folderOpen_ = true;
+}
+
+void MapSlabs::write(const VolumeSlab& slab, ThreadPool& serial) {
+  if (!folderOpen_) openFolder();
+  // The copy of the slab (no offset: VolumeView::boxOnly); the same mesh as the box read in place.
   VolumeView view;
-  view.data = slab.volume;
+  view.data = slab.voxels.data();
   view.resolution = slab.resolution;
   view.size = slab.voxelSize * static_cast<float>(slab.resolution);
-  view.offset = slab.offset;
-  view.first = slab.first;
   view.extent = slab.extent;
-  Mesh mesh = extractMesh(view, MeshOptions{});
+  view.boxOnly = true;
+  Mesh mesh = extractMesh(view, MeshOptions{}, serial);
   if (mesh.triangles.empty()) return;  // nothing observed left (e.g. the space behind the first view)
   transformMesh(mesh, Eigen::Isometry3f(Eigen::Translation3f(slab.corner.cast<float>())));
-  char name[32];
-  std::snprintf(name, sizeof name, "slab-%06zu.ply", slab.shift);
-  const std::string path = (folder / name).string();
+  char name[40];
+  std::snprintf(name, sizeof name, "%s%06zu%s", kPrefix, firstNumber_ + slab.shift, kSuffix);
+  const std::string path = (std::filesystem::path(dir_) / "map_slabs" / name).string();
   writePly(path + ".partial", mesh);
   if (std::rename((path + ".partial").c_str(), path.c_str()) != 0)
     throw Error("cannot rename '" + path + ".partial' to '" + path + "'");
-  files_.push_back(path);
+  std::error_code ec;
+  const uint64_t bytes = std::filesystem::file_size(path, ec);
+  std::lock_guard lock(mutex_);
+  written_.push_back(Written{path, ec ? 0 : bytes, true});
+  writtenBytes_ += written_.back().bytes;
   triangles_ += mesh.triangles.size();
+  enforceRetentionLocked();
 }
 
-size_t MapSlabs::writeMap(const std::string& path, const Mesh& finalVolume) const {
-  return writeMergedPly(path, files_, finalVolume);
+void MapSlabs::enforceRetentionLocked() {
+  if (options_.keepBytes == 0) return;
+  while (writtenBytes_ > options_.keepBytes && written_.size() > 1) {
+    const Written& oldest = written_.front();
+    std::error_code ec;
+    std::filesystem::remove(oldest.path, ec);
+    if (ec)
+      throw Error("cannot remove the old slab '" + oldest.path + "' (map_slabs retention): " + ec.message());
+    writtenBytes_ -= oldest.bytes;
+    ++stats_.removedFiles;
+    stats_.removedBytes += oldest.bytes;
+    written_.pop_front();
+  }
 }
 
-void writeRunMesh(const std::string& path, Pipeline& pipeline, const MapSlabs* slabs, ThreadPool& pool,
+const std::vector<std::string>& MapSlabs::files() {
+  drain();
+  std::lock_guard lock(mutex_);
+  files_.clear();
+  for (const Written& w : written_)
+    if (w.thisRun) files_.push_back(w.path);
+  return files_;
+}
+
+size_t MapSlabs::triangles() {
+  drain();
+  std::lock_guard lock(mutex_);
+  return triangles_;
+}
+
+MapSlabsStats MapSlabs::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+size_t MapSlabs::writeMap(const std::string& path, const Mesh& finalVolume) {
+  return writeMergedPly(path, files(), finalVolume);
+}
+
+void writeRunMesh(const std::string& path, Pipeline& pipeline, MapSlabs* slabs, ThreadPool& pool,
                   SummarySink& summary) {
+  if (slabs) slabs->drain();  // every slab on disk before the map is merged (throws a slab's failure)
   const PipelineConfig& config = pipeline.config();
   VolumeView view{pipeline.volumeData(), config.volumeResolution, config.volumeSize};
   const VolumeWindow* window = pipeline.volumeWindow();
@@ -60,13 +236,21 @@ void writeRunMesh(const std::string& path, Pipeline& pipeline, const MapSlabs* s
   }
 }
 
-nlohmann::json movingVolumeJson(const VolumeWindow& window) {
+nlohmann::json movingVolumeJson(const VolumeWindow& window, const MapSlabs* slabs) {
   const VolumeWindowStats& s = window.stats();
   const Eigen::Vector3d corner = window.cornerMetres();
-  return {{"shifts", s.shifts},
-          {"shift_ms", s.shiftMs},
-          {"slab_ms", s.slabMs},
-          {"corner_m", {corner.x(), corner.y(), corner.z()}}};
+  nlohmann::json j = {{"shifts", s.shifts},
+                      {"shift_ms", s.shiftMs},
+                      {"slab_ms", s.slabMs},
+                      {"corner_m", {corner.x(), corner.y(), corner.z()}}};
+  if (slabs) {
+    const MapSlabsStats m = slabs->stats();
+    j["slab_worker_ms"] = m.workerMs;
+    j["slab_wait_ms"] = m.waitMs;
+    j["slab_queue_peak_mib"] = double(m.peakQueuedBytes) / double(1 << 20);
+    j["slab_files_removed"] = m.removedFiles;
+  }
+  return j;
 }
 
 Eigen::Isometry3d movingVolumeOverview(Pipeline& pipeline) {

@@ -61,8 +61,10 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
     energyLog_ =
         std::make_unique<RotatingFile>(dir_, "energy.jsonl", "per-frame energy log", "", outputs.segments);
   if (VolumeWindow* window = pipeline_->volumeWindow(); window && outputs.mapSlabs) {
-    mapSlabs_ = std::make_unique<MapSlabs>(dir_);
-    window->setSlabListener([this](const VolumeSlab& slab) { mapSlabs_->add(slab); });
+    MapSlabs::Options options;
+    options.keepBytes = outputs.keepSlabBytes;
+    mapSlabs_ = std::make_unique<MapSlabs>(dir_, options);
+    window->setSlabListener([this](VolumeSlab&& slab) { mapSlabs_->add(std::move(slab)); });
   }
 }
 
@@ -108,6 +110,7 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
     }
   };
   const std::filesystem::path out(dir_);
+  if (mapSlabs_) attempt([&] { mapSlabs_->drain(); });  // every slab on disk (a failed one is reported here)
   if (!end.modelView.empty())
     attempt([&] {
       const Image<uint8_t> model = end.modelView == "overview"
@@ -122,7 +125,7 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
       writeRunMesh((out / "mesh.ply").string(), *pipeline_, mapSlabs_.get(), pool, *outputs_.summary);
     });
   if (const VolumeWindow* window = pipeline_->volumeWindow())
-    summary.movingVolume = movingVolumeJson(*window);
+    summary.movingVolume = movingVolumeJson(*window, mapSlabs_.get());
   // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
   // server). `slambooster bench` / dse / profile count (and skip) only complete runs; an interrupted one runs
   // again.

@@ -37,9 +37,12 @@ struct RunOutputs {
   // Rotation and retention of the per-frame outputs (trajectory, frame log, energy log;
   // core/rotating_file.h), shared by the runs of one output directory; nullptr: one file each (replays).
   std::shared_ptr<SegmentStore> segments;
-  // With a moving volume: mesh every slab that leaves into DIR/map_slabs/ as it leaves (runtime/map_slabs.h),
-  // for mesh.ply at the end (RunEnd::mesh). false: the slabs are dropped.
+  // With a moving volume: mesh every slab that leaves into DIR/map_slabs/ as it leaves (runtime/map_slabs.h,
+  // on a worker thread), for mesh.ply at the end (RunEnd::mesh). false: the slabs are dropped.
   bool mapSlabs = false;
+  // The slab files of DIR/map_slabs together at most this (bytes), the oldest removed first; 0: no limit (the
+  // daemon's output.rotation.keep_slabs_mib).
+  uint64_t keepSlabBytes = 0;
 };
 
 // What a run writes at its end.
@@ -65,9 +68,10 @@ class Run {
 
   // Every output on disk reflects every frame so far (the energy totals too).
   void flush();
-  // The end of the run: energy totals, model.png, mesh.ply, then trajectory and frame log synced to disk and
-  // summary.json marked complete last (a run killed at any point never leaves a complete summary beside a
-  // half-written trajectory). Throws sb::Error naming a file that cannot be written.
+  // The end of the run: energy totals, every slab of the map written (the worker drained), model.png,
+  // mesh.ply, then trajectory and frame log synced to disk and summary.json marked complete last (a run
+  // killed at any point never leaves a complete summary beside a half-written trajectory). Throws sb::Error
+  // naming a file that cannot be written.
   void finish(const RunEnd& end, ThreadPool& pool);
   // report.html from the outputs on disk; returns its path. Throws sb::Error when it cannot be written.
   std::string writeReport() const;

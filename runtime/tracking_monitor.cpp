@@ -9,6 +9,7 @@ RelocaliserParams relocaliserParams(const PipelineConfig& c) {
   p.candidates = c.relocaliseCandidates;
   p.confirmFrames = c.relocaliseConfirmFrames;
   p.minPairAgreement = c.relocaliseMinPairAgreement;
+  p.agreementMargin = c.relocaliseAgreementMargin;
   p.maxMotionM = c.relocaliseMaxMotion;
   p.maxRotationDeg = c.relocaliseMaxRotationDeg;
   p.keyframeCapacity = static_cast<size_t>(c.keyframeCapacity);
@@ -76,6 +77,7 @@ void TrackingMonitor::after(const DepthFrame& frame, double depthScale, FrameRec
       config_.relocalise) {
     const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
     rec.keyframeAdded = relocaliser_.harvest(code, rec.result.T_camera_to_world, rec.result.frame);
+    relocaliser_.noteTracked(rec.result.pairAgreement);
   }
   rec.keyframes = relocaliser_.keyframes().size();
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include "core/error.h"
 #include "kernels/preprocess.h"
@@ -328,6 +329,23 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
     const float3 corner = sbMakeFloat3(c.x(), c.y(), c.z());
     forEachPixel(pool_, w, h, [&](int x, int y) { offsetVertex(outV, outN, corner, y * w + x); });
   }
+}
+
+void CpuBackend::readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                               int16_t* out) {
+  const size_t res = size_t(config_.volumeResolution);
+  const size_t rowOut = size_t(extent[0]), planeOut = rowOut * size_t(extent[1]);
+  for (const BoxPiece& p : boxPieces(first, extent, placement_.offset(), config_.volumeResolution))
+    pool_.parallelFor(0, p.extent[2], 8, [&](int, int z0, int z1) {
+      for (int z = z0; z < z1; ++z)
+        for (int y = 0; y < p.extent[1]; ++y) {  // one run of x: contiguous in both
+          const size_t from =
+              size_t(p.physical[0]) + res * (size_t(p.physical[1] + y) + res * size_t(p.physical[2] + z));
+          const size_t to =
+              size_t(p.inBox[0]) + rowOut * size_t(p.inBox[1] + y) + planeOut * size_t(p.inBox[2] + z);
+          std::memcpy(out + 2 * to, volume_.data() + 2 * from, 2 * sizeof(int16_t) * size_t(p.extent[0]));
+        }
+    });
 }
 
 void CpuBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {

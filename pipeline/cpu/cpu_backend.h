@@ -39,6 +39,8 @@ class CpuBackend : public ComputeBackend {
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
   const int16_t* volumeData() override { return volume_.data(); }
+  void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                     int16_t* out) override;
   void moveVolume(const Eigen::Vector3i& cornerVoxels) override;
   const VolumePlacement& placement() const { return placement_; }
 

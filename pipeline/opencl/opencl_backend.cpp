@@ -165,6 +165,29 @@ const int16_t* OpenClBackend::volumeData() {
   return s.volumeHost.data();
 }
 
+void OpenClBackend::readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                                  int16_t* out) {
+  State& s = *s_;
+  constexpr size_t kVoxelBytes = 2 * sizeof(int16_t);  // (tsdf, weight)
+  const size_t res = size_t(s.config.volumeResolution);
+  const std::vector<BoxPiece> pieces =
+      boxPieces(first, extent, s.placement.offset(), s.config.volumeResolution);
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    const BoxPiece& p = pieces[i];
+    const size_t bufferOrigin[3] = {size_t(p.physical[0]) * kVoxelBytes, size_t(p.physical[1]),
+                                    size_t(p.physical[2])};
+    const size_t hostOrigin[3] = {size_t(p.inBox[0]) * kVoxelBytes, size_t(p.inBox[1]), size_t(p.inBox[2])};
+    const size_t region[3] = {size_t(p.extent[0]) * kVoxelBytes, size_t(p.extent[1]), size_t(p.extent[2])};
+    const size_t hostRow = size_t(extent[0]) * kVoxelBytes;
+    // The queue is in order: the reads follow the kernels queued before; the last one waits for all.
+    opencl::check(clEnqueueReadBufferRect(s.launcher.queue(), s.volume.get(),
+                                          i + 1 == pieces.size() ? CL_TRUE : CL_FALSE, bufferOrigin,
+                                          hostOrigin, region, res * kVoxelBytes, res * res * kVoxelBytes,
+                                          hostRow, hostRow * size_t(extent[1]), out, 0, nullptr, nullptr),
+                  "clEnqueueReadBufferRect (a box of the volume)");
+  }
+}
+
 void OpenClBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
   State& s = *s_;
   const int res = s.config.volumeResolution;

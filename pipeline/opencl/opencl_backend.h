@@ -33,6 +33,9 @@ class OpenClBackend : public ComputeBackend {
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
   const int16_t* volumeData() override;
+  // The box alone: one rectangular read per piece of it (clEnqueueReadBufferRect), not the whole volume.
+  void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                     int16_t* out) override;
   void moveVolume(const Eigen::Vector3i& cornerVoxels) override;  // clearSlabKernel, the skipping grid anew
 
   // Half storage through vload_half / vstore_half is core OpenCL 1.2: every device has it. Switching converts

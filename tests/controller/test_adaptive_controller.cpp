@@ -370,8 +370,8 @@ TEST_CASE("adaptive learns a motion only as far as the view fixes it (learn_cond
   const Eigen::Vector3d step = d.nextStartPose->translation() - walls.pose.translation();
   CHECK(step.x() == Approx(0.01 + 0.002 * 0.05 / 0.051).margin(1e-6));
   CHECK(step.y() == Approx(0.0).margin(1e-5));
-  // Off (the default), the whole measured motion is learnt.
-  AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0})"));
+  // Off (0), the whole measured motion is learnt.
+  AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0, "learn_conditioning": 0})"));
   Driver other(off);
   for (int i = 0; i < 6; ++i) other.step(moveX(0.01));
   Observation same = other.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));

@@ -159,6 +159,24 @@ TEST_CASE("daemon config: output rotation, its limits in bytes and when it appli
              Catch::Contains("output.rotation.mode") && Catch::Contains("always"));
 }
 
+TEST_CASE("daemon config: the map slabs' retention, output.rotation.keep_slabs_mib", "[daemon][config]") {
+  CHECK(parseDaemonConfig(json::object()).output.rotation.keepSlabsMib == 1024.0);
+  const auto keep = [](double mib) {
+    return parseDaemonConfig(json{{"output", {{"rotation", {{"keep_slabs_mib", mib}}}}}})
+        .output.rotation.keepSlabsMib;
+  };
+  CHECK(keep(0) == 0.0);  // no limit
+  CHECK(keep(16) == 16.0);
+  CHECK(keep(65536) == 65536.0);
+  CHECK_THAT(errorOf(json{{"output", {{"rotation", {{"keep_slabs_mib", 8}}}}}}),
+             Catch::Contains("output.rotation.keep_slabs_mib") && Catch::Contains("8") &&
+                 Catch::Contains("at least 16 MiB"));
+  CHECK_THAT(errorOf(json{{"output", {{"rotation", {{"keep_slabs_mib", -1}}}}}}),
+             Catch::Contains("output.rotation.keep_slabs_mib") && Catch::Contains("-1"));
+  CHECK_THAT(errorOf(json{{"output", {{"rotation", {{"keep_slabs_mib", "lots"}}}}}}),
+             Catch::Contains("output.rotation.keep_slabs_mib"));
+}
+
 TEST_CASE("daemon config: the controller file takes the run's form or the bare settings, never pipeline keys",
           "[daemon][config]") {
   using Catch::Matchers::Contains;

@@ -1,13 +1,14 @@
 // The moving volume on the OpenCL backend against the CPU backend (the oracle): the same body on both. A
-// volume of the analytic room (160x120, 64^3 of 4 m) moved along x and z (a cyclic buffer: a new address offset,
-// kernels/volume.h): on each backend the move is exact, bit for bit (every voxel that stays keeps its physical
-// address and content, the planes that left are cleared and nothing else changes), so the two backends'
-// volumes differ after it exactly where they differed before it; after one more frame fused (across the
-// buffer's wrap) and a raycast from a world pose (interpolating across it), the backends agree within the stage
-// tolerances of test_opencl_stages.cpp, which hold without a move too (the backends' integrate is not bitwise
-// equal: contracted multiply-adds on the device)
-// (weights identical except 1e-4 of the voxels, tsdf within 2/32767; raycast validity differing on <= 0.2%
-// of the pixels, world-frame vertices within 1 mm).
+// volume of the analytic room (160x120, 64^3 of 4 m) moved along x and z (a cyclic buffer: a new address
+// offset, kernels/volume.h): on each backend the move is exact, bit for bit (every voxel that stays keeps its
+// physical address and content, the planes that left are cleared and nothing else changes), so the two
+// backends' volumes differ after it exactly where they differed before it; after one more frame fused (across
+// the buffer's wrap) and a raycast from a world pose (interpolating across it), the backends agree within the
+// stage tolerances of test_opencl_stages.cpp, which hold without a move too (the backends' integrate is not
+// bitwise equal: contracted multiply-adds on the device) (weights identical except 1e-4 of the voxels, tsdf
+// within 2/32767; raycast validity differing on <= 0.2% of the pixels, world-frame vertices within 1 mm). A
+// box read alone (readVolumeBox, a leaving slab) across the wrap is the volume read through the offset, voxel
+// for voxel, on each backend.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -57,6 +58,24 @@ size_t moveExactly(sb::ComputeBackend& backend) {
   return exact;
 }
 
+// After moveExactly (corner (16, 0, -8): offset (16, 0, 56)), ComputeBackend::readVolumeBox of a box across
+// the wrap on x and z (4 pieces) against the whole volume read through the offset: the voxels that are exact.
+size_t boxReadsExactly(sb::ComputeBackend& backend) {
+  const std::array<int, 3> first{40, 5, 0}, extent{20, 20, kRes};  // x from physical 56: 8 planes, then 12
+  std::vector<int16_t> box(2 * size_t(extent[0]) * extent[1] * extent[2], -1);
+  backend.readVolumeBox(first, extent, box.data());
+  const int16_t* volume = backend.volumeData();
+  size_t exact = 0, b = 0;
+  for (int z = 0; z < extent[2]; ++z)
+    for (int y = 0; y < extent[1]; ++y)
+      for (int x = 0; x < extent[0]; ++x, ++b) {
+        const size_t v = size_t((first[0] + x + 16) % kRes) +
+                         kRes * (size_t(first[1] + y) + kRes * size_t((first[2] + z + 56) % kRes));
+        exact += box[2 * b] == volume[2 * v] && box[2 * b + 1] == volume[2 * v + 1];
+      }
+  return exact;
+}
+
 }  // namespace
 
 TEST_CASE("OpenCL moving volume: the shift is exact and the backends agree after it", "[opencl][volume_window]") {
@@ -75,6 +94,7 @@ TEST_CASE("OpenCL moving volume: the shift is exact and the backends agree after
     fuse(*backend, k, at(1.55, 1.5, 0.95));
     beforeMove[slot++].assign(backend->volumeData(), backend->volumeData() + 2 * kVoxels);
     CHECK(moveExactly(*backend) == kVoxels);
+    CHECK(boxReadsExactly(*backend) == size_t(20) * 20 * kRes);
   }
   {
     // Bitwise: after the move the backends differ exactly where they differed before it, outside the cleared

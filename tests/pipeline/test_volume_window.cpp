@@ -151,21 +151,24 @@ TEST_CASE("the volume window shifts by whole blocks past the threshold and hands
   sb::CpuBackend backend(config, k, pool);
   integrateFrame(backend, k, at(1.5, 1.5, 0.9), Eigen::Vector3d::Zero());
   sb::VolumeWindow window(config);
-  // The slabs as handed over (their voxels read through the offset when they are handed over).
+  // The slabs as handed over: each copy (ComputeBackend::readVolumeBox, pieces across the wrap) against the
+  // volume read voxel by voxel through the offset when it is handed over (before the move clears it).
   std::vector<sb::VolumeSlab> slabs;
-  std::vector<std::vector<int16_t>> slabVoxels;
-  window.setSlabListener([&](const sb::VolumeSlab& slab) {
-    slabs.push_back(slab);
-    SbVoxelOffset o{slab.offset[0], slab.offset[1], slab.offset[2]};
-    std::vector<int16_t> box;
+  std::vector<size_t> copiedExactly;
+  window.setSlabListener([&](sb::VolumeSlab&& slab) {
+    const std::array<int, 3> offset = window.offset();
+    const SbVoxelOffset o{offset[0], offset[1], offset[2]};
+    const int16_t* volume = backend.volumeData();
+    REQUIRE(slab.voxels.size() == 2 * size_t(slab.extent[0]) * slab.extent[1] * slab.extent[2]);
+    size_t exact = 0, s = 0;
     for (int z = 0; z < slab.extent[2]; ++z)
       for (int y = 0; y < slab.extent[1]; ++y)
-        for (int x = 0; x < slab.extent[0]; ++x) {
+        for (int x = 0; x < slab.extent[0]; ++x, ++s) {
           const int v = sbVoxelIndex(slab.resolution, o, slab.first[0] + x, slab.first[1] + y, slab.first[2] + z);
-          box.push_back(slab.volume[2 * v]);
-          box.push_back(slab.volume[2 * v + 1]);
+          exact += slab.voxels[2 * s] == volume[2 * v] && slab.voxels[2 * s + 1] == volume[2 * v + 1];
         }
-    slabVoxels.push_back(box);
+    copiedExactly.push_back(exact);
+    slabs.push_back(std::move(slab));
   });
 
   // View centre (2, 2, 2): the volume centre.
@@ -192,10 +195,11 @@ TEST_CASE("the volume window shifts by whole blocks past the threshold and hands
       for (int x = 0; x < 17; ++x) {
         const size_t s = size_t(x) + 17 * (size_t(y) + 64 * size_t(z));
         const size_t v = size_t(x) + 64 * (size_t(y) + 64 * size_t(z));
-        same += slabVoxels[0][2 * s] == before[2 * v] && slabVoxels[0][2 * s + 1] == before[2 * v + 1];
+        same += slab.voxels[2 * s] == before[2 * v] && slab.voxels[2 * s + 1] == before[2 * v + 1];
       }
   CHECK(same == size_t(17) * 64 * 64);
-  CHECK(observedVoxels(slabVoxels[0].data(), same) > 0);
+  CHECK(copiedExactly[0] == same);
+  CHECK(observedVoxels(slab.voxels.data(), same) > 0);
 
   // Back to the left and down at once: two axes, two slabs, the second one from the far side.
   CHECK(window.follow(at(1.0, 3.4, 0.8), backend) == Eigen::Vector3i(-32, 24, 0));
@@ -203,6 +207,13 @@ TEST_CASE("the volume window shifts by whole blocks past the threshold and hands
   CHECK(slabs[1].corner.isApprox(Eigen::Vector3d((16 + 64 - 33) / 16.0, 0.0, 0.0)));
   CHECK(slabs[1].extent == std::array<int, 3>{33, 64, 64});
   CHECK(slabs[2].extent == std::array<int, 3>{64, 25, 64});
+  // Both read across the wrap (x from physical 47 for 33 planes; the y slab with the x offset 48).
+  CHECK(copiedExactly[1] == size_t(33) * 64 * 64);
+  CHECK(copiedExactly[2] == size_t(64) * 25 * 64);
+  int16_t voxel[2];
+  CHECK_THROWS_WITH(
+      backend.readVolumeBox({60, 0, 0}, {8, 1, 1}, voxel),
+      Catch::Contains("8 voxels from 60 along axis 0") && Catch::Contains("not inside the cube of 64"));
   CHECK(window.stats().shifts == 3);
   CHECK(window.offset() == std::array<int, 3>{48, 24, 0});  // (-16 mod 64, 24, 0)
 }

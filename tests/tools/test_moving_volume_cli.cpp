@@ -5,11 +5,21 @@
 // 44% tracked); moving (the default of `run`), the drive tracks (measured: 99.1%, ATE 3.5 cm, 4 shifts at the
 // default volume_shift_threshold_m 1.5; 100%, 4.1 cm, 6 shifts at 1.0) and
 // mesh.ply holds the slabs that left (map_slabs/) and the final volume, in the world frame.
+//
+// The daemon on the same drive with output.mesh (its slabs on the map's worker thread, runtime/map_slabs.h):
+// SIGTERM once a slab is on disk ends the pass cleanly: exit 0, every slab queued written (no .partial left),
+// mesh.ply holding them all, summary.json complete.
+#include <signal.h>
+
 #include <catch2/catch.hpp>
+#include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 
+#include "tests/daemon/process.h"
 #include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
@@ -20,6 +30,22 @@ using sb::test::runCommand;
 namespace {
 
 const std::string kTool = SB_SLAMBOOSTER_BIN;
+
+// The first 220 frames of the corridor drive at 160x120 in `dir`/drive.
+void renderDrive(const std::string& dir) {
+  const auto synth = runCommand(kTool + " synth --out " + dir +
+                                "/drive --scene corridor --corridor-length 12 --stress drive --frames 220"
+                                " --width 160 --height 120 --fx 120.3 --fy 120 --threads 2 --overwrite");
+  INFO(synth.output);
+  REQUIRE(synth.exitCode == 0);
+}
+
+size_t countFiles(const std::string& dir, const std::string& extension) {
+  size_t n = 0;
+  if (std::filesystem::is_directory(dir))
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) n += entry.path().extension() == extension;
+  return n;
+}
 
 // The vertex count in a PLY header.
 size_t plyVertices(const std::string& path) {
@@ -35,11 +61,7 @@ size_t plyVertices(const std::string& path) {
 TEST_CASE("a corridor drive longer than the volume: lost in a fixed 5 m volume, tracked in a moving one",
           "[tools][moving_volume][system]") {
   const std::string dir = sb::test::scratchDir("moving_volume_drive");
-  const auto synth = runCommand(kTool + " synth --out " + dir +
-                                "/drive --scene corridor --corridor-length 12 --stress drive --frames 220"
-                                " --width 160 --height 120 --fx 120.3 --fy 120 --threads 2 --overwrite");
-  INFO(synth.output);
-  REQUIRE(synth.exitCode == 0);
+  renderDrive(dir);
   const std::string run = kTool + " run " + dir + "/drive --controller default --volume-size 5 --threads 2 --quiet";
   const auto fixed = runCommand(run + " --fixed-volume --out " + dir + "/fixed");
   INFO(fixed.output);
@@ -67,4 +89,40 @@ TEST_CASE("a corridor drive longer than the volume: lost in a fixed 5 m volume, 
     slabVertices += plyVertices(entry.path().string());
   CHECK(slabVertices > 1000);
   CHECK(plyVertices(dir + "/moving/mesh.ply") > slabVertices);
+}
+
+TEST_CASE("the daemon on the drive with output.mesh: SIGTERM after a slab writes every slab and the map",
+          "[tools][moving_volume][daemon][system]") {
+  const std::string dir = sb::test::scratchDir("moving_volume_daemon");
+  renderDrive(dir);
+  std::ofstream(dir + "/pipeline.json") << R"({"volume_size_m": 5})";
+  char socketDir[] = "/tmp/sbd-mv-XXXXXX";  // socket paths must stay short
+  REQUIRE(mkdtemp(socketDir) != nullptr);
+  const std::string out = dir + "/out", slabs = out + "/map_slabs";
+  sb::test::ChildProcess d({SB_SLAMBOOSTERD_BIN, "--input", dir + "/drive", "--out", out, "--socket",
+                            std::string(socketDir) + "/s.sock", "--pacing", "recorded", "--at-end", "stop",
+                            "--controller", "default", "--set", "slam.pipeline_config=" + dir + "/pipeline.json",
+                            "--set", "slam.threads=2", "--set", "output.mesh=true", "--set",
+                            "output.rotation.keep_slabs_mib=64"},
+                           {}, dir + "/log.txt");
+  // 220 frames at 30 fps: about 7 s; the first shift comes within the first 3 s.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (countFiles(slabs, ".ply") == 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  INFO(d.log());
+  REQUIRE(countFiles(slabs, ".ply") > 0);
+  d.signal(SIGTERM);
+  REQUIRE(d.wait(60) == 0);
+  std::filesystem::remove_all(socketDir);
+  const nlohmann::json m = readJson(out + "/summary.json");
+  INFO(m.dump());
+  CHECK(m["complete"] == true);
+  CHECK(countFiles(slabs, ".partial") == 0);
+  const size_t files = countFiles(slabs, ".ply");
+  CHECK(m["mesh_slabs"].get<size_t>() == files);
+  CHECK(m["moving_volume"]["shifts"].get<size_t>() >= files);
+  CHECK(m["moving_volume"]["slab_files_removed"] == 0);
+  size_t slabVertices = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(slabs)) slabVertices += plyVertices(entry.path().string());
+  CHECK(plyVertices(out + "/mesh.ply") > slabVertices);
 }
