@@ -199,7 +199,8 @@ void ConfigReader::finish() const {
 }
 
 json readJsonConfig(const std::string& path, const std::string& what) {
-  json j = readJsonFile(path, what);  // bounded nesting; names the file, the line and the column
+  // Bounded nesting; errors read "<what> '<path>': not valid JSON at line L, column C: ...".
+  json j = parseJson(readTextFile(path, what), what + " '" + path + "'");
   if (!j.is_object())
     throw Error(what + " '" + path + "' must hold a JSON object {\"key\": value, ...}, not " +
                 describeJson(j) + "; fix the file");

@@ -116,10 +116,6 @@ std::string readTextFile(const std::string& path, const std::string& what, size_
   return text;
 }
 
-nlohmann::json readJsonFile(const std::string& path, const std::string& what) {
-  return parseJson(readTextFile(path, what), what + " '" + path + "'");
-}
-
 std::string describeJson(const nlohmann::json& value, size_t maxChars) {
   if (value.is_array()) return "an array of " + std::to_string(value.size()) + " elements";
   if (value.is_object()) return "an object with " + std::to_string(value.size()) + " keys";

@@ -29,8 +29,6 @@ nlohmann::json parseJson(std::string_view text, const std::string& where, int ma
 std::string readTextFile(const std::string& path, const std::string& what,
                          size_t maxBytes = kMaxJsonFileBytes);
 
-// readTextFile + parseJson: errors read "<what> '<path>': not valid JSON at line L, column C: ...".
-nlohmann::json readJsonFile(const std::string& path, const std::string& what);
 
 // A short, flat rendering of `value` for error messages: scalars as JSON (strings cut to `maxChars`),
 // arrays and objects as "an array of N elements" / "an object with N keys". Never recurses.

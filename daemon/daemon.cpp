@@ -106,8 +106,7 @@ struct Daemon::Parts {
   std::shared_ptr<SegmentStore> retention;       // `segments`, or the pass directories' of a looping replay
   std::unique_ptr<power::PowerSampler> sampler;  // before the worker: destroyed after it
   std::string meterError;                        // why the configured meter is not in use
-  std::unique_ptr<SlamWorker> worker;
-  ControllerSettings controllerSettings;
+  std::unique_ptr<SlamWorker> worker;  // holds the controller settings (read once, at its construction)
   std::thread capture;
   UniqueFd signals, timer;
   std::mutex captureMutex;
@@ -173,7 +172,6 @@ int Daemon::run() {
   Mailbox& mailbox = *p.mailbox;
   try {
     p.worker = makeWorker(info, mailbox);
-    p.controllerSettings = loadControllerSettings(config_.slam, p.worker->controllerContext());
   } catch (const ConfigError&) {
     throw;
   } catch (const Error& e) {
@@ -328,7 +326,6 @@ void Daemon::reload() {
     if (before != after)
       spdlog::warn("SIGHUP: only the controller settings are reloaded; restart for the other changes");
     p.worker->switchController(settings, settings.name);
-    p.controllerSettings = settings;
     config_.slam.controller = fresh.slam.controller;
     config_.slam.controllerConfig = fresh.slam.controllerConfig;
     spdlog::info("SIGHUP: controller settings reloaded; controller '{}' from the next frame", settings.name);
@@ -422,7 +419,7 @@ nlohmann::json Daemon::control(const ControlRequest& request) {
   Parts& p = *parts_;
   if (request.controller) {
     try {  // validate the name before anything changes
-      createController(*request.controller, p.controllerSettings, p.worker->controllerContext());
+      createController(*request.controller, p.worker->controllerSettings(), p.worker->controllerContext());
     } catch (const Error& e) {
       throw Error(std::string("?CONTROL: ") + e.what());
     }
@@ -433,7 +430,7 @@ nlohmann::json Daemon::control(const ControlRequest& request) {
   } catch (const Error& e) {
     throw Error(std::string("?CONTROL: ") + e.what());
   }
-  if (request.controller) p.worker->switchController(p.controllerSettings, *request.controller);
+  if (request.controller) p.worker->switchController(p.worker->controllerSettings(), *request.controller);
   return {{"ok", true},
           {"controller", request.controller ? *request.controller : p.worker->stats().controller},
           {"pinned", pinned}};

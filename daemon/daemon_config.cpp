@@ -215,15 +215,6 @@ void applyOverride(nlohmann::json& j, const std::string& assignment) {
   }
 }
 
-nlohmann::json readJsonFile(const std::string& path) {
-  try {
-    return readJsonConfig(path, "config file");
-  } catch (const ConfigError&) {
-    throw;
-  } catch (const Error& e) {
-    throw ConfigError(e.what());
-  }
-}
 
 nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
   return {{"source",

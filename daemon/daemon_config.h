@@ -116,8 +116,6 @@ DaemonConfig parseDaemonConfig(const nlohmann::json& j, const std::string& where
 // Applies one override "section.key=value" (value: JSON, or a plain string) to `j`. Throws ConfigError.
 void applyOverride(nlohmann::json& j, const std::string& assignment);
 
-// Reads a JSON file with readJsonConfig (missing file, bad JSON, a non-object -> ConfigError naming the file).
-nlohmann::json readJsonFile(const std::string& path);
 
 // The whole config as JSON (the keys parseDaemonConfig reads).
 nlohmann::json daemonConfigToJson(const DaemonConfig& config);

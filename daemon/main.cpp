@@ -8,6 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "core/config_reader.h"
 #include "core/error.h"
 #include "core/input_file.h"
 #include "daemon/daemon.h"
@@ -24,7 +25,12 @@ struct Options {
 };
 
 sb::daemon::DaemonConfig loadConfig(const Options& o) {
-  nlohmann::json j = o.configPath.empty() ? nlohmann::json::object() : sb::daemon::readJsonFile(o.configPath);
+  nlohmann::json j = nlohmann::json::object();
+  try {  // the one JSON file loader; a missing file, bad JSON or a non-object is a configuration error (exit 2)
+    if (!o.configPath.empty()) j = sb::readJsonConfig(o.configPath, "config file");
+  } catch (const sb::Error& e) {
+    throw sb::daemon::ConfigError(e.what());
+  }
   const std::pair<const char*, const std::string*> flags[] = {
       {"source.path", &o.input},    {"output.dir", &o.out},      {"socket.path", &o.socket},
       {"source.pacing", &o.pacing}, {"source.at_end", &o.atEnd}, {"slam.controller", &o.controller},

@@ -165,30 +165,39 @@ nlohmann::json versionMessage(const std::string& release) {
       {"class", "VERSION"}, {"release", release}, {"proto_major", kProtoMajor}, {"proto_minor", kProtoMinor}};
 }
 
+namespace {
+
+// POSE's fields, by their names in the frame's encoding (frames.jsonl). A new POSE field is a name here, a
+// minor version (kProtoMinor) and its line in docs/protocol.md.
+constexpr const char* kPoseFields[] = {"frame",      "timestamp", "position", "quaternion",
+                                       "tracked",    "corrected", "state",    "velocity_m_per_frame",
+                                       "conditioning", "weakest_motion"};
+constexpr const char* kKnobFields[] = {"csr", "icp", "pd", "tr", "ir"};
+
+void copyField(const nlohmann::json& from, const char* key, nlohmann::json& to) {
+  if (const auto it = from.find(key); it != from.end()) to[key] = *it;
+}
+
+}  // namespace
+
 nlohmann::json poseMessage(const FrameReport& r) {
-  nlohmann::json j = {{"class", "POSE"},          {"frame", r.frame},           {"timestamp", r.timestamp},
-                      {"position", r.position},   {"quaternion", r.quaternion}, {"tracked", r.tracked},
-                      {"corrected", r.corrected}, {"velocity", r.velocity},     {"constrained", r.constrained},
-                      {"state", r.state}};
-  if (r.conditioning) {
-    j["conditioning"] = *r.conditioning;
-    j["weakest_motion"] = r.weakestMotion;
-  }
+  nlohmann::json j = {{"class", "POSE"}};
+  if (!r.frame.is_object()) return j;
+  for (const char* key : kPoseFields) copyField(r.frame, key, j);
+  // The velocity's name before protocol 1.3, kept for the clients of 1.0-1.2.
+  if (j.contains("velocity_m_per_frame")) j["velocity"] = j["velocity_m_per_frame"];
+  // The frame log writes it when ICP ran; POSE always (true when the conditioning is not known).
+  j["constrained"] = r.frame.value("constrained", true);
   return j;
 }
 
 nlohmann::json knobsMessage(const FrameReport& r) {
-  const Knobs& k = r.knobs;
-  return {{"class", "KNOBS"},
-          {"frame", r.frame},
-          {"controller", r.controller},
-          {"csr", k.csr},
-          {"icp", k.icpThreshold},
-          {"pd", {k.pyramidIterations[0], k.pyramidIterations[1], k.pyramidIterations[2]}},
-          {"tr", k.trackingRate},
-          {"ir", k.integrationRate},
-          {"pinned", r.pinned},
-          {"computation_ms", r.computationMs}};
+  nlohmann::json j = {{"class", "KNOBS"}, {"pinned", r.pinned}};
+  if (!r.frame.is_object()) return j;
+  for (const char* key : {"frame", "controller", "computation_ms"}) copyField(r.frame, key, j);
+  if (const auto knobs = r.frame.find("knobs"); knobs != r.frame.end() && knobs->is_object())
+    for (const char* key : kKnobFields) copyField(*knobs, key, j);
+  return j;
 }
 
 nlohmann::json energyMessage(const EnergyReport& e) {

@@ -20,8 +20,9 @@ namespace sb::daemon {
 
 constexpr int kProtoMajor = 1;
 // 1: POSE carries constrained, conditioning, weakest_motion; 2: POSE carries state (good, weak, lost,
-// relocalised) and STATUS a tracking_state object.
-constexpr int kProtoMinor = 2;
+// relocalised) and STATUS a tracking_state object; 3: POSE carries velocity_m_per_frame, the frame log's name
+// of its velocity (which it still carries as well).
+constexpr int kProtoMinor = 3;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
@@ -53,22 +54,12 @@ struct ParseResult {
 // Parses one request line (without the '\n'; a trailing '\r' is ignored). Never throws.
 ParseResult parseRequest(std::string_view line);
 
-// One processed frame as the SLAM thread publishes it: immutable once made.
+// One processed frame as the SLAM thread publishes it: immutable once made. `frame` is the frame's one
+// encoding, the frames.jsonl object (runtime/frame_log_sink.h frameRecordToJson); POSE and KNOBS take their
+// fields from it by name (kPoseFields in protocol.cpp), so a field added to the frame log reaches the socket
+// by naming it there.
 struct FrameReport {
-  uint64_t frame = 0;                            // 0-based frame count of this run
-  double timestamp = 0.0;                        // seconds, the frame's own timestamp
-  std::array<double, 3> position{};              // metres, T_camera_to_world translation (volume frame)
-  std::array<double, 4> quaternion{0, 0, 0, 1};  // qx, qy, qz, qw (TUM order)
-  bool tracked = false;
-  bool corrected = false;           // the controller replaced the tracked pose
-  double velocity = 0.0;            // metres/frame
-  bool constrained = true;          // the geometry in view fixed every motion (pipeline/tracking_quality.h)
-  std::string state = "good";       // tracking state: good, weak, lost, relocalised (runtime/tracking_state.h)
-  std::optional<double> conditioning;  // when ICP ran: the smallest normalised eigenvalue of its normal matrix
-  std::string weakestMotion;        // when ICP ran: the weakest motion, "tx".."rz" in camera axes
-  double computationMs = 0.0;       // preprocessing + tracking + integration + raycast
-  Knobs knobs;                      // the knobs this frame ran with
-  std::string controller;           // the controller that chose them
+  nlohmann::json frame = nlohmann::json::object();
   std::vector<std::string> pinned;  // knobs pinned over the controller's choice
 };
 

@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <Eigen/Geometry>
 #include <deque>
 #include <optional>
 
@@ -13,7 +12,9 @@
 #include "daemon/pass_directories.h"
 #include "pipeline/pipeline.h"
 #include "runtime/energy_account.h"
+#include "runtime/frame_log_sink.h"
 #include "runtime/run.h"
+#include "runtime/run_setup.h"
 
 namespace sb::daemon {
 
@@ -23,54 +24,31 @@ using Clock = std::chrono::steady_clock;
 constexpr auto kFlushInterval = std::chrono::seconds(2);  // outputs on disk lag by at most this much
 constexpr size_t kFpsWindow = 30;                         // frames in the frame-rate average
 
-FrameReport makeReport(const FrameRecord& record, const std::vector<std::string>& pinned) {
-  const FrameResult& r = record.result;
-  FrameReport report;
-  report.frame = r.frame;
-  report.timestamp = r.timestamp;
-  const Eigen::Vector3d t = r.T_camera_to_world.translation();
-  report.position = {t.x(), t.y(), t.z()};
-  const Eigen::Quaterniond q(r.T_camera_to_world.rotation());
-  report.quaternion = {q.x(), q.y(), q.z(), q.w()};
-  report.tracked = r.tracked;
-  report.corrected = r.poseOverridden;
-  report.velocity = r.velocity;
-  report.constrained = r.quality.constrained;
-  report.state = trackingStateName(record.state);
-  if (r.quality.known) {
-    report.conditioning = r.quality.conditioning;
-    report.weakestMotion = weakDirectionName(r.quality.weakest);
-  }
-  report.computationMs = r.times.computationMs();
-  report.knobs = r.knobs;
-  report.controller = record.controller;
-  report.pinned = pinned;
-  return report;
-}
-
 }  // namespace
 
 PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& info) {
-  PipelineConfig c;
-  if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
-  if (info.volumeInitialPosition)
-    for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
-  if (!slam.pipelineConfig.empty()) c = loadConfigFile(slam.pipelineConfig, c);
-  if (c.volumeMode == VolumeMode::automatic) c.volumeMode = VolumeMode::moving;  // docs/moving-volume.md
-  validateConfig(c);
+  SettingsFile file;
+  if (!slam.pipelineConfig.empty()) file = readSettingsFile(slam.pipelineConfig);
+  if (!file.controller.is_null())
+    throw Error(slam.pipelineConfig + ": 'controller' is not read here; the daemon reads the controller from "
+                "slam.controller and slam.controller_config");
+  PipelineConfig c = pipelineConfigFor(info, file.pipeline, slam.pipelineConfig);
+  finishPipelineConfig(c, slam.pipelineConfig.empty() ? "pipeline config" : slam.pipelineConfig);
   return c;
 }
 
 ControllerSettings loadControllerSettings(const SlamConfig& slam, const ControllerContext& context) {
   if (slam.controllerConfig.empty())
-    return parseControllerSettings(slam.controller, context, "slam.controller");
-  nlohmann::json j = readJsonFile(slam.controllerConfig);
-  // The shipped config/controller.json wraps the settings in a "controller" object (the form a `slambooster
-  // run --config` file takes); the bare settings object is accepted too.
-  if (j.is_object() && j.size() == 1 && j.contains("controller") && j["controller"].is_object())
-    j = nlohmann::json(j["controller"]);
-  if (j.is_object() && !j.contains("name")) j["name"] = slam.controller;
-  return parseControllerSettings(j, context, slam.controllerConfig);
+    return controllerSettingsFrom(nullptr, slam.controller, true, context, "slam.controller");
+  // The shipped config/controller.json wraps the settings in a "controller" key (the form a `slambooster run
+  // --config` file takes); the bare settings object is accepted too.
+  SettingsFile file = readSettingsFile(slam.controllerConfig);
+  const bool wrapped = !file.controller.is_null();
+  if (wrapped && !file.pipeline.empty())
+    throw Error(slam.controllerConfig + ": holds keys beside 'controller' (" + file.pipeline.begin().key() +
+                "); pipeline keys go in slam.pipeline_config");
+  return controllerSettingsFrom(wrapped ? file.controller : file.pipeline, slam.controller, false, context,
+                                slam.controllerConfig);
 }
 
 SlamWorker::SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence, FrameQueue& queue,
@@ -107,7 +85,8 @@ void SlamWorker::join() {
 void SlamWorker::switchController(const ControllerSettings& settings, const std::string& name) {
   std::lock_guard lock(mutex_);
   settings_ = settings;
-  pendingController_ = name;
+  settings_.name = name;
+  controllerChanged_ = true;
 }
 
 nlohmann::json SlamWorker::changePins(const ControlRequest& request) {
@@ -118,6 +97,11 @@ nlohmann::json SlamWorker::changePins(const ControlRequest& request) {
   pins_ = pins;
   pinsChanged_ = true;
   return pins_.toJson();
+}
+
+ControllerSettings SlamWorker::controllerSettings() const {
+  std::lock_guard lock(mutex_);
+  return settings_;
 }
 
 WorkerStats SlamWorker::stats() const {
@@ -151,133 +135,139 @@ void SlamWorker::run() {
   finished_();
 }
 
-void SlamWorker::runPasses() {
-  ThreadPool pool(stats().threads);
-  std::unique_ptr<Run> run;  // of the pass
-  const bool loop = config_.source.atEnd == "loop";
-  std::optional<PassDirectories> passDirs;  // pass-NNNN under output.dir, within the retention limits
-  if (loop) passDirs.emplace(config_.output.dir, passRetention_);
+struct SlamWorker::Passes {
+  ThreadPool pool;
+  std::unique_ptr<Run> run;                 // of the pass in hand
+  std::optional<PassDirectories> dirs;      // looping: pass-NNNN under output.dir, within the retention limits
   uint32_t pass = 0;
-  std::deque<Clock::time_point> recent;
-  double computationSum = 0.0;
-  auto lastFlush = Clock::now();
   // The meter's account since the daemon started: the energy of a pass's last frames may land in the next
   // pass's energy.jsonl, and summary.json carries the totals since the start (one pass: exactly this run's).
   std::optional<EnergyAccount> energy;
-  if (sampler_) energy.emplace(*sampler_);
+  std::deque<Clock::time_point> recent;     // the last frames' ends, for the frame rate
+  double computationSum = 0.0;
+  Clock::time_point lastFlush = Clock::now();
+  explicit Passes(unsigned threads) : pool(threads) {}
+};
 
-  const auto finishPass = [&](bool last, const std::string& error = {}) {
-    if (!run) return;
-    RunEnd end;
-    end.error = error;  // the input failed: summary.json says so ("complete": false, "error")
-    end.modelView = config_.output.modelPng ? "last" : "";
-    end.mesh = config_.output.mesh;
-    end.drainEnergy = last;
-    run->finish(end, pool);
-    if (config_.output.report) {
-      try {
-        spdlog::info("report {}", run->writeReport());
-      } catch (const std::exception& e) {
-        spdlog::warn("report.html not written: {}", sb::printable(e.what()));
-      }
-    }
-    spdlog::info("pass {}: {} frames; outputs in {}", pass, run->runner().frames(), run->dir());
-  };
-  const auto startPass = [&] {
-    const std::string ended = run ? run->dir() : std::string();
-    finishPass(false);
-    run.reset();  // closes its files
-    if (passDirs && !ended.empty()) passDirs->close(ended);
-    ++pass;
-    const std::string dir = passDirs ? passDirs->next() : config_.output.dir;
-    ControllerSettings settings;
-    {
-      std::lock_guard lock(mutex_);
-      settings = settings_;
-      if (!pendingController_.empty()) settings.name = pendingController_;
-      pendingController_.clear();
-      pinsChanged_ = true;
-      stats_.pass = pass;
-      stats_.outputDir = dir;
-      stats_.controller = settings.name;
-    }
-    const nlohmann::json extra = {
-        {"sequence", sequence_.path},
-        {"daemon", {{"pass", pass}, {"cpus", stats().cpus}, {"threads", stats().threads}}},
-        {"config", configToJson(pipelineConfig_)}};
-    run = std::make_unique<Run>(
-        Pipeline::create(pipelineConfig_, sequence_.intrinsics, pool), createController(settings, context_),
-        sequence_.depthScale,
-        RunOutputs{dir, pass == 1 ? sequence_.groundTruthPath : "", extra,
-                   "slamboosterd " + sequence_.path + " pass " + std::to_string(pass) + " (volume frame)",
-                   segments_, config_.output.mesh,
-                   static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0)},
-        energy ? &*energy : nullptr);
-    if (publishEnergy_)
-      run->setEnergyListener([this](const power::FrameEnergy& e) {
-        if (e.known) publishEnergy_(e);
-      });
-  };
-
+void SlamWorker::runPasses() {
+  Passes p(stats().threads);
+  if (config_.source.atEnd == "loop") p.dirs.emplace(config_.output.dir, passRetention_);
+  if (sampler_) p.energy.emplace(*sampler_);
   while (!stop_) {
     std::optional<CapturedFrame> item = queue_.pop();
     if (!item || stop_) break;
-    if (!run || item->restart) startPass();
-    SlamRunner& runner = run->runner();
-    std::vector<std::string> pinned;
-    {
-      std::lock_guard lock(mutex_);
-      if (!pendingController_.empty()) {
-        runner.setController(createController(pendingController_, settings_, context_));
-        stats_.controller = pendingController_;
-        pendingController_.clear();
-        pinsChanged_ = true;
-      }
-      if (pinsChanged_) {  // the runner applies the pins over the controller's choice of every frame
-        runner.setPins(pins_);
-        pinsChanged_ = false;
-      }
-      pinned = pins_.names();
-      stats_.pinned = pins_.toJson();
-      stats_.busySince = Clock::now();
-    }
-    const FrameRecord record = run->step(item->frame);
-    publish_(makeReport(record, pinned));
-    const auto now = Clock::now();
-    recent.push_back(now);
-    if (recent.size() > kFpsWindow) recent.pop_front();
-    computationSum += record.result.times.computationMs();
-    {
-      std::lock_guard lock(mutex_);
-      stats_.busySince.reset();
-      stats_.state = "running";
-      ++stats_.frames;
-      stats_.tracked += record.result.tracked;
-      const bool lost = record.state == TrackingState::lost;
-      stats_.lostStretches += lost && stats_.trackingState != "lost";
-      stats_.lostFrames += lost;
-      stats_.relocalisations += record.state == TrackingState::relocalised;
-      stats_.trackingState = trackingStateName(record.state);
-      stats_.computationMs = computationSum / static_cast<double>(stats_.frames);
-      if (recent.size() > 1)
-        stats_.fps = static_cast<double>(recent.size() - 1) /
-                     std::chrono::duration<double>(recent.back() - recent.front()).count();
-    }
-    if (now - lastFlush > kFlushInterval) {
-      run->flush();
-      lastFlush = now;
-    }
+    if (!p.run || item->restart) startPass(p);
+    std::vector<std::string> pinned = applyChanges(p.run->runner());
+    const FrameRecord record = p.run->step(item->frame);
+    publish_(FrameReport{frameRecordToJson(record), std::move(pinned)});
+    countFrame(p, record);
   }
-  // The energy of the last frames needs the samples after their end: finishPass(true) waits up to the
-  // sampler's drain timeout.
   // A failed input (a truncated PNG) fails the pass: its summary and STATUS say so, never "complete".
   const std::string inputError = stop_ ? std::string() : queue_.error();
-  if (run) {
-    finishPass(true, inputError);  // throws the input's error after writing the summary
-  } else if (energy) {
-    energy->drain();
+  if (p.run) {
+    finishPass(p, true, inputError);  // throws the input's error after writing the summary
+  } else if (p.energy) {
+    p.energy->drain();
   }
   if (!inputError.empty()) throw Error(inputError);
+}
+
+void SlamWorker::finishPass(Passes& p, bool last, const std::string& error) {
+  RunEnd end;
+  end.error = error;  // the input failed: summary.json says so ("complete": false, "error")
+  end.modelView = config_.output.modelPng ? "last" : "";
+  end.mesh = config_.output.mesh;
+  end.drainEnergy = last;  // the energy of the last frames needs the samples after their end
+  p.run->finish(end, p.pool);
+  if (config_.output.report) {
+    try {
+      spdlog::info("report {}", p.run->writeReport());
+    } catch (const std::exception& e) {
+      spdlog::warn("report.html not written: {}", sb::printable(e.what()));
+    }
+  }
+  spdlog::info("pass {}: {} frames; outputs in {}", p.pass, p.run->runner().frames(), p.run->dir());
+}
+
+void SlamWorker::startPass(Passes& p) {
+  if (p.run) {
+    const std::string ended = p.run->dir();
+    finishPass(p, false);
+    p.run.reset();  // closes its files
+    if (p.dirs) p.dirs->close(ended);
+  }
+  ++p.pass;
+  const std::string dir = p.dirs ? p.dirs->next() : config_.output.dir;
+  ControllerSettings settings;
+  {
+    std::lock_guard lock(mutex_);
+    settings = settings_;  // the controller in force, switched or not: the new run starts with it
+    controllerChanged_ = false;
+    pinsChanged_ = true;
+    stats_.pass = p.pass;
+    stats_.outputDir = dir;
+    stats_.controller = settings.name;
+  }
+  auto pipeline = Pipeline::create(pipelineConfig_, sequence_.intrinsics, p.pool);
+  auto controller = createController(settings, context_);
+  RunSummary header =
+      runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, p.pool.threadCount());
+  header.daemon = DaemonPass{p.pass, stats().cpus, stats().threads};
+  p.run = std::make_unique<Run>(
+      std::move(pipeline), std::move(controller), sequence_.depthScale,
+      RunOutputs{dir, p.pass == 1 ? sequence_.groundTruthPath : "", header,
+                 "slamboosterd " + sequence_.path + " pass " + std::to_string(p.pass) + " (volume frame)",
+                 segments_, config_.output.mesh,
+                 static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0)},
+      p.energy ? &*p.energy : nullptr);
+  if (publishEnergy_)
+    p.run->setEnergyListener([this](const power::FrameEnergy& e) {
+      if (e.known) publishEnergy_(e);
+    });
+}
+
+std::vector<std::string> SlamWorker::applyChanges(SlamRunner& runner) {
+  std::lock_guard lock(mutex_);
+  if (controllerChanged_) {
+    runner.setController(createController(settings_, context_));
+    stats_.controller = settings_.name;
+    controllerChanged_ = false;
+    pinsChanged_ = true;
+  }
+  if (pinsChanged_) {  // the runner applies the pins over the controller's choice of every frame
+    runner.setPins(pins_);
+    pinsChanged_ = false;
+  }
+  stats_.pinned = pins_.toJson();
+  stats_.busySince = Clock::now();
+  return pins_.names();
+}
+
+void SlamWorker::countFrame(Passes& p, const FrameRecord& record) {
+  const auto now = Clock::now();
+  p.recent.push_back(now);
+  if (p.recent.size() > kFpsWindow) p.recent.pop_front();
+  p.computationSum += record.result.times.computationMs();
+  {
+    std::lock_guard lock(mutex_);
+    stats_.busySince.reset();
+    stats_.state = "running";
+    ++stats_.frames;
+    stats_.tracked += record.result.tracked;
+    const bool lost = record.state == TrackingState::lost;
+    stats_.lostStretches += lost && stats_.trackingState != "lost";
+    stats_.lostFrames += lost;
+    stats_.relocalisations += record.state == TrackingState::relocalised;
+    stats_.trackingState = trackingStateName(record.state);
+    stats_.computationMs = p.computationSum / static_cast<double>(stats_.frames);
+    if (p.recent.size() > 1)
+      stats_.fps = static_cast<double>(p.recent.size() - 1) /
+                   std::chrono::duration<double>(p.recent.back() - p.recent.front()).count();
+  }
+  if (now - p.lastFlush > kFlushInterval) {
+    p.run->flush();
+    p.lastFlush = now;
+  }
 }
 
 }  // namespace sb::daemon

@@ -25,6 +25,7 @@
 #include "pipeline/config.h"
 #include "power/power_sampler.h"
 #include "runtime/knob_pins.h"
+#include "runtime/slam_runner.h"
 
 namespace sb::daemon {
 
@@ -91,11 +92,24 @@ class SlamWorker {
   // Any thread. Applies pin/unpin changes to a copy and installs it; throws sb::Error (nothing changes).
   nlohmann::json changePins(const ControlRequest& request);
   const ControllerContext& controllerContext() const { return context_; }
+  // Any thread. The controller settings in force (read at construction, replaced by switchController): the
+  // daemon's one copy, whose sections ?CONTROL's switches use.
+  ControllerSettings controllerSettings() const;
   WorkerStats stats() const;
 
  private:
+  struct Passes;  // the state of runPasses (slam_worker.cpp)
   void run();
   void runPasses();
+  // A new pass: ends the pass in hand, opens the next one's directory and Run with the controller in force.
+  void startPass(Passes& p);
+  // Ends the pass in hand (its end-of-run outputs); `last`: waits for the energy of its last frames.
+  void finishPass(Passes& p, bool last, const std::string& error = {});
+  // Before a frame: a controller switched or pins changed since the last one reach the runner. Returns the
+  // names of the pinned knobs.
+  std::vector<std::string> applyChanges(SlamRunner& runner);
+  // After a frame: the counts of STATUS; flushes the outputs every kFlushInterval.
+  void countFrame(Passes& p, const FrameRecord& record);
 
   DaemonConfig config_;
   SequenceInfo sequence_;
@@ -112,8 +126,8 @@ class SlamWorker {
   std::thread thread_;
 
   mutable std::mutex mutex_;  // guards everything below
-  ControllerSettings settings_;
-  std::string pendingController_;  // non-empty: switch before the next frame
+  ControllerSettings settings_;    // in force: settings_.name is the controller of the next frame and pass
+  bool controllerChanged_ = false;  // switched since the last frame: the runner gets a new controller
   KnobPins pins_;
   bool pinsChanged_ = false;
   WorkerStats stats_;

@@ -81,14 +81,18 @@ struct OpenNI2Source::Impl : public openni::OpenNI::DeviceDisconnectedListener {
   DepthFrame copyFrame(const openni::VideoFrameRef& ref) const;
 };
 
-void OpenNI2Source::Impl::open(bool initial) {
+namespace {
+
+// Opens the camera `options.uri` (empty: the first one found); sets `uri` to the one opened. Throws sb::Error
+// saying what is missing: a camera, its driver, access to it, or a URI among those found.
+std::unique_ptr<openni::Device> openDevice(const OpenNI2Options& options, std::string& uri) {
   openni::Array<openni::DeviceInfo> devices;
   openni::OpenNI::enumerateDevices(&devices);
   std::string found;
   for (int i = 0; i < devices.getSize(); ++i)
     found += (found.empty() ? "" : ", ") + std::string("'") + devices[i].getUri() + "' (" + devices[i].getVendor() +
              " " + devices[i].getName() + ")";
-  std::string uri = options.uri;
+  uri = options.uri;
   if (uri.empty()) {
     if (devices.getSize() == 0)
       throw Error(
@@ -98,7 +102,6 @@ void OpenNI2Source::Impl::open(bool initial) {
           cameraAccessHint());
     uri = devices[0].getUri();
   }
-
   auto dev = std::make_unique<openni::Device>();
   if (dev->open(uri.c_str()) != openni::STATUS_OK) {
     const std::string details = extendedError();
@@ -109,8 +112,13 @@ void OpenNI2Source::Impl::open(bool initial) {
                   (found.empty() ? "none" : found) + ". Set the URI to one of them, or leave it empty for the first");
     throw Error(describeOpenFailure(uri, details));
   }
+  return dev;
+}
 
-  const openni::SensorInfo* sensor = dev->getSensorInfo(openni::SENSOR_DEPTH);
+// The depth mode of `options` (width, height, fps), in 1 mm units or else 100 um. Throws sb::Error listing
+// the modes the camera offers.
+openni::VideoMode chooseDepthMode(openni::Device& dev, const std::string& uri, const OpenNI2Options& options) {
+  const openni::SensorInfo* sensor = dev.getSensorInfo(openni::SENSOR_DEPTH);
   if (!sensor) throw Error("the OpenNI2 device '" + uri + "' has no depth sensor");
   const auto& modes = sensor->getSupportedVideoModes();
   std::optional<openni::VideoMode> chosen;
@@ -129,17 +137,21 @@ void OpenNI2Source::Impl::open(bool initial) {
     throw Error("the OpenNI2 camera '" + uri + "' does not offer the depth mode " + wanted +
                 " (1mm or 100um units); it offers: " + (offered.empty() ? "none" : offered) +
                 ". Set width, height and fps to one of these");
+  return *chosen;
+}
 
+// The started depth stream of `dev` in `mode`: registration and mirroring off. Throws sb::Error.
+std::unique_ptr<openni::VideoStream> startDepthStream(openni::Device& dev, const std::string& uri,
+                                                      const openni::VideoMode& mode) {
   // Registration off before the stream exists (some drivers refuse to change it while streaming).
-  if (dev->isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_OFF) &&
-      dev->setImageRegistrationMode(openni::IMAGE_REGISTRATION_OFF) != openni::STATUS_OK)
+  if (dev.isImageRegistrationModeSupported(openni::IMAGE_REGISTRATION_OFF) &&
+      dev.setImageRegistrationMode(openni::IMAGE_REGISTRATION_OFF) != openni::STATUS_OK)
     spdlog::warn("openni2 '{}': cannot switch depth-to-colour registration off: {}", uri, extendedError());
-
   auto str = std::make_unique<openni::VideoStream>();
-  if (str->create(*dev, openni::SENSOR_DEPTH) != openni::STATUS_OK)
+  if (str->create(dev, openni::SENSOR_DEPTH) != openni::STATUS_OK)
     throw Error("cannot create the depth stream of the OpenNI2 camera '" + uri + "': " + extendedError());
-  if (str->setVideoMode(*chosen) != openni::STATUS_OK)
-    throw Error("the OpenNI2 camera '" + uri + "' refused the depth mode " + modeName(*chosen) + ": " +
+  if (str->setVideoMode(mode) != openni::STATUS_OK)
+    throw Error("the OpenNI2 camera '" + uri + "' refused the depth mode " + modeName(mode) + ": " +
                 extendedError());
   if (str->setMirroringEnabled(false) != openni::STATUS_OK && str->getMirroringEnabled())
     throw Error("the OpenNI2 camera '" + uri + "' streams mirrored depth and refuses to switch mirroring off: " +
@@ -149,12 +161,16 @@ void OpenNI2Source::Impl::open(bool initial) {
     str->destroy();
     throw Error(describeOpenFailure(uri, "starting the depth stream failed: " + details));
   }
+  return str;
+}
 
-  convert100um = chosen->getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_100_UM;
+// The intrinsics: the configured ones, else from the stream's field of view, the centre at the middle.
+// Destroys the stream and throws sb::Error when no focal length is known.
+Intrinsics streamIntrinsics(openni::VideoStream& str, const std::string& uri, const OpenNI2Options& options) {
   Intrinsics k;
   k.width = options.width;
   k.height = options.height;
-  const float hfov = str->getHorizontalFieldOfView(), vfov = str->getVerticalFieldOfView();
+  const float hfov = str.getHorizontalFieldOfView(), vfov = str.getVerticalFieldOfView();
   const bool fovKnown = hfov > 0.f && hfov < 3.1f && vfov > 0.f && vfov < 3.1f;
   if (!fovKnown && (!options.fx || !options.fy))
     spdlog::warn("openni2 '{}' reports no field of view (h {} rad, v {} rad): give fx and fy", uri, hfov, vfov);
@@ -163,10 +179,23 @@ void OpenNI2Source::Impl::open(bool initial) {
   k.cx = options.cx.value_or(0.5f * k.width);
   k.cy = options.cy.value_or(0.5f * k.height);
   if (!(k.fx > 0.f && k.fy > 0.f)) {
-    str->destroy();
+    str.destroy();
     throw Error("no focal length for the OpenNI2 camera '" + uri +
                 "': the device reports no field of view; set fx and fy (pixels)");
   }
+  return k;
+}
+
+}  // namespace
+
+// Plan (the device and its mode), start the stream, read its intrinsics, then take them into use.
+void OpenNI2Source::Impl::open(bool initial) {
+  std::string uri;
+  std::unique_ptr<openni::Device> dev = openDevice(options, uri);
+  const openni::VideoMode chosen = chooseDepthMode(*dev, uri, options);
+  std::unique_ptr<openni::VideoStream> str = startDepthStream(*dev, uri, chosen);
+  const Intrinsics k = streamIntrinsics(*str, uri, options);
+  convert100um = chosen.getPixelFormat() == openni::PIXEL_FORMAT_DEPTH_100_UM;
 
   if (initial) {
     info.path = uri;
@@ -188,7 +217,7 @@ void OpenNI2Source::Impl::open(bool initial) {
   std::lock_guard lock(mutex);
   disconnected_ = false;
   stats.uri = uri;
-  stats.mode = modeName(*chosen) + (convert100um ? "->1mm" : "");
+  stats.mode = modeName(chosen) + (convert100um ? "->1mm" : "");
   stats.state = CameraState::streaming;
   stats.lastError.clear();
   stats.attempts = 0;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 #include "core/error.h"
@@ -57,14 +58,8 @@ std::string hrefForPath(const std::string& path) {
 
 std::string percent(double fraction) { return formatNumber(fraction * 100, 3) + "%"; }
 
-double summaryNumber(const RunData& run, std::initializer_list<const char*> path, double scale = 1) {
-  if (!run.summary) return std::nan("");
-  const nlohmann::json* node = &*run.summary;
-  for (const char* k : path) {
-    if (!node->is_object() || !node->contains(k)) return std::nan("");
-    node = &node->at(k);
-  }
-  return node->is_number() ? node->get<double>() * scale : std::nan("");
+double summaryNumber(const RunData& run, double (*read)(const RunSummary&), double scale = 1) {
+  return run.summary ? read(*run.summary) * scale : std::nan("");
 }
 
 TableCell numberCell(double v, const std::string& key) {
@@ -75,21 +70,25 @@ void comparisonTable(HtmlPage& page, const RunData& a, const RunData& b) {
   struct Measure {
     const char* name;
     const char* key;
-    std::initializer_list<const char*> path;
+    double (*read)(const RunSummary&);
     double scale;
   };
+  static constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
   const Measure measures[] = {
-      {"frames", "frames", {"frames"}, 1},
-      {"tracked (%)", "tracked_percent", {"tracked_percent"}, 1},
-      {"computation (ms/frame)", "computation_ms_per_frame", {"computation_ms_per_frame"}, 1},
-      {"process CPU (ms/frame)", "cpu_ms_per_frame", {"cpu_ms_per_frame"}, 1},
-      {"ATE RMSE (cm)", "ate_rmse_cm", {"ate", "rmse_m"}, 100},
-      {"unaligned mean (cm)", "unaligned_mean_cm", {"ate", "unaligned_mean_m"}, 100},
-      {"energy (J/frame)", "joules_per_frame", {"energy", "joules_per_frame"}, 1},
+      {"frames", "frames", [](const RunSummary& s) { return double(s.frames); }, 1},
+      {"tracked (%)", "tracked_percent", [](const RunSummary& s) { return s.trackedPercent; }, 1},
+      {"computation (ms/frame)", "computation_ms_per_frame",
+       [](const RunSummary& s) { return s.computationMsPerFrame; }, 1},
+      {"process CPU (ms/frame)", "cpu_ms_per_frame",
+       [](const RunSummary& s) { return s.cpuMsPerFrame.value_or(kNan); }, 1},
+      {"ATE RMSE (cm)", "ate_rmse_cm", [](const RunSummary& s) { return s.ate ? s.ate->rmseM : kNan; }, 100},
+      {"unaligned mean (cm)", "unaligned_mean_cm",
+       [](const RunSummary& s) { return s.ate ? s.ate->unalignedMeanM : kNan; }, 100},
+      {"energy (J/frame)", "joules_per_frame", [](const RunSummary& s) { return s.joulesPerFrame(); }, 1},
   };
   Table t{{"measure", a.label, b.label, b.label + " / " + a.label}, {}};
   for (const auto& m : measures) {
-    const double va = summaryNumber(a, m.path, m.scale), vb = summaryNumber(b, m.path, m.scale);
+    const double va = summaryNumber(a, m.read, m.scale), vb = summaryNumber(b, m.read, m.scale);
     if (!std::isfinite(va) && !std::isfinite(vb)) continue;
     const double ratio = std::isfinite(va) && std::isfinite(vb) && va != 0 ? vb / va : std::nan("");
     t.rows.push_back({{m.name},
@@ -102,7 +101,7 @@ void comparisonTable(HtmlPage& page, const RunData& a, const RunData& b) {
 
 // The viewpoint of model.png as summary.json's "model_view" names it (`run --model-view`; absent = last).
 bool overviewMap(const RunData& run) {
-  return run.summary && run.summary->value("model_view", std::string("last")) == "overview";
+  return run.summary && run.summary->modelView == "overview";
 }
 
 std::string viewpoint(const RunData& run) {

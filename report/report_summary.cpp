@@ -1,6 +1,7 @@
 // Overview (headline numbers and problems) and the full summary table of a run report.
 
 #include <cmath>
+#include <limits>
 
 #include "report/run_sections.h"
 #include "report/text_escape.h"
@@ -53,20 +54,6 @@ Table flatTable(const json& j, const std::string& prefix) {
   return t;
 }
 
-const json* findPath(const json& j, std::initializer_list<const char*> path) {
-  const json* node = &j;
-  for (const char* k : path) {
-    if (!node->is_object() || !node->contains(k)) return nullptr;
-    node = &node->at(k);
-  }
-  return node;
-}
-
-double numberAt(const json& j, std::initializer_list<const char*> path) {
-  const json* v = findPath(j, path);
-  return v && v->is_number() ? v->get<double>() : std::nan("");
-}
-
 void addHeadline(Table& t, const std::string& what, double value, const std::string& unit, const std::string& key) {
   if (!std::isfinite(value)) return;
   t.rows.push_back({{what}, {formatNumber(value, 4), key, true}, {unit}});
@@ -80,29 +67,26 @@ void addOverviewSection(HtmlPage& page, const RunData& run) {
   page.problems(run.problems);
   for (const auto& n : run.notes) page.paragraph(n, "muted");
   if (!run.summary) return;
-  const json& s = *run.summary;
+  const RunSummary& s = *run.summary;
+  constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
   Table t{{"measure", "value", "unit"}, {}};
-  addHeadline(t, "frames", numberAt(s, {"frames"}), "", "headline.frames");
-  addHeadline(t, "tracked", numberAt(s, {"tracked_percent"}), "% of attempted", "headline.tracked_percent");
-  addHeadline(t, "computation time", numberAt(s, {"computation_ms_per_frame"}), "ms/frame",
-              "headline.computation_ms_per_frame");
-  addHeadline(t, "process CPU time", numberAt(s, {"cpu_ms_per_frame"}), "ms/frame", "headline.cpu_ms_per_frame");
-  addHeadline(t, "ATE RMSE", numberAt(s, {"ate", "rmse_m"}) * 100, "cm", "headline.ate_rmse_cm");
-  addHeadline(t, "unaligned mean error", numberAt(s, {"ate", "unaligned_mean_m"}) * 100, "cm",
+  addHeadline(t, "frames", double(s.frames), "", "headline.frames");
+  addHeadline(t, "tracked", s.trackedPercent, "% of attempted", "headline.tracked_percent");
+  addHeadline(t, "computation time", s.computationMsPerFrame, "ms/frame", "headline.computation_ms_per_frame");
+  addHeadline(t, "process CPU time", s.cpuMsPerFrame.value_or(kNan), "ms/frame", "headline.cpu_ms_per_frame");
+  addHeadline(t, "ATE RMSE", s.ate ? s.ate->rmseM * 100 : kNan, "cm", "headline.ate_rmse_cm");
+  addHeadline(t, "unaligned mean error", s.ate ? s.ate->unalignedMeanM * 100 : kNan, "cm",
               "headline.unaligned_mean_cm");
-  double joules = numberAt(s, {"joules_per_frame"});
-  if (!std::isfinite(joules)) joules = numberAt(s, {"energy", "joules_per_frame"});
-  addHeadline(t, "energy", joules, "J/frame", "headline.joules_per_frame");
-  double power = numberAt(s, {"mean_power_w"});
-  if (!std::isfinite(power)) power = numberAt(s, {"energy", "mean_power_w"});
-  addHeadline(t, "mean power", power, "W", "headline.mean_power_w");
-  if (const json* knobs = findPath(s, {"knobs"}); knobs && knobs->is_object()) {
+  addHeadline(t, "energy", s.joulesPerFrame(), "J/frame", "headline.joules_per_frame");
+  // The energy totals name it mean_watts (power/energy_json.h).
+  addHeadline(t, "mean power", s.energyNumber("mean_watts"), "W", "headline.mean_power_w");
+  if (s.knobs.is_object() && !s.knobs.empty()) {
     std::string text;
-    for (auto it = knobs->begin(); it != knobs->end(); ++it) text += (text.empty() ? "" : ", ") + it.key() + "=" + cellText(*it);
+    for (auto it = s.knobs.begin(); it != s.knobs.end(); ++it)
+      text += (text.empty() ? "" : ", ") + it.key() + "=" + cellText(*it);
     t.rows.push_back({{"knobs (initial)"}, {text}, {""}});
   }
-  if (const json* error = findPath(s, {"ate_error"}); error && error->is_string())
-    t.rows.push_back({{"ATE not computed"}, {error->get<std::string>()}, {""}});
+  if (!s.ateError.empty()) t.rows.push_back({{"ATE not computed"}, {s.ateError}, {""}});
   page.table(t, "headline");
 }
 
@@ -112,7 +96,7 @@ void addSummarySection(HtmlPage& page, const RunData& run) {
     page.paragraph("No summary: summary.json is missing or unreadable (see the problems above).", "muted");
     return;
   }
-  json rest = *run.summary;
+  json rest = run.summary->toJson();
   json config;
   if (rest.contains("config")) {
     config = rest["config"];

@@ -43,7 +43,7 @@ void loadSummary(RunData& run) {
     return;
   }
   try {
-    run.summary = readJsonConfig(path.string(), "run summary");  // bounded nesting, line and column, objects only
+    run.summary = readRunSummary(path.string());  // bounded nesting, line and column, typed fields
   } catch (const std::exception& e) {
     run.problems.push_back(std::string(e.what()) + " (no summary table)");
   }
@@ -89,13 +89,11 @@ void mergeEnergyLog(RunData& run, const fs::path& path) {
 void findGroundTruth(RunData& run, const RunLoadOptions& options) {
   std::string path = options.groundTruth;
   if (path.empty()) {
-    const nlohmann::json* sequence = nullptr;
-    if (run.summary && run.summary->contains("sequence")) sequence = &run.summary->at("sequence");
-    if (!sequence || !sequence->is_string()) {
+    if (!run.summary || run.summary->sequence.empty()) {
       run.notes.push_back("no ground truth: summary.json names no sequence (pass --groundtruth FILE)");
       return;
     }
-    const fs::path candidate = fs::path(sequence->get<std::string>()) / "groundtruth.txt";
+    const fs::path candidate = fs::path(run.summary->sequence) / "groundtruth.txt";
     if (!isFile(candidate)) {
       run.notes.push_back("no ground truth: '" + candidate.string() +
                           "' does not exist (pass --groundtruth FILE; relative sequence paths are read from the "

@@ -12,13 +12,14 @@
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
 #include "report/frame_log.h"
+#include "report/run_summary.h"
 
 namespace sb::report {
 
 struct RunData {
   std::string dir;
   std::string label;                     // short name for legends (the directory name)
-  std::optional<nlohmann::json> summary; // summary.json when it parsed as an object
+  std::optional<RunSummary> summary;     // summary.json when it parsed (report/run_summary.h)
   FrameLog frames;
   Trajectory trajectory;                 // trajectory.tum (volume frame); empty when absent
   std::string groundTruthPath;           // empty when none was found

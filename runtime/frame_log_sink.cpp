@@ -1,5 +1,7 @@
 #include "runtime/frame_log_sink.h"
 
+#include <Eigen/Geometry>
+
 namespace sb {
 
 nlohmann::json knobsToJson(const Knobs& k) {
@@ -14,8 +16,14 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   const FrameResult& r = rec.result;
   nlohmann::json stages = nlohmann::json::object();
   for (int s = 0; s < kStageCount; ++s) stages[stageName(static_cast<Stage>(s))] = r.times.ms[s];
+  // The final pose, T_camera_to_world in the volume frame (metres; quaternion qx, qy, qz, qw, TUM order): what
+  // trajectory.tum records, and for a lost frame the pose it holds.
+  const Eigen::Vector3d t = r.T_camera_to_world.translation();
+  const Eigen::Quaterniond q(r.T_camera_to_world.rotation());
   nlohmann::json j = {{"frame", r.frame},
                       {"timestamp", r.timestamp},
+                      {"position", {t.x(), t.y(), t.z()}},
+                      {"quaternion", {q.x(), q.y(), q.z(), q.w()}},
                       {"knobs", knobsToJson(r.knobs)},
                       {"ms", stages},
                       {"computation_ms", r.times.computationMs()},

@@ -1,6 +1,8 @@
 #pragma once
 // The per-frame log, frames.jsonl: one JSON object per frame with the knobs it ran with, stage times (ms,
-// classic stage names), tracking result, velocity, the controller's triggers and next knobs. Each line is
+// classic stage names), tracking result, final pose, velocity, the controller's triggers and next knobs.
+// frameRecordToJson is the one encoder of a frame: the daemon's POSE and KNOBS messages are projections of
+// the same object (daemon/protocol.cpp), so a new per-frame field is one line there. Each line is
 // written as its frame ends (RotatingFile: a crash loses at most the frame in hand; a failed write throws).
 // With a segment store the log is rotated (frames-000001.jsonl, ...; core/rotating_file.h).
 
@@ -15,7 +17,7 @@ namespace sb {
 
 // {"csr": 1, "icp": 1e-5, "pd": [10, 5, 4], "tr": 1, "ir": 2}
 nlohmann::json knobsToJson(const Knobs& knobs);
-// One frames.jsonl object (see the file comment).
+// One frames.jsonl object (see the file comment); also what the daemon publishes (daemon/protocol.h).
 nlohmann::json frameRecordToJson(const FrameRecord& record);
 
 class FrameLogSink final : public OutputSink {

@@ -54,7 +54,7 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
     : pipeline_(std::move(pipeline)),
       runner_(*pipeline_, std::move(controller), depthScale),
       dir_(outputs.dir),
-      outputs_(addStandardOutputs(runner_, outputs.dir, outputs.groundTruthPath, outputs.extra,
+      outputs_(addStandardOutputs(runner_, outputs.dir, outputs.groundTruthPath, outputs.summary,
                                   outputs.comment, outputs.segments)),
       energy_(energy) {
   if (energy_)
@@ -84,7 +84,7 @@ void Run::record(const std::vector<power::FrameEnergy>& results) {
 }
 
 void Run::flush() {
-  if (energy_) outputs_.summary->setExtra("energy", energy_->totals());
+  if (energy_) outputs_.summary->header().energy = energy_->totals();
   runner_.flush();
 }
 
@@ -92,9 +92,10 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
   if (energy_) {
     // The energy of the last frames needs the samples after their end: waits up to the drain timeout.
     if (end.drainEnergy) record(energy_->drain());
-    outputs_.summary->setExtra("energy", energy_->totals());
+    outputs_.summary->header().energy = energy_->totals();
   }
-  outputs_.summary->setExtra("complete", false);  // until the outputs are on disk (below)
+  RunSummary& summary = outputs_.summary->header();
+  summary.complete = false;  // until the outputs are on disk (below)
   if (!end.modelView.empty() && end.modelView != "last" && end.modelView != "overview")
     throw Error("model view '" + end.modelView + "': expected last or overview");
   // Each output is attempted even when an earlier one failed (a full disk): the summary is written last,
@@ -115,7 +116,7 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
       const Image<uint8_t> model = end.modelView == "overview"
                                        ? pipeline_->renderModel(movingVolumeOverview(*pipeline_), 1)
                                        : pipeline_->renderModel(1);
-      outputs_.summary->setExtra("model_view", end.modelView);
+      summary.modelView = end.modelView;
       writePng8((out / "model.png").string(), model);  // whole or not at all (temporary file + rename)
     });
   if (end.mesh)
@@ -124,7 +125,7 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
       writeRunMesh((out / "mesh.ply").string(), *pipeline_, mapSlabs_.get(), pool, *outputs_.summary);
     });
   if (const VolumeWindow* window = pipeline_->volumeWindow())
-    outputs_.summary->setExtra("moving_volume", movingVolumeJson(*window, mapSlabs_.get()));
+    summary.movingVolume = movingVolumeJson(*window, mapSlabs_.get());
   // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
   // server). `slambooster bench` / dse / profile count (and skip) only complete runs; an interrupted one runs
   // again.
@@ -136,9 +137,9 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
   if (!failures.empty()) {
     std::string error = failures.front();
     for (size_t i = 1; i < failures.size(); ++i) error += "; " + failures[i];
-    outputs_.summary->setExtra("error", error);
+    summary.error = error;
   }
-  outputs_.summary->setExtra("complete", end.complete && failures.empty());
+  summary.complete = end.complete && failures.empty();
   try {
     outputs_.summary->flush();
   } catch (const Error& e) {

@@ -5,7 +5,7 @@
 // profile run (they start `slambooster run`); every pass of the daemon is one.
 //
 //   Run run(Pipeline::create(config, intrinsics, pool), createController(settings, context), depthScale,
-//           RunOutputs{dir, groundTruth, extra, comment}, account);   // account: borrowed, may be null
+//           RunOutputs{dir, groundTruth, summary, comment}, account);   // account: borrowed, may be null
 //   while (auto frame = source.next()) run.step(*frame);
 //   run.finish(RunEnd{}, pool);  run.writeReport();
 //
@@ -32,7 +32,7 @@ namespace sb {
 struct RunOutputs {
   std::string dir;              // created when missing
   std::string groundTruthPath;  // "" = no ATE in the summary
-  nlohmann::json extra = nlohmann::json::object();  // into summary.json as it is
+  RunSummary summary;           // what ran: starts summary.json (runtime/run_setup.h fills it)
   std::string comment;          // heads trajectory.tum
   // Rotation and retention of the per-frame outputs (trajectory, frame log, energy log;
   // core/rotating_file.h), shared by the runs of one output directory; nullptr: one file each (replays).

@@ -7,7 +7,7 @@
 namespace sb {
 
 StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir,
-                                   const std::string& groundTruthPath, const nlohmann::json& extra,
+                                   const std::string& groundTruthPath, const RunSummary& header,
                                    const std::string& comment, std::shared_ptr<SegmentStore> segments) {
   namespace fs = std::filesystem;
   std::error_code ec;
@@ -19,7 +19,7 @@ StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir,
       static_cast<TrajectorySink*>(&runner.addSink(std::make_unique<TrajectorySink>(dir, comment, segments)));
   o.frameLog = static_cast<FrameLogSink*>(&runner.addSink(std::make_unique<FrameLogSink>(dir, segments)));
   o.summary = static_cast<SummarySink*>(&runner.addSink(
-      std::make_unique<SummarySink>((out / "summary.json").string(), groundTruthPath, extra, segments)));
+      std::make_unique<SummarySink>((out / "summary.json").string(), groundTruthPath, header, segments)));
   o.summary->setTrajectorySource([trajectory = o.trajectory] { return trajectory->readBack(); });
   return o;
 }

@@ -22,11 +22,11 @@ struct StandardOutputs {
 };
 
 // Creates `dir` when missing and adds the three sinks to `runner`. `groundTruthPath` ("" = none) gives the
-// summary its ATE; `extra` goes into summary.json as it is; `comment` heads the trajectory file; `segments`
+// summary its ATE; `header` starts summary.json (what ran); `comment` heads the trajectory file; `segments`
 // (nullptr: single files) rotates the trajectory and the frame log. Throws sb::Error naming the directory or
 // file that cannot be written.
 StandardOutputs addStandardOutputs(SlamRunner& runner, const std::string& dir,
-                                   const std::string& groundTruthPath, const nlohmann::json& extra,
+                                   const std::string& groundTruthPath, const RunSummary& header,
                                    const std::string& comment,
                                    std::shared_ptr<SegmentStore> segments = nullptr);
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <stdexcept>
 #include <thread>
 
 #include "core/error.h"
@@ -43,37 +44,35 @@ void RunStats::add(const FrameRecord& rec) {
   }
 }
 
-nlohmann::json RunStats::toJson() const {
-  nlohmann::json j;
-  j["frames"] = frames;
-  j["tracking_attempted"] = trackingAttempted;
-  j["tracked"] = tracked;
-  j["tracked_percent"] = trackedPercent();
-  j["integrated"] = integrated;
-  j["corrected"] = corrected;
-  j["half_wish_frames"] = halfWishes;
-  j["unconstrained"] = unconstrained;
-  j["retracked"] = retracked;
-  j["half_applied_frames"] = halfApplied;
-  j["computation_ms_per_frame"] = computationMsPerFrame();
-  j["controller_ms_per_frame"] = frames ? controllerMsSum / frames : 0.0;
-  nlohmann::json stages = nlohmann::json::object();
-  for (int s = 0; s < kStageCount; ++s)
-    stages[stageName(static_cast<Stage>(s))] = frames ? stageSums.ms[s] / frames : 0.0;
-  j["stage_ms_per_frame"] = stages;
-  j["triggers"] = triggerCounts;
-  j["knob_frames"] = knobCounts;
-  j["controller_frames"] = controllerCounts;
-  nlohmann::json states = nlohmann::json::object();
-  for (int s = 0; s < kTrackingStateCount; ++s) states[trackingStateName(static_cast<TrackingState>(s))] = stateFrames[s];
-  j["tracking_state"] = {{"frames", states},
-                         {"lost_stretches", lostStretches},
-                         {"longest_lost_frames", longestLost},
-                         {"recoveries", recoveries},
-                         {"mean_frames_to_recover", recoveries ? double(recoveryFramesSum) / recoveries : 0.0},
-                         {"longest_frames_to_recover", longestRecovery},
-                         {"lost_at_end", currentLost > 0}};
-  return j;
+void RunStats::fill(RunSummary& s) const {
+  s.frames = frames;
+  s.trackingAttempted = trackingAttempted;
+  s.tracked = tracked;
+  s.trackedPercent = trackedPercent();
+  s.integrated = integrated;
+  s.corrected = corrected;
+  s.halfWishFrames = halfWishes;
+  s.unconstrained = unconstrained;
+  s.retracked = retracked;
+  s.halfAppliedFrames = halfApplied;
+  s.computationMsPerFrame = computationMsPerFrame();
+  s.controllerMsPerFrame = frames ? controllerMsSum / frames : 0.0;
+  s.stageMsPerFrame.clear();
+  for (int st = 0; st < kStageCount; ++st)
+    s.stageMsPerFrame[stageName(static_cast<Stage>(st))] = frames ? stageSums.ms[st] / frames : 0.0;
+  s.triggers = triggerCounts;
+  s.knobFrames = knobCounts;
+  s.controllerFrames = controllerCounts;
+  TrackingStateSummary& t = s.trackingState;
+  t.frames.clear();
+  for (int st = 0; st < kTrackingStateCount; ++st)
+    t.frames[trackingStateName(static_cast<TrackingState>(st))] = stateFrames[st];
+  t.lostStretches = lostStretches;
+  t.longestLostFrames = longestLost;
+  t.recoveries = recoveries;
+  t.meanFramesToRecover = recoveries ? double(recoveryFramesSum) / recoveries : 0.0;
+  t.longestFramesToRecover = longestRecovery;
+  t.lostAtEnd = currentLost > 0;
 }
 
 std::string cpuModel() {
@@ -91,57 +90,59 @@ std::string cpuModel() {
   return fallback.empty() ? "unknown" : fallback;
 }
 
-nlohmann::json machineJson(unsigned threadsUsed, const std::string& backend, const std::string& device) {
+MachineInfo thisMachine(unsigned threadsUsed, const std::string& backend, const std::string& device) {
   char host[256] = {};
   gethostname(host, sizeof(host) - 1);
-  return {{"host", std::string(host)},
-          {"cpu_model", cpuModel()},
-          {"cores_online", std::thread::hardware_concurrency()},
-          {"threads_used", threadsUsed},
-          {"backend", backend},
-          {"device", device}};
+  return MachineInfo{std::string(host), cpuModel(), std::thread::hardware_concurrency(), threadsUsed, backend,
+                     device};
 }
 
-SummarySink::SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra,
+SummarySink::SummarySink(const std::string& path, const std::string& groundTruthPath, RunSummary header,
                          std::shared_ptr<SegmentStore> segments)
     : path_(path),
       groundTruthPath_(groundTruthPath),
       segments_(std::move(segments)),
-      extra_(std::move(extra)) {
-  if (!extra_.is_object()) extra_ = nlohmann::json::object();
+      header_(std::move(header)) {}
+
+void SummarySink::setExtra(const std::string& key, const nlohmann::json& value) {
+  if (key == "mesh_triangles")
+    header_.meshTriangles = value.get<size_t>();
+  else if (key == "mesh_slabs")
+    header_.meshSlabs = value.get<size_t>();
+  else
+    throw std::logic_error("summary key '" + key + "' is not a field of RunSummary (report/run_summary.h)");
 }
 
 void SummarySink::onFrame(const FrameRecord& record) {
   stats_.add(record);
   // A snapshot per frame (without the ATE, computed at flush()): after a crash summary.json agrees with the
   // trajectory and the per-frame log within one frame.
-  nlohmann::json snapshot = extra_;
-  snapshot.update(stats_.toJson());
+  RunSummary snapshot = header_;
+  stats_.fill(snapshot);
   write(snapshot);
 }
 
 void SummarySink::flush() {
-  summary_ = extra_;
-  summary_.update(stats_.toJson());
+  summary_ = header_;
+  stats_.fill(summary_);
   ate_.reset();
   if (!groundTruthPath_.empty() && readTrajectory_ && stats_.frames > 0) {
     try {
       if (!groundTruth_) groundTruth_ = readTumTrajectory(groundTruthPath_);
       ate_ = computeAte(readTrajectory_(), *groundTruth_);
-      summary_["ate"] = {{"rmse_m", ate_->rmse},       {"mean_m", ate_->mean},
-                         {"max_m", ate_->max},         {"median_m", ate_->median},
-                         {"matches", ate_->matches},   {"unaligned_mean_m", ate_->unalignedMean}};
+      summary_.ate = AteSummary{ate_->rmse, ate_->mean, ate_->max, ate_->median, ate_->unalignedMean, ate_->matches};
     } catch (const Error& e) {
-      summary_["ate_error"] = e.what();
+      summary_.ateError = e.what();
     }
   }
   write(summary_);
 }
 
-void SummarySink::write(const nlohmann::json& summary) const {
+void SummarySink::write(const RunSummary& summary) const {
   // Whole or not at all: a temporary file renamed over the old one (which stays as it was on failure).
   const std::string tmp = path_ + ".tmp";
-  const std::string text = summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  const std::string text =
+      summary.toJson().dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   const auto writeTemporary = [&] {
     try {
       LineFile(tmp, "summary").append(text);

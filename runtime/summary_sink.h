@@ -1,7 +1,7 @@
 #pragma once
-// summary.json of a run: frame counts, % tracked, mean computation time and stage times per frame,
-// controller cost, corrections and trigger counts, time per knob setting, and the ATE against the
-// sequence's ground truth when it has one (the trajectory read back from its file at each flush: memory does
+// summary.json of a run (report/run_summary.h RunSummary, written whole): what ran (set by the run setup),
+// frame counts, % tracked, mean computation time and stage times per frame, controller cost, corrections and
+// trigger counts, time per knob setting, and the ATE against the sequence's ground truth when it has one (the trajectory read back from its file at each flush: memory does
 // not grow with the run). Rewritten atomically (temporary file + rename) after every frame
 // (without the ATE) and on every flush (with it), so a reader never sees half a file and a killed run keeps
 // a summary of every frame but at most the one in hand. With the segment store of rotated outputs, a rewrite
@@ -18,12 +18,13 @@
 #include "core/segment_store.h"
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
+#include "report/run_summary.h"
 #include "runtime/output_sink.h"
 #include "runtime/tracking_state.h"
 
 namespace sb {
 
-// Running totals of a run (also what `slambooster bench` reads back from summary.json).
+// Running totals of a run: the counts of its RunSummary.
 struct RunStats {
   size_t frames = 0, trackingAttempted = 0, tracked = 0, integrated = 0, corrected = 0, halfWishes = 0;
   size_t unconstrained = 0;  // frames whose ICP geometry left a motion free (tracking quality)
@@ -43,48 +44,55 @@ struct RunStats {
   void add(const FrameRecord& record);
   double computationMsPerFrame() const { return frames ? stageSums.computationMs() / frames : 0.0; }
   double trackedPercent() const { return trackingAttempted ? 100.0 * tracked / trackingAttempted : 0.0; }
-  nlohmann::json toJson() const;
+  // Sets the counts of `summary` (frames ... tracking_state) from these totals.
+  void fill(RunSummary& summary) const;
 };
 
 // Where a run was timed, for summary.json's "machine": host name, CPU model (/proc/cpuinfo), cores online,
 // the worker threads the run used, and the compute backend and its device. Runs timed on different machines
 // are not comparable; bench, dse and profile say so when they mix them.
-nlohmann::json machineJson(unsigned threadsUsed, const std::string& backend, const std::string& device);
+MachineInfo thisMachine(unsigned threadsUsed, const std::string& backend, const std::string& device);
 // The CPU model of this machine ("model name" in /proc/cpuinfo, or the "Hardware"/"Processor" line on ARM;
 // "unknown" when none).
 std::string cpuModel();
 
 class SummarySink final : public OutputSink {
  public:
-  // `groundTruthPath`: TUM trajectory to compute the ATE against ("" = none). `extra` keys are written as
-  // they are (sequence, config, ...); setExtra() may change them later. `segments`: the retention that makes
-  // room on a full disk (nullptr: a full disk fails the write).
-  SummarySink(const std::string& path, const std::string& groundTruthPath, nlohmann::json extra,
+  // `groundTruthPath`: TUM trajectory to compute the ATE against ("" = none). `header`: what ran (sequence,
+  // controller, config, machine ...); header() may set more later (energy, completion). The counts and the
+  // ATE are the sink's. `segments`: the retention that makes room on a full disk (nullptr: a full disk fails
+  // the write).
+  SummarySink(const std::string& path, const std::string& groundTruthPath, RunSummary header,
               std::shared_ptr<SegmentStore> segments = nullptr);
   void onFrame(const FrameRecord& record) override;
   void flush() override;
 
-  void setExtra(const std::string& key, nlohmann::json value) { extra_[key] = std::move(value); }
+  // The fields written with every frame's counts: set them here, the next write carries them.
+  RunSummary& header() { return header_; }
+  // The mesh counts by name ("mesh_triangles", "mesh_slabs": runtime/map_slabs.cpp sets them). Any other key
+  // throws std::logic_error: a new summary field is a member of RunSummary (report/run_summary.h).
+  void setExtra(const std::string& key, const nlohmann::json& value);
   // Where the ATE's trajectory comes from: read back at each flush (the trajectory file), never kept in
   // memory.
   void setTrajectorySource(std::function<Trajectory()> read) { readTrajectory_ = std::move(read); }
   const RunStats& stats() const { return stats_; }
   // The ATE of the frames so far (computed at the last flush), when there is ground truth.
   const std::optional<AteResult>& ate() const { return ate_; }
-  const nlohmann::json& summary() const { return summary_; }
+  // The summary written at the last flush.
+  const RunSummary& summary() const { return summary_; }
 
  private:
-  void write(const nlohmann::json& summary) const;
+  void write(const RunSummary& summary) const;
 
   std::string path_;
   std::string groundTruthPath_;
   std::shared_ptr<SegmentStore> segments_;
   std::optional<Trajectory> groundTruth_;
-  nlohmann::json extra_;
+  RunSummary header_;
   RunStats stats_;
   std::function<Trajectory()> readTrajectory_;
   std::optional<AteResult> ate_;
-  nlohmann::json summary_;
+  RunSummary summary_;
 };
 
 }  // namespace sb

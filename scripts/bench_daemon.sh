@@ -30,7 +30,9 @@ run() {  # $1 = label, $2 = readers, $3 = sleepers
   wait "$pid"
   local t1=$(date +%s.%N)
   local n=$(grep -vc '^#' "$out/trajectory.tum")
-  local comp=$(grep -o '"computation_ms_per_frame": *[0-9.eE+-]*' "$out/summary.json" | head -1 | sed 's/.*: *//')
+  # summary.json's typed field (report/run_summary.h), not a grep of its text
+  local comp=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["computation_ms_per_frame"])' \
+    "$out/summary.json")
   awk -v l="$1" -v n="$n" -v a="$t0" -v b="$t1" -v c="$comp" -v r="$result" \
     'BEGIN { printf "%s frames %d wall %.3f s  %.2f frames/s  computation %.1f ms/frame %s\n", l, n, b-a, n/(b-a), c, r }'
 }

@@ -103,7 +103,8 @@ segment_bytes() {  # the rotated outputs on disk
     awk '{ s += $1 } END { printf "%d", s }' || true  # a segment removed meanwhile: find says so, no matter
 }
 summary_frames() {
-  sed -n 's/^ *"frames": *\([0-9]*\).*/\1/p' "$outputs/summary.json" 2>/dev/null | head -n1 || true
+  # the top-level "frames" of summary.json (a text match could hit energy.frames); none while it is rewritten
+  python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["frames"])' "$outputs/summary.json" 2>/dev/null || true
 }
 echo "t_s,frames,rss_kib,segment_bytes,dir_bytes,free_bytes,segments,removed_segments"
 start=$(date +%s.%N)

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/config_reader.h"
 #include "core/json_text.h"
 #include "core/png_io.h"
 #include "core/trajectory.h"
@@ -102,12 +103,12 @@ TEST_CASE("no reader blocks on a FIFO: JSON, trajectories, PNGs, text streams", 
     CHECK(message.find("named pipe (FIFO)") != std::string::npos);
     CHECK(message.find(" '") != std::string::npos);  // names the path
   };
-  isFifoError(errorOf([&] { sb::readJsonFile(fifo, "config file"); }));
+  isFifoError(errorOf([&] { sb::readJsonConfig(fifo, "config file"); }));
   isFifoError(errorOf([&] { sb::readTumTrajectory(fifo); }));
   isFifoError(errorOf([&] { sb::readPng16(fifo); }));
   isFifoError(errorOf([&] { sb::InputFile in(fifo, "log"); }));
   // Devices are refused too, never opened.
-  CHECK(errorOf([&] { sb::readJsonFile("/dev/zero", "config file"); }).find("character device") !=
+  CHECK(errorOf([&] { sb::readJsonConfig("/dev/zero", "config file"); }).find("character device") !=
         std::string::npos);
   // A directory is not "missing" and has no poses: it is a directory.
   CHECK(errorOf([&] { sb::readTumTrajectory(tmp.path); }).find("is a directory") != std::string::npos);

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/config_reader.h"
 #include "core/json_text.h"
 #include "tests/support/test_data.h"
 
@@ -54,15 +55,15 @@ TEST_CASE("json_text: syntax errors give line and column", "[core][json]") {
 
 TEST_CASE("json_text: files that are directories, missing or oversized are named", "[core][json]") {
   const std::string dir = test::scratchDir("json_text");
-  CHECK_THROWS_WITH(readJsonFile(dir, "config file"), Contains("config file '" + dir + "': it is a directory"));
-  CHECK_THROWS_WITH(readJsonFile(dir + "/absent.json", "calibration"),
+  CHECK_THROWS_WITH(readJsonConfig(dir, "config file"), Contains("config file '" + dir + "': it is a directory"));
+  CHECK_THROWS_WITH(readJsonConfig(dir + "/absent.json", "calibration"),
                     Contains("cannot open calibration '" + dir + "/absent.json'"));
   std::ofstream(dir + "/big.json") << std::string(2000, ' ') << "{}";
   CHECK_THROWS_WITH(readTextFile(dir + "/big.json", "config file", 1000), Contains("is 2002 bytes"));
   std::ofstream(dir + "/ok.json") << "{\"a\": [1, 2]}";
-  CHECK(readJsonFile(dir + "/ok.json", "config file")["a"][1] == 2);
+  CHECK(readJsonConfig(dir + "/ok.json", "config file")["a"][1] == 2);
   std::ofstream(dir + "/deep.json") << nested('[', 70000);
-  CHECK_THROWS_WITH(readJsonFile(dir + "/deep.json", "config file"),
+  CHECK_THROWS_WITH(readJsonConfig(dir + "/deep.json", "config file"),
                     Contains("config file '" + dir + "/deep.json'") && Contains("deeper than"));
 }
 

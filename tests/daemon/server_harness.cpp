@@ -10,6 +10,7 @@
 
 #include "client/connection.h"
 #include "core/error.h"
+#include "runtime/frame_log_sink.h"
 
 namespace sb::test {
 
@@ -38,18 +39,20 @@ nlohmann::json ScriptedState::control(const daemon::ControlRequest& request) {
 }
 
 daemon::FrameReport scriptedFrame(uint64_t n) {
-  daemon::FrameReport r;
-  r.frame = n;
+  // A record as the runner makes it, published through the daemon's one encoder of a frame.
+  FrameRecord record;
+  FrameResult& r = record.result;
+  r.frame = static_cast<decltype(r.frame)>(n);
   r.timestamp = 100.0 + 0.5 * static_cast<double>(n);
-  r.position = {0.25 * static_cast<double>(n), 1.0, 2.0};
-  r.quaternion = {0.0, 0.0, 0.0, 1.0};
+  r.T_camera_to_world = Eigen::Isometry3d::Identity();
+  r.T_camera_to_world.translation() = Eigen::Vector3d(0.25 * static_cast<double>(n), 1.0, 2.0);
   r.tracked = n % 5 != 4;
-  r.corrected = n % 5 == 4;
-  r.state = r.tracked ? "good" : "lost";
+  r.poseOverridden = n % 5 == 4;
+  record.state = r.tracked ? TrackingState::good : TrackingState::lost;
   r.velocity = 0.25;
-  r.computationMs = 12.5;
-  r.controller = "fixed";
-  return r;
+  r.times.ms[static_cast<int>(Stage::track)] = 12.5;
+  record.controller = "fixed";
+  return daemon::FrameReport{frameRecordToJson(record), {}};
 }
 
 ServerHarness::ServerHarness(daemon::SocketConfig config, uid_t daemonUid) : config_(std::move(config)) {

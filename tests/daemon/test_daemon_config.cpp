@@ -4,8 +4,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/config_reader.h"
 #include "core/error.h"
 #include "daemon/daemon_config.h"
+#include "daemon/slam_worker.h"
 #include "tests/support/test_data.h"
 
 using namespace sb::daemon;
@@ -35,7 +37,7 @@ TEST_CASE("daemon config: defaults and a full round trip", "[daemon][config]") {
 }
 
 TEST_CASE("the documented default config equals the built-in defaults", "[daemon][config]") {
-  const json file = readJsonFile(SB_DAEMON_DEFAULT_CONFIG);
+  const json file = sb::readJsonConfig(SB_DAEMON_DEFAULT_CONFIG, "config file");
   CHECK(file == daemonConfigToJson(DaemonConfig{}));
 }
 
@@ -124,9 +126,9 @@ TEST_CASE("daemon config: deep nesting in a value or a file is an error, not a c
   CHECK(j["source"]["path"].is_string());
   const std::string dir = sb::test::scratchDir("daemon_config_deep");
   std::ofstream(dir + "/deep.json") << std::string(70000, '[');
-  CHECK_THROWS_AS(readJsonFile(dir + "/deep.json"), ConfigError);
-  CHECK_THROWS_WITH(readJsonFile(dir + "/deep.json"), Contains("deep.json") && Contains("deeper than"));
-  CHECK_THROWS_WITH(readJsonFile(dir), Contains("is a directory"));
+  CHECK_THROWS_WITH(sb::readJsonConfig(dir + "/deep.json", "config file"),
+                    Contains("deep.json") && Contains("deeper than"));
+  CHECK_THROWS_WITH(sb::readJsonConfig(dir, "config file"), Contains("is a directory"));
   // Deep but within the bound: the error quotes the value flat.
   CHECK_THAT(errorOf({{"source", {{"path", json::parse(std::string(60, '[') + std::string(60, ']'))}}}}),
              Contains("'source.path' = an array of 1 elements"));
@@ -173,4 +175,25 @@ TEST_CASE("daemon config: the map slabs' retention, output.rotation.keep_slabs_m
              Catch::Contains("output.rotation.keep_slabs_mib") && Catch::Contains("-1"));
   CHECK_THAT(errorOf(json{{"output", {{"rotation", {{"keep_slabs_mib", "lots"}}}}}}),
              Catch::Contains("output.rotation.keep_slabs_mib"));
+}
+
+TEST_CASE("daemon config: the controller file takes the run's form or the bare settings, never pipeline keys",
+          "[daemon][config]") {
+  using Catch::Matchers::Contains;
+  const std::string dir = sb::test::scratchDir("daemon_controller_file");
+  SlamConfig slam;
+  slam.controller = "accurate";
+  const sb::ControllerContext context{};
+  slam.controllerConfig = dir + "/wrapped.json";
+  std::ofstream(slam.controllerConfig) << R"({"controller": {"name": "step"}})";
+  CHECK(loadControllerSettings(slam, context).name == "step");  // the file's name wins
+  slam.controllerConfig = dir + "/bare.json";
+  std::ofstream(slam.controllerConfig) << R"({"step": {}})";
+  CHECK(loadControllerSettings(slam, context).name == "accurate");  // slam.controller when it names none
+  slam.controllerConfig = dir + "/mixed.json";
+  std::ofstream(slam.controllerConfig) << R"({"controller": "step", "volume_resolution": 64})";
+  CHECK_THROWS_WITH(loadControllerSettings(slam, context),
+                    Contains("mixed.json") && Contains("volume_resolution") && Contains("slam.pipeline_config"));
+  slam.pipelineConfig = dir + "/mixed.json";  // and the pipeline file has no controller section
+  CHECK_THROWS_WITH(buildPipelineConfig(slam, sb::SequenceInfo{}), Contains("'controller' is not read here"));
 }

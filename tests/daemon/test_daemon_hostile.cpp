@@ -18,6 +18,7 @@
 #include <random>
 #include <thread>
 
+#include "core/config_reader.h"
 #include "daemon/daemon_config.h"
 #include "daemon/unix_socket.h"
 #include "tests/daemon/daemon_e2e.h"
@@ -82,7 +83,7 @@ TEST_CASE("slamboosterd: deep, non-object and directory configs exit 2 naming th
 TEST_CASE("slamboosterd: a config-file fuzz never crashes --check-config", "[daemon][system]") {
   // Mutations of the documented default config: nesting, wrong types, huge numbers, truncation, directories.
   TempDir tmp;
-  const json base = sb::daemon::readJsonFile(std::string(SB_SOURCE_DIR) + "/config/slamboosterd.json");
+  const json base = sb::readJsonConfig(std::string(SB_SOURCE_DIR) + "/config/slamboosterd.json", "config file");
   std::vector<std::pair<std::string, std::string>> keys;  // (section, key)
   for (auto s = base.begin(); s != base.end(); ++s)
     if (s->is_object())

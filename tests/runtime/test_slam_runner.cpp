@@ -17,6 +17,13 @@
 
 namespace {
 
+// The first fields of the summary of these runs.
+sb::RunSummary roomSummary() {
+  sb::RunSummary header;
+  header.sequence = "room";
+  return header;
+}
+
 // Plays back a script of decisions and records what it observed.
 class ScriptedController final : public sb::Controller {
  public:
@@ -85,7 +92,7 @@ TEST_CASE("the runner applies the controller's knobs and corrected pose and writ
   auto owned = std::make_unique<ScriptedController>("scripted", script, sb::parseKnobs("csr=1"));
   ScriptedController& controller = *owned;
   sb::SlamRunner runner(*f.pipeline, std::move(owned), sb::test::kRoomDepthScale);
-  const sb::StandardOutputs outputs = sb::addStandardOutputs(runner, dir, "", {{"sequence", "room"}}, "test");
+  const sb::StandardOutputs outputs = sb::addStandardOutputs(runner, dir, "", roomSummary(), "test");
 
   std::vector<sb::FrameRecord> records;
   for (size_t i = 0; i < 3; ++i) records.push_back(runner.step(f.frame(i)));
@@ -213,7 +220,7 @@ TEST_CASE("a re-track runs the same frame again with the asked knobs and asks th
   ScriptedController& controller = *owned;
   sb::SlamRunner runner(*f.pipeline, std::move(owned), sb::test::kRoomDepthScale);
   const std::string dir = sb::test::scratchDir("runtime_retrack");
-  sb::addStandardOutputs(runner, dir, "", {{"sequence", "room"}}, "test");
+  sb::addStandardOutputs(runner, dir, "", roomSummary(), "test");
   runner.step(f.frame(0));
   const sb::FrameRecord r = runner.step(f.frame(1));
   REQUIRE(controller.observed.size() == 3);
@@ -304,7 +311,7 @@ TEST_CASE("a half-precision wish on the CPU backend is reported as not supported
                                                              sb::parseKnobs("csr=2,ir=1")),
                         sb::test::kRoomDepthScale);
   const std::string dir = sb::test::scratchDir("runtime_half_cpu");
-  sb::addStandardOutputs(runner, dir, "", {{"sequence", "room"}}, "test");
+  sb::addStandardOutputs(runner, dir, "", roomSummary(), "test");
   const sb::FrameRecord first = runner.step(f.frame(0));
   CHECK_FALSE(first.halfRequested);  // nothing wished before the first decision
   const sb::FrameRecord second = runner.step(f.frame(1));

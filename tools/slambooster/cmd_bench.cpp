@@ -41,40 +41,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A number of a run's summary.json; throws sb::Error naming the file, the key and the value when it is
-// missing (and has no default) or not a number.
-double summaryNumber(const nlohmann::json& s, const std::string& key, const std::string& path,
-                     std::optional<double> fallback = std::nullopt) {
-  const auto dot = key.find('.');
-  const nlohmann::json* v = &s;
-  for (const std::string& part : {key.substr(0, dot), dot == std::string::npos ? "" : key.substr(dot + 1)}) {
-    if (part.empty()) break;
-    if (!v->is_object() || !v->contains(part)) {
-      if (fallback) return *fallback;
-      throw Error(quoteForMessage(path) + ": key \"" + key + "\" is missing");
-    }
-    v = &(*v)[part];
-  }
-  if (fallback && v->is_null()) return *fallback;
-  if (!v->is_number())
-    throw Error(quoteForMessage(path) + ": key \"" + key + "\" is " + describeJson(*v) + "; expected a number");
-  return v->get<double>();
-}
-
-// The machine record of a summary, when present, must hold what machineMix() reads with those types.
-void checkMachine(const nlohmann::json& s, const std::string& path) {
-  if (!s.contains("machine")) return;
-  const nlohmann::json& m = s["machine"];
-  const auto bad = [&](const std::string& key, const nlohmann::json& v, const char* expected) {
-    return Error(quoteForMessage(path) + ": key \"" + key + "\" is " + describeJson(v) + "; expected " + expected);
-  };
-  if (!m.is_object()) throw bad("machine", m, "an object");
-  for (const char* key : {"backend", "device", "cpu_model", "host"})
-    if (m.contains(key) && !m[key].is_string()) throw bad(std::string("machine.") + key, m[key], "a string");
-  if (m.contains("threads_used") && !m["threads_used"].is_number_integer())
-    throw bad("machine.threads_used", m["threads_used"], "an integer");
-}
-
 struct BenchOptions {
   std::vector<std::string> sequences;
   std::string out, config, dseDir, plotSequence, powerConfig;
@@ -154,11 +120,23 @@ std::string missingList(const std::vector<std::string>& missing) {
   return missing.size() > 20 ? text + " and " + std::to_string(missing.size() - 20) + " more" : text;
 }
 
-void benchCommand(const BenchOptions& o) {
+// The runs of a bench: its columns (label -> config file), the jobs and where each (sequence, column) runs.
+struct BenchPlan {
+  std::vector<BenchTcSet> tables;
+  std::vector<std::string> labels;  // the columns, offline aside
+  std::vector<Job> jobs;
+  std::map<std::pair<std::string, std::string>, std::string> dirOf;  // (sequence name, label) -> output dir
+  std::map<std::string, std::string> groundTruth;                    // sequence name -> TUM file ("" = none)
+};
+
+BenchPlan planBench(const BenchOptions& o) {
+  BenchPlan plan;
   // First, so that a bad table stops the bench before anything is written.
-  const std::vector<BenchTcSet> tables = tcSets(o.tcTables);
+  plan.tables = tcSets(o.tcTables);
+  const std::vector<BenchTcSet>& tables = plan.tables;
   // Columns: label -> (controller name, config file).
-  std::vector<std::string> labels = o.controllers;
+  std::vector<std::string>& labels = plan.labels;
+  labels = o.controllers;
   if (std::find(labels.begin(), labels.end(), "accurate") == labels.end()) labels.push_back("accurate");
   std::map<std::string, std::string> configOf;
   for (const std::string& c : labels) configOf[c] = writeColumnConfig(o, c, c, nlohmann::json::object());
@@ -181,9 +159,9 @@ void benchCommand(const BenchOptions& o) {
           o, label, "tc", {{"tc", {{"table", t.path}, {"reference_velocity_m_per_frame", v}}}});
     }
 
-  std::vector<Job> jobs;
-  std::map<std::pair<std::string, std::string>, std::string> dirOf;
-  std::map<std::string, std::string> groundTruth;
+  std::vector<Job>& jobs = plan.jobs;
+  auto& dirOf = plan.dirOf;
+  auto& groundTruth = plan.groundTruth;
   for (const std::string& seq : o.sequences) {
     const std::string name = sequenceName(seq);
     groundTruth[name] = openSequence(seq)->info().groundTruthPath;
@@ -206,29 +184,26 @@ void benchCommand(const BenchOptions& o) {
       jobs.push_back(j);
     }
   }
-  // One meter measures the whole board: runs in parallel would be charged each other's power.
-  if (!o.powerConfig.empty() && o.jobs > 1)
-    std::cerr << "slambooster bench: --power: running one job at a time (not " << o.jobs
-              << "), so that each run's energy is its own\n";
-  const int parallel = o.powerConfig.empty() ? o.jobs : 1;
-  if (runMatrixPart(o.matrix, jobs, parallel, o.quiet)) return;
-  if (!o.matrix.reportOnly) runJobs(jobs, parallel, o.quiet);
-  const std::vector<std::string> missing = missingRuns(jobs, "slambooster bench");
+  return plan;
+}
 
-  // Evaluate every run.
+// Reads every finished run (results.csv, the cells of the report); `summaries` gets each run read and
+// `referenceOf` each sequence's reference trajectory.
+BenchResults evaluateBench(const BenchOptions& o, BenchPlan& plan, std::vector<RunSummary>& summaries,
+                           std::map<std::string, std::string>& referenceOf) {
+  auto& dirOf = plan.dirOf;
+  auto& groundTruth = plan.groundTruth;
   BenchResults r;
   r.outDir = o.out;
-  r.columns = labels;
+  r.columns = plan.labels;
   r.framesPerRun = o.frames;
   r.offline = !o.dseDir.empty();
-  r.tcSets = tables;
+  r.tcSets = plan.tables;
   r.tcVelocities = o.tcVelocities;
   for (const auto& s : o.sequences) r.sequences.push_back(sequenceName(s));
   r.plotSequence = o.plotSequence.empty() ? r.sequences.front() : o.plotSequence;
-  std::vector<std::string> allLabels = labels;
+  std::vector<std::string> allLabels = plan.labels;
   if (r.offline) allLabels.push_back("offline");
-  std::map<std::string, std::string> referenceOf;
-  std::vector<nlohmann::json> summaries;
   std::ofstream csv(o.out + "/results.csv");
   csv << "sequence,controller,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,reference,controller_ms_per_frame,joules_per_frame\n";
   for (const std::string& name : r.sequences) {
@@ -248,14 +223,12 @@ void benchCommand(const BenchOptions& o) {
       c.dir = dirOf[{name, label}];
       // One bad summary is reported (file, key, value) and left out; the report of the rest is written.
       try {
-        const std::string path = c.dir + "/summary.json";
-        const nlohmann::json s = readSummary(c.dir);
-        c.frames = summaryNumber(s, "frames", path);
-        c.tracked = summaryNumber(s, "tracked_percent", path);
-        c.ms = summaryNumber(s, "computation_ms_per_frame", path);
-        c.controllerMs = summaryNumber(s, "controller_ms_per_frame", path, 0.0);
-        c.joulesPerFrame = summaryNumber(s, "energy.joules_per_frame", path, NAN);
-        checkMachine(s, path);
+        const RunSummary s = readSummary(c.dir);  // the types of its fields checked
+        c.frames = double(s.frames);
+        c.tracked = s.trackedPercent;
+        c.ms = s.computationMsPerFrame;
+        c.controllerMs = s.controllerMsPerFrame;
+        c.joulesPerFrame = s.joulesPerFrame();  // NaN without a meter
         summaries.push_back(s);
       } catch (const Error& e) {
         std::cerr << "slambooster bench: left out " << name << " / " << label << ": " << e.what() << "\n";
@@ -282,10 +255,17 @@ void benchCommand(const BenchOptions& o) {
     }
   }
 
+  return r;
+}
+
+// report.md, the SVG figures and report.html of the evaluated runs.
+void reportBench(const BenchOptions& o, BenchResults& r, const std::vector<RunSummary>& summaries,
+                 const std::map<std::string, std::string>& referenceOf, const std::vector<std::string>& missing,
+                 size_t jobCount) {
   const MachineMix machines = machineMix(summaries);
   if (!machines.kinds.empty()) r.notes.push_back(machines.note("the tables and plots"));
   if (!missing.empty())
-    r.notes.push_back("Incomplete: " + std::to_string(missing.size()) + " of " + std::to_string(jobs.size()) +
+    r.notes.push_back("Incomplete: " + std::to_string(missing.size()) + " of " + std::to_string(jobCount) +
                       " runs have not finished (shown as -): " + missingList(missing) + ".");
   const std::vector<BenchSection> sections = benchSections(r);
   const std::string md = benchMarkdown(r, sections);
@@ -297,7 +277,7 @@ void benchCommand(const BenchOptions& o) {
   writeText(o.out + "/ate.svg", figures.bars[1]);
   const BenchCell traced = r.cell(r.plotSequence, "slambooster");
   if (traced.present) {
-    BenchTrace trace = benchTrace(traced.dir, referenceOf[r.plotSequence], r.plotSequence + " / slambooster");
+    BenchTrace trace = benchTrace(traced.dir, referenceOf.at(r.plotSequence), r.plotSequence + " / slambooster");
     for (const auto& p : trace.problems)
       std::cerr << "slambooster bench: trace of " << r.plotSequence << ": " << p << "\n";
     for (const auto& p : trace.plots) figures.trace.push_back(report::svgLinePlot(p));
@@ -306,6 +286,23 @@ void benchCommand(const BenchOptions& o) {
   }
   const std::string html = writeBenchHtml(r, sections, figures);
   std::cout << md << "\nreport in " << o.out << "/report.md and " << html << "\n";
+}
+
+void benchCommand(const BenchOptions& o) {
+  BenchPlan plan = planBench(o);
+  // One meter measures the whole board: runs in parallel would be charged each other's power.
+  if (!o.powerConfig.empty() && o.jobs > 1)
+    std::cerr << "slambooster bench: --power: running one job at a time (not " << o.jobs
+              << "), so that each run's energy is its own\n";
+  const int parallel = o.powerConfig.empty() ? o.jobs : 1;
+  if (runMatrixPart(o.matrix, plan.jobs, parallel, o.quiet)) return;
+  if (!o.matrix.reportOnly) runJobs(plan.jobs, parallel, o.quiet);
+  const std::vector<std::string> missing = missingRuns(plan.jobs, "slambooster bench");
+
+  std::vector<RunSummary> summaries;
+  std::map<std::string, std::string> referenceOf;
+  BenchResults r = evaluateBench(o, plan, summaries, referenceOf);
+  reportBench(o, r, summaries, referenceOf, missing, plan.jobs.size());
 }
 
 }  // namespace

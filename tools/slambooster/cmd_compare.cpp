@@ -11,6 +11,7 @@
 #include "core/config_reader.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "report/run_summary.h"
 #include "tools/slambooster/commands.h"
 
 namespace sb::cli {
@@ -20,53 +21,47 @@ struct CompareArgs {
   std::string run, against;
 };
 
-nlohmann::json readSummary(const std::string& dir) {
+RunSummary readSummary(const std::string& dir) {
   const std::string path = dir + "/summary.json";
   const std::string problem = pathProblem(path);
   if (!problem.empty())
     throw Error("run summary " + quoteForMessage(path) + " " + problem + ": is " + quoteForMessage(dir) +
                 " a finished run's output directory?");
-  return readJsonConfig(path, "run summary");  // bounded nesting, line and column, objects only
-}
-
-double number(const nlohmann::json& j, const char* key, const std::string& dir) {
-  if (!j.contains(key) || !j.at(key).is_number())
-    throw Error("'" + dir + "/summary.json' has no number '" + key + "'");
-  return j.at(key).get<double>();
+  return readRunSummary(path);  // bounded nesting, line and column, typed fields
 }
 
 // "ATE 4.17 cm" or "no ground truth".
-std::string ateText(const nlohmann::json& s) {
-  if (s.contains("ate") && s.at("ate").contains("rmse_m")) {
+std::string ateText(const RunSummary& s) {
+  if (s.ate) {
     char buf[48];
-    std::snprintf(buf, sizeof buf, "ATE %.2f cm", s.at("ate").at("rmse_m").get<double>() * 100.0);
+    std::snprintf(buf, sizeof buf, "ATE %.2f cm", s.ate->rmseM * 100.0);
     return buf;
   }
   return "no ground truth";
 }
 
-// The run's controller: "controller" (slambooster run), else the one that decided the most frames (daemon).
-std::string name(const nlohmann::json& s) {
-  if (s.contains("controller") && s.at("controller").is_string()) return s.at("controller").get<std::string>();
+// The run's controller (both front ends write it since schema 1); in an older daemon summary, the one that
+// decided the most frames.
+std::string name(const RunSummary& s) {
+  if (!s.controller.empty()) return s.controller;
   std::string best = "run";
   size_t most = 0;
-  if (s.contains("controller_frames") && s.at("controller_frames").is_object())
-    for (auto it = s.at("controller_frames").begin(); it != s.at("controller_frames").end(); ++it)
-      if (it->is_number_unsigned() && it->get<size_t>() > most) {
-        most = it->get<size_t>();
-        best = it.key();
-      }
+  for (const auto& [controller, frames] : s.controllerFrames)
+    if (frames > most) {
+      most = frames;
+      best = controller;
+    }
   return best;
 }
 
 void compare(const CompareArgs& a) {
-  const nlohmann::json run = readSummary(a.run);
-  const double ms = number(run, "computation_ms_per_frame", a.run);
-  std::printf("%s: %.0f frames, %.1f%% tracked, %s, %.1f ms/frame", name(run).c_str(), number(run, "frames", a.run),
-              number(run, "tracked_percent", a.run), ateText(run).c_str(), ms);
+  const RunSummary run = readSummary(a.run);
+  const double ms = run.computationMsPerFrame;
+  std::printf("%s: %zu frames, %.1f%% tracked, %s, %.1f ms/frame", name(run).c_str(), run.frames,
+              run.trackedPercent, ateText(run).c_str(), ms);
   if (!a.against.empty()) {
-    const nlohmann::json base = readSummary(a.against);
-    const double baseMs = number(base, "computation_ms_per_frame", a.against);
+    const RunSummary base = readSummary(a.against);
+    const double baseMs = base.computationMsPerFrame;
     std::printf("; %s on the same input: %s, %.1f ms/frame", name(base).c_str(), ateText(base).c_str(), baseMs);
     if (baseMs > 0) {
       const double cut = 100.0 * (1.0 - ms / baseMs);

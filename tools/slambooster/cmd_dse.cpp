@@ -48,9 +48,9 @@ struct DseOptions {
 };
 
 // Within the bound: ATE defined and under it, enough frames tracked, and run to the end.
-bool withinBound(const nlohmann::json& s, const DseOptions& o) {
-  if (s.contains("stopped") || !s.contains("ate")) return false;
-  return s["ate"]["rmse_m"].get<double>() < o.maxAteM && s["tracked_percent"].get<double>() >= o.minTrackedPercent;
+bool withinBound(const RunSummary& s, const DseOptions& o) {
+  if (s.stopped || !s.ate) return false;
+  return s.ate->rmseM < o.maxAteM && s.trackedPercent >= o.minTrackedPercent;
 }
 
 // The computation time summed over the frames of the fastest finished run within the bound (infinity: none).
@@ -58,9 +58,8 @@ double fastestWithinBoundMs(const std::vector<Job>& jobs, const DseOptions& o) {
   double best = std::numeric_limits<double>::infinity();
   for (const Job& j : jobs) {
     if (!jobDone(j.outDir)) continue;
-    const nlohmann::json s = readSummary(j.outDir);
-    if (withinBound(s, o))
-      best = std::min(best, s["computation_ms_per_frame"].get<double>() * s["frames"].get<double>());
+    const RunSummary s = readSummary(j.outDir);
+    if (withinBound(s, o)) best = std::min(best, s.computationMsPerFrame * double(s.frames));
   }
   return best;
 }
@@ -96,7 +95,7 @@ void dseCommand(const DseOptions& o) {
         text << std::setprecision(17) << limit;
         return {"--stop-after-ms", text.str()};
       };
-    } else if (jobDone(j.outDir) && readSummary(j.outDir).contains("stopped")) {
+    } else if (jobDone(j.outDir) && readSummary(j.outDir).stopped) {
       std::filesystem::remove(j.outDir + "/summary.json");  // stopped by an earlier, pruning dse: run it again
     }
     jobs.push_back(j);
@@ -107,26 +106,26 @@ void dseCommand(const DseOptions& o) {
   if (!o.matrix.reportOnly) runJobs(ordered, o.jobs, o.quiet);
   const std::vector<std::string> missing = missingRuns(ordered, "slambooster dse");
 
-  std::vector<nlohmann::json> summaries;
+  std::vector<RunSummary> summaries;
   std::ofstream csv(o.out + "/results.csv");
   csv << "knobs,frames,tracked_percent,computation_ms_per_frame,ate_rmse_m,within_bound,stopped_at_frame\n";
   nlohmann::json best = nullptr;
   size_t stopped = 0;
   for (size_t i = 0; i < grid.size(); ++i) {
     if (!jobDone(jobs[i].outDir)) continue;  // missing: listed above, and in best.json
-    const nlohmann::json s = readSummary(jobs[i].outDir);
+    const RunSummary s = readSummary(jobs[i].outDir);
     summaries.push_back(s);
-    const bool wasStopped = s.contains("stopped");
+    const bool wasStopped = s.stopped.has_value();
     stopped += wasStopped;
     // With ground truth, a run whose ATE is undefined (e.g. tracking never moved the camera) is out of bound.
-    if (!wasStopped && !s.contains("ate") && !s.contains("ate_error"))
+    if (!wasStopped && !s.ate && s.ateError.empty())
       throw Error("dse needs ground truth: '" + o.sequence + "' gave no ATE (" + jobs[i].outDir + ")");
     // A stopped run's ATE covers only its first frames: not a result.
-    const double ate = s.contains("ate") && !wasStopped ? s["ate"]["rmse_m"].get<double>() : NAN;
-    const double ms = s["computation_ms_per_frame"], tracked = s["tracked_percent"];
+    const double ate = s.ate && !wasStopped ? s.ate->rmseM : NAN;
+    const double ms = s.computationMsPerFrame, tracked = s.trackedPercent;
     const bool ok = withinBound(s, o);
-    csv << '"' << formatKnobs(grid[i]) << "\"," << s["frames"] << "," << tracked << "," << ms << "," << ate << ","
-        << ok << "," << (wasStopped ? s["stopped"]["at_frame"].dump() : "") << "\n";
+    csv << '"' << formatKnobs(grid[i]) << "\"," << s.frames << "," << tracked << "," << ms << "," << ate << ","
+        << ok << "," << (wasStopped ? std::to_string(s.stopped->atFrame) : "") << "\n";
     if (ok && (best.is_null() || ms < best["computation_ms_per_frame"].get<double>()))
       best = {{"knobs", formatKnobs(grid[i])}, {"computation_ms_per_frame", ms}, {"ate_rmse_m", ate},
               {"tracked_percent", tracked}, {"run", jobs[i].outDir}};

@@ -54,7 +54,7 @@ void profileCommand(const ProfileOptions& o) {
   if (!missingRuns(jobs, "slambooster profile").empty())
     throw Error("profile: the table needs every setting on every profiling sequence; run the missing runs (the "
                 "same command without --report-only, or the plan's lines for them), then report again");
-  std::vector<nlohmann::json> summaries;
+  std::vector<RunSummary> summaries;
 
   std::vector<TcEntry> candidates;
   double referenceMs = 0;
@@ -63,13 +63,13 @@ void profileCommand(const ProfileOptions& o) {
     e.knobs = grid[g];
     bool ateDefined = true;
     for (size_t s = 0; s < o.sequences.size(); ++s) {
-      const nlohmann::json summary = readSummary(jobs[s * grid.size() + g].outDir);
+      const RunSummary summary = readSummary(jobs[s * grid.size() + g].outDir);
       summaries.push_back(summary);
-      if (!summary.contains("ate") && !summary.contains("ate_error"))
+      if (!summary.ate && summary.ateError.empty())
         throw Error("profile needs ground truth: '" + o.sequences[s] + "' gave no ATE");
-      e.msPerFrame += summary["computation_ms_per_frame"].get<double>() / double(o.sequences.size());
-      if (summary.contains("ate"))
-        e.ateM = std::max(e.ateM, summary["ate"]["rmse_m"].get<double>());
+      e.msPerFrame += summary.computationMsPerFrame / double(o.sequences.size());
+      if (summary.ate)
+        e.ateM = std::max(e.ateM, summary.ate->rmseM);
       else
         ateDefined = false;
     }

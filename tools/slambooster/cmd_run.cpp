@@ -27,11 +27,11 @@
 #include "drivers/sequence.h"
 #include "eval/trajectory_eval.h"
 #include "pipeline/config.h"
-#include "pipeline/cpu/cpu_backend.h"
 #include "pipeline/pipeline.h"
 #include "power/power_config.h"
 #include "runtime/energy_account.h"
 #include "runtime/run.h"
+#include "runtime/run_setup.h"
 #include "tools/slambooster/commands.h"
 #include "tools/slambooster/stop_signals.h"
 
@@ -79,27 +79,11 @@ struct RunSetup {
   ControllerSettings controller;
 };
 
-// Reads the --config file: the pipeline keys (config/pipeline.json) and an optional "controller" section
-// (config/controller.json).
-nlohmann::json readConfigFile(const std::string& path) { return readJsonConfig(path, "config file"); }
-
-// defaults < sequence volume hints < config file < command-line flags.
+// defaults < sequence volume hints < config file < command-line flags (runtime/run_setup.h).
 RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
-  PipelineConfig c;
-  if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
-  if (info.volumeInitialPosition)
-    for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
-  nlohmann::json controllerSection = "fixed";
-  std::string controllerWhere = "controller";
-  if (!o.configPath.empty()) {
-    nlohmann::json file = readConfigFile(o.configPath);
-    if (file.contains("controller")) {
-      controllerSection = file["controller"];
-      controllerWhere = o.configPath + ": controller";
-      file.erase("controller");
-    }
-    c = parseConfig(file, c, o.configPath);
-  }
+  SettingsFile file;
+  if (!o.configPath.empty()) file = readSettingsFile(o.configPath);
+  PipelineConfig c = pipelineConfigFor(info, file.pipeline, o.configPath);
   if (!o.preset.empty()) c.knobs = knobPreset(o.preset);
   if (!o.knobs.empty()) c.knobs = parseKnobs(o.knobs, c.knobs);
   if (o.volumeSize) c.volumeSize = static_cast<float>(*o.volumeSize);
@@ -107,21 +91,11 @@ RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
   if (!o.initialPosition.empty()) c.initialPosition = parsePosition(o.initialPosition);
   // The product follows the camera unless the config or --fixed-volume says otherwise (docs/moving-volume.md).
   if (o.fixedVolume) c.volumeMode = VolumeMode::fixed;
-  if (c.volumeMode == VolumeMode::automatic) c.volumeMode = VolumeMode::moving;
-  try {
-    validateConfig(c);
-  } catch (const Error& e) {
-    throw Error(std::string("run options: ") + e.what());
-  }
-  if (!o.controller.empty()) {
-    if (controllerSection.is_object())
-      controllerSection["name"] = o.controller;
-    else
-      controllerSection = o.controller;
-    if (controllerWhere == "controller") controllerWhere = "--controller";
-  }
-  const ControllerContext context{c.knobs};
-  return RunSetup{c, parseControllerSettings(controllerSection, context, controllerWhere)};
+  finishPipelineConfig(c, "run options");
+  const std::string where = !file.controller.is_null() ? o.configPath + ": controller"
+                            : o.controller.empty()     ? "controller"
+                                                       : "--controller";
+  return RunSetup{c, controllerSettingsFrom(file.controller, o.controller, true, ControllerContext{c.knobs}, where)};
 }
 
 // CPU time (user + system) of the process so far, milliseconds.
@@ -140,15 +114,109 @@ void printProgress(size_t done, size_t total, double msPerFrame) {
   std::cerr << "  " << std::fixed << std::setprecision(1) << msPerFrame << " ms/frame" << std::flush;
 }
 
-// Where this run is timed (summary.json "machine"): the CPU backend runs on this CPU; for OpenCL the device
-// is named by the config's selectors (the backend logs the device it picked in run.log).
-nlohmann::json machineOf(Pipeline& pipeline, const PipelineConfig& config, unsigned threads) {
-  if (dynamic_cast<CpuBackend*>(&pipeline.backend())) return machineJson(threads, "cpu", cpuModel());
-  const std::string platform = config.openclPlatform.empty() ? "first with a GPU" : config.openclPlatform;
-  const std::string device = config.openclDevice.empty() ? "first GPU" : config.openclDevice;
-  return machineJson(threads, "opencl", "platform " + platform + ", device " + device);
+// How the frame loop ended.
+struct LoopEnd {
+  bool stopped = false;  // --stop-after-ms
+  int signal = 0;        // the stop signal received, 0 = none
+  double cpuMs = 0.0;    // process CPU time of the loop
+};
+
+// Steps `run` through the frames of `source` until they end, a stop signal, or --stop-after-ms. A bad frame
+// or a failed write stops the run: the outputs keep every frame before it, the summary says why (best effort:
+// on a full disk it may not be written), and the error is thrown naming how many frames the outputs cover.
+LoopEnd runFrames(const RunOptions& o, FrameSource& source, Run& run, size_t total) {
+  const bool progress = !o.quiet && isatty(STDERR_FILENO);
+  const SummarySink& summary = run.summary();
+  const double cpuStartMs = processCpuMs();
+  LoopEnd end;
+  StopSignals signals;  // Ctrl-C / SIGTERM: finish the frame in hand, then write every output
+  try {
+    while (!signals.received()) {
+      auto frame = source.next();
+      if (!frame) break;
+      run.step(*frame);
+      if (progress) printProgress(run.runner().frames(), total, summary.stats().computationMsPerFrame());
+      if (o.stopAfterMs > 0 && summary.stats().stageSums.computationMs() > o.stopAfterMs) {
+        end.stopped = true;
+        break;
+      }
+    }
+  } catch (const Error& e) {
+    if (progress) std::cerr << "\n";
+    run.summary().header().error = e.what();
+    run.summary().header().complete = false;
+    try {
+      run.flush();
+    } catch (const Error&) {
+    }
+    throw Error(std::string(e.what()) + " (stopped after " + std::to_string(summary.stats().frames) +
+                " frames; the outputs in " + o.out + " cover them)");
+  }
+  if (progress) std::cerr << "\n";
+  end.signal = signals.received();
+  end.cpuMs = processCpuMs() - cpuStartMs;
+  return end;
 }
 
+// The end of the run: the summary's last fields, then every end-of-run output (Run::finish).
+void finishRun(const RunOptions& o, Run& run, const LoopEnd& loop, ThreadPool& pool) {
+  const RunStats& stats = run.summary().stats();
+  const size_t count = stats.frames;
+  if (count == 0 && loop.signal)
+    throw Interrupted(loop.signal, "interrupted by " + StopSignals::name(loop.signal) + " before the first frame");
+  if (count == 0) throw Error("sequence '" + o.sequence + "' has no frames");
+  RunSummary& ending = run.summary().header();
+  // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
+  // times to other load on the machine.
+  ending.cpuMsPerFrame = loop.cpuMs / count;
+  if (loop.stopped)  // complete as asked, but not the whole sequence: its ATE and times cover the frames run
+    ending.stopped = StoppedSummary{count, o.stopAfterMs, stats.stageSums.computationMs()};
+  if (loop.signal) ending.interrupted = InterruptedSummary{StopSignals::name(loop.signal), count};
+  RunEnd end;
+  end.modelView = o.modelView;
+  end.mesh = o.mesh;
+  end.complete = loop.signal == 0;  // an interrupted run runs again under bench / dse / profile
+  run.finish(end, pool);
+}
+
+// What the run did, on stdout, from its summary.
+void printRun(const RunOptions& o, const SummarySink& summary, const LoopEnd& loop, unsigned threads) {
+  const RunStats& stats = summary.stats();
+  const RunSummary& written = summary.summary();
+  const size_t count = stats.frames;
+  std::cout << std::fixed << std::setprecision(1);
+  if (loop.stopped)
+    std::cout << "stopped after frame " << count << ": computation " << stats.stageSums.computationMs()
+              << " ms is over --stop-after-ms " << o.stopAfterMs << "\n";
+  std::cout << "controller " << written.controller << ", frames " << count << ", tracked " << stats.tracked << "/"
+            << stats.trackingAttempted << " (" << stats.trackedPercent() << "%), integrated " << stats.integrated
+            << ", corrected " << stats.corrected << "\n";
+  std::cout << "computation " << stats.computationMsPerFrame() << " ms/frame (";
+  for (int s = 0; s < kStageCount; ++s) {
+    if (static_cast<Stage>(s) == Stage::render) continue;
+    std::cout << (s ? ", " : "") << stageName(static_cast<Stage>(s)) << " " << std::setprecision(2)
+              << stats.stageSums.ms[s] / count;
+  }
+  std::cout << "), process CPU " << std::setprecision(1) << loop.cpuMs / count << " ms/frame over " << threads
+            << " threads\n" << std::setprecision(2);
+  if (const std::optional<AteResult>& ate = summary.ate())
+    std::cout << "ATE rmse " << ate->rmse * 100 << " cm, mean " << ate->mean * 100 << " cm, max " << ate->max * 100
+              << " cm, unaligned mean " << ate->unalignedMean * 100 << " cm (" << ate->matches << " matches)\n";
+  else if (!written.ateError.empty())
+    std::cout << "ATE not computed: " << written.ateError << "\n";
+  if (written.energy.is_object()) {
+    const nlohmann::json& e = written.energy;
+    std::cout << "energy (" << e["meter"].get<std::string>() << "): " << e["known_frames"] << "/" << e["frames"]
+              << " frames known";
+    if (e["joules_per_frame"].is_number())
+      std::cout << ", " << e["joules_per_frame"].get<double>() << " J/frame, " << e["mean_watts"].get<double>()
+                << " W mean";
+    std::cout << "; per frame in energy.jsonl, raw trace in power.csv\n";
+  }
+  std::cout << "outputs in " << o.out << "\n";
+}
+
+// Plan (the sequence, the setup, the run and its energy account), run the frames, finish, report.
 void runCommand(const RunOptions& o) {
   SequenceOptions seqOptions;
   seqOptions.maxFrames = o.frames;
@@ -156,20 +224,12 @@ void runCommand(const RunOptions& o) {
   std::unique_ptr<FrameSource> source = openSequence(o.sequence, seqOptions);
   const SequenceInfo info = source->info();
   const RunSetup setup = buildSetup(o, info);
-  const PipelineConfig& config = setup.pipeline;
-
   ThreadPool pool(o.threads);
-  auto pipeline = Pipeline::create(config, info.intrinsics, pool);
-  auto controller = createController(setup.controller, ControllerContext{config.knobs});
+  auto pipeline = Pipeline::create(setup.pipeline, info.intrinsics, pool);
+  auto controller = createController(setup.controller, ControllerContext{setup.pipeline.knobs});
   const Knobs initial = controller->initialKnobs();
-  nlohmann::json extra;
-  extra["sequence"] = o.sequence;
-  extra["controller"] = setup.controller.name;
-  extra["controller_sections"] = setup.controller.sections;
-  extra["knobs"] = knobsToJson(initial);
-  extra["config"] = configToJson(config);
-  extra["threads"] = pool.threadCount();
-  extra["machine"] = machineOf(*pipeline, config, pool.threadCount());
+  const RunSummary header =
+      runSummaryHeader("run", o.sequence, setup.controller, *controller, *pipeline, pool.threadCount());
   // Energy: the run borrows the account of a sampler this command owns.
   std::unique_ptr<power::PowerSampler> sampler;
   std::optional<EnergyAccount> energy;
@@ -182,107 +242,26 @@ void runCommand(const RunOptions& o) {
     }
   }
   Run run(std::move(pipeline), std::move(controller), info.depthScale,
-          RunOutputs{o.out, info.groundTruthPath, extra,
+          RunOutputs{o.out, info.groundTruthPath, header,
                      "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
                          formatKnobs(initial) + " (volume frame)",
                      nullptr, o.mesh},
           energy ? &*energy : nullptr);
-  SummarySink& summary = run.summary();
-  const fs::path out(o.out);
 
-  const bool progress = !o.quiet && isatty(STDERR_FILENO);
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
-  const double cpuStartMs = processCpuMs();
-  bool stopped = false;
-  StopSignals signals;  // Ctrl-C / SIGTERM: finish the frame in hand, then write every output
-  try {
-    while (!signals.received()) {
-      auto frame = source->next();
-      if (!frame) break;
-      run.step(*frame);
-      if (progress) printProgress(run.runner().frames(), total, summary.stats().computationMsPerFrame());
-      if (o.stopAfterMs > 0 && summary.stats().stageSums.computationMs() > o.stopAfterMs) {
-        stopped = true;
-        break;
-      }
-    }
-  } catch (const Error& e) {
-    // A bad frame or a failed write stops the run; the outputs keep every frame before it and the summary
-    // says why (best effort: on a full disk it may not be written).
-    if (progress) std::cerr << "\n";
-    summary.setExtra("error", e.what());
-    summary.setExtra("complete", false);
-    try {
-      run.flush();
-    } catch (const Error&) {
-    }
-    throw Error(std::string(e.what()) + " (stopped after " + std::to_string(summary.stats().frames) +
-                " frames; the outputs in " + o.out + " cover them)");
-  }
-  const int stopSignal = signals.received();
-  const double cpuMs = processCpuMs() - cpuStartMs;
-  if (progress) std::cerr << "\n";
-  const RunStats& stats = summary.stats();
-  const size_t count = stats.frames;
-  if (count == 0 && stopSignal)
-    throw Interrupted(stopSignal,
-                      "interrupted by " + StopSignals::name(stopSignal) + " before the first frame");
-  if (count == 0) throw Error("sequence '" + o.sequence + "' has no frames");
-  // Process CPU time per frame over all threads (includes decoding the input): less sensitive than the wall
-  // times to other load on the machine.
-  summary.setExtra("cpu_ms_per_frame", cpuMs / count);
-  if (stopped)  // complete as asked, but not the whole sequence: its ATE and times cover the frames run
-    summary.setExtra("stopped", {{"at_frame", count}, {"limit_ms", o.stopAfterMs},
-                                 {"computation_ms", stats.stageSums.computationMs()}});
-  if (stopSignal) summary.setExtra("interrupted", {{"signal", StopSignals::name(stopSignal)}, {"at_frame", count}});
-  RunEnd end;
-  end.modelView = o.modelView;
-  end.mesh = o.mesh;
-  end.complete = stopSignal == 0;  // an interrupted run runs again under bench / dse / profile
-  run.finish(end, pool);
-  const std::optional<AteResult>& ate = summary.ate();
-  const nlohmann::json& json = summary.summary();
-
-  std::cout << std::fixed << std::setprecision(1);
-  if (stopped)
-    std::cout << "stopped after frame " << count << ": computation " << stats.stageSums.computationMs()
-              << " ms is over --stop-after-ms " << o.stopAfterMs << "\n";
-  std::cout << "controller " << setup.controller.name << ", frames " << count << ", tracked " << stats.tracked << "/"
-            << stats.trackingAttempted << " (" << stats.trackedPercent() << "%), integrated " << stats.integrated
-            << ", corrected " << stats.corrected << "\n";
-  std::cout << "computation " << stats.computationMsPerFrame() << " ms/frame (";
-  for (int s = 0; s < kStageCount; ++s) {
-    if (static_cast<Stage>(s) == Stage::render) continue;
-    std::cout << (s ? ", " : "") << stageName(static_cast<Stage>(s)) << " " << std::setprecision(2)
-              << stats.stageSums.ms[s] / count;
-  }
-  std::cout << "), process CPU " << std::setprecision(1) << cpuMs / count << " ms/frame over " << pool.threadCount()
-            << " threads\n" << std::setprecision(2);
-  if (ate)
-    std::cout << "ATE rmse " << ate->rmse * 100 << " cm, mean " << ate->mean * 100 << " cm, max " << ate->max * 100
-              << " cm, unaligned mean " << ate->unalignedMean * 100 << " cm (" << ate->matches << " matches)\n";
-  else if (json.contains("ate_error"))
-    std::cout << "ATE not computed: " << json["ate_error"].get<std::string>() << "\n";
-  if (energy) {
-    const nlohmann::json& e = json["energy"];
-    std::cout << "energy (" << e["meter"].get<std::string>() << "): " << e["known_frames"] << "/" << e["frames"]
-              << " frames known";
-    if (e["joules_per_frame"].is_number())
-      std::cout << ", " << e["joules_per_frame"].get<double>() << " J/frame, " << e["mean_watts"].get<double>()
-                << " W mean";
-    std::cout << "; per frame in energy.jsonl, raw trace in power.csv\n";
-  }
-  std::cout << "outputs in " << out.string() << "\n";
+  const LoopEnd loop = runFrames(o, *source, run, total);
+  finishRun(o, run, loop, pool);
+  printRun(o, run.summary(), loop, pool.threadCount());
   // The HTML report is a convenience: a run whose outputs are written is not failed by it.
   try {
     std::cout << "report " << run.writeReport() << "\n";
   } catch (const Error& e) {
     std::cerr << "slambooster run: report not written: " << e.what() << "\n";
   }
-  if (stopSignal)
-    throw Interrupted(stopSignal, "interrupted by " + StopSignals::name(stopSignal) + " after frame " +
-                                      std::to_string(count) + "; the outputs in " + out.string() +
-                                      " cover the frames run");
+  if (loop.signal)
+    throw Interrupted(loop.signal, "interrupted by " + StopSignals::name(loop.signal) + " after frame " +
+                                       std::to_string(run.summary().stats().frames) + "; the outputs in " +
+                                       o.out + " cover the frames run");
 }
 
 }  // namespace

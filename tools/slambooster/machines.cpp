@@ -18,21 +18,21 @@ std::string joined(const std::vector<std::string>& items) {
 
 }  // namespace
 
-MachineMix machineMix(const std::vector<nlohmann::json>& summaries) {
+MachineMix machineMix(const std::vector<RunSummary>& summaries) {
   MachineMix mix;
-  for (const nlohmann::json& s : summaries) {
-    const nlohmann::json m = s.value("machine", nlohmann::json::object());
-    if (!m.is_object() || !m.contains("cpu_model")) {
+  for (const RunSummary& s : summaries) {
+    if (!s.machine || s.machine->cpuModel.empty()) {
       addOnce(mix.kinds, "unknown machine (a run from before summaries recorded it)");
       addOnce(mix.hosts, "unknown");
       continue;
     }
-    const std::string backend = m.value("backend", "?"), device = m.value("device", "?");
-    const std::string cpu = m.value("cpu_model", "?");
+    const MachineInfo& m = *s.machine;
+    const auto known = [](const std::string& v) { return v.empty() ? std::string("?") : v; };
+    const std::string backend = known(m.backend), device = known(m.device), cpu = m.cpuModel;
     // The CPU backend's device is the CPU itself: named once.
-    addOnce(mix.kinds, cpu + ", " + std::to_string(m.value("threads_used", 0)) + " threads, " + backend +
+    addOnce(mix.kinds, cpu + ", " + std::to_string(m.threadsUsed) + " threads, " + backend +
                            (device == cpu ? " backend" : " " + device));
-    addOnce(mix.hosts, m.value("host", "?"));
+    addOnce(mix.hosts, known(m.host));
   }
   std::sort(mix.kinds.begin(), mix.kinds.end());
   std::sort(mix.hosts.begin(), mix.hosts.end());

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "report/run_summary.h"
+
 namespace sb::cli {
 
 struct MachineMix {
@@ -19,6 +21,6 @@ struct MachineMix {
 };
 
 // From the summaries of the finished runs.
-MachineMix machineMix(const std::vector<nlohmann::json>& summaries);
+MachineMix machineMix(const std::vector<RunSummary>& summaries);
 
 }  // namespace sb::cli

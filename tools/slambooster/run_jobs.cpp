@@ -72,24 +72,16 @@ pid_t spawn(const std::string& exe, const Job& job) {
 }  // namespace
 
 bool jobDone(const std::string& outDir) {
-  try {
-    InputFile in(outDir + "/summary.json", "run summary");  // missing or not a regular file: not done
-    const auto j = nlohmann::json::parse(in);
-    return j.value("complete", false);
-  } catch (const nlohmann::json::exception&) {
-    return false;
-  } catch (const Error&) {
-    return false;
-  }
+  return runSummaryComplete(outDir + "/summary.json");  // missing or not JSON: not done
 }
 
-nlohmann::json readSummary(const std::string& outDir) {
+RunSummary readSummary(const std::string& outDir) {
   const std::string path = outDir + "/summary.json";
   const std::string problem = pathProblem(path);
   if (problem == "does not exist")
     throw Error("missing " + quoteForMessage(path) + " (the run did not finish; see run.log there)");
   if (!problem.empty()) throw Error("run summary " + quoteForMessage(path) + " " + problem);
-  return readJsonConfig(path, "run summary");  // bounded nesting, line and column, objects only
+  return readRunSummary(path);  // bounded nesting, line and column, typed fields
 }
 
 void runJobs(const std::vector<Job>& jobs, int parallel, bool quiet) {

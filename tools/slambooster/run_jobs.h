@@ -14,6 +14,8 @@
 
 #include "pipeline/knobs.h"
 
+#include "report/run_summary.h"
+
 namespace sb::cli {
 
 struct Job {
@@ -29,7 +31,7 @@ std::string selfExecutable();
 // True when `outDir/summary.json` exists and says "complete": true.
 bool jobDone(const std::string& outDir);
 // summary.json of a finished job (throws sb::Error naming the file when it is missing or broken).
-nlohmann::json readSummary(const std::string& outDir);
+RunSummary readSummary(const std::string& outDir);
 
 // Runs the jobs not done yet, `parallel` at a time, with a progress line on stderr (unless quiet). Each
 // job's output goes to outDir/run.log. Throws sb::Error after all jobs ended when any failed, naming them

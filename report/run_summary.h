@@ -1,0 +1,122 @@
+#pragma once
+// summary.json of a run, as one type (issue 32): written whole by runtime/run.h (through
+// runtime/summary_sink.h) for `slambooster run` and for every daemon pass alike, and read back by every
+// consumer (bench, dse, profile, compare, the report, the scripts through its keys). The JSON keys are the
+// file's; `schema_version` says which shape a file has (0: a file from before the type, read as far as its
+// keys go; a newer version than this code knows is refused).
+//
+//   RunSummary s = readRunSummary(dir + "/summary.json");   // throws sb::Error naming the file and key
+//   s.frames; s.ate->rmseM; s.joulesPerFrame();
+//
+// Sub-objects that other modules own stay JSON objects here, written and read by their owners: the pipeline
+// config (pipeline/config.h configToJson), the knobs (runtime/frame_log_sink.h knobsToJson), the controller
+// sections (controller/registry.h), the energy totals (power/energy_json.h) and the moving volume
+// (runtime/map_slabs.h movingVolumeJson). A field added there needs nothing here.
+
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+namespace sb {
+
+// The shape this code writes. 1: the first typed summary (front_end, schema_version; the daemon writes
+// controller, knobs, threads and machine as `run` does).
+inline constexpr int kRunSummarySchema = 1;
+
+// Where a run was timed ("machine"): runs timed on different machines are not comparable.
+struct MachineInfo {
+  std::string host, cpuModel;   // host name; "model name" of /proc/cpuinfo
+  unsigned coresOnline = 0;     // cores online
+  unsigned threadsUsed = 0;     // the run's worker threads
+  std::string backend, device;  // compute backend ("cpu", "opencl") and its device
+};
+
+// The daemon's pass ("daemon"): absent for `slambooster run`.
+struct DaemonPass {
+  uint32_t pass = 0;     // 1-based pass of the input
+  std::string cpus;      // CPUs the SLAM thread is pinned to ("4-7")
+  unsigned threads = 0;  // compute threads
+};
+
+// Absolute trajectory error against the sequence's ground truth ("ate"), metres.
+struct AteSummary {
+  double rmseM = 0, meanM = 0, maxM = 0, medianM = 0, unalignedMeanM = 0;
+  size_t matches = 0;  // associated poses
+};
+
+// Tracking states over the run ("tracking_state"; runtime/tracking_state.h).
+struct TrackingStateSummary {
+  std::map<std::string, size_t> frames;  // state name -> frames
+  size_t lostStretches = 0, longestLostFrames = 0, recoveries = 0, longestFramesToRecover = 0;
+  double meanFramesToRecover = 0.0;
+  bool lostAtEnd = false;
+};
+
+struct StoppedSummary {  // `run --stop-after-ms` stopped the run ("stopped")
+  size_t atFrame = 0;
+  double limitMs = 0.0, computationMs = 0.0;
+};
+
+struct InterruptedSummary {  // a signal ended the run ("interrupted")
+  std::string signal;
+  size_t atFrame = 0;
+};
+
+struct RunSummary {
+  int schemaVersion = kRunSummarySchema;
+  // What ran: set at the start by the run setup (runtime/run_setup.h), the same for both front ends.
+  std::string frontEnd;    // "run" (slambooster run) or "daemon" (a pass of slamboosterd)
+  std::string sequence;    // the input's path
+  std::string controller;  // the controller the run started with (a daemon may switch: controllerFrames)
+  nlohmann::json controllerSections = nlohmann::json::object();  // its settings sections
+  nlohmann::json knobs = nlohmann::json::object();               // the controller's initial knobs
+  nlohmann::json config = nlohmann::json::object();              // the pipeline config
+  unsigned threads = 0;                                          // worker threads
+  std::optional<MachineInfo> machine;
+  std::optional<DaemonPass> daemon;
+
+  // Counts over the frames so far (runtime/summary_sink.h RunStats).
+  size_t frames = 0, trackingAttempted = 0, tracked = 0, integrated = 0, corrected = 0;
+  size_t halfWishFrames = 0, unconstrained = 0, retracked = 0, halfAppliedFrames = 0;
+  double trackedPercent = 0.0;                    // of the frames where tracking was attempted
+  double computationMsPerFrame = 0.0;             // preprocessing + tracking + integration + raycast, mean
+  double controllerMsPerFrame = 0.0;              // Controller::decide, mean
+  std::map<std::string, double> stageMsPerFrame;  // classic stage name -> mean ms
+  std::map<std::string, size_t> triggers, knobFrames;  // trigger -> frames; formatKnobs -> frames
+  std::map<std::string, size_t> controllerFrames;      // controller -> frames it decided
+  TrackingStateSummary trackingState;
+
+  // At flushes and at the end.
+  std::optional<AteSummary> ate;
+  std::string ateError;                 // why the ATE is missing although ground truth was given
+  std::optional<double> cpuMsPerFrame;  // process CPU time per frame (slambooster run)
+  std::optional<StoppedSummary> stopped;
+  std::optional<InterruptedSummary> interrupted;
+  nlohmann::json energy;        // energy totals (power/energy_json.h); null without a meter
+  std::string modelView;        // model.png's viewpoint ("last", "overview"); "" = none written
+  nlohmann::json movingVolume;  // runtime/map_slabs.h movingVolumeJson; null with a fixed volume
+  std::optional<size_t> meshTriangles, meshSlabs;  // mesh.ply (and the slabs it merged)
+  std::optional<bool> complete;                    // every output on disk; absent while the run goes on
+  std::string error;                               // why the run ended early or an output failed
+
+  // A number of the energy totals ("joules_per_frame", "mean_watts"); NaN when absent or unknown.
+  double energyNumber(const std::string& key) const;
+  double joulesPerFrame() const { return energyNumber("joules_per_frame"); }
+
+  nlohmann::json toJson() const;
+  // Reads the keys present (absent ones keep their defaults) and checks their types. Throws sb::Error
+  // "<where>: key "ate.rmse_m" is "x"; expected a number" or naming a newer schema_version.
+  static RunSummary fromJson(const nlohmann::json& j, const std::string& where);
+};
+
+// Reads DIR/summary.json-style files: readJsonConfig (bounded nesting, line and column) + fromJson.
+RunSummary readRunSummary(const std::string& path);
+// Whether the summary file says "complete": true, read alone: a finished run with a damaged field is then
+// reported by whoever reads the field (bench leaves it out, naming file, key and value), not run again.
+// False when the file is missing or not JSON.
+bool runSummaryComplete(const std::string& path);
+
+}  // namespace sb
