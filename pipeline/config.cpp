@@ -46,6 +46,7 @@ const std::vector<FloatField>& floatFields() {
       {"render_ambient", &PipelineConfig::renderAmbient, 0.0, 1.0},
       {"relocalise_min_pair_agreement", &PipelineConfig::relocaliseMinPairAgreement, 0.0, 1.0},
       {"relocalise_agreement_margin", &PipelineConfig::relocaliseAgreementMargin, 0.0, 1.0},
+      {"relocalise_min_conditioning", &PipelineConfig::relocaliseMinConditioning, 0.0, 1.0},
       {"relocalise_max_motion_m", &PipelineConfig::relocaliseMaxMotion, 0.0, 10.0},
       {"relocalise_max_rotation_deg", &PipelineConfig::relocaliseMaxRotationDeg, 0.0, 180.0},
       {"keyframe_min_dissimilarity", &PipelineConfig::keyframeMinDissimilarity, 0.0, 1.0},

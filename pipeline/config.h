@@ -60,6 +60,8 @@ struct PipelineConfig {
   // ... and at least the 90th percentile of the agreement of the last 300 good frames less this
   // (reloc/relocaliser.h; 1: off).
   float relocaliseAgreementMargin = 0.015f;
+  // ... on a view whose structure conditioning is at least this (reloc/relocaliser.h).
+  float relocaliseMinConditioning = 0.003f;
   float relocaliseMaxMotion = 0.1f;         // metres: motion between two confirming frames, at most
   float relocaliseMaxRotationDeg = 10.0f;   // degrees: the same for rotation
   int keyframeCapacity = 300;               // keyframes held (the oldest goes when full)

@@ -58,7 +58,8 @@ double Relocaliser::requiredAgreement() const {
 }
 
 bool Relocaliser::acceptable(const TrackAttempt& a) const {
-  return a.tracked && a.quality.known && a.quality.constrained && a.pairAgreement >= requiredAgreement() &&
+  return a.tracked && a.quality.known && a.quality.constrained && a.quality.conditioning >= params_.minConditioning &&
+         a.pairAgreement >= requiredAgreement() &&
          a.T_camera_to_world.matrix().allFinite();
 }
 

@@ -35,6 +35,11 @@ struct RelocaliserParams {
   // relocalisations held -0.007 to +0.06 of it (7-Scenes kidnaps: 0.87-0.90, relocalised at 0.88-0.93;
   // synthetic: 0.92-0.97, at 0.97-1.00), the aliased places of a symmetric corridor 0.028-0.10 below it.
   double agreementMargin = 0.015;
+  // The candidate's view must fix every motion at least this well (structure conditioning, tracking_quality.h),
+  // more than tracking asks: a tracked frame has its last pose, a relocalised one nothing, and a view that
+  // barely fixes a motion cannot say where along it the camera is (a corridor's blank end wall matched the other
+  // end's at 0.00037-0.0012; true relocalisations held 0.0079-0.026).
+  double minConditioning = 0.003;
   size_t agreementWindowFrames = 300;
   double maxMotionM = 0.1;          // metres between two confirming frames
   double maxRotationDeg = 10.0;     // degrees between two confirming frames

@@ -10,6 +10,7 @@ RelocaliserParams relocaliserParams(const PipelineConfig& c) {
   p.confirmFrames = c.relocaliseConfirmFrames;
   p.minPairAgreement = c.relocaliseMinPairAgreement;
   p.agreementMargin = c.relocaliseAgreementMargin;
+  p.minConditioning = c.relocaliseMinConditioning;
   p.maxMotionM = c.relocaliseMaxMotion;
   p.maxRotationDeg = c.relocaliseMaxRotationDeg;
   p.keyframeCapacity = static_cast<size_t>(c.keyframeCapacity);

@@ -56,6 +56,12 @@ TEST_CASE("The acceptance rule: tracked, constrained and agreeing with the model
   auto weak = good;
   weak.quality.constrained = false;
   CHECK_FALSE(r.acceptable(weak));
+  // Constrained for tracking but not enough to say where the camera is: a corridor's blank end wall (0.0005)
+  // matched the other end's, 180 deg wrong, at agreement 0.96-1.00.
+  auto barely = good;
+  barely.quality.conditioning = 0.0005;
+  barely.pairAgreement = 0.99;
+  CHECK_FALSE(r.acceptable(barely));
   auto disagreeing = good;
   disagreeing.pairAgreement = 0.6;
   CHECK_FALSE(r.acceptable(disagreeing));
