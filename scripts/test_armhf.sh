@@ -61,7 +61,7 @@ declare -A not_armhf=(
   [test_slamboosterd]=$spawns [soak_daemon_short]=$spawns [soak_daemon_disk_full]=$spawns [test_openni2_record]=$spawns [test_openni2_daemon]=$spawns
   [test_adaptive_cli]=$spawns [test_matrix_cli]=$spawns [test_run_reliability]=$spawns [test_daemon_hostile]=$spawns
   [test_relocalisation_cli]=$spawns [test_sequences_cli]=$spawns [test_hostile_inputs]=$spawns
-  [test_daemon_failures]=$spawns [test_moving_volume_cli]=$spawns
+  [test_daemon_failures]=$spawns [test_moving_volume_cli]=$spawns [test_daemon_summary]=$spawns
   [ros_component]="the ROS 1 component is not built in a cross build: Debian's armhf ROS dev packages do not
 cross-install (README, With ROS); this placeholder only says so"
   [test_ros_reports]="ROS 1 component: native builds only (see ros_component)"
