@@ -18,6 +18,7 @@ AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::str
   r.boolean("integrate_unconstrained", c.integrateUnconstrained);
   r.number("icp_hold_conditioning", c.icpHoldConditioning, 0.0, 1.0);
   r.number("learn_conditioning", c.learnConditioning, 0.0, 1.0);
+  r.number("pose_conditioning", c.poseConditioning, 0.0, 1.0);
   r.number("confirm_translation_m", c.confirmTranslationM, 0.0, 10.0);
   r.number("confirm_rotation_deg", c.confirmRotationDeg, 0.0, 180.0);
   c.evidence.read(r);
@@ -106,10 +107,13 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     // prediction with half the inliers; learnt, it lost the next frames).
     const bool unsettled = o.retracked ? doubt.doubtful() && !passesAgree(o)
                                        : doubt.kind == Doubt::prediction || doubt.kind == Doubt::notConverged;
-    if (unsettled)
+    if (unsettled) {
       motion_.forget();
-    else
+    } else {
+      const Eigen::Isometry3d fused = motion_.fuse(o.previousPose, o.pose, o.quality, config_.poseConditioning);
+      if (fused.matrix() != o.pose.matrix()) d.refinedPose = fused;
       motion_.learn(o.previousPose, o.pose, o.quality, config_.learnConditioning);
+    }
     evidence_.accept(o);
   }
   if (o.quality.known && !o.quality.constrained) d.triggers |= kTriggerUnconstrained;
@@ -156,13 +160,14 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
                        (doubt.kind == Doubt::none || doubt.kind == Doubt::prediction ||
                         (doubt.kind == Doubt::notConverged && finest) ||
                         (doubt.kind == Doubt::unconstrained && config_.integrateUnconstrained));
-  d.integrate = gate_.decide(corrected ? *d.correctedPose : o.pose, trusted);
+  const Eigen::Isometry3d finalPose = d.correctedPose ? *d.correctedPose : d.refinedPose ? *d.refinedPose : o.pose;
+  d.integrate = gate_.decide(finalPose, trusted);
   if (!*d.integrate) {
     d.triggers |= kTriggerSkipIntegrate;
     d.keepReference = true;
   }
   if (config_.predictStart && motion_.known())
-    d.nextStartPose = motion_.predict(corrected ? *d.correctedPose : o.pose);
+    d.nextStartPose = motion_.predict(finalPose);
   d.level = level_;
   d.next = config_.ladder.coupled(level_);
   return d;

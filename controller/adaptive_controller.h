@@ -57,6 +57,10 @@ struct AdaptiveConfig {
   // structure conditioning along it (blendByStructure): whole where the view fixes the motion, hardly at all
   // along what it leaves free. 0: the whole measured motion.
   double learnConditioning = 0.003;
+  // The pose of a tracked, accepted frame follows ICP along each motion by c / (c + pose_conditioning) and the
+  // constant-velocity prediction by the rest (MotionModel::fuse): along a motion the view leaves free ICP returns
+  // its start plus the model's slide, the prediction is the better estimate. 0: ICP's pose.
+  double poseConditioning = 0.0;
   EvidenceParams evidence;
   IntegrationParams integration;
   KnobLadder ladder;

@@ -67,6 +67,9 @@ std::vector<std::string> triggerNames(uint32_t triggers);
 struct Decision {
   Knobs next;                                       // knobs for the next frame
   std::optional<Eigen::Isometry3d> correctedPose;   // replaces this frame's pose when set
+  // Refines a tracked frame's pose (e.g. fused with a motion prior): used unless correctedPose is set; not a
+  // correction (frames.jsonl's `corrected` stays false).
+  std::optional<Eigen::Isometry3d> refinedPose;
   bool halfPrecision = false;                       // wish: preprocessing and raycast in half precision
   uint32_t triggers = 0;                            // Trigger bits
   int level = -1;                                   // approximation level when the controller has one, else -1

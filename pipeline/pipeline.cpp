@@ -191,6 +191,8 @@ void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d
   if (correctedPose) {
     pose_ = *correctedPose;
     r.poseOverridden = true;
+  } else if (overrides.refinedPose && r.tracked) {
+    pose_ = *overrides.refinedPose;
   }
   r.T_camera_to_world = pose_;
   const bool bootstrap = r.frame < static_cast<size_t>(config_.bootstrapFrames);

@@ -79,6 +79,8 @@ struct FrameOverrides {
   // Skip the raycast when the frame is not integrated: the next frame tracks against the current reference
   // maps (raycast from an earlier pose, which projective ICP handles like a larger motion).
   bool keepReference = false;
+  // A tracked frame's pose refined by the controller (not a correction: FrameResult::poseOverridden stays false).
+  std::optional<Eigen::Isometry3d> refinedPose;
 };
 
 class Pipeline {

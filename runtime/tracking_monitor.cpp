@@ -45,6 +45,7 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
     }
     // The held pose, nothing fused, no correction; the next frame's ICP starts from this frame's final pose.
     d.correctedPose.reset();
+    d.refinedPose.reset();
     d.integrate = false;
     d.keepReference = false;
     d.nextStartPose.reset();

@@ -380,3 +380,35 @@ TEST_CASE("adaptive learns a motion only as far as the view fixes it (learn_cond
   REQUIRE(all.nextStartPose);
   CHECK((all.nextStartPose->translation() - same.pose.translation()).isApprox(Eigen::Vector3d(0.012, 0.02, 0)));
 }
+
+TEST_CASE("adaptive's pose follows the prediction along what the view leaves free (pose_conditioning)",
+          "[controller][adaptive]") {
+  // The view fixes x and the rotations but leaves y free: ICP's 0.02 m slide along y is replaced by the
+  // predicted step (none), its x step is kept but for lambda over the eigenvalue.
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0, "pose_conditioning": 0.001})"));
+  Driver drive(c);
+  for (int i = 0; i < 6; ++i) drive.step(moveX(0.01));
+  Observation walls = drive.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));
+  sb::TrackingQuality q{true, 1e-7, 0.01, sb::WeakDirection::ty, false};
+  q.structure = sb::Matrix6::Identity() * 0.05;
+  q.structure(1, 1) = 1e-7;
+  walls.quality = q;
+  const Decision d = c.decide(walls);
+  CHECK_FALSE(d.correctedPose);
+  REQUIRE(d.refinedPose);
+  const Eigen::Vector3d step = d.refinedPose->translation() - walls.previousPose.translation();
+  CHECK(step.x() == Approx(0.01 + 0.002 * 0.05 / 0.051).margin(1e-6));
+  CHECK(step.y() == Approx(0.0).margin(1e-5));
+  CHECK(step.z() == Approx(0.0).margin(1e-9));
+  CHECK_FALSE(d.triggers & sb::kTriggerCorrection);
+  // The next start is predicted from the fused pose.
+  REQUIRE(d.nextStartPose);
+  CHECK(d.nextStartPose->translation().y() == Approx(d.refinedPose->translation().y()).margin(1e-5));
+  // Off (0, the default): ICP's pose.
+  AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0})"));
+  Driver other(off);
+  for (int i = 0; i < 6; ++i) other.step(moveX(0.01));
+  Observation same = other.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));
+  same.quality = q;
+  CHECK_FALSE(off.decide(same).refinedPose);
+}

@@ -46,6 +46,7 @@ TEST_CASE("config/controller.json holds the defaults", "[controller][config]") {
   CHECK(adaptive.integrateUnconstrained == adaptiveDefaults.integrateUnconstrained);
   CHECK(adaptive.icpHoldConditioning == adaptiveDefaults.icpHoldConditioning);
   CHECK(adaptive.learnConditioning == adaptiveDefaults.learnConditioning);
+  CHECK(adaptive.poseConditioning == adaptiveDefaults.poseConditioning);
   CHECK(adaptive.confirmTranslationM == adaptiveDefaults.confirmTranslationM);
   CHECK(adaptive.confirmRotationDeg == adaptiveDefaults.confirmRotationDeg);
   CHECK(adaptive.evidence.maxUpdateNorm == adaptiveDefaults.evidence.maxUpdateNorm);

@@ -302,6 +302,29 @@ TEST_CASE("a frame finished without integration keeps the reference maps when as
   CHECK(t.integrated);
 }
 
+TEST_CASE("a refined pose replaces a tracked frame's pose without counting as a correction", "[runtime]") {
+  Fixture f;
+  const sb::Knobs k = sb::parseKnobs("csr=2,ir=1");
+  f.pipeline->processFrame(f.frame(0), sb::test::kRoomDepthScale, k);
+  sb::FrameResult r = f.pipeline->trackFrame(f.frame(1), sb::test::kRoomDepthScale, k);
+  REQUIRE(r.tracked);
+  Eigen::Isometry3d refined = r.T_camera_to_world;
+  refined.translation().x() += 0.01;
+  f.pipeline->finishFrame(r, std::nullopt, sb::FrameOverrides{true, false, refined});
+  CHECK(r.T_camera_to_world.matrix() == refined.matrix());
+  CHECK(f.pipeline->pose().matrix() == refined.matrix());
+  CHECK_FALSE(r.poseOverridden);
+  // A frame ICP failed keeps the previous pose: a refinement of it is ignored.
+  Eigen::Isometry3d far = refined;
+  far.translation().y() += 2.0;
+  sb::FrameResult lost =
+      f.pipeline->trackFrame(f.frame(2), sb::test::kRoomDepthScale, k, sb::IcpStart{far});
+  REQUIRE_FALSE(lost.tracked);
+  Eigen::Isometry3d elsewhere = far;
+  f.pipeline->finishFrame(lost, std::nullopt, sb::FrameOverrides{false, false, elsewhere});
+  CHECK(lost.T_camera_to_world.matrix() == refined.matrix());
+}
+
 TEST_CASE("a half-precision wish on the CPU backend is reported as not supported, not pretended", "[runtime][half]") {
   Fixture f;
   sb::Decision half = decision("csr=2,ir=1");
