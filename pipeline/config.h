@@ -72,7 +72,7 @@ struct PipelineConfig {
   // The moving volume shifts along an axis when the centre of the view (the point this far in front of the
   // camera along its optical axis, metres; 0: the camera itself) is farther than volumeShiftThreshold (metres)
   // from the volume's centre on that axis; the shift, whole blocks of 8 voxels, brings it back to the centre.
-  float volumeViewDistance = 1.5f;
+  float volumeViewDistance = 2.25f;
   float volumeShiftThreshold = 1.5f;
   int volumeResolution = 256;                           // voxels per side (multiple of 8)
   float volumeSize = 5.0f;                              // metres, side of the cube
