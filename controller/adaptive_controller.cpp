@@ -5,27 +5,43 @@
 
 namespace sb {
 
-AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::string& where) {
-  ConfigReader r(section, where);
-  AdaptiveConfig c;
-  r.integer("initial_level", c.initialLevel, 0, 16);
-  r.integer("bootstrap_frames", c.bootstrapFrames, 0, 100000);
-  r.integer("retrack_levels", c.retrackLevels, 0, 16);
-  r.integer("hold_frames", c.holdFrames, 0, 100000);
-  r.integer("relax_frames", c.relaxFrames, 1, 100000);
-  r.integer("correction_max_extrapolated_frames", c.maxExtrapolatedFrames, 0, 1000);
-  r.boolean("predict_start", c.predictStart);
-  r.boolean("integrate_unconstrained", c.integrateUnconstrained);
-  r.number("icp_hold_conditioning", c.icpHoldConditioning, 0.0, 1.0);
-  r.number("learn_conditioning", c.learnConditioning, 0.0, 1.0);
-  r.number("pose_conditioning", c.poseConditioning, 0.0, 1.0);
-  r.number("confirm_translation_m", c.confirmTranslationM, 0.0, 10.0);
-  r.number("confirm_rotation_deg", c.confirmRotationDeg, 0.0, 180.0);
-  c.evidence.read(r);
-  c.integration.read(r);
-  c.ladder.read(r);
-  r.finish();
-  return c;
+void AdaptiveConfig::read(ConfigReader& r) {
+  r.integer("initial_level", initialLevel, 0, 16);
+  r.integer("bootstrap_frames", bootstrapFrames, 0, 100000);
+  r.integer("retrack_levels", retrackLevels, 0, 16);
+  r.integer("hold_frames", holdFrames, 0, 100000);
+  r.integer("relax_frames", relaxFrames, 1, 100000);
+  r.integer("correction_max_extrapolated_frames", maxExtrapolatedFrames, 0, 1000);
+  r.boolean("predict_start", predictStart);
+  r.boolean("integrate_unconstrained", integrateUnconstrained);
+  r.number("icp_hold_conditioning", icpHoldConditioning, 0.0, 1.0);
+  r.number("learn_conditioning", learnConditioning, 0.0, 1.0);
+  r.number("pose_conditioning", poseConditioning, 0.0, 1.0);
+  r.number("confirm_translation_m", confirmTranslationM, 0.0, 10.0);
+  r.number("confirm_rotation_deg", confirmRotationDeg, 0.0, 180.0);
+  evidence.read(r);
+  integration.read(r);
+  ladder.read(r);
+}
+
+nlohmann::json AdaptiveConfig::toJson() const {
+  nlohmann::json j = {{"initial_level", initialLevel},
+                      {"bootstrap_frames", bootstrapFrames},
+                      {"retrack_levels", retrackLevels},
+                      {"hold_frames", holdFrames},
+                      {"relax_frames", relaxFrames},
+                      {"correction_max_extrapolated_frames", maxExtrapolatedFrames},
+                      {"predict_start", predictStart},
+                      {"integrate_unconstrained", integrateUnconstrained},
+                      {"icp_hold_conditioning", icpHoldConditioning},
+                      {"learn_conditioning", learnConditioning},
+                      {"pose_conditioning", poseConditioning},
+                      {"confirm_translation_m", confirmTranslationM},
+                      {"confirm_rotation_deg", confirmRotationDeg}};
+  evidence.toJson(j);
+  integration.toJson(j);
+  ladder.toJson(j);
+  return j;
 }
 
 AdaptiveController::AdaptiveController(std::string name, const AdaptiveConfig& config)

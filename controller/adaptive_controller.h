@@ -64,12 +64,14 @@ struct AdaptiveConfig {
   EvidenceParams evidence;
   IntegrationParams integration;
   KnobLadder ladder;
-};
 
-// Section keys: initial_level, bootstrap_frames, retrack_levels, hold_frames, relax_frames,
-// correction_max_extrapolated_frames, predict_start, integrate_unconstrained, icp_hold_conditioning,
-// confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams, IntegrationParams and KnobLadder.
-AdaptiveConfig parseAdaptiveConfig(const nlohmann::json& section, const std::string& where);
+  // Section keys: initial_level, bootstrap_frames, retrack_levels, hold_frames, relax_frames,
+  // correction_max_extrapolated_frames, predict_start, integrate_unconstrained, icp_hold_conditioning,
+  // learn_conditioning, confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams,
+  // IntegrationParams and KnobLadder.
+  void read(ConfigReader& reader);
+  nlohmann::json toJson() const;  // every key read() reads, with its value
+};
 
 class AdaptiveController final : public Controller {
  public:

@@ -7,26 +7,39 @@
 
 namespace sb {
 
-BudgetConfig parseBudgetConfig(const nlohmann::json& section, const std::string& where) {
-  ConfigReader r(section, where);
-  BudgetConfig c;
-  r.number("target_frame_ms", c.targetFrameMs, 0.0, 1e6);
-  r.number("target_joules_per_frame", c.targetJoules, 0.0, 1e6);
-  r.number("ema_alpha", c.emaAlpha, 0.01, 1.0);
-  r.number("margin", c.margin, 0.0, 0.9);
-  r.integer("reprobe_frames", c.reprobeFrames, 1, 1000000);
-  r.integer("bootstrap_frames", c.bootstrapFrames, 1, 100000);
-  r.boolean("surface_detection", c.surfaceDetection);
-  r.boolean("pose_correction", c.poseCorrection);
-  c.rate.read(r);
-  c.surface.read(r);
-  c.correction.read(r);
-  c.ladder.read(r);
+void BudgetConfig::read(ConfigReader& r) {
+  r.number("target_frame_ms", targetFrameMs, 0.0, 1e6);
+  r.number("target_joules_per_frame", targetJoules, 0.0, 1e6);
+  r.number("ema_alpha", emaAlpha, 0.01, 1.0);
+  r.number("margin", margin, 0.0, 0.9);
+  r.integer("reprobe_frames", reprobeFrames, 1, 1000000);
+  r.integer("bootstrap_frames", bootstrapFrames, 1, 100000);
+  r.boolean("surface_detection", surfaceDetection);
+  r.boolean("pose_correction", poseCorrection);
+  rate.read(r);
+  surface.read(r);
+  correction.read(r);
+  ladder.read(r);
   r.finish();
-  if ((c.targetFrameMs > 0) == (c.targetJoules > 0))
-    throw Error(where + ": set exactly one of 'target_frame_ms' and 'target_joules_per_frame' (> 0), e.g. "
+  if ((targetFrameMs > 0) == (targetJoules > 0))
+    throw Error(r.where() + ": set exactly one of 'target_frame_ms' and 'target_joules_per_frame' (> 0), e.g. "
                 "{\"target_frame_ms\": 33}");
-  return c;
+}
+
+nlohmann::json BudgetConfig::toJson() const {
+  nlohmann::json j = {{"target_frame_ms", targetFrameMs},
+                      {"target_joules_per_frame", targetJoules},
+                      {"ema_alpha", emaAlpha},
+                      {"margin", margin},
+                      {"reprobe_frames", reprobeFrames},
+                      {"bootstrap_frames", bootstrapFrames},
+                      {"surface_detection", surfaceDetection},
+                      {"pose_correction", poseCorrection}};
+  rate.toJson(j);
+  surface.toJson(j);
+  correction.toJson(j);
+  ladder.toJson(j);
+  return j;
 }
 
 BudgetController::BudgetController(std::string name, const BudgetConfig& config)

@@ -32,9 +32,13 @@ struct BudgetConfig {
   bool poseCorrection = true;
   CorrectionParams correction;
   KnobLadder ladder;
-};
 
-BudgetConfig parseBudgetConfig(const nlohmann::json& section, const std::string& where);
+  // Section keys: target_frame_ms, target_joules_per_frame, ema_alpha, margin, reprobe_frames, bootstrap_frames,
+  // surface_detection, pose_correction, and those of RateLimitParams, SurfaceParams, CorrectionParams and
+  // KnobLadder. Calls reader.finish(), then refuses settings with no target or two.
+  void read(ConfigReader& reader);
+  nlohmann::json toJson() const;  // every key read() reads, with its value
+};
 
 class BudgetController final : public Controller {
  public:

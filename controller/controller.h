@@ -85,6 +85,11 @@ struct Decision {
   std::string reason;             // why the knobs changed, in words, for the per-frame log ("" = no change)
 };
 
+// What a controller may borrow from the run it controls.
+struct ControllerContext {
+  Knobs baseKnobs;  // the pipeline config's knobs (what `fixed` without a preset runs)
+};
+
 class Controller {
  public:
   virtual ~Controller() = default;

@@ -2,7 +2,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/config_reader.h"
 #include "core/error.h"
 
 namespace sb {
@@ -14,23 +13,28 @@ Decision FixedController::decide(const Observation&) {
   return d;
 }
 
-FixedConfig parseFixedConfig(const nlohmann::json& section, const std::string& where, const Knobs& base,
-                             const std::string& preset) {
-  ConfigReader r(section, where);
+void FixedSettings::read(ConfigReader& r) {
+  r.string("preset", preset, {"default", "accurate"});
+  r.string("knobs", knobs);
+  r.boolean("half", half);
+}
+
+nlohmann::json FixedSettings::toJson() const {
+  return {{"preset", preset}, {"knobs", knobs}, {"half", half}};
+}
+
+std::unique_ptr<Controller> createFixedController(const std::string& name, const FixedSettings& settings,
+                                                  const ControllerContext& context,
+                                                  const std::string& where) {
   FixedConfig c;
-  std::string presetName = preset;
-  std::string knobText;
-  r.string("preset", presetName, {"default", "accurate"});
-  r.string("knobs", knobText);
-  r.boolean("half", c.half);
-  r.finish();
-  c.knobs = presetName.empty() ? base : knobPreset(presetName);
+  c.half = settings.half;
+  c.knobs = settings.preset.empty() ? context.baseKnobs : knobPreset(settings.preset);
   try {
-    c.knobs = parseKnobs(knobText, c.knobs);
+    c.knobs = parseKnobs(settings.knobs, c.knobs);
   } catch (const Error& e) {
-    throw Error(r.at("knobs") + ": " + e.what());
+    throw Error(where + ": 'knobs': " + e.what());
   }
-  return c;
+  return std::make_unique<FixedController>(name, c);
 }
 
 }  // namespace sb

@@ -1,18 +1,28 @@
 #pragma once
 // `fixed`: the same knobs every frame (architecture.md D4). The presets `default` and `accurate` are the
 // knob table's (architecture.md D2); `offline` replays the best setting of `slambooster dse` the same way.
-//
-// Section keys: "preset" ("default" | "accurate"; absent = the pipeline config's knobs), "knobs" (a knob
-// string applied on top, e.g. "csr=2,icp=1e-4"), "half" (bool: wish half precision).
 
 #include <memory>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
 #include "controller/controller.h"
+#include "core/config_reader.h"
 
 namespace sb {
 
+// The `fixed` section.
+struct FixedSettings {
+  std::string preset;  // "default" | "accurate"; empty = the pipeline config's knobs
+  std::string knobs;   // a knob string applied on top, e.g. "csr=2,icp=1e-4"
+  bool half = false;   // wish half precision
+
+  // Section keys: preset, knobs, half.
+  void read(ConfigReader& reader);
+  nlohmann::json toJson() const;  // every key read() reads, with its value
+};
+
+// What a fixed controller runs.
 struct FixedConfig {
   Knobs knobs;
   bool half = false;
@@ -30,8 +40,9 @@ class FixedController final : public Controller {
   FixedConfig config_;
 };
 
-// Reads a `fixed` section on top of `base` knobs (with `preset` preselected when not empty).
-FixedConfig parseFixedConfig(const nlohmann::json& section, const std::string& where, const Knobs& base,
-                             const std::string& preset = "");
+// `settings` on top of the context's knobs. Throws sb::Error naming `where` and 'knobs' for a bad knob
+// string.
+std::unique_ptr<Controller> createFixedController(const std::string& name, const FixedSettings& settings,
+                                                  const ControllerContext& context, const std::string& where);
 
 }  // namespace sb

@@ -10,6 +10,12 @@ void IntegrationParams::read(ConfigReader& r) {
   r.integer("integrate_max_gap_frames", maxGapFrames, 1, kMaxGap);
 }
 
+void IntegrationParams::toJson(nlohmann::json& j) const {
+  j["integrate_translation_m"] = translationM;
+  j["integrate_rotation_deg"] = rotationDeg;
+  j["integrate_max_gap_frames"] = maxGapFrames;
+}
+
 bool IntegrationGate::decide(const Eigen::Isometry3d& pose, bool eligible) {
   ++sinceFused_;
   if (!eligible) return false;

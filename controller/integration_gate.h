@@ -19,6 +19,7 @@ struct IntegrationParams {
 
   // Keys: integrate_translation_m, integrate_rotation_deg, integrate_max_gap_frames.
   void read(ConfigReader& reader);
+  void toJson(nlohmann::json& section) const;  // adds the same keys with their values
 };
 
 class IntegrationGate {

@@ -53,4 +53,17 @@ void KnobLadder::read(ConfigReader& r) {
       throw Error(r.at("csr_levels") + ": " + std::to_string(csr) + " is not a compute size ratio (use 1, 2, 4, 8)");
 }
 
+void KnobLadder::toJson(nlohmann::json& j) const {
+  j["csr_levels"] = csrLevels;
+  j["icp_levels"] = icpLevels;
+  j["pd0_levels"] = pd0Levels;
+  j["pd1"] = pd1;
+  j["pd2"] = pd2;
+  j["icp_level_offset"] = icpLevelOffset;
+  j["icp_level_divisor"] = icpLevelDivisor;
+  j["max_level"] = maxLevel;
+  j["tr"] = trackingRate;
+  j["ir"] = integrationRate;
+}
+
 }  // namespace sb

@@ -30,6 +30,7 @@ struct KnobLadder {
   // Reads the keys csr_levels, icp_levels, pd0_levels, pd1, pd2, icp_level_offset, icp_level_divisor,
   // max_level, tr, ir; validates the result (each level a valid knob value).
   void read(ConfigReader& reader);
+  void toJson(nlohmann::json& section) const;  // adds the same keys with their values
 };
 
 }  // namespace sb

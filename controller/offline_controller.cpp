@@ -13,7 +13,8 @@ namespace sb {
 Knobs loadDseBestKnobs(const std::string& path) {
   const std::string problem = pathProblem(path);
   if (!problem.empty())
-    throw Error("dse result " + quoteForMessage(path) + " " + problem + " (run `slambooster dse SEQ --out DIR` first)");
+    throw Error("dse result " + quoteForMessage(path) + " " + problem +
+                " (run `slambooster dse SEQ --out DIR` first)");
   try {
     const nlohmann::json j = readJsonConfig(path, "dse result");  // the one settings-file loader
     const nlohmann::json& best = j.contains("best") ? j.at("best") : j;
@@ -26,21 +27,27 @@ Knobs loadDseBestKnobs(const std::string& path) {
   }
 }
 
-std::unique_ptr<Controller> createOfflineController(const nlohmann::json& section, const std::string& where) {
-  ConfigReader r(section, where);
-  std::string result, knobs;
+void OfflineSettings::read(ConfigReader& r) {
   r.string("result", result);
   r.string("knobs", knobs);
   r.finish();
   if (result.empty() == knobs.empty())
-    throw Error(where + ": set exactly one of 'result' (a `slambooster dse` best.json) and 'knobs'");
+    throw Error(r.where() + ": set exactly one of 'result' (a `slambooster dse` best.json) and 'knobs'");
+}
+
+nlohmann::json OfflineSettings::toJson() const {
+  return {{"result", result}, {"knobs", knobs}};
+}
+
+std::unique_ptr<Controller> createOfflineController(const std::string& name, const OfflineSettings& settings,
+                                                    const ControllerContext&, const std::string& where) {
   FixedConfig c;
   try {
-    c.knobs = result.empty() ? parseKnobs(knobs) : loadDseBestKnobs(result);
+    c.knobs = settings.result.empty() ? parseKnobs(settings.knobs) : loadDseBestKnobs(settings.result);
   } catch (const Error& e) {
-    throw Error(r.at(result.empty() ? "knobs" : "result") + ": " + e.what());
+    throw Error(where + ": '" + (settings.result.empty() ? "knobs" : "result") + "': " + e.what());
   }
-  return std::make_unique<FixedController>("offline", c);
+  return std::make_unique<FixedController>(name, c);
 }
 
 }  // namespace sb

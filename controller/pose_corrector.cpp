@@ -14,6 +14,12 @@ void CorrectionParams::read(ConfigReader& r) {
   r.integer("correction_max_extrapolated_frames", maxExtrapolatedFrames, 0, 1000);
 }
 
+void CorrectionParams::toJson(nlohmann::json& j) const {
+  j["correction_velocity_threshold_m_per_frame"] = velocityThreshold;
+  j["correction_on_tracking_failure"] = onTrackingFailure;
+  j["correction_max_extrapolated_frames"] = maxExtrapolatedFrames;
+}
+
 std::optional<Eigen::Isometry3d> PoseCorrector::correct(const Observation& o) {
   if (!o.trackingAttempted) return std::nullopt;
   const bool afterCorrection = correctedInARow_ > 0;

@@ -32,6 +32,7 @@ struct CorrectionParams {
   // Keys: correction_velocity_threshold_m_per_frame, correction_on_tracking_failure,
   // correction_max_extrapolated_frames.
   void read(ConfigReader& reader);
+  void toJson(nlohmann::json& section) const;  // adds the same keys with their values
 };
 
 class PoseCorrector {

@@ -10,6 +10,12 @@ void RateLimitParams::read(ConfigReader& r) {
   r.integer("approximation_step_levels", approximationStepLevels, 1, 16);
 }
 
+void RateLimitParams::toJson(nlohmann::json& j) const {
+  j["precision_step_levels"] = precisionStepLevels;
+  j["approximation_hold_frames"] = approximationHoldFrames;
+  j["approximation_step_levels"] = approximationStepLevels;
+}
+
 bool RateLimiter::update(int target) {
   if (target < level_) {
     level_ = std::max(target, level_ - params_.precisionStepLevels);

@@ -14,6 +14,7 @@ struct RateLimitParams {
 
   // Keys: precision_step_levels, approximation_hold_frames, approximation_step_levels.
   void read(ConfigReader& reader);
+  void toJson(nlohmann::json& section) const;  // adds the same keys with their values
 };
 
 class RateLimiter {

@@ -1,7 +1,5 @@
 #include "controller/registry.h"
 
-#include <functional>
-
 #include "controller/adaptive_controller.h"
 #include "controller/budget_controller.h"
 #include "controller/fixed_controller.h"
@@ -15,80 +13,74 @@ namespace sb {
 
 namespace {
 
-using Factory = std::function<std::unique_ptr<Controller>(const nlohmann::json& params, const std::string& where,
-                                                          const ControllerContext& context)>;
-
-struct Entry {
-  const char* name;
-  const char* section;  // the parameter section it reads ("" = none)
-  const char* help;
-  Factory create;
-};
-
-Factory fixedPreset(const char* name, const char* preset) {
-  return [name, preset](const nlohmann::json& params, const std::string& where, const ControllerContext& context) {
-    return std::make_unique<FixedController>(name, parseFixedConfig(params, where, context.baseKnobs, preset));
-  };
+// slambooster with some parts switched off (the incremental study): 0 the PID part only, 1 + surface,
+// 2 + correction; half precision off in all three.
+template <int parts>
+std::unique_ptr<Controller> slamBoosterParts(const std::string& name, const SlamBoosterConfig& settings,
+                                             const ControllerContext&, const std::string&) {
+  SlamBoosterConfig c = settings;
+  c.surfaceDetection = parts >= 1;
+  c.poseCorrection = parts >= 2;
+  c.halfPrecision = false;
+  return std::make_unique<SlamBoosterController>(name, c);
 }
 
-// slambooster with some parts switched off (the incremental study); "all" keeps the section's switches.
-Factory slamBoosterVariant(const char* name, int parts) {
-  return [name, parts](const nlohmann::json& params, const std::string& where, const ControllerContext&) {
-    SlamBoosterConfig c = parseSlamBoosterConfig(params, where);
-    if (parts >= 0) {
-      c.surfaceDetection = parts >= 1;
-      c.poseCorrection = parts >= 2;
-      c.halfPrecision = false;
-    }
-    return std::make_unique<SlamBoosterController>(name, c);
-  };
+// A fixed preset: no section of its own.
+template <const char* preset>
+std::unique_ptr<Controller> fixedPreset(const std::string& name, const FixedSettings& settings,
+                                        const ControllerContext& context, const std::string& where) {
+  FixedSettings s = settings;
+  s.preset = preset;
+  return createFixedController(name, s, context, where);
 }
+constexpr char kDefault[] = "default";
+constexpr char kAccurate[] = "accurate";
 
-template <typename Config, typename Impl, Config (*parse)(const nlohmann::json&, const std::string&)>
-Factory simple(const char* name) {
-  return [name](const nlohmann::json& params, const std::string& where, const ControllerContext&) {
-    return std::make_unique<Impl>(name, parse(params, where));
-  };
-}
+}  // namespace
 
 // One line per controller.
-const std::vector<Entry>& entries() {
-  static const std::vector<Entry> table = {
-      {"fixed", "fixed", "the same knobs every frame (section: preset, knobs, half)", fixedPreset("fixed", "")},
-      {"default", "", "fixed, SLAMBench's default knobs (csr=1,icp=1e-5,pd=10:5:4,ir=2)", fixedPreset("default", "default")},
-      {"accurate", "", "fixed, the most accurate knobs (icp=0, ir=1)", fixedPreset("accurate", "accurate")},
-      {"slambooster", "slambooster", "the paper's controller: PID on velocity, surface, correction, half",
-       slamBoosterVariant("slambooster", -1)},
-      {"pid", "slambooster", "slambooster's PID part only", slamBoosterVariant("pid", 0)},
-      {"pid+surface", "slambooster", "PID + smooth-surface detection", slamBoosterVariant("pid+surface", 1)},
-      {"pid+surface+correction", "slambooster", "PID + surface + pose correction (no half precision)",
-       slamBoosterVariant("pid+surface+correction", 2)},
-      {"adaptive", "adaptive", "the product's controller: levels, re-tracking and integration from the tracker's evidence",
-       simple<AdaptiveConfig, AdaptiveController, parseAdaptiveConfig>("adaptive")},
-      {"step", "step", "hierarchical step controller (csr, then icp, then pd0)",
-       simple<StepConfig, StepController, parseStepConfig>("step")},
-      {"budget", "budget", "least approximation meeting a target ms or J per frame",
-       simple<BudgetConfig, BudgetController, parseBudgetConfig>("budget")},
-      {"tc", "tc", "application-agnostic window controller over a `slambooster profile` table",
-       simple<TcConfig, TcController, parseTcConfig>("tc")},
-      {"offline", "offline", "replays the best fixed setting of `slambooster dse`",
-       [](const nlohmann::json& params, const std::string& where, const ControllerContext&) {
-         return createOfflineController(params, where);
-       }},
+const std::vector<ControllerType>& controllerTypes() {
+  static const std::vector<ControllerType> table = {
+      controllerType("fixed", "fixed", "the same knobs every frame (section: preset, knobs, half)",
+                     createFixedController),
+      controllerType("default", "", "fixed, SLAMBench's default knobs (csr=1,icp=1e-5,pd=10:5:4,ir=2)",
+                     fixedPreset<kDefault>),
+      controllerType("accurate", "", "fixed, the most accurate knobs (icp=0, ir=1)", fixedPreset<kAccurate>),
+      controllerType("slambooster", "slambooster",
+                     "the paper's controller: PID on velocity, surface, correction, half",
+                     construct<SlamBoosterController, SlamBoosterConfig>),
+      controllerType("pid", "slambooster", "slambooster's PID part only", slamBoosterParts<0>),
+      controllerType("pid+surface", "slambooster", "PID + smooth-surface detection", slamBoosterParts<1>),
+      controllerType("pid+surface+correction", "slambooster",
+                     "PID + surface + pose correction (no half precision)", slamBoosterParts<2>),
+      controllerType(
+          "adaptive", "adaptive",
+          "the product's controller: levels, re-tracking and integration from the tracker's evidence",
+          construct<AdaptiveController, AdaptiveConfig>),
+      controllerType("step", "step", "hierarchical step controller (csr, then icp, then pd0)",
+                     construct<StepController, StepConfig>),
+      controllerType("budget", "budget", "least approximation meeting a target ms or J per frame",
+                     construct<BudgetController, BudgetConfig>),
+      controllerType("tc", "tc", "application-agnostic window controller over a `slambooster profile` table",
+                     construct<TcController, TcConfig>),
+      controllerType("offline", "offline", "replays the best fixed setting of `slambooster dse`",
+                     createOfflineController),
   };
   return table;
 }
 
-const Entry& findEntry(const std::string& name, const std::string& where) {
-  for (const Entry& e : entries())
+namespace {
+
+const ControllerType& findEntry(const std::string& name, const std::string& where) {
+  for (const ControllerType& e : controllerTypes())
     if (name == e.name) return e;
   std::string names;
-  for (const Entry& e : entries()) names += (names.empty() ? "" : ", ") + std::string(e.name);
+  for (const ControllerType& e : controllerTypes()) names += (names.empty() ? "" : ", ") + e.name;
   throw Error(where + ": unknown controller '" + name + "' (known: " + names + ")");
 }
 
 bool isSection(const std::string& key) {
-  for (const Entry& e : entries())
+  for (const ControllerType& e : controllerTypes())
     if (key == e.section) return true;
   return false;
 }
@@ -97,13 +89,13 @@ bool isSection(const std::string& key) {
 
 std::vector<std::string> controllerNames() {
   std::vector<std::string> names;
-  for (const Entry& e : entries()) names.emplace_back(e.name);
+  for (const ControllerType& e : controllerTypes()) names.emplace_back(e.name);
   return names;
 }
 
 std::string controllerHelp() {
   std::string text;
-  for (const Entry& e : entries()) text += std::string("  ") + e.name + ": " + e.help + "\n";
+  for (const ControllerType& e : controllerTypes()) text += "  " + e.name + ": " + e.help + "\n";
   return text;
 }
 
@@ -116,7 +108,8 @@ ControllerSettings parseControllerSettings(const nlohmann::json& j, const Contro
   } else if (j.is_object()) {
     for (auto it = j.begin(); it != j.end(); ++it) {
       if (it.key() == "name") {
-        if (!it->is_string()) throw Error(where + ": 'name' must be a controller name string, got " + it->dump());
+        if (!it->is_string())
+          throw Error(where + ": 'name' must be a controller name string, got " + it->dump());
         s.name = it->get<std::string>();
       } else if (!it.key().empty() && isSection(it.key())) {
         if (!it->is_object())
@@ -124,31 +117,34 @@ ControllerSettings parseControllerSettings(const nlohmann::json& j, const Contro
         s.sections[it.key()] = *it;
       } else {
         std::string keys = "name";
-        for (const Entry& e : entries())
-          if (*e.section && keys.find(e.section) == std::string::npos) keys += std::string(", ") + e.section;
+        for (const ControllerType& e : controllerTypes())
+          if (!e.section.empty() && keys.find(e.section) == std::string::npos) keys += ", " + e.section;
         throw Error(where + ": unknown key '" + it.key() + "' (known keys: " + keys + ")");
       }
     }
   } else {
-    throw Error(where + ": must be a controller name or an object {\"name\": ..., <section>: {...}}, got " + j.dump());
+    throw Error(where + ": must be a controller name or an object {\"name\": ..., <section>: {...}}, got " +
+                j.dump());
   }
   findEntry(s.name, where + ".name");
   // Validate every section present once, and the selected controller.
-  for (const Entry& e : entries())
-    if (*e.section && s.sections.contains(e.section)) createController(e.name, s, context);
+  for (const ControllerType& e : controllerTypes())
+    if (!e.section.empty() && s.sections.contains(e.section)) createController(e.name, s, context);
   createController(s.name, s, context);
   return s;
 }
 
 std::unique_ptr<Controller> createController(const std::string& name, const ControllerSettings& settings,
                                              const ControllerContext& context) {
-  const Entry& e = findEntry(name, settings.where);
-  const nlohmann::json params =
-      *e.section && settings.sections.contains(e.section) ? settings.sections.at(e.section) : nlohmann::json::object();
-  return e.create(params, settings.where + "." + (*e.section ? e.section : e.name), context);
+  const ControllerType& e = findEntry(name, settings.where);
+  const nlohmann::json params = !e.section.empty() && settings.sections.contains(e.section)
+                                    ? settings.sections.at(e.section)
+                                    : nlohmann::json::object();
+  return e.create(params, settings.where + "." + (e.section.empty() ? e.name : e.section), context);
 }
 
-std::unique_ptr<Controller> createController(const ControllerSettings& settings, const ControllerContext& context) {
+std::unique_ptr<Controller> createController(const ControllerSettings& settings,
+                                             const ControllerContext& context) {
   return createController(settings.name, settings, context);
 }
 

@@ -5,20 +5,29 @@
 
 namespace sb {
 
-SlamBoosterConfig parseSlamBoosterConfig(const nlohmann::json& section, const std::string& where) {
-  ConfigReader r(section, where);
-  SlamBoosterConfig c;
-  r.integer("bootstrap_frames", c.bootstrapFrames, 1, 100000);
-  r.boolean("surface_detection", c.surfaceDetection);
-  r.boolean("pose_correction", c.poseCorrection);
-  r.boolean("half_precision", c.halfPrecision);
-  c.pid.read(r);
-  c.rate.read(r);
-  c.surface.read(r);
-  c.correction.read(r);
-  c.ladder.read(r);
-  r.finish();
-  return c;
+void SlamBoosterConfig::read(ConfigReader& r) {
+  r.integer("bootstrap_frames", bootstrapFrames, 1, 100000);
+  r.boolean("surface_detection", surfaceDetection);
+  r.boolean("pose_correction", poseCorrection);
+  r.boolean("half_precision", halfPrecision);
+  pid.read(r);
+  rate.read(r);
+  surface.read(r);
+  correction.read(r);
+  ladder.read(r);
+}
+
+nlohmann::json SlamBoosterConfig::toJson() const {
+  nlohmann::json j = {{"bootstrap_frames", bootstrapFrames},
+                      {"surface_detection", surfaceDetection},
+                      {"pose_correction", poseCorrection},
+                      {"half_precision", halfPrecision}};
+  pid.toJson(j);
+  rate.toJson(j);
+  surface.toJson(j);
+  correction.toJson(j);
+  ladder.toJson(j);
+  return j;
 }
 
 SlamBoosterController::SlamBoosterController(std::string name, const SlamBoosterConfig& config)

@@ -34,11 +34,12 @@ struct SlamBoosterConfig {
   CorrectionParams correction;
   bool halfPrecision = true;
   KnobLadder ladder;
-};
 
-// Section keys: bootstrap_frames, surface_detection, pose_correction, half_precision, and those of
-// PidParams, RateLimitParams, SurfaceParams, CorrectionParams and KnobLadder.
-SlamBoosterConfig parseSlamBoosterConfig(const nlohmann::json& section, const std::string& where);
+  // Section keys: bootstrap_frames, surface_detection, pose_correction, half_precision, and those of
+  // PidParams, RateLimitParams, SurfaceParams, CorrectionParams and KnobLadder.
+  void read(ConfigReader& reader);
+  nlohmann::json toJson() const;  // every key read() reads, with its value
+};
 
 class SlamBoosterController final : public Controller {
  public:

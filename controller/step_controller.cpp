@@ -5,25 +5,39 @@
 
 namespace sb {
 
-StepConfig parseStepConfig(const nlohmann::json& section, const std::string& where) {
-  ConfigReader r(section, where);
-  StepConfig c;
-  r.integer("bootstrap_frames", c.bootstrapFrames, 1, 100000);
-  r.integer("approximation_hold_frames", c.approximationHoldFrames, 1, 1000);
-  r.integer("precision_below_level", c.precisionBelowLevel, 0, 16);
-  r.integer("approximation_above_level", c.approximationAboveLevel, 0, 16);
-  r.boolean("surface_detection", c.surfaceDetection);
-  r.boolean("pose_correction", c.poseCorrection);
-  r.integer("csr_max_level", c.csrMaxLevel, 0, 15);
-  r.integer("icp_max_level", c.icpMaxLevel, 0, 15);
-  r.integer("pd0_max_level", c.pd0MaxLevel, 0, 15);
-  r.integer("icp_base_level", c.icpBaseLevel, 0, 15);
-  c.pid.read(r);
-  c.surface.read(r);
-  c.correction.read(r);
-  c.ladder.read(r);
-  r.finish();
-  return c;
+void StepConfig::read(ConfigReader& r) {
+  r.integer("bootstrap_frames", bootstrapFrames, 1, 100000);
+  r.integer("approximation_hold_frames", approximationHoldFrames, 1, 1000);
+  r.integer("precision_below_level", precisionBelowLevel, 0, 16);
+  r.integer("approximation_above_level", approximationAboveLevel, 0, 16);
+  r.boolean("surface_detection", surfaceDetection);
+  r.boolean("pose_correction", poseCorrection);
+  r.integer("csr_max_level", csrMaxLevel, 0, 15);
+  r.integer("icp_max_level", icpMaxLevel, 0, 15);
+  r.integer("pd0_max_level", pd0MaxLevel, 0, 15);
+  r.integer("icp_base_level", icpBaseLevel, 0, 15);
+  pid.read(r);
+  surface.read(r);
+  correction.read(r);
+  ladder.read(r);
+}
+
+nlohmann::json StepConfig::toJson() const {
+  nlohmann::json j = {{"bootstrap_frames", bootstrapFrames},
+                      {"approximation_hold_frames", approximationHoldFrames},
+                      {"precision_below_level", precisionBelowLevel},
+                      {"approximation_above_level", approximationAboveLevel},
+                      {"surface_detection", surfaceDetection},
+                      {"pose_correction", poseCorrection},
+                      {"csr_max_level", csrMaxLevel},
+                      {"icp_max_level", icpMaxLevel},
+                      {"pd0_max_level", pd0MaxLevel},
+                      {"icp_base_level", icpBaseLevel}};
+  pid.toJson(j);
+  surface.toJson(j);
+  correction.toJson(j);
+  ladder.toJson(j);
+  return j;
 }
 
 StepController::StepController(std::string name, const StepConfig& config)

@@ -31,9 +31,13 @@ struct StepConfig {
   int csrMaxLevel = 3, icpMaxLevel = 4, pd0MaxLevel = 3;  // highest level of each knob (ladder indices)
   int icpBaseLevel = 2;                                   // icp level at the most precise position (1e-5)
   KnobLadder ladder;
-};
 
-StepConfig parseStepConfig(const nlohmann::json& section, const std::string& where);
+  // Section keys: bootstrap_frames, approximation_hold_frames, precision_below_level, approximation_above_level,
+  // surface_detection, pose_correction, csr_max_level, icp_max_level, pd0_max_level, icp_base_level, and those
+  // of PidParams, SurfaceParams, CorrectionParams and KnobLadder.
+  void read(ConfigReader& reader);
+  nlohmann::json toJson() const;  // every key read() reads, with its value
+};
 
 class StepController final : public Controller {
  public:

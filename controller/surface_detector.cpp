@@ -11,6 +11,13 @@ void SurfaceParams::read(ConfigReader& r) {
   r.number("surface_min_valid_fraction", minValidFraction, 0.0, 1.0);
 }
 
+void SurfaceParams::toJson(nlohmann::json& j) const {
+  j["surface_margin_fraction"] = marginFraction;
+  j["surface_sample_stride_px"] = sampleStridePx;
+  j["surface_std_threshold_m"] = stdThresholdM;
+  j["surface_min_valid_fraction"] = minValidFraction;
+}
+
 SurfaceResult detectSmoothSurface(const DepthRaw& depth, double depthScale, const SurfaceParams& p) {
   SurfaceResult result;
   const int w = depth.width(), h = depth.height();

@@ -20,6 +20,7 @@ struct SurfaceParams {
 
   // Keys: surface_margin_fraction, surface_sample_stride_px, surface_std_threshold_m, surface_min_valid_fraction.
   void read(ConfigReader& reader);
+  void toJson(nlohmann::json& section) const;  // adds the same keys with their values
 };
 
 struct SurfaceResult {

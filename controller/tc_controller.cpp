@@ -8,23 +8,29 @@
 
 namespace sb {
 
-TcConfig parseTcConfig(const nlohmann::json& section, const std::string& where) {
-  ConfigReader r(section, where);
-  TcConfig c;
-  r.string("table", c.tablePath);
-  r.integer("window_frames", c.windowFrames, 1, 100000);
-  r.number("reference_velocity_m_per_frame", c.referenceVelocity, 1e-6, 1.0);
-  r.number("error_budget_m", c.errorBudgetM, 0.0, 10.0);
-  const nlohmann::json* inlineTable = r.raw("inline_table");
+void TcConfig::read(ConfigReader& r) {
+  r.string("table", tablePath);
+  r.integer("window_frames", windowFrames, 1, 100000);
+  r.number("reference_velocity_m_per_frame", referenceVelocity, 1e-6, 1.0);
+  r.number("error_budget_m", errorBudgetM, 0.0, 10.0);
+  if (const nlohmann::json* t = r.raw("inline_table")) inlineTable = *t;
   r.finish();
   if (inlineTable) {
-    c.table = tcTableFromJson(*inlineTable, r.at("inline_table"));
+    table = tcTableFromJson(*inlineTable, r.at("inline_table"));
   } else {
-    if (c.tablePath.empty())
-      throw Error(where + ": 'table' is required: the JSON configuration table built by `slambooster profile`");
-    c.table = loadTcTable(c.tablePath);
+    if (tablePath.empty())
+      throw Error(r.where() + ": 'table' is required: the JSON configuration table built by `slambooster profile`");
+    table = loadTcTable(tablePath);
   }
-  return c;
+}
+
+nlohmann::json TcConfig::toJson() const {
+  nlohmann::json j = {{"table", tablePath},
+                      {"window_frames", windowFrames},
+                      {"reference_velocity_m_per_frame", referenceVelocity},
+                      {"error_budget_m", errorBudgetM}};
+  if (inlineTable) j["inline_table"] = *inlineTable;
+  return j;
 }
 
 TcController::TcController(std::string name, TcConfig config) : name_(std::move(name)), config_(std::move(config)) {}

@@ -6,11 +6,13 @@
 //   ate_m * v_w / v_ref <= error_budget_m.
 // No surface detection, no pose correction. The first window runs the table's most accurate entry.
 
-#include <nlohmann/json_fwd.hpp>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "controller/controller.h"
 #include "controller/tc_table.h"
+#include "core/config_reader.h"
 
 namespace sb {
 
@@ -19,10 +21,14 @@ struct TcConfig {
   int windowFrames = 32;              // 32 or 64 in the paper
   double referenceVelocity = 0.01;    // m/frame: v_ref
   double errorBudgetM = 0.05;         // metres of ATE
-  TcTable table;                      // loaded from tablePath
-};
+  std::optional<nlohmann::json> inlineTable;  // the table itself instead of a file
+  TcTable table;                      // loaded from tablePath or inlineTable
 
-TcConfig parseTcConfig(const nlohmann::json& section, const std::string& where);
+  // Section keys: table, window_frames, reference_velocity_m_per_frame, error_budget_m, inline_table. Calls
+  // reader.finish(), then loads the table (required).
+  void read(ConfigReader& reader);
+  nlohmann::json toJson() const;  // every key read() reads (inline_table when set), with its value
+};
 
 class TcController final : public Controller {
  public:

@@ -29,6 +29,15 @@ void EvidenceParams::read(ConfigReader& r) {
   r.number("doubt_conditioning", weakConditioning, 0.0, 1.0);
 }
 
+void EvidenceParams::toJson(nlohmann::json& j) const {
+  j["doubt_update_norm"] = maxUpdateNorm;
+  j["doubt_inlier_drop_ratio"] = inlierDropRatio;
+  j["doubt_inlier_window_frames"] = inlierWindowFrames;
+  j["doubt_prediction_translation_m"] = predictionTranslationM;
+  j["doubt_prediction_rotation_deg"] = predictionRotationDeg;
+  j["doubt_conditioning"] = weakConditioning;
+}
+
 double translationBetween(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
   return (a.translation() - b.translation()).norm();
 }

@@ -36,6 +36,7 @@ struct EvidenceParams {
   // Keys: doubt_update_norm, doubt_inlier_drop_ratio, doubt_inlier_window_frames,
   // doubt_prediction_translation_m, doubt_prediction_rotation_deg, doubt_conditioning.
   void read(ConfigReader& reader);
+  void toJson(nlohmann::json& section) const;  // adds the same keys with their values
 };
 
 struct Doubt {

@@ -23,6 +23,18 @@ void PidParams::read(ConfigReader& r) {
                 " <= " + std::to_string(vLow) + ")");
 }
 
+void PidParams::toJson(nlohmann::json& j) const {
+  j["v_stand_m_per_frame"] = vStand;
+  j["v_low_m_per_frame"] = vLow;
+  j["kp_levels_per_m_per_frame"] = kp;
+  j["integral"] = integral;
+  j["integral_window_frames"] = integralWindowFrames;
+  j["integral_threshold_m_per_frame"] = integralThreshold;
+  j["derivative"] = derivative;
+  j["derivative_window_frames"] = derivativeWindowFrames;
+  j["derivative_allows_approximation"] = derivativeAllowsApproximation;
+}
+
 void VelocityHistory::push(double velocity) {
   v_.push_back(velocity);
   while (v_.size() > capacity_) v_.pop_front();

@@ -27,6 +27,7 @@ struct PidParams {
   // Keys: v_stand_m_per_frame, v_low_m_per_frame, kp_levels_per_m_per_frame, integral, integral_window_frames,
   // integral_threshold_m_per_frame, derivative, derivative_window_frames, derivative_allows_approximation.
   void read(ConfigReader& reader);
+  void toJson(nlohmann::json& section) const;  // adds the same keys with their values
 };
 
 // The last velocities of a run, newest last (bounded to the longest window needed).

@@ -1,7 +1,5 @@
 #include "daemon/daemon.h"
 
-#include "runtime/energy_account.h"
-
 #include <signal.h>
 #include <spdlog/spdlog.h>
 #include <sys/signalfd.h>
@@ -11,26 +9,14 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <mutex>
-#include <optional>
-#include <thread>
 
 #include "core/error.h"
 #include "core/input_file.h"
-#include "core/unique_fd.h"
-#include "daemon/event_loop.h"
+#include "daemon/daemon_parts.h"
 #include "daemon/fd_budget.h"
-#include "daemon/frame_queue.h"
-#include "daemon/mailbox.h"
 #include "daemon/peer_auth.h"
-#include "daemon/slam_worker.h"
-#include "daemon/socket_server.h"
 #include "daemon/source_registry.h"
-#include "daemon/systemd_notify.h"
-#include "daemon/unix_socket.h"
 #include "power/energy_json.h"
-#include "power/meter_registry.h"
-#include "power/power_config.h"
 
 namespace sb::daemon {
 
@@ -60,18 +46,6 @@ UniqueFd makeTimer(std::chrono::nanoseconds period) {
   return fd;
 }
 
-// The meter settings that power.config names; none when it is empty, or when the packaged default file is
-// absent (a development checkout has none). Throws ConfigError naming the key.
-std::optional<power::PowerConfig> loadPowerSettings(const PowerRefConfig& power) {
-  if (power.config.empty()) return std::nullopt;
-  if (power.config == kDefaultPowerConfig && !std::filesystem::exists(power.config)) return std::nullopt;
-  try {
-    return power::loadPowerConfig(power.config);
-  } catch (const Error& e) {
-    throw ConfigError(std::string("power.config: ") + e.what());
-  }
-}
-
 // STATUS "disk": the outputs' bytes on disk and the file system's free space. With a retention store
 // (rotation, or a looping replay) the store counts every segment and ended pass directory under output.dir;
 // without one the files of the current pass's directory are summed.
@@ -94,27 +68,6 @@ nlohmann::json diskStatus(const SegmentStore* retention, bool rotating, const st
 
 }  // namespace
 
-struct Daemon::Parts {
-  SystemdNotifier notifier;
-  std::unique_ptr<CaptureSource> source;
-  std::unique_ptr<FrameQueue> queue;
-  EventLoop loop;
-  std::unique_ptr<Mailbox> mailbox;
-  ListeningSocket listener;
-  std::unique_ptr<SocketServer> server;
-  std::shared_ptr<SegmentStore> segments;        // rotation and retention of the outputs (nullptr: none)
-  std::shared_ptr<SegmentStore> retention;       // `segments`, or the pass directories' of a looping replay
-  std::unique_ptr<power::PowerSampler> sampler;  // before the worker: destroyed after it
-  std::string meterError;                        // why the configured meter is not in use
-  std::unique_ptr<SlamWorker> worker;  // holds the controller settings (read once, at its construction)
-  std::thread capture;
-  UniqueFd signals, timer;
-  std::mutex captureMutex;
-  std::string captureError;
-  Clock::time_point lastStatus = Clock::now();
-  bool watchdogWarned = false;
-};
-
 Daemon::Daemon(DaemonConfig config, std::function<DaemonConfig()> reload, std::string release)
     : config_(std::move(config)),
       reload_(std::move(reload)),
@@ -133,11 +86,7 @@ std::unique_ptr<SlamWorker> Daemon::makeWorker(const SequenceInfo& info, Mailbox
         mailbox.post([this] {
           workerDone_ = true;
           const WorkerStats s = parts_->worker->stats();
-          bool inputFailed;
-          {
-            std::lock_guard lock(parts_->captureMutex);
-            inputFailed = !parts_->captureError.empty();
-          }
+          const bool inputFailed = !parts_->capture.error().empty();
           // A failed input (a truncated PNG) with at_end stop or loop keeps serving, as an ended one does:
           // STATUS says "failed" with the error until SIGTERM (exit 1). A failed SLAM thread exits.
           if (stopping_ || (s.state == "failed" && !inputFailed) || config_.source.atEnd == "exit") {
@@ -177,30 +126,7 @@ int Daemon::run() {
   } catch (const Error& e) {
     throw ConfigError(e.what());  // the pipeline config file or the controller settings
   }
-  // Retention: of the rotated outputs, and of the pass directories of a looping replay (one store for both).
-  const bool rotating = rotates(config_.output.rotation, p.source->live());
-  const bool looping = config_.source.atEnd == "loop";
-  if (rotating || looping) {
-    std::error_code ec;
-    std::filesystem::create_directories(config_.output.dir, ec);  // a failure is reported by the first output
-    p.retention =
-        std::make_shared<SegmentStore>(config_.output.dir, retentionLimits(config_.output.rotation));
-    const RetentionLimits& l = p.retention->limits();
-    if (rotating) {
-      p.segments = p.retention;
-      p.worker->setSegments(p.segments);
-      spdlog::info("outputs rotated in {}: segments of {} MiB or {} s, {} MiB kept, {} MiB left free",
-                   config_.output.dir, l.segmentBytes >> 20, l.segmentSeconds, l.keepBytes >> 20,
-                   l.minFreeBytes >> 20);
-    }
-    if (looping) {
-      p.worker->setPassRetention(p.retention);
-      spdlog::info("pass directories in {}: the oldest removed past {} MiB{}, or with less than {} MiB free",
-                   config_.output.dir, l.keepBytes >> 20,
-                   l.keepSegments ? " or " + std::to_string(l.keepSegments) + " kept" : std::string(),
-                   l.minFreeBytes >> 20);
-    }
-  }
+  startRetention();
   startPower();
   p.listener = openListeningSocket(config_.socket.path, config_.socket.mode);
   p.server = std::make_unique<SocketServer>(p.loop, p.listener.fd.get(), config_.socket,
@@ -217,21 +143,7 @@ int Daemon::run() {
   p.loop.add(p.timer.get(), EPOLLIN, [this](uint32_t) { onTimer(); });
 
   p.worker->start();
-  p.capture = std::thread([&p] {
-    try {
-      while (auto frame = p.source->next())
-        if (!p.queue->push(std::move(*frame))) break;
-    } catch (const std::exception& e) {
-      spdlog::error("source: {}", sb::printable(e.what()));
-      {
-        std::lock_guard lock(p.captureMutex);
-        p.captureError = e.what();
-      }
-      p.queue->close(std::string("the input failed: ") + e.what());  // the pass is reported failed
-      return;
-    }
-    p.queue->close();
-  });
+  p.capture.start(*p.source, *p.queue);
 
   spdlog::info("slamboosterd {} serving {} ({}); input {} ({} frames)", release_, p.listener.path,
                p.listener.activated ? std::string("socket activation")
@@ -247,45 +159,11 @@ int Daemon::run() {
   p.capture.join();
   p.worker->join();
   const WorkerStats s = p.worker->stats();
-  std::string captureError;
-  {
-    std::lock_guard lock(p.captureMutex);
-    captureError = p.captureError;
-  }
+  const std::string captureError = p.capture.error();
   p.notifier.stopping("stopped after " + std::to_string(s.frames) + " frames");
   p.server.reset();
   spdlog::info("stopped after {} frames; outputs in {}", s.frames, s.outputDir);
   return s.state == "failed" || !captureError.empty() ? 1 : 0;
-}
-
-void Daemon::startPower() {
-  Parts& p = *parts_;
-  const std::optional<power::PowerConfig> loaded = loadPowerSettings(config_.power);
-  if (!loaded) {
-    if (!config_.power.config.empty())
-      spdlog::info("no {}: no energy accounting (power.config names the meter's settings)", kDefaultPowerConfig);
-    return;
-  }
-  const power::PowerConfig& pc = *loaded;
-  if (pc.meter == "none") return;
-  try {
-    std::filesystem::create_directories(config_.output.dir);
-    p.sampler =
-        openSampler(pc, config_.output.dir, p.segments);  // the meter and trace of `slambooster run --power`
-    p.sampler->start();
-  } catch (const std::exception& e) {
-    // SLAM without energy beats no SLAM (a robot needs its poses); STATUS and the log say why.
-    p.sampler.reset();
-    p.meterError = std::string("meter '") + pc.meter + "' not in use: " + e.what();
-    spdlog::error("{}; running without energy accounting", p.meterError);
-    return;
-  }
-  const std::string name = p.sampler->meterInfo().name;
-  spdlog::info("power meter {} on {}; raw trace {}/power.csv", name, p.sampler->meterInfo().device,
-               config_.output.dir);
-  p.worker->setPower(p.sampler.get(), [this, name](const power::FrameEnergy& e) {
-    publishEnergy(EnergyReport{e.frame, e.joules, e.meanWatts, name});
-  });
 }
 
 void Daemon::beginStop(const std::string& why) {
@@ -364,11 +242,6 @@ void Daemon::onTimer() {
   }
 }
 
-void Daemon::publishEnergy(const EnergyReport& report) {
-  if (!parts_ || !parts_->mailbox) return;
-  parts_->mailbox->post([this, report] { parts_->server->publishEnergy(report); });
-}
-
 nlohmann::json Daemon::status() {
   Parts& p = *parts_;
   const WorkerStats s = p.worker->stats();
@@ -395,10 +268,7 @@ nlohmann::json Daemon::status() {
                       {"threads", s.threads},
                       {"pass", s.pass},
                       {"output_dir", s.outputDir}};
-  {
-    std::lock_guard lock(p.captureMutex);
-    if (!p.captureError.empty()) j["error"] = p.captureError;
-  }
+  if (const std::string e = p.capture.error(); !e.empty()) j["error"] = e;
   if (!s.error.empty()) j["error"] = s.error;
   if (!p.meterError.empty()) j["meter_error"] = p.meterError;
   j["disk"] = diskStatus(p.retention.get(), p.segments != nullptr,
@@ -434,23 +304,6 @@ nlohmann::json Daemon::control(const ControlRequest& request) {
   return {{"ok", true},
           {"controller", request.controller ? *request.controller : p.worker->stats().controller},
           {"pinned", pinned}};
-}
-
-void checkConfigFiles(const DaemonConfig& config) {
-  try {
-    const PipelineConfig pipeline = buildPipelineConfig(config.slam, SequenceInfo{});
-    ControllerContext context;
-    context.baseKnobs = pipeline.knobs;
-    loadControllerSettings(config.slam, context);
-    const ControlPolicy policy(::geteuid(),
-                               config.socket.controlGroup);  // an unknown group fails as at start
-    (void)policy;
-  } catch (const ConfigError&) {
-    throw;
-  } catch (const Error& e) {
-    throw ConfigError(e.what());
-  }
-  loadPowerSettings(config.power);
 }
 
 }  // namespace sb::daemon

@@ -56,6 +56,7 @@ class Daemon : public ServiceState {
   void onSignal();
   void onTimer();
   void reload();
+  void startRetention();
   void startPower();
   void beginStop(const std::string& why);
 

@@ -7,7 +7,6 @@
 #include "core/error.h"
 #include "core/json_text.h"
 #include "daemon/cpu_affinity.h"
-#include "daemon/source_registry.h"
 
 namespace sb::daemon {
 
@@ -27,50 +26,6 @@ std::string formatMode(unsigned mode) {
   char buf[8];
   std::snprintf(buf, sizeof buf, "%04o", mode);
   return buf;
-}
-
-void readCamera(ConfigReader& r, CameraConfig& c) {
-  r.string("uri", c.uri);
-  r.integer("width", c.width, 1, 8192);
-  r.integer("height", c.height, 1, 8192);
-  r.integer("fps", c.fps, 1, 1000);
-  r.number("fx", c.fx, 0.0, 1e5);
-  r.number("fy", c.fy, 0.0, 1e5);
-  r.number("cx", c.cx, 0.0, 1e5);
-  r.number("cy", c.cy, 0.0, 1e5);
-  r.number("frame_timeout_s", c.frameTimeoutSeconds, 0.05, 3600.0);
-  r.number("reconnect_min_s", c.reconnectMinSeconds, 0.01, 3600.0);
-  r.number("reconnect_max_s", c.reconnectMaxSeconds, 0.01, 3600.0);
-  if (c.reconnectMaxSeconds < c.reconnectMinSeconds)
-    r.fail("reconnect_max_s", "a value >= 'reconnect_min_s' (" + std::to_string(c.reconnectMinSeconds) + " s)");
-}
-
-// Plausible depth scales, raw units per metre: 100 (centimetres) to 100000 (10 micrometres, a 0.65 m range
-// in 16 bits). 1000 (millimetres) and 5000 (TUM) are the usual ones.
-constexpr double kMinDepthScale = 100.0;
-constexpr double kMaxDepthScale = 100000.0;
-
-void readSource(ConfigReader& r, SourceConfig& s) {
-  r.string("type", s.type);
-  r.string("path", s.path);
-  r.string("pacing", s.pacing, {"recorded", "fast"});
-  r.number("speed", s.speed, 0.01, 100.0);
-  r.string("at_end", s.atEnd, {"stop", "loop", "exit"});
-  r.integer("max_frames", s.maxFrames, 0, 100000000);
-  r.number("depth_scale", s.depthScale, 0.0, kMaxDepthScale);
-  if (s.depthScale != 0.0 && s.depthScale < kMinDepthScale)  // 0: from calibration.json / the format
-    r.fail("depth_scale", "0 (from the sequence) or " + std::to_string(static_cast<int>(kMinDepthScale)) + " to " +
-                              std::to_string(static_cast<int>(kMaxDepthScale)) +
-                              " raw units per metre (1000 for millimetres, 5000 for TUM)");
-  r.integer("queue_frames", s.queueFrames, 1, 256);
-  r.string("depth_topic", s.depthTopic);
-  r.section("camera", [&](ConfigReader& camera) { readCamera(camera, s.camera); });
-  const auto types = sourceTypes();
-  if (std::find(types.begin(), types.end(), s.type) == types.end()) {
-    std::string known;
-    for (const auto& t : types) known += (known.empty() ? "\"" : ", \"") + t + "\"";
-    r.fail("type", "one of " + known);
-  }
 }
 
 void readSlam(ConfigReader& r, SlamConfig& s) {
@@ -171,7 +126,7 @@ namespace {
 DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string& where) {
   DaemonConfig c;
   ConfigReader r(j, where);
-  r.section("source", [&](ConfigReader& s) { readSource(s, c.source); });
+  r.section("source", [&](ConfigReader& s) { c.source.read(s); });
   r.section("slam", [&](ConfigReader& s) { readSlam(s, c.slam); });
   r.section("output", [&](ConfigReader& s) { readOutput(s, c.output); });
   r.section("socket", [&](ConfigReader& s) { readSocket(s, c.socket); });
@@ -217,28 +172,7 @@ void applyOverride(nlohmann::json& j, const std::string& assignment) {
 
 
 nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
-  return {{"source",
-           {{"type", c.source.type},
-            {"path", c.source.path},
-            {"pacing", c.source.pacing},
-            {"speed", c.source.speed},
-            {"at_end", c.source.atEnd},
-            {"max_frames", c.source.maxFrames},
-            {"depth_scale", c.source.depthScale},
-            {"queue_frames", c.source.queueFrames},
-            {"depth_topic", c.source.depthTopic},
-            {"camera",
-             {{"uri", c.source.camera.uri},
-              {"width", c.source.camera.width},
-              {"height", c.source.camera.height},
-              {"fps", c.source.camera.fps},
-              {"fx", c.source.camera.fx},
-              {"fy", c.source.camera.fy},
-              {"cx", c.source.camera.cx},
-              {"cy", c.source.camera.cy},
-              {"frame_timeout_s", c.source.camera.frameTimeoutSeconds},
-              {"reconnect_min_s", c.source.camera.reconnectMinSeconds},
-              {"reconnect_max_s", c.source.camera.reconnectMaxSeconds}}}}},
+  return {{"source", c.source.toJson()},
           {"slam",
            {{"cpus", c.slam.cpus},
             {"threads", c.slam.threads},

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/segment_store.h"
+#include "daemon/source_config.h"
 
 namespace sb::daemon {
 
@@ -16,32 +17,6 @@ namespace sb::daemon {
 class ConfigError : public Error {
  public:
   using Error::Error;
-};
-
-// source.camera: a live camera (source.type "openni2"; replay ignores it).
-struct CameraConfig {
-  std::string uri;                        // OpenNI2 device URI; empty = the first device found
-  int width = 640;                        // depth mode, pixels
-  int height = 480;                       // depth mode, pixels
-  int fps = 30;                           // depth mode, frames per second
-  double fx = 0, fy = 0, cx = 0, cy = 0;  // intrinsics, pixels; 0 = from the device's field of view
-  double frameTimeoutSeconds = 2.0;       // no frame for this long: the camera counts as lost
-  double reconnectMinSeconds = 0.5;   // first wait before reopening a lost camera; doubles per failed attempt
-  double reconnectMaxSeconds = 10.0;  // longest wait between attempts
-};
-
-struct SourceConfig {
-  std::string type = "replay";      // a registered source (daemon/source_registry.cpp)
-  std::string path;                 // replay: sequence directory (TUM layout), .raw or .bag file; push: its
-                                    // socket; required
-  std::string pacing = "recorded";  // "recorded": frames at their recorded timestamps; "fast": no waiting
-  double speed = 1.0;               // recorded pacing only: playback speed factor
-  std::string atEnd = "stop";       // "stop": keep serving the socket; "loop": replay again; "exit": exit 0
-  size_t maxFrames = 0;             // frames per pass (0 = all)
-  double depthScale = 0.0;          // raw units per metre; 0 = from calibration.json / the format
-  size_t queueFrames = 4;           // capacity of the capture -> SLAM queue (frames)
-  std::string depthTopic;           // replay of a ROS bag: its depth image topic; empty = the bag's only one
-  CameraConfig camera;              // type "openni2"
 };
 
 struct SlamConfig {

@@ -17,12 +17,18 @@ struct SourceEntry {
   std::function<std::unique_ptr<CaptureSource>(const SourceConfig&)> create;
 };
 
+template <typename Source>
+std::unique_ptr<CaptureSource> create(const SourceConfig& config) {
+  return std::make_unique<Source>(config);
+}
+
+// One line per source; its settings are keys of the source section (source_config.h).
 const std::vector<SourceEntry>& registry() {
   static const std::vector<SourceEntry> entries = {
-      {"replay", [](const SourceConfig& c) { return std::make_unique<ReplaySource>(c); }},
-      {"openni2", [](const SourceConfig& c) { return std::make_unique<OpenNI2Capture>(c); }},
-      {"pattern", [](const SourceConfig& c) { return std::make_unique<PatternSource>(c); }},
-      {"push", [](const SourceConfig& c) { return std::make_unique<PushSource>(c); }},
+      {"replay", create<ReplaySource>},
+      {"openni2", create<OpenNI2Capture>},
+      {"pattern", create<PatternSource>},
+      {"push", create<PushSource>},
   };
   return entries;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Frame sources by name (config key source.type). Adding a source: one file pair implementing
-// CaptureSource plus one line in source_registry.cpp.
+// CaptureSource (constructed from the SourceConfig) plus one line in source_registry.cpp; a new setting is a
+// key of the source section (source_config.h).
 
 #include <memory>
 #include <string>

@@ -87,57 +87,95 @@ class Fields {
   std::string where_, path_;
 };
 
-json machineJson(const MachineInfo& m) {
-  return {{"host", m.host},
-          {"cpu_model", m.cpuModel},
-          {"cores_online", m.coresOnline},
-          {"threads_used", m.threadsUsed},
-          {"backend", m.backend},
-          {"device", m.device}};
+// Each section's keys and members, listed once: `field(key, member)` per key. Written by Writer, read by Reader
+// (which checks each value's type by the member's: string, bool, floating point number, count, map of counts).
+template <typename Field>
+void fieldsOf(MachineInfo& m, Field field) {
+  field("host", m.host);
+  field("cpu_model", m.cpuModel);
+  field("cores_online", m.coresOnline);
+  field("threads_used", m.threadsUsed);
+  field("backend", m.backend);
+  field("device", m.device);
 }
 
-MachineInfo readMachine(const Fields& f) {
-  MachineInfo m;
-  f.string("host", m.host);
-  f.string("cpu_model", m.cpuModel);
-  f.count("cores_online", m.coresOnline);
-  f.count("threads_used", m.threadsUsed);
-  f.string("backend", m.backend);
-  f.string("device", m.device);
-  return m;
+template <typename Field>
+void fieldsOf(DaemonPass& d, Field field) {
+  field("pass", d.pass);
+  field("cpus", d.cpus);
+  field("threads", d.threads);
 }
 
-json trackingStateJson(const TrackingStateSummary& t) {
-  return {{"frames", t.frames},
-          {"lost_stretches", t.lostStretches},
-          {"longest_lost_frames", t.longestLostFrames},
-          {"recoveries", t.recoveries},
-          {"mean_frames_to_recover", t.meanFramesToRecover},
-          {"longest_frames_to_recover", t.longestFramesToRecover},
-          {"lost_at_end", t.lostAtEnd}};
+template <typename Field>
+void fieldsOf(TrackingStateSummary& t, Field field) {
+  field("frames", t.frames);
+  field("lost_stretches", t.lostStretches);
+  field("longest_lost_frames", t.longestLostFrames);
+  field("recoveries", t.recoveries);
+  field("mean_frames_to_recover", t.meanFramesToRecover);
+  field("longest_frames_to_recover", t.longestFramesToRecover);
+  field("lost_at_end", t.lostAtEnd);
 }
 
-TrackingStateSummary readTrackingState(const Fields& f) {
-  TrackingStateSummary t;
-  f.counts("frames", t.frames);
-  f.count("lost_stretches", t.lostStretches);
-  f.count("longest_lost_frames", t.longestLostFrames);
-  f.count("recoveries", t.recoveries);
-  f.number("mean_frames_to_recover", t.meanFramesToRecover);
-  f.count("longest_frames_to_recover", t.longestFramesToRecover);
-  f.boolean("lost_at_end", t.lostAtEnd);
-  return t;
+template <typename Field>
+void fieldsOf(AteSummary& a, Field field) {
+  field("rmse_m", a.rmseM);
+  field("mean_m", a.meanM);
+  field("max_m", a.maxM);
+  field("median_m", a.medianM);
+  field("matches", a.matches);
+  field("unaligned_mean_m", a.unalignedMeanM);
 }
 
-AteSummary readAte(const Fields& f) {
-  AteSummary a;
-  f.number("rmse_m", a.rmseM);
-  f.number("mean_m", a.meanM);
-  f.number("max_m", a.maxM);
-  f.number("median_m", a.medianM);
-  f.number("unaligned_mean_m", a.unalignedMeanM);
-  f.count("matches", a.matches);
-  return a;
+template <typename Field>
+void fieldsOf(StoppedSummary& x, Field field) {
+  field("at_frame", x.atFrame);
+  field("limit_ms", x.limitMs);
+  field("computation_ms", x.computationMs);
+}
+
+template <typename Field>
+void fieldsOf(InterruptedSummary& x, Field field) {
+  field("signal", x.signal);
+  field("at_frame", x.atFrame);
+}
+
+struct Writer {
+  json& j;
+  template <typename T>
+  void operator()(const char* key, const T& value) const {
+    j[key] = value;
+  }
+};
+
+struct Reader {
+  Fields f;
+  template <typename T>
+  void operator()(const char* key, T& out) const {
+    if constexpr (std::is_same_v<T, std::string>)
+      f.string(key, out);
+    else if constexpr (std::is_same_v<T, bool>)
+      f.boolean(key, out);
+    else if constexpr (std::is_floating_point_v<T>)
+      f.number(key, out);
+    else if constexpr (std::is_integral_v<T>)
+      f.count(key, out);
+    else
+      f.counts(key, out);
+  }
+};
+
+template <typename Section>
+json sectionJson(const Section& section) {
+  json j = json::object();
+  fieldsOf(const_cast<Section&>(section), Writer{j});  // the writer only reads the members
+  return j;
+}
+
+// Reads the nested object `key` into `out` when present.
+template <typename Section>
+void readSection(const Fields& f, const char* key, std::optional<Section>& out) {
+  if (f.find(key)) fieldsOf(out.emplace(), Reader{f.nested(key)});
 }
 
 }  // namespace
@@ -173,20 +211,14 @@ json RunSummary::toJson() const {
             {"triggers", json(triggers)},
             {"knob_frames", json(knobFrames)},
             {"controller_frames", json(controllerFrames)},
-            {"tracking_state", trackingStateJson(trackingState)}};
-  if (machine) j["machine"] = machineJson(*machine);
-  if (daemon) j["daemon"] = {{"pass", daemon->pass}, {"cpus", daemon->cpus}, {"threads", daemon->threads}};
-  if (ate)
-    j["ate"] = {{"rmse_m", ate->rmseM},    {"mean_m", ate->meanM},
-                {"max_m", ate->maxM},      {"median_m", ate->medianM},
-                {"matches", ate->matches}, {"unaligned_mean_m", ate->unalignedMeanM}};
+            {"tracking_state", sectionJson(trackingState)}};
+  if (machine) j["machine"] = sectionJson(*machine);
+  if (daemon) j["daemon"] = sectionJson(*daemon);
+  if (ate) j["ate"] = sectionJson(*ate);
   if (!ateError.empty()) j["ate_error"] = ateError;
   if (cpuMsPerFrame) j["cpu_ms_per_frame"] = *cpuMsPerFrame;
-  if (stopped)
-    j["stopped"] = {{"at_frame", stopped->atFrame},
-                    {"limit_ms", stopped->limitMs},
-                    {"computation_ms", stopped->computationMs}};
-  if (interrupted) j["interrupted"] = {{"signal", interrupted->signal}, {"at_frame", interrupted->atFrame}};
+  if (stopped) j["stopped"] = sectionJson(*stopped);
+  if (interrupted) j["interrupted"] = sectionJson(*interrupted);
   if (!energy.is_null()) j["energy"] = energy;
   if (!modelView.empty()) j["model_view"] = modelView;
   if (!movingVolume.is_null()) j["moving_volume"] = movingVolume;
@@ -213,14 +245,8 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.object("knobs", s.knobs);
   f.object("config", s.config);
   f.count("threads", s.threads);
-  if (f.find("machine")) s.machine = readMachine(f.nested("machine"));
-  if (f.find("daemon")) {
-    const Fields d = f.nested("daemon");
-    DaemonPass& p = s.daemon.emplace();
-    d.count("pass", p.pass);
-    d.string("cpus", p.cpus);
-    d.count("threads", p.threads);
-  }
+  readSection(f, "machine", s.machine);
+  readSection(f, "daemon", s.daemon);
   f.count("frames", s.frames);
   f.count("tracking_attempted", s.trackingAttempted);
   f.count("tracked", s.tracked);
@@ -237,23 +263,12 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.counts("triggers", s.triggers);
   f.counts("knob_frames", s.knobFrames);
   f.counts("controller_frames", s.controllerFrames);
-  if (f.find("tracking_state")) s.trackingState = readTrackingState(f.nested("tracking_state"));
-  if (f.find("ate")) s.ate = readAte(f.nested("ate"));
+  if (f.find("tracking_state")) fieldsOf(s.trackingState, Reader{f.nested("tracking_state")});
+  readSection(f, "ate", s.ate);
   f.string("ate_error", s.ateError);
   f.optionalNumber("cpu_ms_per_frame", s.cpuMsPerFrame);
-  if (f.find("stopped")) {
-    const Fields st = f.nested("stopped");
-    StoppedSummary& x = s.stopped.emplace();
-    st.count("at_frame", x.atFrame);
-    st.number("limit_ms", x.limitMs);
-    st.number("computation_ms", x.computationMs);
-  }
-  if (f.find("interrupted")) {
-    const Fields in = f.nested("interrupted");
-    InterruptedSummary& x = s.interrupted.emplace();
-    in.string("signal", x.signal);
-    in.count("at_frame", x.atFrame);
-  }
+  readSection(f, "stopped", s.stopped);
+  readSection(f, "interrupted", s.interrupted);
   f.object("energy", s.energy);
   f.string("model_view", s.modelView);
   f.object("moving_volume", s.movingVolume);

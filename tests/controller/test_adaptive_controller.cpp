@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "controller/adaptive_controller.h"
+#include "controller/registry.h"
 #include "core/error.h"
 #include "tests/controller/observation_script.h"
 
@@ -15,7 +16,7 @@ using sb::Decision;
 using sb::Observation;
 
 sb::AdaptiveConfig config(const char* json = "{}") {
-  return sb::parseAdaptiveConfig(nlohmann::json::parse(json), "test");
+  return sb::readControllerSettings<sb::AdaptiveConfig>(nlohmann::json::parse(json), "test");
 }
 
 Eigen::Isometry3d moveX(double metres) {
@@ -52,6 +53,20 @@ struct Driver {
     REQUIRE_FALSE(d.retrack);
     return finish(o, d);
   }
+  // 12 tracked frames at 0.01 m/frame: with bootstrap_frames 0 and relax_frames 1, the coarsest level.
+  void reachCoarsest() {
+    for (int i = 0; i < 12; ++i) step(moveX(0.01));
+    REQUIRE(c.level() == 3);
+  }
+  // The re-track that `d` asked for after `first`: the same frame at the finer knobs.
+  static Observation retrackOf(const Observation& first, const Decision& d) {
+    REQUIRE(d.retrack);
+    Observation second = first;
+    second.retracked = true;
+    second.firstKnobs = first.knobs;
+    second.knobs = *d.retrack;
+    return second;
+  }
 };
 
 }  // namespace
@@ -83,8 +98,7 @@ TEST_CASE("adaptive re-tracks a doubtful coarse frame finer and corrects only wh
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "retrack_levels": 2,
       "hold_frames": 5})"));
   Driver drive(c);
-  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
-  REQUIRE(c.level() == 3);
+  drive.reachCoarsest();
   // Tracking fails at csr=8: the frame is tracked again two levels finer.
   Observation first = drive.observe(moveX(0.01), false);
   Decision d = c.decide(first);
@@ -92,10 +106,7 @@ TEST_CASE("adaptive re-tracks a doubtful coarse frame finer and corrects only wh
   CHECK(d.retrack->csr == 2);
   CHECK_FALSE(d.correctedPose);
   // It fails there too: constant-velocity extrapolation, the level goes to the re-track's, no integration.
-  Observation second = first;
-  second.retracked = true;
-  second.firstKnobs = first.knobs;
-  second.knobs = *d.retrack;
+  Observation second = Driver::retrackOf(first, d);
   d = c.decide(second);
   CHECK_FALSE(d.retrack);
   REQUIRE(d.correctedPose);
@@ -116,8 +127,7 @@ TEST_CASE("adaptive re-tracks a doubtful coarse frame finer and corrects only wh
 TEST_CASE("adaptive keeps its level when the re-track confirms the coarse pose", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "retrack_levels": 1})"));
   Driver drive(c);
-  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
-  REQUIRE(c.level() == 3);
+  drive.reachCoarsest();
   // The tracked motion jumps to 0.05 m/frame, 0.04 m off the prediction: doubted, re-tracked at csr=4.
   Observation first = drive.observe(moveX(0.05));
   Decision d = c.decide(first);
@@ -125,9 +135,7 @@ TEST_CASE("adaptive keeps its level when the re-track confirms the coarse pose",
   CHECK(d.retrack->csr == 4);
   CHECK(d.reason.find("prediction off") != std::string::npos);
   // The finer pass lands 2 mm from the coarse pose: confirmed, the motion is real.
-  Observation second = first;
-  second.retracked = true;
-  second.knobs = *d.retrack;
+  Observation second = Driver::retrackOf(first, d);
   second.pose.translation().x() += 0.002;
   d = c.decide(second);
   CHECK_FALSE(d.correctedPose);
@@ -138,9 +146,7 @@ TEST_CASE("adaptive keeps its level when the re-track confirms the coarse pose",
   first = drive.observe(moveX(0.10));
   d = c.decide(first);
   REQUIRE(d.retrack);
-  second = first;
-  second.retracked = true;
-  second.knobs = *d.retrack;
+  second = Driver::retrackOf(first, d);
   second.pose.translation().x() -= 0.03;
   d = c.decide(second);
   CHECK_FALSE(d.correctedPose);
@@ -175,17 +181,14 @@ TEST_CASE("adaptive re-tracks an unconstrained view and goes finer only when tha
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1, "hold_frames": 0,
       "integrate_max_gap_frames": 1})"));
   Driver drive(c);
-  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
-  REQUIRE(c.level() == 3);
+  drive.reachCoarsest();
   const auto wall = [&](bool secondConstrained) {
     Observation first = drive.observe(moveX(0.01));
     first.quality = {true, 0.0002, 0.0002, sb::WeakDirection::ty, false};
     Decision d = c.decide(first);
     REQUIRE(d.retrack);
     CHECK(d.reason == "retrack: weakly constrained (ICP conditioning 0.0002, ty)");
-    Observation second = first;
-    second.retracked = true;
-    second.knobs = *d.retrack;
+    Observation second = Driver::retrackOf(first, d);
     if (secondConstrained) second.quality = {true, 0.1, 0.1, sb::WeakDirection::tx, true};
     d = c.decide(second);
     CHECK_FALSE(d.correctedPose);  // nothing says ICP is wrong along the motions the view does fix
@@ -311,17 +314,13 @@ TEST_CASE("adaptive replaces a re-tracked pose that confirms nothing by the pred
   // both the prediction and the first pass. Learnt, it lost the next frames.
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
   Driver drive(c);
-  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
-  REQUIRE(c.level() == 3);
+  drive.reachCoarsest();
   Observation first = drive.observe(moveX(0.01));
   first.icpLevelIterations = {first.knobs.pyramidIterations[0], 1, 1};
   first.icpUpdateNorm = 0.02;
   Decision d = c.decide(first);
   REQUIRE(d.retrack);
-  Observation second = first;
-  second.retracked = true;
-  second.firstKnobs = first.knobs;
-  second.knobs = *d.retrack;
+  Observation second = Driver::retrackOf(first, d);
   second.icpUpdateNorm = 0.001;
   second.pose = moveX(0.15) * first.previousPose;
   second.inlierFraction = 0.2;  // below half the recent median (0.6)
@@ -339,14 +338,11 @@ TEST_CASE("adaptive replaces a re-tracked pose that confirms nothing by the pred
   // A re-track that lands on the first pass confirms it, even off the prediction: a real change of motion.
   AdaptiveController other("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
   Driver again(other);
-  for (int i = 0; i < 12; ++i) again.step(moveX(0.01));
+  again.reachCoarsest();
   Observation fast = again.observe(moveX(0.06));
   d = other.decide(fast);
   REQUIRE(d.retrack);
-  Observation agreeing = fast;
-  agreeing.retracked = true;
-  agreeing.firstKnobs = fast.knobs;
-  agreeing.knobs = *d.retrack;
+  Observation agreeing = Driver::retrackOf(fast, d);
   d = other.decide(agreeing);
   CHECK_FALSE(d.correctedPose);
   REQUIRE(d.nextStartPose);

@@ -14,7 +14,7 @@ using sb::test::levelTrace;
 namespace {
 
 sb::SlamBoosterConfig config(const std::string& json) {
-  return sb::parseSlamBoosterConfig(nlohmann::json::parse(json), "test");
+  return sb::readControllerSettings<sb::SlamBoosterConfig>(nlohmann::json::parse(json), "test");
 }
 
 std::vector<double> repeat(double v, size_t n) { return std::vector<double>(n, v); }

@@ -4,7 +4,9 @@
 
 #include <sys/types.h>
 
+#include <algorithm>
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -89,6 +91,24 @@ inline std::set<std::string> trajectoryTimestamps(const std::string& path) {
   for (std::string line; std::getline(in, line);)
     if (!line.empty() && line[0] != '#') stamps.insert(line.substr(0, line.find(' ')));
   return stamps;
+}
+
+// The pass-NNNN directories of a looping replay in `out`, by number.
+inline std::vector<int> passDirectories(const std::string& out) {
+  std::vector<int> passes;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(out, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind("pass-", 0) == 0) passes.push_back(std::stoi(name.substr(5)));
+  }
+  std::sort(passes.begin(), passes.end());
+  return passes;
+}
+
+inline std::string passDirectory(const std::string& out, int n) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/pass-%04d", n);
+  return out + name;
 }
 
 inline nlohmann::json ctlJson(const std::string& socket, const std::string& args) {

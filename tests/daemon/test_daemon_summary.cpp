@@ -64,27 +64,6 @@ TEST_CASE("slamboosterd and slambooster run write the same summary of the same f
   }
 }
 
-namespace {
-
-std::string passDirectory(const std::string& out, int n) {
-  char name[32];
-  std::snprintf(name, sizeof name, "/pass-%04d", n);
-  return out + name;
-}
-
-// The highest pass-NNNN in `out` (0: none yet).
-int lastPass(const std::string& out) {
-  int last = 0;
-  std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(out, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.rfind("pass-", 0) == 0) last = std::max(last, std::stoi(name.substr(5)));
-  }
-  return last;
-}
-
-}  // namespace
-
 TEST_CASE("slamboosterd: a controller switched by ?CONTROL stays in force for the next passes of a loop",
           "[daemon][system]") {
   // Before (issue 32) a new pass started with the configured controller again after a ?CONTROL switch, while
@@ -100,7 +79,7 @@ TEST_CASE("slamboosterd: a controller switched by ?CONTROL stays in force for th
   CHECK(ctlJson(socket, "control --controller accurate")["controller"] == "accurate");
   // The pass after the next: the next one's directory may appear after this listing while its controller was
   // taken before the switch.
-  const int next = lastPass(out) + 2;
+  const int next = passDirectories(out).back() + 2;
   const std::string summary = passDirectory(out, next) + "/summary.json";
   REQUIRE(sb::test::waitForPath(summary, 60));
   CHECK(sb::readRunSummary(summary).controller == "accurate");

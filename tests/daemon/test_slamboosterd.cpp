@@ -97,24 +97,6 @@ TEST_CASE("slamboosterd: at_end=exit replays every frame and exits 0", "[daemon]
 
 namespace {
 
-// The pass-NNNN directories in `out`, by number.
-std::vector<int> passDirectories(const std::string& out) {
-  std::vector<int> passes;
-  std::error_code ec;
-  for (const auto& e : fs::directory_iterator(out, ec)) {
-    const std::string name = e.path().filename().string();
-    if (name.rfind("pass-", 0) == 0) passes.push_back(std::stoi(name.substr(5)));
-  }
-  std::sort(passes.begin(), passes.end());
-  return passes;
-}
-
-std::string passDirectory(const std::string& out, int n) {
-  char name[32];
-  std::snprintf(name, sizeof name, "/pass-%04d", n);
-  return out + name;
-}
-
 // Waits until pass directory `n` exists (a looping replay got that far).
 bool waitForPass(const std::string& out, int n) {
   return sb::test::waitForPath(passDirectory(out, n), 60);

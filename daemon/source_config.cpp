@@ -1,0 +1,84 @@
+#include "daemon/source_config.h"
+
+#include <algorithm>
+
+#include "daemon/source_registry.h"
+
+namespace sb::daemon {
+
+void CameraConfig::read(ConfigReader& r) {
+  r.string("uri", uri);
+  r.integer("width", width, 1, 8192);
+  r.integer("height", height, 1, 8192);
+  r.integer("fps", fps, 1, 1000);
+  r.number("fx", fx, 0.0, 1e5);
+  r.number("fy", fy, 0.0, 1e5);
+  r.number("cx", cx, 0.0, 1e5);
+  r.number("cy", cy, 0.0, 1e5);
+  r.number("frame_timeout_s", frameTimeoutSeconds, 0.05, 3600.0);
+  r.number("reconnect_min_s", reconnectMinSeconds, 0.01, 3600.0);
+  r.number("reconnect_max_s", reconnectMaxSeconds, 0.01, 3600.0);
+  if (reconnectMaxSeconds < reconnectMinSeconds)
+    r.fail("reconnect_max_s", "a value >= 'reconnect_min_s' (" + std::to_string(reconnectMinSeconds) + " s)");
+}
+
+namespace {
+
+// Plausible depth scales, raw units per metre: 100 (centimetres) to 100000 (10 micrometres, a 0.65 m range
+// in 16 bits). 1000 (millimetres) and 5000 (TUM) are the usual ones.
+constexpr double kMinDepthScale = 100.0;
+constexpr double kMaxDepthScale = 100000.0;
+
+}  // namespace
+
+void SourceConfig::read(ConfigReader& r) {
+  r.string("type", type);
+  r.string("path", path);
+  r.string("pacing", pacing, {"recorded", "fast"});
+  r.number("speed", speed, 0.01, 100.0);
+  r.string("at_end", atEnd, {"stop", "loop", "exit"});
+  r.integer("max_frames", maxFrames, 0, 100000000);
+  r.number("depth_scale", depthScale, 0.0, kMaxDepthScale);
+  if (depthScale != 0.0 && depthScale < kMinDepthScale)  // 0: from calibration.json / the format
+    r.fail("depth_scale", "0 (from the sequence) or " + std::to_string(static_cast<int>(kMinDepthScale)) +
+                              " to " + std::to_string(static_cast<int>(kMaxDepthScale)) +
+                              " raw units per metre (1000 for millimetres, 5000 for TUM)");
+  r.integer("queue_frames", queueFrames, 1, 256);
+  r.string("depth_topic", depthTopic);
+  r.section("camera", [&](ConfigReader& section) { camera.read(section); });
+  const auto types = sourceTypes();
+  if (std::find(types.begin(), types.end(), type) == types.end()) {
+    std::string known;
+    for (const auto& t : types) known += (known.empty() ? "\"" : ", \"") + t + "\"";
+    r.fail("type", "one of " + known);
+  }
+}
+
+nlohmann::json CameraConfig::toJson() const {
+  return {{"uri", uri},
+          {"width", width},
+          {"height", height},
+          {"fps", fps},
+          {"fx", fx},
+          {"fy", fy},
+          {"cx", cx},
+          {"cy", cy},
+          {"frame_timeout_s", frameTimeoutSeconds},
+          {"reconnect_min_s", reconnectMinSeconds},
+          {"reconnect_max_s", reconnectMaxSeconds}};
+}
+
+nlohmann::json SourceConfig::toJson() const {
+  return {{"type", type},
+          {"path", path},
+          {"pacing", pacing},
+          {"speed", speed},
+          {"at_end", atEnd},
+          {"max_frames", maxFrames},
+          {"depth_scale", depthScale},
+          {"queue_frames", queueFrames},
+          {"depth_topic", depthTopic},
+          {"camera", camera.toJson()}};
+}
+
+}  // namespace sb::daemon
