@@ -215,21 +215,22 @@ void validate(const VolumeView& v) {
 }
 
 // Concatenates slabs in z order, mapping each slab's edges on its lower plane to the vertices the previous
-// slab made there: the result equals a single serial sweep, whatever the thread count.
-Mesh mergeSlabs(std::vector<SlabMesh>& slabs, int nx, int ny) {
-  Mesh mesh;
-  std::unordered_map<uint64_t, uint32_t> previousTop;  // edges in the plane z = start of the current slab
-  for (size_t s = 0; s < slabs.size(); ++s) {
-    SlabMesh& slab = slabs[s];
-    const int z0 = int(s) * kSlabCells;
+// slab made there: the result equals a single serial sweep, whatever the thread count or the batches.
+class SlabMerger {
+ public:
+  SlabMerger(int nx, int ny) : nx_(nx), ny_(ny) {}
+
+  // Slab `s` (cells z in [s * kSlabCells, (s + 1) * kSlabCells)), after slab s - 1; released here.
+  void append(SlabMesh& slab, int s) {
+    const int z0 = s * kSlabCells;
     const int z1 = z0 + kSlabCells;
     std::unordered_map<uint64_t, uint32_t> top;
     std::vector<uint32_t> remap(slab.keys.size());
     for (size_t i = 0; i < slab.keys.size(); ++i) {
-      const DecodedEdge e = decodeEdge(slab.keys[i], nx, ny);
+      const DecodedEdge e = decodeEdge(slab.keys[i], nx_, ny_);
       const bool inPlane = (e.dir & kZAxisBit) == 0;
-      const auto shared = inPlane && e.low.z() == z0 ? previousTop.find(slab.keys[i]) : previousTop.end();
-      if (shared != previousTop.end()) {
+      const auto shared = inPlane && e.low.z() == z0 ? previousTop_.find(slab.keys[i]) : previousTop_.end();
+      if (shared != previousTop_.end()) {
         remap[i] = shared->second;
       } else {
         if (mesh.vertices.size() >= std::numeric_limits<uint32_t>::max())
@@ -241,11 +242,20 @@ Mesh mergeSlabs(std::vector<SlabMesh>& slabs, int nx, int ny) {
       if (inPlane && e.low.z() == z1) top.emplace(slab.keys[i], remap[i]);
     }
     for (const auto& tri : slab.triangles) mesh.triangles.push_back({remap[tri[0]], remap[tri[1]], remap[tri[2]]});
-    previousTop.swap(top);
+    previousTop_.swap(top);
     slab = SlabMesh{};  // release memory early
   }
-  return mesh;
-}
+
+  Mesh mesh;
+
+ private:
+  int nx_, ny_;
+  std::unordered_map<uint64_t, uint32_t> previousTop_;  // edges in the plane z = start of the next slab
+};
+
+// Slabs extracted at once per thread of the pool: the slabs' meshes held before they are merged stay a few
+// per thread (not the whole volume's twice).
+constexpr int kBatchSlabsPerThread = 2;
 
 }  // namespace
 
@@ -255,12 +265,19 @@ Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPoo
   const float voxelSize = volume.size / static_cast<float>(volume.resolution);
   const int cells = sampler.side(2) - 1;
   const int slabCount = ThreadPool::chunkCount(0, cells, kSlabCells);
-  std::vector<SlabMesh> slabs(static_cast<size_t>(slabCount));
-  pool.parallelFor(0, slabCount, 1, [&](int, int begin, int end) {
-    SlabExtractor extractor(sampler, voxelSize);
-    for (int s = begin; s < end; ++s) extractor.run(s * kSlabCells, std::min(cells, (s + 1) * kSlabCells), slabs[size_t(s)]);
-  });
-  return mergeSlabs(slabs, sampler.side(0), sampler.side(1));
+  const int batch = kBatchSlabsPerThread * static_cast<int>(pool.threadCount());
+  SlabMerger merger(sampler.side(0), sampler.side(1));
+  std::vector<SlabMesh> slabs(static_cast<size_t>(std::min(batch, slabCount)));
+  for (int first = 0; first < slabCount; first += batch) {
+    const int last = std::min(slabCount, first + batch);
+    pool.parallelFor(first, last, 1, [&](int, int begin, int end) {
+      SlabExtractor extractor(sampler, voxelSize);
+      for (int s = begin; s < end; ++s)
+        extractor.run(s * kSlabCells, std::min(cells, (s + 1) * kSlabCells), slabs[size_t(s - first)]);
+    });
+    for (int s = first; s < last; ++s) merger.append(slabs[size_t(s - first)], s);
+  }
+  return std::move(merger.mesh);
 }
 
 Mesh extractMesh(const VolumeView& volume, const MeshOptions& options) {

@@ -1,6 +1,7 @@
 #include "mesh/ply_writer.h"
 
 #include "core/atomic_file.h"
+#include "core/disk_full.h"
 #include "core/error.h"
 
 #include <cerrno>
@@ -54,19 +55,31 @@ std::string header(const Mesh& mesh, PlyFormat format) {
   return h;
 }
 
+// The body goes out in pieces of about this many bytes: a mesh is never held twice (as triangles and bytes).
+constexpr size_t kWriteChunkBytes = size_t(1) << 16;
+
+void flushIfFull(std::ostream& out, std::string& buf, bool last = false) {
+  if (!last && buf.size() < kWriteChunkBytes) return;
+  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  buf.clear();
+}
+
 void writeBinaryBody(std::ostream& out, const Mesh& mesh) {
   const bool hasNormals = !mesh.normals.empty();
   std::string buf;
+  buf.reserve(kWriteChunkBytes + 64);
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     for (int a = 0; a < 3; ++a) putF32(buf, mesh.vertices[i][a]);
     if (hasNormals)
       for (int a = 0; a < 3; ++a) putF32(buf, mesh.normals[i][a]);
+    flushIfFull(out, buf);
   }
   for (const auto& tri : mesh.triangles) {
     buf.push_back(static_cast<char>(kTriangleCorners));
     for (uint32_t idx : tri) putU32(buf, idx);
+    flushIfFull(out, buf);
   }
-  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  flushIfFull(out, buf, true);
 }
 
 void writeAsciiBody(std::ostream& out, const Mesh& mesh) {
@@ -101,9 +114,12 @@ void writePly(const std::string& path, const Mesh& mesh, PlyFormat format) {
     int error = errno;  // the failed write's reason (the stream keeps only a flag)
     out.close();
     if (!error) error = errno;
-    if (!out)
-      throw Error("writePly: writing '" + path + "' failed: " + std::strerror(error ? error : EIO) +
-                  "; the previous file (if any) is left as it was (free disk space and run again)");
+    if (!out) {
+      const std::string message = "writePly: writing '" + path + "' failed: " + std::strerror(error ? error : EIO) +
+                                  "; the previous file (if any) is left as it was (free disk space and run again)";
+      if (error == ENOSPC || error == EDQUOT) throw DiskFullError(message);  // the caller may make room
+      throw Error(message);
+    }
   });
 }
 
