@@ -2,6 +2,9 @@
 
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <algorithm>
 #include <cerrno>
@@ -43,7 +46,19 @@ size_t slabNumber(const std::string& name) {
 
 }  // namespace
 
-MapSlabs::MapSlabs(std::string dir, const Options& options) : dir_(std::move(dir)), options_(options) {}
+// glibc keeps what a thread frees in that thread's arena, resident: after a slab (a 20 MiB copy and its
+// mesh, on this thread) the process held 55 MiB more for the rest of the run on the corridor drive
+// (docs/moving-volume.md). Hands the free pages back to the system (a few ms per slab, on the worker).
+static void releaseFreedMemory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
+MapSlabs::MapSlabs(std::string dir, const Options& options) : dir_(std::move(dir)), options_(options) {
+  listEarlier();
+  if (options_.store) options_.store->attach(this);
+}
 
 MapSlabs::~MapSlabs() {
   {
@@ -52,6 +67,7 @@ MapSlabs::~MapSlabs() {
   }
   work_.notify_all();
   if (worker_.joinable()) worker_.join();  // the worker writes what is queued before it stops
+  if (options_.store) options_.store->detach(this);
   if (error_) {
     try {
       std::rethrow_exception(error_);
@@ -107,6 +123,7 @@ void MapSlabs::workerLoop() {
     if (queue_.empty()) return;  // stopped, and every slab written
     VolumeSlab slab = std::move(queue_.front());
     queue_.pop_front();
+    const size_t bytes = slab.bytes();  // before write() releases the voxels
     lock.unlock();
     const auto start = Clock::now();
     std::exception_ptr failure;
@@ -115,8 +132,8 @@ void MapSlabs::workerLoop() {
     } catch (...) {
       failure = std::current_exception();
     }
-    const size_t bytes = slab.bytes();
     slab = VolumeSlab{};  // its memory goes back before the room is counted
+    releaseFreedMemory();
     lock.lock();
     stats_.workerMs += msSince(start);
     if (failure && !error_) error_ = failure;
@@ -126,32 +143,38 @@ void MapSlabs::workerLoop() {
   }
 }
 
-void MapSlabs::openFolder() {
+void MapSlabs::listEarlier() {
+  // Slab files of an earlier start: in the retention (oldest first), not in this run's map; numbered on after.
   const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
   std::error_code ec;
-  std::filesystem::create_directories(folder, ec);
-  if (ec) throw Error("cannot create '" + folder.string() + "': " + ec.message());
-  // Slab files of an earlier start: in the retention (oldest first), not in this run's map; numbered on
-  // after.
+  if (!std::filesystem::is_directory(folder, ec)) return;
   std::vector<std::pair<size_t, Written>> earlier;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const size_t number = slabNumber(entry.path().filename().string());
     std::error_code sizeError;
     const uint64_t bytes = entry.is_regular_file(sizeError) ? entry.file_size(sizeError) : 0;
-    if (number > 0 && !sizeError) earlier.push_back({number, Written{entry.path().string(), bytes, false}});
+    if (number > 0 && !sizeError)
+      earlier.push_back({number, Written{entry.path().string(), bytes, false,
+                                         SegmentStore::modifiedOrder(entry.path().string())}});
   }
-  if (ec) throw Error("cannot list '" + folder.string() + "': " + ec.message());
+  if (ec) throw Error("cannot list '" + folder.string() + "': " + ec.message() + " (check its permissions)");
   std::sort(earlier.begin(), earlier.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::lock_guard lock(mutex_);
   for (auto& [number, file] : earlier) {
     firstNumber_ = number;
     writtenBytes_ += file.bytes;
     written_.push_back(std::move(file));
   }
+}
+
+void MapSlabs::openFolder() {
+  const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  if (ec) throw Error("cannot create '" + folder.string() + "': " + ec.message());
   folderOpen_ = true;
 }
 
-void MapSlabs::write(const VolumeSlab& slab, ThreadPool& serial) {
+void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
   if (!folderOpen_) openFolder();
   // The copy of the slab (no offset: VolumeView::boxOnly); the same mesh as the box read in place.
   VolumeView view;
@@ -161,21 +184,56 @@ void MapSlabs::write(const VolumeSlab& slab, ThreadPool& serial) {
   view.extent = slab.extent;
   view.boxOnly = true;
   Mesh mesh = extractMesh(view, MeshOptions{}, serial);
+  std::vector<int16_t>().swap(slab.voxels);  // the copy is meshed: not held while the file is written
   if (mesh.triangles.empty()) return;  // nothing observed left (e.g. the space behind the first view)
   transformMesh(mesh, Eigen::Isometry3f(Eigen::Translation3f(slab.corner.cast<float>())));
   char name[40];
   std::snprintf(name, sizeof name, "%s%06zu%s", kPrefix, firstNumber_ + slab.shift, kSuffix);
   const std::string path = (std::filesystem::path(dir_) / "map_slabs" / name).string();
-  writePly(path + ".partial", mesh);
+  const auto writeFile = [&] { writePly(path + ".partial", mesh); };
+  if (options_.store)
+    options_.store->writeMakingRoom(writeFile);  // a full disk: the oldest slab or segment goes, then again
+  else
+    writeFile();
   if (std::rename((path + ".partial").c_str(), path.c_str()) != 0)
     throw Error("cannot rename '" + path + ".partial' to '" + path + "'");
   std::error_code ec;
   const uint64_t bytes = std::filesystem::file_size(path, ec);
+  {
+    std::lock_guard lock(mutex_);
+    written_.push_back(Written{path, ec ? 0 : bytes, true, SegmentStore::nowOrder()});
+    writtenBytes_ += written_.back().bytes;
+    triangles_ += mesh.triangles.size();
+    enforceRetentionLocked();
+  }
+  if (options_.store) options_.store->enforce();  // the free-space floor (without this lock: it calls back)
+}
+
+std::optional<int64_t> MapSlabs::oldestRemovable() const {
   std::lock_guard lock(mutex_);
-  written_.push_back(Written{path, ec ? 0 : bytes, true});
-  writtenBytes_ += written_.back().bytes;
-  triangles_ += mesh.triangles.size();
-  enforceRetentionLocked();
+  if (written_.size() < 2) return std::nullopt;  // the newest slab always stays
+  return written_.front().order;
+}
+
+uint64_t MapSlabs::removeOldestAttached() {
+  std::lock_guard lock(mutex_);
+  if (written_.size() < 2) return 0;
+  const uint64_t bytes = written_.front().bytes;
+  const std::string path = written_.front().path;
+  std::error_code ec;
+  std::filesystem::remove(path, ec);  // already gone (removed by hand): forgotten all the same
+  if (ec) spdlog::warn("map slabs: cannot remove '{}' to make room: {}", path, ec.message());
+  removeOldestLocked();
+  ++stats_.removedForSpace;
+  return bytes;
+}
+
+void MapSlabs::removeOldestLocked() {
+  const Written& oldest = written_.front();
+  writtenBytes_ -= oldest.bytes;
+  ++stats_.removedFiles;
+  stats_.removedBytes += oldest.bytes;
+  written_.pop_front();
 }
 
 void MapSlabs::enforceRetentionLocked() {
@@ -186,10 +244,7 @@ void MapSlabs::enforceRetentionLocked() {
     std::filesystem::remove(oldest.path, ec);
     if (ec)
       throw Error("cannot remove the old slab '" + oldest.path + "' (map_slabs retention): " + ec.message());
-    writtenBytes_ -= oldest.bytes;
-    ++stats_.removedFiles;
-    stats_.removedBytes += oldest.bytes;
-    written_.pop_front();
+    removeOldestLocked();
   }
 }
 
@@ -215,6 +270,20 @@ MapSlabsStats MapSlabs::stats() const {
 
 size_t MapSlabs::writeMap(const std::string& path, const Mesh& finalVolume) {
   return writeMergedPly(path, files(), finalVolume);
+}
+
+MapSlabFiles mapSlabFiles(const std::string& dir) {
+  MapSlabFiles out;
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(dir) / "map_slabs", ec)) {
+    std::error_code sizeError;
+    if (slabNumber(entry.path().filename().string()) == 0 || !entry.is_regular_file(sizeError)) continue;
+    const uintmax_t bytes = entry.file_size(sizeError);
+    if (sizeError) continue;  // removed meanwhile
+    out.bytes += bytes;
+    ++out.files;
+  }
+  return out;
 }
 
 void writeRunMesh(const std::string& path, Pipeline& pipeline, MapSlabs* slabs, ThreadPool& pool,
