@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/thread_pool.h"
+#include "mesh/mesh_pieces.h"
 #include "mesh/tetra_cases.h"
 
 #include <algorithm>
@@ -220,6 +221,14 @@ class SlabMerger {
  public:
   SlabMerger(int nx, int ny) : nx_(nx), ny_(ny) {}
 
+  // Hands the vertices and triangles merged since the last call to `sink` (triangles index the whole mesh)
+  // and forgets them; the edges shared with the next slab stay known.
+  void flush(const MeshPieceSink& sink) {
+    sink(mesh);
+    emitted_ += mesh.vertices.size();
+    mesh = Mesh{};
+  }
+
   // Slab `s` (cells z in [s * kSlabCells, (s + 1) * kSlabCells)), after slab s - 1; released here.
   void append(SlabMesh& slab, int s) {
     const int z0 = s * kSlabCells;
@@ -233,9 +242,9 @@ class SlabMerger {
       if (shared != previousTop_.end()) {
         remap[i] = shared->second;
       } else {
-        if (mesh.vertices.size() >= std::numeric_limits<uint32_t>::max())
+        if (emitted_ + mesh.vertices.size() >= std::numeric_limits<uint32_t>::max())
           throw Error("extractMesh: more than 2^32 vertices; use a lower volume resolution");
-        remap[i] = static_cast<uint32_t>(mesh.vertices.size());
+        remap[i] = static_cast<uint32_t>(emitted_ + mesh.vertices.size());
         mesh.vertices.push_back(slab.vertices[i]);
         mesh.normals.push_back(slab.normals[i]);
       }
@@ -250,6 +259,7 @@ class SlabMerger {
 
  private:
   int nx_, ny_;
+  size_t emitted_ = 0;  // vertices handed to a sink
   std::unordered_map<uint64_t, uint32_t> previousTop_;  // edges in the plane z = start of the next slab
 };
 
@@ -257,9 +267,8 @@ class SlabMerger {
 // per thread (not the whole volume's twice).
 constexpr int kBatchSlabsPerThread = 2;
 
-}  // namespace
-
-Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool) {
+// Extracts in batches; with a sink, hands each batch's piece to it as soon as it is merged.
+Mesh extract(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool, const MeshPieceSink* sink) {
   validate(volume);
   const VolumeSampler sampler(volume, options.minWeight);
   const float voxelSize = volume.size / static_cast<float>(volume.resolution);
@@ -276,8 +285,20 @@ Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPoo
         extractor.run(s * kSlabCells, std::min(cells, (s + 1) * kSlabCells), slabs[size_t(s - first)]);
     });
     for (int s = first; s < last; ++s) merger.append(slabs[size_t(s - first)], s);
+    if (sink) merger.flush(*sink);
   }
   return std::move(merger.mesh);
+}
+
+}  // namespace
+
+Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool) {
+  return extract(volume, options, pool, nullptr);
+}
+
+void extractMeshPieces(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool,
+                       const MeshPieceSink& sink) {
+  extract(volume, options, pool, &sink);
 }
 
 Mesh extractMesh(const VolumeView& volume, const MeshOptions& options) {

@@ -13,6 +13,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "mesh/mesh_pieces.h"
 #include "mesh/ply_merge.h"
 #include "mesh/ply_writer.h"
 #include "runtime/run.h"
@@ -55,7 +56,22 @@ static void releaseFreedMemory() {
 #endif
 }
 
+// glibc raises its mmap threshold to the size of the largest mapped block freed (up to 32 MiB): once a slab's
+// copy (20 MiB) is freed, every buffer under that size (the final volume's mesh at the end, 15 MB on the
+// drive) comes from the arenas instead, where it fragments and stays resident (+20 MiB for the rest of the
+// run and +35 MiB at the end, against +17 MiB in a fixed run). A fixed threshold, set once by the first run
+// with a map, keeps such buffers mapped, given back when freed; smaller ones (a frame's) stay in the arenas.
+constexpr int kMmapThresholdBytes = 4 << 20;
+
+static void fixMmapThreshold() {
+#if defined(__GLIBC__)
+  static std::once_flag once;
+  std::call_once(once, [] { mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes); });
+#endif
+}
+
 MapSlabs::MapSlabs(std::string dir, const Options& options) : dir_(std::move(dir)), options_(options) {
+  fixMmapThreshold();
   listEarlier();
   if (options_.store) options_.store->attach(this);
 }
@@ -183,18 +199,28 @@ void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
   view.size = slab.voxelSize * static_cast<float>(slab.resolution);
   view.extent = slab.extent;
   view.boxOnly = true;
-  Mesh mesh = extractMesh(view, MeshOptions{}, serial);
-  std::vector<int16_t>().swap(slab.voxels);  // the copy is meshed: not held while the file is written
-  if (mesh.triangles.empty()) return;  // nothing observed left (e.g. the space behind the first view)
-  transformMesh(mesh, Eigen::Isometry3f(Eigen::Translation3f(slab.corner.cast<float>())));
   char name[40];
   std::snprintf(name, sizeof name, "%s%06zu%s", kPrefix, firstNumber_ + slab.shift, kSuffix);
   const std::string path = (std::filesystem::path(dir_) / "map_slabs" / name).string();
-  const auto writeFile = [&] { writePly(path + ".partial", mesh); };
+  const Eigen::Isometry3f toWorld(Eigen::Translation3f(slab.corner.cast<float>()));
+  // Streamed: each piece of the mesh goes to the file as it is extracted (the mesh is never held whole); the
+  // file's bytes are writePly's of the whole mesh.
+  size_t triangles = 0;
+  const auto writeFile = [&] {
+    PlyPieceWriter ply(path + ".partial");
+    extractMeshPieces(view, MeshOptions{}, serial, [&](Mesh& piece) {
+      transformMesh(piece, toWorld);
+      ply.add(piece);
+    });
+    triangles = ply.triangles();
+    if (triangles > 0) ply.finish();
+  };
   if (options_.store)
     options_.store->writeMakingRoom(writeFile);  // a full disk: the oldest slab or segment goes, then again
   else
     writeFile();
+  std::vector<int16_t>().swap(slab.voxels);
+  if (triangles == 0) return;  // nothing observed left (e.g. the space behind the first view)
   if (std::rename((path + ".partial").c_str(), path.c_str()) != 0)
     throw Error("cannot rename '" + path + ".partial' to '" + path + "'");
   std::error_code ec;
@@ -203,7 +229,7 @@ void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
     std::lock_guard lock(mutex_);
     written_.push_back(Written{path, ec ? 0 : bytes, true, SegmentStore::nowOrder()});
     writtenBytes_ += written_.back().bytes;
-    triangles_ += mesh.triangles.size();
+    triangles_ += triangles;
     enforceRetentionLocked();
   }
   if (options_.store) options_.store->enforce();  // the free-space floor (without this lock: it calls back)
