@@ -176,7 +176,8 @@ void SegmentStore::enforce() {
   }
   // The free space after every write (one statvfs, about a microsecond): another program may fill the disk at
   // any moment, and the outputs that do not rotate (summary.json, rewritten every frame) need room too.
-  while (limits_.minFreeBytes > 0 && freeBytesLocked() < limits_.minFreeBytes && removeOldestForSpaceLocked()) {
+  while (limits_.minFreeBytes > 0 && freeBytesLocked() < limits_.minFreeBytes &&
+         removeOldestForSpaceLocked()) {
   }
 }
 

@@ -92,15 +92,16 @@ class SegmentStore {
   // Removes the oldest closed segments while a limit is passed (the free space is read each time). Called
   // after every write.
   void enforce();
-  // Removes the oldest closed segment or attached file (a write failed for lack of space); false when there is
-  // none.
+  // Removes the oldest closed segment or attached file (a write failed for lack of space); false when there
+  // is none.
   bool removeOldest();
-  // Calls `write`, and again after removing the oldest closed segment or attached file for as long as it throws
-  // sb::DiskFullError (core/disk_full.h) and a segment is left; then the error goes to the caller. For the
-  // outputs that do not rotate but must go on when the disk fills (summary.json, rewritten every frame).
+  // Calls `write`, and again after removing the oldest closed segment or attached file for as long as it
+  // throws sb::DiskFullError (core/disk_full.h) and a segment is left; then the error goes to the caller. For
+  // the outputs that do not rotate but must go on when the disk fills (summary.json, rewritten every frame).
   void writeMakingRoom(const std::function<void()>& write);
   SegmentUsage usage() const;
-  // `files` are removed for space (with the segments, oldest first) until detached (before they are destroyed).
+  // `files` are removed for space (with the segments, oldest first) until detached (before they are
+  // destroyed).
   void attach(AttachedFiles* files);
   void detach(AttachedFiles* files);
   // A number that orders segments closed now after every earlier one (nanoseconds of the wall clock).

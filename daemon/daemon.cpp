@@ -81,9 +81,10 @@ nlohmann::json diskStatus(const SegmentStore* retention, bool rotating, const st
   const MapSlabFiles slabs = mapSlabFiles(dir);
   if (retention) {
     const SegmentUsage u = retention->usage();
-    return {{"rotation", rotating},       {"bytes", u.bytes + slabs.bytes}, {"free_bytes", u.freeBytes},
-            {"limit_bytes", u.keepBytes}, {"segments", u.segments},       {"removed_segments", u.removedSegments},
-            {"slab_bytes", slabs.bytes},  {"slab_files", slabs.files}};
+    return {{"rotation", rotating},      {"bytes", u.bytes + slabs.bytes},
+            {"free_bytes", u.freeBytes}, {"limit_bytes", u.keepBytes},
+            {"segments", u.segments},    {"removed_segments", u.removedSegments},
+            {"slab_bytes", slabs.bytes}, {"slab_files", slabs.files}};
   }
   uint64_t bytes = slabs.bytes;
   std::error_code ec;

@@ -1,15 +1,15 @@
 #include "mesh/marching_cubes.h"
 
-#include "core/error.h"
-#include "core/thread_pool.h"
-#include "mesh/mesh_pieces.h"
-#include "mesh/tetra_cases.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <unordered_map>
+
+#include "core/error.h"
+#include "core/thread_pool.h"
+#include "mesh/mesh_pieces.h"
+#include "mesh/tetra_cases.h"
 
 namespace sb {
 
@@ -259,7 +259,7 @@ class SlabMerger {
 
  private:
   int nx_, ny_;
-  size_t emitted_ = 0;  // vertices handed to a sink
+  size_t emitted_ = 0;                                  // vertices handed to a sink
   std::unordered_map<uint64_t, uint32_t> previousTop_;  // edges in the plane z = start of the next slab
 };
 
@@ -268,7 +268,8 @@ class SlabMerger {
 constexpr int kBatchSlabsPerThread = 2;
 
 // Extracts in batches; with a sink, hands each batch's piece to it as soon as it is merged.
-Mesh extract(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool, const MeshPieceSink* sink) {
+Mesh extract(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool,
+             const MeshPieceSink* sink) {
   validate(volume);
   const VolumeSampler sampler(volume, options.minWeight);
   const float voxelSize = volume.size / static_cast<float>(volume.resolution);

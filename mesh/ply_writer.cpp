@@ -1,10 +1,5 @@
 #include "mesh/ply_writer.h"
 
-#include "core/atomic_file.h"
-#include "core/disk_full.h"
-#include "core/error.h"
-#include "mesh/mesh_pieces.h"
-
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -12,6 +7,11 @@
 #include <iomanip>
 #include <limits>
 #include <memory>
+
+#include "core/atomic_file.h"
+#include "core/disk_full.h"
+#include "core/error.h"
+#include "mesh/mesh_pieces.h"
 
 namespace sb {
 
@@ -64,8 +64,9 @@ std::string header(const Mesh& mesh, PlyFormat format) {
 
 // The reason of a failed write, as the error to throw (DiskFullError when the disk is full).
 [[noreturn]] void throwWriteError(const std::string& what, int error) {
-  const std::string message = what + ": " + std::strerror(error ? error : EIO) +
-                              "; the previous file (if any) is left as it was (free disk space and run again)";
+  const std::string message =
+      what + ": " + std::strerror(error ? error : EIO) +
+      "; the previous file (if any) is left as it was (free disk space and run again)";
   if (error == ENOSPC || error == EDQUOT) throw DiskFullError(message);  // the caller may make room
   throw Error(message);
 }
@@ -163,10 +164,12 @@ void PlyPieceWriter::put(std::FILE* file, const std::string& bytes, const std::s
 void PlyPieceWriter::add(const Mesh& piece) {
   if (piece.normals.size() != piece.vertices.size())
     throw Error("writePly '" + path_ + "': a piece has " + std::to_string(piece.vertices.size()) +
-                " vertices but " + std::to_string(piece.normals.size()) + " normals; give one normal per vertex");
+                " vertices but " + std::to_string(piece.normals.size()) +
+                " normals; give one normal per vertex");
   const size_t total = vertices_ + piece.vertices.size();
   if (total > std::numeric_limits<uint32_t>::max())
-    throw Error("writePly '" + path_ + "': " + std::to_string(total) + " vertices exceed the uint32 index range");
+    throw Error("writePly '" + path_ + "': " + std::to_string(total) +
+                " vertices exceed the uint32 index range");
   std::string buf;
   buf.reserve(kWriteChunkBytes + 64);
   for (size_t i = 0; i < piece.vertices.size(); ++i) {
@@ -184,7 +187,8 @@ void PlyPieceWriter::add(const Mesh& piece) {
     for (uint32_t idx : piece.triangles[t]) {
       if (idx >= total)
         throw Error("writePly '" + path_ + "': triangle " + std::to_string(triangles_ + t) + " uses vertex " +
-                    std::to_string(idx) + " but the mesh has only " + std::to_string(total) + " vertices so far");
+                    std::to_string(idx) + " but the mesh has only " + std::to_string(total) +
+                    " vertices so far");
       putU32(buf, idx);
     }
     if (buf.size() >= kWriteChunkBytes) {
@@ -217,8 +221,10 @@ void PlyPieceWriter::finish() {
       std::unique_ptr<std::FILE, Closer> in(std::fopen(name.c_str(), "rb"));
       if (!in) throw Error("writePly: cannot read back '" + name + "': " + std::strerror(errno));
       size_t n;
-      while ((n = std::fread(&buf[0], 1, buf.size(), in.get())) > 0) put(out.get(), buf.substr(0, n), temporary);
-      if (std::ferror(in.get())) throw Error("writePly: cannot read back '" + name + "': " + std::strerror(errno));
+      while ((n = std::fread(&buf[0], 1, buf.size(), in.get())) > 0)
+        put(out.get(), buf.substr(0, n), temporary);
+      if (std::ferror(in.get()))
+        throw Error("writePly: cannot read back '" + name + "': " + std::strerror(errno));
     }
     errno = 0;
     if (std::fflush(out.get()) != 0 || std::ferror(out.get()))

@@ -160,7 +160,8 @@ void MapSlabs::workerLoop() {
 }
 
 void MapSlabs::listEarlier() {
-  // Slab files of an earlier start: in the retention (oldest first), not in this run's map; numbered on after.
+  // Slab files of an earlier start: in the retention (oldest first), not in this run's map; numbered on
+  // after.
   const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
   std::error_code ec;
   if (!std::filesystem::is_directory(folder, ec)) return;
@@ -301,7 +302,8 @@ size_t MapSlabs::writeMap(const std::string& path, const Mesh& finalVolume) {
 MapSlabFiles mapSlabFiles(const std::string& dir) {
   MapSlabFiles out;
   std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(dir) / "map_slabs", ec)) {
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(dir) / "map_slabs", ec)) {
     std::error_code sizeError;
     if (slabNumber(entry.path().filename().string()) == 0 || !entry.is_regular_file(sizeError)) continue;
     const uintmax_t bytes = entry.file_size(sizeError);

@@ -55,8 +55,8 @@ struct MapSlabsOptions {
   // Retention (the daemon's output.rotation.keep_slabs_mib): the slab files in DIR/map_slabs together at most
   // this many bytes; past it the oldest go first (the newest always stays). 0: no limit.
   uint64_t keepBytes = 0;
-  // The retention of the directory's other outputs (the daemon's; core/segment_store.h), or nullptr (a replay:
-  // a slab that finds the disk full fails). With it the slab files give way to its free-space floor
+  // The retention of the directory's other outputs (the daemon's; core/segment_store.h), or nullptr (a
+  // replay: a slab that finds the disk full fails). With it the slab files give way to its free-space floor
   // (min_free_mib) and to a full disk, oldest first among the slabs and the segments; the newest slab stays.
   // A slab write that finds the disk full removes the oldest of them and writes again.
   std::shared_ptr<SegmentStore> store;
@@ -100,9 +100,9 @@ class MapSlabs : private AttachedFiles {
   // AttachedFiles (the store's free-space floor and full disk; any thread, with the store's lock held).
   std::optional<int64_t> oldestRemovable() const override;
   uint64_t removeOldestAttached() override;
-  void listEarlier();                                      // in the constructor
+  void listEarlier();  // in the constructor
   void workerLoop();
-  void write(VolumeSlab& slab, ThreadPool& serial);  // on the worker; releases the slab's voxels
+  void write(VolumeSlab& slab, ThreadPool& serial);        // on the worker; releases the slab's voxels
   void openFolder();                                       // on the worker, at the first slab
   void removeOldestLocked();
   void enforceRetentionLocked();

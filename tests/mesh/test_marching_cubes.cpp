@@ -1,22 +1,20 @@
 // Known-answer tests of extractMesh on analytic signed distance fields (sphere, plane), and the same mesh in
 // pieces (mesh/mesh_pieces.h).
-#include "mesh/marching_cubes.h"
-
-#include "core/error.h"
-#include "core/thread_pool.h"
-#include "mesh/mesh_pieces.h"
-#include "mesh/ply_writer.h"
-#include "tests/mesh/analytic_volume.h"
-#include "tests/support/test_data.h"
-
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
-
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
 #include <utility>
+
+#include "core/error.h"
+#include "core/thread_pool.h"
+#include "mesh/marching_cubes.h"
+#include "mesh/mesh_pieces.h"
+#include "mesh/ply_writer.h"
+#include "tests/mesh/analytic_volume.h"
+#include "tests/support/test_data.h"
 
 using sb::test::AnalyticVolume;
 

@@ -9,8 +9,8 @@
 // an
 //   earlier start count first and this run's number on after them.
 
-#include <catch2/catch.hpp>
 #include <array>
+#include <catch2/catch.hpp>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -207,8 +207,9 @@ TEST_CASE("map slabs: retention keeps the newest files within the bound, earlier
   CHECK(unbounded.stats().removedFiles == 0);
 }
 
-TEST_CASE("map slabs: under the store's free-space floor the oldest slabs go, the newest stays, the run goes on",
-          "[map_slabs]") {
+TEST_CASE(
+    "map slabs: under the store's free-space floor the oldest slabs go, the newest stays, the run goes on",
+    "[map_slabs]") {
   const Drive& d = drive();
   const std::string dir = freshDir("map_slabs_floor");
   fs::create_directories(dir);
@@ -238,7 +239,8 @@ TEST_CASE("map slabs: under the store's free-space floor the oldest slabs go, th
   CHECK(onDisk.bytes == d.reference[2].size());
 }
 
-TEST_CASE("map slabs: a slab that finds the disk full removes the oldest slab and is written", "[map_slabs]") {
+TEST_CASE("map slabs: a slab that finds the disk full removes the oldest slab and is written",
+          "[map_slabs]") {
   // The third slab's temporary file is /dev/full: its first write fails with ENOSPC, as on a full disk; the
   // failed temporary is removed, so the write after it goes to a real file.
   if (!fs::exists("/dev/full")) {
@@ -260,7 +262,8 @@ TEST_CASE("map slabs: a slab that finds the disk full removes the oldest slab an
   sb::MapSlabs slabs(dir, options);
   for (const sb::VolumeSlab& slab : d.slabs) slabs.add(slab);
   const std::vector<std::string> files = slabs.files();
-  CHECK(files == std::vector<std::string>{dir + "/map_slabs/slab-000002.ply", dir + "/map_slabs/slab-000003.ply"});
+  CHECK(files ==
+        std::vector<std::string>{dir + "/map_slabs/slab-000002.ply", dir + "/map_slabs/slab-000003.ply"});
   CHECK(bytesOf(dir + "/map_slabs/slab-000003.ply") == d.reference[2]);
   CHECK(slabs.stats().removedForSpace == 1);
   CHECK(options.store->usage().removedAttached == 1);
@@ -303,7 +306,9 @@ sb::Mesh parsePly(const std::string& bytes) {
 }
 
 // The bytes after the header (the merged file's header has its own comment).
-std::string body(const std::string& bytes) { return bytes.substr(bytes.find("end_header\n") + 11); }
+std::string body(const std::string& bytes) {
+  return bytes.substr(bytes.find("end_header\n") + 11);
+}
 
 }  // namespace
 
@@ -321,7 +326,8 @@ TEST_CASE("map slabs: mesh.ply is every slab file then the final volume, byte fo
   }
   for (uint32_t i = 0; i + 2 < 40000; i += 2) last.triangles.push_back({i, i + 1, i + 2});
   const size_t triangles = slabs.writeMap(dir + "/mesh.ply", last);
-  // The same mesh in one piece: the slabs' meshes (from the bytes of the reference) and `last`, indices moved on.
+  // The same mesh in one piece: the slabs' meshes (from the bytes of the reference) and `last`, indices moved
+  // on.
   sb::Mesh all;
   for (const std::string& r : d.reference) {
     if (r.empty()) continue;
@@ -329,7 +335,8 @@ TEST_CASE("map slabs: mesh.ply is every slab file then the final volume, byte fo
     const uint32_t offset = uint32_t(all.vertices.size());
     all.vertices.insert(all.vertices.end(), part.vertices.begin(), part.vertices.end());
     all.normals.insert(all.normals.end(), part.normals.begin(), part.normals.end());
-    for (const auto& t : part.triangles) all.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+    for (const auto& t : part.triangles)
+      all.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
   }
   const uint32_t offset = uint32_t(all.vertices.size());
   all.vertices.insert(all.vertices.end(), last.vertices.begin(), last.vertices.end());
