@@ -1,5 +1,6 @@
 #include "core/segment_store.h"
 
+#include <sys/stat.h>
 #include <sys/statvfs.h>
 
 #include <chrono>
@@ -39,6 +40,12 @@ int64_t SegmentStore::nowOrder() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(
              std::chrono::system_clock::now().time_since_epoch())
       .count();
+}
+
+int64_t SegmentStore::modifiedOrder(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return 0;
+  return static_cast<int64_t>(st.st_mtim.tv_sec) * 1000000000 + st.st_mtim.tv_nsec;
 }
 
 void SegmentStore::addClosed(const std::string& path, uint64_t bytes, int64_t order) {
@@ -116,9 +123,38 @@ bool SegmentStore::removeOldestLocked() {
   return true;
 }
 
+bool SegmentStore::removeOldestForSpaceLocked() {
+  // The oldest of every kind: a closed segment, or an attached file that may go.
+  AttachedFiles* oldestAttached = nullptr;
+  int64_t oldestOrder = 0;
+  for (AttachedFiles* files : attached_) {
+    const std::optional<int64_t> order = files->oldestRemovable();
+    if (order && (!oldestAttached || *order < oldestOrder)) {
+      oldestAttached = files;
+      oldestOrder = *order;
+    }
+  }
+  if (oldestAttached && (closed_.empty() || oldestOrder < closed_.begin()->first)) {
+    oldestAttached->removeOldestAttached();
+    ++removedAttached_;
+    return true;
+  }
+  return removeOldestLocked();
+}
+
 bool SegmentStore::removeOldest() {
   std::lock_guard lock(mutex_);
-  return removeOldestLocked();
+  return removeOldestForSpaceLocked();
+}
+
+void SegmentStore::attach(AttachedFiles* files) {
+  std::lock_guard lock(mutex_);
+  attached_.insert(files);
+}
+
+void SegmentStore::detach(AttachedFiles* files) {
+  std::lock_guard lock(mutex_);
+  attached_.erase(files);
 }
 
 void SegmentStore::writeMakingRoom(const std::function<void()>& write) {
@@ -140,7 +176,8 @@ void SegmentStore::enforce() {
   }
   // The free space after every write (one statvfs, about a microsecond): another program may fill the disk at
   // any moment, and the outputs that do not rotate (summary.json, rewritten every frame) need room too.
-  while (limits_.minFreeBytes > 0 && freeBytesLocked() < limits_.minFreeBytes && removeOldestLocked()) {
+  while (limits_.minFreeBytes > 0 && freeBytesLocked() < limits_.minFreeBytes &&
+         removeOldestForSpaceLocked()) {
   }
 }
 
@@ -153,6 +190,7 @@ SegmentUsage SegmentStore::usage() const {
   u.removedBytes = removedBytes_;
   u.freeBytes = freeBytesLocked();
   u.keepBytes = limits_.keepBytes;
+  u.removedAttached = removedAttached_;
   return u;
 }
 

@@ -6,6 +6,9 @@
 // handled the same way: a write that fails with ENOSPC removes the oldest segment and tries again.
 // A closed unit may also be a whole directory (a looping replay's pass directory, daemon/pass_directories.h):
 // it counts once, with every file under it, and is removed whole.
+// Files another part owns and bounds by its own limit (the moving volume's map slabs, runtime/map_slabs.h)
+// can be attached (AttachedFiles): the free-space floor and a full disk remove them with the segments, the
+// oldest of either first; the byte and count limits (and usage's bytes) are the segments' alone.
 //
 // Shared by the threads that write rotating files (the SLAM thread, the power sampler) and read for STATUS
 // (the event loop): every method is thread-safe.
@@ -22,6 +25,8 @@
 #include <functional>
 #include <map>
 #include <mutex>
+#include <optional>
+#include <set>
 #include <string>
 
 namespace sb {
@@ -52,6 +57,20 @@ struct SegmentUsage {
   uint64_t removedBytes = 0;
   uint64_t freeBytes = 0;  // available to this process on the directory's file system
   uint64_t keepBytes = 0;  // the limit
+  uint64_t removedAttached = 0;  // attached files (AttachedFiles) removed for space since the store was made
+};
+
+// Files of the output directory that another part writes and bounds itself (the moving volume's map slabs),
+// attached to a SegmentStore so that they give way to the free-space floor and a full disk like the segments.
+// The store calls these with its lock held, from any thread that writes: they must not call the store.
+class AttachedFiles {
+ public:
+  virtual ~AttachedFiles() = default;
+  // The age (SegmentStore::nowOrder's scale, or a file's modification time in ns) of the oldest file that may
+  // be removed; none when none may (the newest slab always stays).
+  virtual std::optional<int64_t> oldestRemovable() const = 0;
+  // Removes that file (one already gone is forgotten all the same); returns its bytes.
+  virtual uint64_t removeOldestAttached() = 0;
 };
 
 class SegmentStore {
@@ -73,18 +92,26 @@ class SegmentStore {
   // Removes the oldest closed segments while a limit is passed (the free space is read each time). Called
   // after every write.
   void enforce();
-  // Removes the oldest closed segment (a write failed for lack of space); false when there is none.
+  // Removes the oldest closed segment or attached file (a write failed for lack of space); false when there
+  // is none.
   bool removeOldest();
-  // Calls `write`, and again after removing the oldest closed segment for as long as it throws
-  // sb::DiskFullError (core/disk_full.h) and a segment is left; then the error goes to the caller. For the
-  // outputs that do not rotate but must go on when the disk fills (summary.json, rewritten every frame).
+  // Calls `write`, and again after removing the oldest closed segment or attached file for as long as it
+  // throws sb::DiskFullError (core/disk_full.h) and a segment is left; then the error goes to the caller. For
+  // the outputs that do not rotate but must go on when the disk fills (summary.json, rewritten every frame).
   void writeMakingRoom(const std::function<void()>& write);
   SegmentUsage usage() const;
+  // `files` are removed for space (with the segments, oldest first) until detached (before they are
+  // destroyed).
+  void attach(AttachedFiles* files);
+  void detach(AttachedFiles* files);
   // A number that orders segments closed now after every earlier one (nanoseconds of the wall clock).
   static int64_t nowOrder();
+  // The same for a file already on disk: its modification time (0 when it cannot be read).
+  static int64_t modifiedOrder(const std::string& path);
 
  private:
-  bool removeOldestLocked();
+  bool removeOldestLocked();          // closed segments only (the byte and count limits)
+  bool removeOldestForSpaceLocked();  // the oldest closed segment or attached file
   uint64_t freeBytesLocked() const;
   uint64_t totalLocked() const;
 
@@ -95,6 +122,8 @@ class SegmentStore {
   std::map<const void*, uint64_t> current_;
   uint64_t closedBytes_ = 0;
   uint64_t removedSegments_ = 0, removedBytes_ = 0;
+  std::set<AttachedFiles*> attached_;
+  uint64_t removedAttached_ = 0;
 };
 
 }  // namespace sb

@@ -17,6 +17,7 @@
 #include "daemon/peer_auth.h"
 #include "daemon/source_registry.h"
 #include "power/energy_json.h"
+#include "runtime/map_slabs.h"
 
 namespace sb::daemon {
 
@@ -48,14 +49,18 @@ UniqueFd makeTimer(std::chrono::nanoseconds period) {
 
 // STATUS "disk": the outputs' bytes on disk and the file system's free space. With a retention store
 // (rotation, or a looping replay) the store counts every segment and ended pass directory under output.dir;
-// without one the files of the current pass's directory are summed.
+// without one the files of the current pass's directory are summed. Either way the slab files of the current
+// pass's map (map_slabs/) are in `bytes` and, alone, in `slab_bytes` and `slab_files`.
 nlohmann::json diskStatus(const SegmentStore* retention, bool rotating, const std::string& dir) {
+  const MapSlabFiles slabs = mapSlabFiles(dir);
   if (retention) {
     const SegmentUsage u = retention->usage();
-    return {{"rotation", rotating},       {"bytes", u.bytes},       {"free_bytes", u.freeBytes},
-            {"limit_bytes", u.keepBytes}, {"segments", u.segments}, {"removed_segments", u.removedSegments}};
+    return {{"rotation", rotating},      {"bytes", u.bytes + slabs.bytes},
+            {"free_bytes", u.freeBytes}, {"limit_bytes", u.keepBytes},
+            {"segments", u.segments},    {"removed_segments", u.removedSegments},
+            {"slab_bytes", slabs.bytes}, {"slab_files", slabs.files}};
   }
-  uint64_t bytes = 0;
+  uint64_t bytes = slabs.bytes;
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
     if (entry.is_regular_file(ec)) {
@@ -63,7 +68,11 @@ nlohmann::json diskStatus(const SegmentStore* retention, bool rotating, const st
       if (!ec) bytes += size;
     }
   const std::filesystem::space_info space = std::filesystem::space(dir, ec);
-  return {{"rotation", false}, {"bytes", bytes}, {"free_bytes", ec ? 0 : space.available}};
+  return {{"rotation", false},
+          {"bytes", bytes},
+          {"free_bytes", ec ? 0 : space.available},
+          {"slab_bytes", slabs.bytes},
+          {"slab_files", slabs.files}};
 }
 
 }  // namespace

@@ -218,7 +218,8 @@ void SlamWorker::startPass(Passes& p) {
       RunOutputs{dir, p.pass == 1 ? sequence_.groundTruthPath : "", header,
                  "slamboosterd " + sequence_.path + " pass " + std::to_string(p.pass) + " (volume frame)",
                  segments_, config_.output.mesh,
-                 static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0)},
+                 static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0),
+                 segments_ ? segments_ : passRetention_},
       p.energy ? &*p.energy : nullptr);
   if (publishEnergy_)
     p.run->setEnergyListener([this](const power::FrameEnergy& e) {

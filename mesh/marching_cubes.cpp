@@ -1,14 +1,15 @@
 #include "mesh/marching_cubes.h"
 
-#include "core/error.h"
-#include "core/thread_pool.h"
-#include "mesh/tetra_cases.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
 #include <unordered_map>
+
+#include "core/error.h"
+#include "core/thread_pool.h"
+#include "mesh/mesh_pieces.h"
+#include "mesh/tetra_cases.h"
 
 namespace sb {
 
@@ -215,52 +216,90 @@ void validate(const VolumeView& v) {
 }
 
 // Concatenates slabs in z order, mapping each slab's edges on its lower plane to the vertices the previous
-// slab made there: the result equals a single serial sweep, whatever the thread count.
-Mesh mergeSlabs(std::vector<SlabMesh>& slabs, int nx, int ny) {
-  Mesh mesh;
-  std::unordered_map<uint64_t, uint32_t> previousTop;  // edges in the plane z = start of the current slab
-  for (size_t s = 0; s < slabs.size(); ++s) {
-    SlabMesh& slab = slabs[s];
-    const int z0 = int(s) * kSlabCells;
+// slab made there: the result equals a single serial sweep, whatever the thread count or the batches.
+class SlabMerger {
+ public:
+  SlabMerger(int nx, int ny) : nx_(nx), ny_(ny) {}
+
+  // Hands the vertices and triangles merged since the last call to `sink` (triangles index the whole mesh)
+  // and forgets them; the edges shared with the next slab stay known.
+  void flush(const MeshPieceSink& sink) {
+    sink(mesh);
+    emitted_ += mesh.vertices.size();
+    mesh = Mesh{};
+  }
+
+  // Slab `s` (cells z in [s * kSlabCells, (s + 1) * kSlabCells)), after slab s - 1; released here.
+  void append(SlabMesh& slab, int s) {
+    const int z0 = s * kSlabCells;
     const int z1 = z0 + kSlabCells;
     std::unordered_map<uint64_t, uint32_t> top;
     std::vector<uint32_t> remap(slab.keys.size());
     for (size_t i = 0; i < slab.keys.size(); ++i) {
-      const DecodedEdge e = decodeEdge(slab.keys[i], nx, ny);
+      const DecodedEdge e = decodeEdge(slab.keys[i], nx_, ny_);
       const bool inPlane = (e.dir & kZAxisBit) == 0;
-      const auto shared = inPlane && e.low.z() == z0 ? previousTop.find(slab.keys[i]) : previousTop.end();
-      if (shared != previousTop.end()) {
+      const auto shared = inPlane && e.low.z() == z0 ? previousTop_.find(slab.keys[i]) : previousTop_.end();
+      if (shared != previousTop_.end()) {
         remap[i] = shared->second;
       } else {
-        if (mesh.vertices.size() >= std::numeric_limits<uint32_t>::max())
+        if (emitted_ + mesh.vertices.size() >= std::numeric_limits<uint32_t>::max())
           throw Error("extractMesh: more than 2^32 vertices; use a lower volume resolution");
-        remap[i] = static_cast<uint32_t>(mesh.vertices.size());
+        remap[i] = static_cast<uint32_t>(emitted_ + mesh.vertices.size());
         mesh.vertices.push_back(slab.vertices[i]);
         mesh.normals.push_back(slab.normals[i]);
       }
       if (inPlane && e.low.z() == z1) top.emplace(slab.keys[i], remap[i]);
     }
     for (const auto& tri : slab.triangles) mesh.triangles.push_back({remap[tri[0]], remap[tri[1]], remap[tri[2]]});
-    previousTop.swap(top);
+    previousTop_.swap(top);
     slab = SlabMesh{};  // release memory early
   }
-  return mesh;
-}
 
-}  // namespace
+  Mesh mesh;
 
-Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool) {
+ private:
+  int nx_, ny_;
+  size_t emitted_ = 0;                                  // vertices handed to a sink
+  std::unordered_map<uint64_t, uint32_t> previousTop_;  // edges in the plane z = start of the next slab
+};
+
+// Slabs extracted at once per thread of the pool: the slabs' meshes held before they are merged stay a few
+// per thread (not the whole volume's twice).
+constexpr int kBatchSlabsPerThread = 2;
+
+// Extracts in batches; with a sink, hands each batch's piece to it as soon as it is merged.
+Mesh extract(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool,
+             const MeshPieceSink* sink) {
   validate(volume);
   const VolumeSampler sampler(volume, options.minWeight);
   const float voxelSize = volume.size / static_cast<float>(volume.resolution);
   const int cells = sampler.side(2) - 1;
   const int slabCount = ThreadPool::chunkCount(0, cells, kSlabCells);
-  std::vector<SlabMesh> slabs(static_cast<size_t>(slabCount));
-  pool.parallelFor(0, slabCount, 1, [&](int, int begin, int end) {
-    SlabExtractor extractor(sampler, voxelSize);
-    for (int s = begin; s < end; ++s) extractor.run(s * kSlabCells, std::min(cells, (s + 1) * kSlabCells), slabs[size_t(s)]);
-  });
-  return mergeSlabs(slabs, sampler.side(0), sampler.side(1));
+  const int batch = kBatchSlabsPerThread * static_cast<int>(pool.threadCount());
+  SlabMerger merger(sampler.side(0), sampler.side(1));
+  std::vector<SlabMesh> slabs(static_cast<size_t>(std::min(batch, slabCount)));
+  for (int first = 0; first < slabCount; first += batch) {
+    const int last = std::min(slabCount, first + batch);
+    pool.parallelFor(first, last, 1, [&](int, int begin, int end) {
+      SlabExtractor extractor(sampler, voxelSize);
+      for (int s = begin; s < end; ++s)
+        extractor.run(s * kSlabCells, std::min(cells, (s + 1) * kSlabCells), slabs[size_t(s - first)]);
+    });
+    for (int s = first; s < last; ++s) merger.append(slabs[size_t(s - first)], s);
+    if (sink) merger.flush(*sink);
+  }
+  return std::move(merger.mesh);
+}
+
+}  // namespace
+
+Mesh extractMesh(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool) {
+  return extract(volume, options, pool, nullptr);
+}
+
+void extractMeshPieces(const VolumeView& volume, const MeshOptions& options, ThreadPool& pool,
+                       const MeshPieceSink& sink) {
+  extract(volume, options, pool, &sink);
 }
 
 Mesh extractMesh(const VolumeView& volume, const MeshOptions& options) {

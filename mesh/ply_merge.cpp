@@ -116,24 +116,30 @@ size_t writeMergedPly(const std::string& path, const std::vector<std::string>& p
     inputs.back().seekg(p.body);
     copyItems(inputs.back(), out, p.vertices, kVertexBytes, false, 0, p.path);
   }
-  std::string buf;
+  std::string buf;  // `last` goes out in pieces of kChunkItems: never held twice (as a mesh and as bytes)
+  const auto flush = [&](bool always) {
+    if (!always && buf.size() < kChunkItems * kVertexBytes) return;
+    out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+    buf.clear();
+  };
   const bool normals = last.normals.size() == last.vertices.size();
   for (size_t i = 0; i < last.vertices.size(); ++i) {
     for (int a = 0; a < 3; ++a) putF32(buf, last.vertices[i][a]);
     for (int a = 0; a < 3; ++a) putF32(buf, normals ? last.normals[i][a] : 0.0f);
+    flush(false);
   }
-  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  flush(true);
   uint32_t offset = 0;
   for (size_t i = 0; i < parts.size(); ++i) {
     copyItems(inputs[i], out, parts[i].faces, kFaceBytes, true, offset, parts[i].path);
     offset += static_cast<uint32_t>(parts[i].vertices);
   }
-  buf.clear();
   for (const auto& tri : last.triangles) {
     buf.push_back(static_cast<char>(3));
     for (uint32_t idx : tri) putU32(buf, idx + offset);
+    flush(false);
   }
-  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  flush(true);
   out.close();
   if (!out) throw Error("writing '" + aside + "' failed (disk full?); free space and retry");
   if (std::rename(aside.c_str(), path.c_str()) != 0)

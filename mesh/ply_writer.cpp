@@ -1,13 +1,17 @@
 #include "mesh/ply_writer.h"
 
-#include "core/atomic_file.h"
-#include "core/error.h"
-
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <memory>
+
+#include "core/atomic_file.h"
+#include "core/disk_full.h"
+#include "core/error.h"
+#include "mesh/mesh_pieces.h"
 
 namespace sb {
 
@@ -42,31 +46,56 @@ void putF32(std::string& buf, float f) {
   putU32(buf, bits);
 }
 
-std::string header(const Mesh& mesh, PlyFormat format) {
+std::string header(size_t vertices, size_t faces, bool normals, PlyFormat format) {
   std::string h = "ply\nformat ";
   h += format == PlyFormat::Ascii ? "ascii 1.0\n" : "binary_little_endian 1.0\n";
   h += "comment SLAMBooster TSDF surface (marching tetrahedra), volume frame, metres\n";
-  h += "element vertex " + std::to_string(mesh.vertices.size()) + "\n";
+  h += "element vertex " + std::to_string(vertices) + "\n";
   h += "property float x\nproperty float y\nproperty float z\n";
-  if (!mesh.normals.empty()) h += "property float nx\nproperty float ny\nproperty float nz\n";
-  h += "element face " + std::to_string(mesh.triangles.size()) + "\n";
+  if (normals) h += "property float nx\nproperty float ny\nproperty float nz\n";
+  h += "element face " + std::to_string(faces) + "\n";
   h += "property list uchar uint vertex_indices\nend_header\n";
   return h;
+}
+
+std::string header(const Mesh& mesh, PlyFormat format) {
+  return header(mesh.vertices.size(), mesh.triangles.size(), !mesh.normals.empty(), format);
+}
+
+// The reason of a failed write, as the error to throw (DiskFullError when the disk is full).
+[[noreturn]] void throwWriteError(const std::string& what, int error) {
+  const std::string message =
+      what + ": " + std::strerror(error ? error : EIO) +
+      "; the previous file (if any) is left as it was (free disk space and run again)";
+  if (error == ENOSPC || error == EDQUOT) throw DiskFullError(message);  // the caller may make room
+  throw Error(message);
+}
+
+// The body goes out in pieces of about this many bytes: a mesh is never held twice (as triangles and bytes).
+constexpr size_t kWriteChunkBytes = size_t(1) << 16;
+
+void flushIfFull(std::ostream& out, std::string& buf, bool last = false) {
+  if (!last && buf.size() < kWriteChunkBytes) return;
+  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  buf.clear();
 }
 
 void writeBinaryBody(std::ostream& out, const Mesh& mesh) {
   const bool hasNormals = !mesh.normals.empty();
   std::string buf;
+  buf.reserve(kWriteChunkBytes + 64);
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     for (int a = 0; a < 3; ++a) putF32(buf, mesh.vertices[i][a]);
     if (hasNormals)
       for (int a = 0; a < 3; ++a) putF32(buf, mesh.normals[i][a]);
+    flushIfFull(out, buf);
   }
   for (const auto& tri : mesh.triangles) {
     buf.push_back(static_cast<char>(kTriangleCorners));
     for (uint32_t idx : tri) putU32(buf, idx);
+    flushIfFull(out, buf);
   }
-  out.write(buf.data(), static_cast<std::streamsize>(buf.size()));
+  flushIfFull(out, buf, true);
 }
 
 void writeAsciiBody(std::ostream& out, const Mesh& mesh) {
@@ -101,10 +130,111 @@ void writePly(const std::string& path, const Mesh& mesh, PlyFormat format) {
     int error = errno;  // the failed write's reason (the stream keeps only a flag)
     out.close();
     if (!error) error = errno;
-    if (!out)
-      throw Error("writePly: writing '" + path + "' failed: " + std::strerror(error ? error : EIO) +
-                  "; the previous file (if any) is left as it was (free disk space and run again)");
+    if (!out) throwWriteError("writePly: writing '" + path + "' failed", error);
   });
+}
+
+PlyPieceWriter::PlyPieceWriter(std::string path)
+    : path_(std::move(path)), verticesPath_(path_ + ".vertices.tmp"), facesPath_(path_ + ".faces.tmp") {
+  verticesFile_.reset(std::fopen(verticesPath_.c_str(), "wb"));
+  if (verticesFile_) facesFile_.reset(std::fopen(facesPath_.c_str(), "wb"));
+  if (!verticesFile_ || !facesFile_) {
+    const int error = errno;
+    const std::string name = verticesFile_ ? facesPath_ : verticesPath_;
+    verticesFile_.reset();
+    std::remove(verticesPath_.c_str());
+    throw Error("writePly: cannot create '" + name + "': " + std::strerror(error) +
+                "; check that the directory exists and is writable");
+  }
+}
+
+PlyPieceWriter::~PlyPieceWriter() {
+  verticesFile_.reset();
+  facesFile_.reset();
+  std::remove(verticesPath_.c_str());
+  std::remove(facesPath_.c_str());
+}
+
+void PlyPieceWriter::put(std::FILE* file, const std::string& bytes, const std::string& name) {
+  errno = 0;
+  if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size())
+    throwWriteError("writePly: writing '" + name + "' failed", errno);
+}
+
+void PlyPieceWriter::add(const Mesh& piece) {
+  if (piece.normals.size() != piece.vertices.size())
+    throw Error("writePly '" + path_ + "': a piece has " + std::to_string(piece.vertices.size()) +
+                " vertices but " + std::to_string(piece.normals.size()) +
+                " normals; give one normal per vertex");
+  const size_t total = vertices_ + piece.vertices.size();
+  if (total > std::numeric_limits<uint32_t>::max())
+    throw Error("writePly '" + path_ + "': " + std::to_string(total) +
+                " vertices exceed the uint32 index range");
+  std::string buf;
+  buf.reserve(kWriteChunkBytes + 64);
+  for (size_t i = 0; i < piece.vertices.size(); ++i) {
+    for (int a = 0; a < 3; ++a) putF32(buf, piece.vertices[i][a]);
+    for (int a = 0; a < 3; ++a) putF32(buf, piece.normals[i][a]);
+    if (buf.size() >= kWriteChunkBytes) {
+      put(verticesFile_.get(), buf, verticesPath_);
+      buf.clear();
+    }
+  }
+  put(verticesFile_.get(), buf, verticesPath_);
+  buf.clear();
+  for (size_t t = 0; t < piece.triangles.size(); ++t) {
+    buf.push_back(static_cast<char>(kTriangleCorners));
+    for (uint32_t idx : piece.triangles[t]) {
+      if (idx >= total)
+        throw Error("writePly '" + path_ + "': triangle " + std::to_string(triangles_ + t) + " uses vertex " +
+                    std::to_string(idx) + " but the mesh has only " + std::to_string(total) +
+                    " vertices so far");
+      putU32(buf, idx);
+    }
+    if (buf.size() >= kWriteChunkBytes) {
+      put(facesFile_.get(), buf, facesPath_);
+      buf.clear();
+    }
+  }
+  put(facesFile_.get(), buf, facesPath_);
+  vertices_ = total;
+  triangles_ += piece.triangles.size();
+}
+
+void PlyPieceWriter::finish() {
+  for (auto* file : {&verticesFile_, &facesFile_}) {
+    const std::string& name = file == &verticesFile_ ? verticesPath_ : facesPath_;
+    errno = 0;
+    const bool failed = std::fflush(file->get()) != 0 || std::ferror(file->get());
+    if (failed) throwWriteError("writePly: writing '" + name + "' failed", errno);
+  }
+  verticesFile_.reset();
+  facesFile_.reset();
+  writeFileAtomically(path_, [&](const std::string& temporary) {
+    std::unique_ptr<std::FILE, Closer> out(std::fopen(temporary.c_str(), "wb"));
+    if (!out)
+      throw Error("writePly: cannot create '" + temporary + "': " + std::strerror(errno) +
+                  "; check that the directory exists and is writable");
+    put(out.get(), header(vertices_, triangles_, true, PlyFormat::BinaryLittleEndian), temporary);
+    std::string buf(kWriteChunkBytes, '\0');
+    for (const std::string& name : {verticesPath_, facesPath_}) {
+      std::unique_ptr<std::FILE, Closer> in(std::fopen(name.c_str(), "rb"));
+      if (!in) throw Error("writePly: cannot read back '" + name + "': " + std::strerror(errno));
+      size_t n;
+      while ((n = std::fread(&buf[0], 1, buf.size(), in.get())) > 0)
+        put(out.get(), buf.substr(0, n), temporary);
+      if (std::ferror(in.get()))
+        throw Error("writePly: cannot read back '" + name + "': " + std::strerror(errno));
+    }
+    errno = 0;
+    if (std::fflush(out.get()) != 0 || std::ferror(out.get()))
+      throwWriteError("writePly: writing '" + path_ + "' failed", errno);
+    std::FILE* raw = out.release();
+    errno = 0;
+    if (std::fclose(raw) != 0) throwWriteError("writePly: writing '" + path_ + "' failed", errno);
+  });
+  std::remove(verticesPath_.c_str());
+  std::remove(facesPath_.c_str());
 }
 
 }  // namespace sb

@@ -13,8 +13,9 @@ namespace sb {
 
 enum class PlyFormat { BinaryLittleEndian, Ascii };
 
-// Throws sb::Error naming `path` when the file cannot be created or written, and when the mesh is
-// inconsistent (normals count differs from vertices, a triangle index out of range).
+// Throws sb::Error naming `path` when the file cannot be created or written (sb::DiskFullError when the disk
+// is full: core/disk_full.h), and when the mesh is inconsistent (normals count differs from vertices, a
+// triangle index out of range).
 void writePly(const std::string& path, const Mesh& mesh, PlyFormat format = PlyFormat::BinaryLittleEndian);
 
 }  // namespace sb

@@ -2,6 +2,9 @@
 
 #include <spdlog/spdlog.h>
 #include <sys/resource.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <algorithm>
 #include <cerrno>
@@ -10,6 +13,7 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "mesh/mesh_pieces.h"
 #include "mesh/ply_merge.h"
 #include "mesh/ply_writer.h"
 #include "runtime/run.h"
@@ -43,7 +47,34 @@ size_t slabNumber(const std::string& name) {
 
 }  // namespace
 
-MapSlabs::MapSlabs(std::string dir, const Options& options) : dir_(std::move(dir)), options_(options) {}
+// glibc keeps what a thread frees in that thread's arena, resident: after a slab (a 20 MiB copy and its
+// mesh, on this thread) the process held 55 MiB more for the rest of the run on the corridor drive
+// (docs/moving-volume.md). Hands the free pages back to the system (a few ms per slab, on the worker).
+static void releaseFreedMemory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
+// glibc raises its mmap threshold to the size of the largest mapped block freed (up to 32 MiB): once a slab's
+// copy (20 MiB) is freed, every buffer under that size (the final volume's mesh at the end, 15 MB on the
+// drive) comes from the arenas instead, where it fragments and stays resident (+20 MiB for the rest of the
+// run and +35 MiB at the end, against +17 MiB in a fixed run). A fixed threshold, set once by the first run
+// with a map, keeps such buffers mapped, given back when freed; smaller ones (a frame's) stay in the arenas.
+constexpr int kMmapThresholdBytes = 4 << 20;
+
+static void fixMmapThreshold() {
+#if defined(__GLIBC__)
+  static std::once_flag once;
+  std::call_once(once, [] { mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes); });
+#endif
+}
+
+MapSlabs::MapSlabs(std::string dir, const Options& options) : dir_(std::move(dir)), options_(options) {
+  fixMmapThreshold();
+  listEarlier();
+  if (options_.store) options_.store->attach(this);
+}
 
 MapSlabs::~MapSlabs() {
   {
@@ -52,6 +83,7 @@ MapSlabs::~MapSlabs() {
   }
   work_.notify_all();
   if (worker_.joinable()) worker_.join();  // the worker writes what is queued before it stops
+  if (options_.store) options_.store->detach(this);
   if (error_) {
     try {
       std::rethrow_exception(error_);
@@ -107,6 +139,7 @@ void MapSlabs::workerLoop() {
     if (queue_.empty()) return;  // stopped, and every slab written
     VolumeSlab slab = std::move(queue_.front());
     queue_.pop_front();
+    const size_t bytes = slab.bytes();  // before write() releases the voxels
     lock.unlock();
     const auto start = Clock::now();
     std::exception_ptr failure;
@@ -115,8 +148,8 @@ void MapSlabs::workerLoop() {
     } catch (...) {
       failure = std::current_exception();
     }
-    const size_t bytes = slab.bytes();
     slab = VolumeSlab{};  // its memory goes back before the room is counted
+    releaseFreedMemory();
     lock.lock();
     stats_.workerMs += msSince(start);
     if (failure && !error_) error_ = failure;
@@ -126,32 +159,39 @@ void MapSlabs::workerLoop() {
   }
 }
 
-void MapSlabs::openFolder() {
-  const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
-  std::error_code ec;
-  std::filesystem::create_directories(folder, ec);
-  if (ec) throw Error("cannot create '" + folder.string() + "': " + ec.message());
+void MapSlabs::listEarlier() {
   // Slab files of an earlier start: in the retention (oldest first), not in this run's map; numbered on
   // after.
+  const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
+  std::error_code ec;
+  if (!std::filesystem::is_directory(folder, ec)) return;
   std::vector<std::pair<size_t, Written>> earlier;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const size_t number = slabNumber(entry.path().filename().string());
     std::error_code sizeError;
     const uint64_t bytes = entry.is_regular_file(sizeError) ? entry.file_size(sizeError) : 0;
-    if (number > 0 && !sizeError) earlier.push_back({number, Written{entry.path().string(), bytes, false}});
+    if (number > 0 && !sizeError)
+      earlier.push_back({number, Written{entry.path().string(), bytes, false,
+                                         SegmentStore::modifiedOrder(entry.path().string())}});
   }
-  if (ec) throw Error("cannot list '" + folder.string() + "': " + ec.message());
+  if (ec) throw Error("cannot list '" + folder.string() + "': " + ec.message() + " (check its permissions)");
   std::sort(earlier.begin(), earlier.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::lock_guard lock(mutex_);
   for (auto& [number, file] : earlier) {
     firstNumber_ = number;
     writtenBytes_ += file.bytes;
     written_.push_back(std::move(file));
   }
+}
+
+void MapSlabs::openFolder() {
+  const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  if (ec) throw Error("cannot create '" + folder.string() + "': " + ec.message());
   folderOpen_ = true;
 }
 
-void MapSlabs::write(const VolumeSlab& slab, ThreadPool& serial) {
+void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
   if (!folderOpen_) openFolder();
   // The copy of the slab (no offset: VolumeView::boxOnly); the same mesh as the box read in place.
   VolumeView view;
@@ -160,22 +200,67 @@ void MapSlabs::write(const VolumeSlab& slab, ThreadPool& serial) {
   view.size = slab.voxelSize * static_cast<float>(slab.resolution);
   view.extent = slab.extent;
   view.boxOnly = true;
-  Mesh mesh = extractMesh(view, MeshOptions{}, serial);
-  if (mesh.triangles.empty()) return;  // nothing observed left (e.g. the space behind the first view)
-  transformMesh(mesh, Eigen::Isometry3f(Eigen::Translation3f(slab.corner.cast<float>())));
   char name[40];
   std::snprintf(name, sizeof name, "%s%06zu%s", kPrefix, firstNumber_ + slab.shift, kSuffix);
   const std::string path = (std::filesystem::path(dir_) / "map_slabs" / name).string();
-  writePly(path + ".partial", mesh);
+  const Eigen::Isometry3f toWorld(Eigen::Translation3f(slab.corner.cast<float>()));
+  // Streamed: each piece of the mesh goes to the file as it is extracted (the mesh is never held whole); the
+  // file's bytes are writePly's of the whole mesh.
+  size_t triangles = 0;
+  const auto writeFile = [&] {
+    PlyPieceWriter ply(path + ".partial");
+    extractMeshPieces(view, MeshOptions{}, serial, [&](Mesh& piece) {
+      transformMesh(piece, toWorld);
+      ply.add(piece);
+    });
+    triangles = ply.triangles();
+    if (triangles > 0) ply.finish();
+  };
+  if (options_.store)
+    options_.store->writeMakingRoom(writeFile);  // a full disk: the oldest slab or segment goes, then again
+  else
+    writeFile();
+  std::vector<int16_t>().swap(slab.voxels);
+  if (triangles == 0) return;  // nothing observed left (e.g. the space behind the first view)
   if (std::rename((path + ".partial").c_str(), path.c_str()) != 0)
     throw Error("cannot rename '" + path + ".partial' to '" + path + "'");
   std::error_code ec;
   const uint64_t bytes = std::filesystem::file_size(path, ec);
+  {
+    std::lock_guard lock(mutex_);
+    written_.push_back(Written{path, ec ? 0 : bytes, true, SegmentStore::nowOrder()});
+    writtenBytes_ += written_.back().bytes;
+    triangles_ += triangles;
+    enforceRetentionLocked();
+  }
+  if (options_.store) options_.store->enforce();  // the free-space floor (without this lock: it calls back)
+}
+
+std::optional<int64_t> MapSlabs::oldestRemovable() const {
   std::lock_guard lock(mutex_);
-  written_.push_back(Written{path, ec ? 0 : bytes, true});
-  writtenBytes_ += written_.back().bytes;
-  triangles_ += mesh.triangles.size();
-  enforceRetentionLocked();
+  if (written_.size() < 2) return std::nullopt;  // the newest slab always stays
+  return written_.front().order;
+}
+
+uint64_t MapSlabs::removeOldestAttached() {
+  std::lock_guard lock(mutex_);
+  if (written_.size() < 2) return 0;
+  const uint64_t bytes = written_.front().bytes;
+  const std::string path = written_.front().path;
+  std::error_code ec;
+  std::filesystem::remove(path, ec);  // already gone (removed by hand): forgotten all the same
+  if (ec) spdlog::warn("map slabs: cannot remove '{}' to make room: {}", path, ec.message());
+  removeOldestLocked();
+  ++stats_.removedForSpace;
+  return bytes;
+}
+
+void MapSlabs::removeOldestLocked() {
+  const Written& oldest = written_.front();
+  writtenBytes_ -= oldest.bytes;
+  ++stats_.removedFiles;
+  stats_.removedBytes += oldest.bytes;
+  written_.pop_front();
 }
 
 void MapSlabs::enforceRetentionLocked() {
@@ -186,10 +271,7 @@ void MapSlabs::enforceRetentionLocked() {
     std::filesystem::remove(oldest.path, ec);
     if (ec)
       throw Error("cannot remove the old slab '" + oldest.path + "' (map_slabs retention): " + ec.message());
-    writtenBytes_ -= oldest.bytes;
-    ++stats_.removedFiles;
-    stats_.removedBytes += oldest.bytes;
-    written_.pop_front();
+    removeOldestLocked();
   }
 }
 
@@ -215,6 +297,21 @@ MapSlabsStats MapSlabs::stats() const {
 
 size_t MapSlabs::writeMap(const std::string& path, const Mesh& finalVolume) {
   return writeMergedPly(path, files(), finalVolume);
+}
+
+MapSlabFiles mapSlabFiles(const std::string& dir) {
+  MapSlabFiles out;
+  std::error_code ec;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(dir) / "map_slabs", ec)) {
+    std::error_code sizeError;
+    if (slabNumber(entry.path().filename().string()) == 0 || !entry.is_regular_file(sizeError)) continue;
+    const uintmax_t bytes = entry.file_size(sizeError);
+    if (sizeError) continue;  // removed meanwhile
+    out.bytes += bytes;
+    ++out.files;
+  }
+  return out;
 }
 
 void writeRunMesh(const std::string& path, Pipeline& pipeline, MapSlabs* slabs, ThreadPool& pool,

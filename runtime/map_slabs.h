@@ -18,12 +18,15 @@
 #include <cstdint>
 #include <deque>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "core/segment_store.h"
 #include "core/thread_pool.h"
 #include "mesh/marching_cubes.h"
 #include "pipeline/pipeline.h"
@@ -37,8 +40,9 @@ struct MapSlabsStats {
   double waitMs = 0.0;         // the adding thread waiting for room in the queue, summed
   size_t waits = 0;            // adds that waited
   size_t peakQueuedBytes = 0;  // the most bytes of slab copies queued or being meshed at once
-  size_t removedFiles = 0;     // slab files removed by the retention limit (Options::keepBytes)
+  size_t removedFiles = 0;     // slab files removed: by the retention limit (Options::keepBytes) or for space
   uint64_t removedBytes = 0;
+  size_t removedForSpace = 0;  // of them, by the store's free-space floor or a full disk (Options::store)
 };
 
 // The queue's bound: 32 MiB of slab copies queued or being meshed (a 256^3 volume's slab of one 1.5 m shift,
@@ -51,19 +55,24 @@ struct MapSlabsOptions {
   // Retention (the daemon's output.rotation.keep_slabs_mib): the slab files in DIR/map_slabs together at most
   // this many bytes; past it the oldest go first (the newest always stays). 0: no limit.
   uint64_t keepBytes = 0;
+  // The retention of the directory's other outputs (the daemon's; core/segment_store.h), or nullptr (a
+  // replay: a slab that finds the disk full fails). With it the slab files give way to its free-space floor
+  // (min_free_mib) and to a full disk, oldest first among the slabs and the segments; the newest slab stays.
+  // A slab write that finds the disk full removes the oldest of them and writes again.
+  std::shared_ptr<SegmentStore> store;
 };
 
-class MapSlabs {
+class MapSlabs : private AttachedFiles {
  public:
   using Options = MapSlabsOptions;
   static constexpr size_t kDefaultQueueBytes = kMapSlabsQueueBytes;
 
   // Slabs go to `dir`/map_slabs (created at the first slab). Slab files already there (an earlier start of
   // the daemon) count in the retention, oldest first, and this run's are numbered on after them; they are not
-  // part of this run's map.
+  // part of this run's map. Throws sb::Error when that folder cannot be listed.
   explicit MapSlabs(std::string dir, const Options& options = Options{});
   // Writes every slab still queued, then stops the worker (a failure there is logged: finish() reports it).
-  ~MapSlabs();
+  ~MapSlabs() override;
   MapSlabs(const MapSlabs&) = delete;
   MapSlabs& operator=(const MapSlabs&) = delete;
 
@@ -86,10 +95,16 @@ class MapSlabs {
     std::string path;
     uint64_t bytes = 0;
     bool thisRun = true;
+    int64_t order = 0;  // its age (SegmentStore::nowOrder)
   };
+  // AttachedFiles (the store's free-space floor and full disk; any thread, with the store's lock held).
+  std::optional<int64_t> oldestRemovable() const override;
+  uint64_t removeOldestAttached() override;
+  void listEarlier();  // in the constructor
   void workerLoop();
-  void write(const VolumeSlab& slab, ThreadPool& serial);  // on the worker
+  void write(VolumeSlab& slab, ThreadPool& serial);        // on the worker; releases the slab's voxels
   void openFolder();                                       // on the worker, at the first slab
+  void removeOldestLocked();
   void enforceRetentionLocked();
   void rethrowLocked();
 
@@ -111,6 +126,13 @@ class MapSlabs {
   size_t triangles_ = 0;
   MapSlabsStats stats_;
 };
+
+// The slab files in `dir`/map_slabs now (STATUS "disk": a pass's, an earlier start's included).
+struct MapSlabFiles {
+  uint64_t bytes = 0;
+  size_t files = 0;
+};
+MapSlabFiles mapSlabFiles(const std::string& dir);
 
 // mesh.ply of a run (Run::finish): the final volume (read through a moving volume's cyclic offset and moved
 // to the world frame) after every slab of `slabs` (nullptr or none: the volume alone, as a fixed volume

@@ -63,6 +63,7 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
   if (VolumeWindow* window = pipeline_->volumeWindow(); window && outputs.mapSlabs) {
     MapSlabs::Options options;
     options.keepBytes = outputs.keepSlabBytes;
+    options.store = outputs.slabRetention;
     mapSlabs_ = std::make_unique<MapSlabs>(dir_, options);
     window->setSlabListener([this](VolumeSlab&& slab) { mapSlabs_->add(std::move(slab)); });
   }

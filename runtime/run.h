@@ -43,6 +43,9 @@ struct RunOutputs {
   // The slab files of DIR/map_slabs together at most this (bytes), the oldest removed first; 0: no limit (the
   // daemon's output.rotation.keep_slabs_mib).
   uint64_t keepSlabBytes = 0;
+  // The daemon's retention store (rotation, or a looping replay's pass directories), or nullptr: with it the
+  // slab files give way to its free-space floor and to a full disk (MapSlabsOptions::store).
+  std::shared_ptr<SegmentStore> slabRetention;
 };
 
 // What a run writes at its end.

@@ -6,8 +6,10 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "core/disk_full.h"
 #include "core/error.h"
@@ -207,4 +209,73 @@ TEST_CASE("writeMakingRoom removes the oldest segments while a write finds the d
   }),
                     "permission denied");
   CHECK(tries == 1);
+}
+
+namespace {
+
+// Files another part owns (the moving volume's map slabs): ages given, the newest never removable.
+class FakeAttached : public AttachedFiles {
+ public:
+  explicit FakeAttached(std::vector<int64_t> orders) : orders_(std::move(orders)) {}
+  std::optional<int64_t> oldestRemovable() const override {
+    if (orders_.size() < 2) return std::nullopt;
+    return orders_.front();
+  }
+  uint64_t removeOldestAttached() override {
+    removed.push_back(orders_.front());
+    orders_.erase(orders_.begin());
+    return 1;
+  }
+  std::vector<int64_t> removed;
+
+ private:
+  std::vector<int64_t> orders_;
+};
+
+}  // namespace
+
+TEST_CASE("attached files give way to a full disk and the free-space floor with the segments, oldest first",
+          "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_attached");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto store = std::make_shared<SegmentStore>(dir, smallLimits());
+  for (const int64_t order : {10, 30}) {
+    const std::string path = dir + "/seg-" + std::to_string(order);
+    std::ofstream(path) << "x";
+    store->addClosed(path, 1, order);
+  }
+  FakeAttached slabs({20, 40, 50});  // 50: the newest, stays
+  store->attach(&slabs);
+  // Three writes find the disk full: the segment of 10, the slab of 20, the segment of 30 go, in that order.
+  int tries = 0;
+  store->writeMakingRoom([&] {
+    if (++tries <= 3) throw DiskFullError("disk full");
+  });
+  CHECK(slabs.removed == std::vector<int64_t>{20});
+  CHECK_FALSE(fs::exists(dir + "/seg-10"));
+  CHECK_FALSE(fs::exists(dir + "/seg-30"));
+  SegmentUsage u = store->usage();
+  CHECK(u.removedSegments == 2);
+  CHECK(u.removedAttached == 1);
+  // The byte limit is the segments' alone: attached files never go for it.
+  store->enforce();
+  CHECK(slabs.removed == std::vector<int64_t>{20});
+  // Below the free-space floor (no file system has a petabyte free) every removable one goes, the newest
+  // slab stays.
+  RetentionLimits tight = smallLimits();
+  tight.minFreeBytes = 1ull << 50;
+  auto floorStore = std::make_shared<SegmentStore>(dir, tight);
+  floorStore->attach(&slabs);
+  floorStore->enforce();
+  CHECK(slabs.removed == std::vector<int64_t>{20, 40});
+  CHECK_FALSE(slabs.oldestRemovable());
+  // Detached: never touched again.
+  FakeAttached other({1, 2});
+  floorStore->attach(&other);
+  floorStore->detach(&other);
+  floorStore->enforce();
+  CHECK(other.removed.empty());
+  store->detach(&slabs);
+  floorStore->detach(&slabs);
 }

@@ -1,15 +1,20 @@
-// Known-answer tests of extractMesh on analytic signed distance fields (sphere, plane).
-#include "mesh/marching_cubes.h"
+// Known-answer tests of extractMesh on analytic signed distance fields (sphere, plane), and the same mesh in
+// pieces (mesh/mesh_pieces.h).
+#include <Eigen/Geometry>
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <utility>
 
 #include "core/error.h"
 #include "core/thread_pool.h"
+#include "mesh/marching_cubes.h"
+#include "mesh/mesh_pieces.h"
+#include "mesh/ply_writer.h"
 #include "tests/mesh/analytic_volume.h"
-
-#include <Eigen/Geometry>
-#include <catch2/catch.hpp>
-
-#include <map>
-#include <utility>
+#include "tests/support/test_data.h"
 
 using sb::test::AnalyticVolume;
 
@@ -195,4 +200,48 @@ TEST_CASE("transformMesh moves vertices and rotates normals", "[mesh]") {
   CHECK((mesh.normals[0] - Eigen::Vector3f(0.0f, 1.0f, 0.0f)).norm() < 1e-6f);
   CHECK((mesh.normals[1] - Eigen::Vector3f(-1.0f, 0.0f, 0.0f)).norm() < 1e-6f);
   CHECK(mesh.triangles[0] == std::array<uint32_t, 3>{0, 1, 0});
+}
+
+TEST_CASE("a mesh in pieces is extractMesh's mesh, and written in pieces writePly's file, byte for byte",
+          "[mesh]") {
+  const AnalyticVolume vol = sphereVolume();
+  const std::string dir = sb::test::scratchDir("mesh_pieces");
+  std::filesystem::create_directories(dir);
+  const auto bytesOf = [](const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  sb::ThreadPool one(1), three(3);
+  const sb::Mesh whole = sb::extractMesh(vol.view(), {}, one);
+  REQUIRE(!whole.triangles.empty());
+  sb::writePly(dir + "/whole.ply", whole);
+  for (sb::ThreadPool* pool : {&one, &three}) {
+    INFO(pool->threadCount() << " threads");
+    sb::Mesh joined;
+    size_t pieces = 0;
+    sb::PlyPieceWriter ply(dir + "/pieces.ply");
+    sb::extractMeshPieces(vol.view(), {}, *pool, [&](sb::Mesh& piece) {
+      ++pieces;
+      for (const auto& t : piece.triangles)
+        for (uint32_t i : t) CHECK(i < joined.vertices.size() + piece.vertices.size());
+      joined.vertices.insert(joined.vertices.end(), piece.vertices.begin(), piece.vertices.end());
+      joined.normals.insert(joined.normals.end(), piece.normals.begin(), piece.normals.end());
+      joined.triangles.insert(joined.triangles.end(), piece.triangles.begin(), piece.triangles.end());
+      ply.add(piece);
+    });
+    CHECK(pieces > 2);  // 16 z-slabs in batches of 2 (1 thread) or 6 (3 threads)
+    CHECK(sameMesh(joined, whole));
+    CHECK(ply.triangles() == whole.triangles.size());
+    ply.finish();
+    CHECK(bytesOf(dir + "/pieces.ply") == bytesOf(dir + "/whole.ply"));
+    CHECK_FALSE(std::filesystem::exists(dir + "/pieces.ply.vertices.tmp"));
+    CHECK_FALSE(std::filesystem::exists(dir + "/pieces.ply.faces.tmp"));
+  }
+  // A piece whose triangle uses a vertex not yet written is refused, naming the file.
+  sb::PlyPieceWriter bad(dir + "/bad.ply");
+  sb::Mesh piece;
+  piece.vertices.assign(3, Eigen::Vector3f::Zero());
+  piece.normals.assign(3, Eigen::Vector3f::UnitZ());
+  piece.triangles = {{0, 1, 3}};
+  CHECK_THROWS_WITH(bad.add(piece), Catch::Contains("bad.ply") && Catch::Contains("uses vertex 3"));
 }

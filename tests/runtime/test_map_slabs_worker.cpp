@@ -9,12 +9,15 @@
 // an
 //   earlier start count first and this run's number on after them.
 
+#include <array>
 #include <catch2/catch.hpp>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 
 #include "core/error.h"
+#include "core/segment_store.h"
 #include "mesh/ply_writer.h"
 #include "pipeline/cpu/cpu_backend.h"
 #include "runtime/map_slabs.h"
@@ -111,7 +114,7 @@ TEST_CASE("map slabs: the worker writes the files the SLAM thread wrote, byte fo
   const size_t bound = oneAtATime ? size_t(1) : sb::MapSlabs::kDefaultQueueBytes;
   INFO("queue bound " << bound << " bytes");
   const std::string dir = freshDir("map_slabs_worker");
-  sb::MapSlabs slabs(dir, sb::MapSlabs::Options{bound, 0});
+  sb::MapSlabs slabs(dir, sb::MapSlabs::Options{bound, 0, nullptr});
   for (const sb::VolumeSlab& slab : d.slabs) slabs.add(slab);
   const std::vector<std::string> files = slabs.files();  // drains
   REQUIRE(files.size() == withSurface);
@@ -174,7 +177,7 @@ TEST_CASE("map slabs: retention keeps the newest files within the bound, earlier
   // Room for the last two slabs of this run, not three.
   const uint64_t keep = sizes[sizes.size() - 1] + sizes[sizes.size() - 2] + 1;
   REQUIRE(keep < sizes[sizes.size() - 1] + sizes[sizes.size() - 2] + sizes[sizes.size() - 3]);
-  sb::MapSlabs slabs(dir, sb::MapSlabs::Options{sb::MapSlabs::kDefaultQueueBytes, keep});
+  sb::MapSlabs slabs(dir, sb::MapSlabs::Options{sb::MapSlabs::kDefaultQueueBytes, keep, nullptr});
   for (const sb::VolumeSlab& slab : d.slabs) slabs.add(slab);
   const std::vector<std::string> files = slabs.files();
   REQUIRE(files.size() == 2);
@@ -202,4 +205,148 @@ TEST_CASE("map slabs: retention keeps the newest files within the bound, earlier
   for (const sb::VolumeSlab& slab : d.slabs) unbounded.add(slab);
   CHECK(unbounded.files().size() == sizes.size());
   CHECK(unbounded.stats().removedFiles == 0);
+}
+
+TEST_CASE(
+    "map slabs: under the store's free-space floor the oldest slabs go, the newest stays, the run goes on",
+    "[map_slabs]") {
+  const Drive& d = drive();
+  const std::string dir = freshDir("map_slabs_floor");
+  fs::create_directories(dir);
+  sb::RetentionLimits limits;
+  limits.minFreeBytes = 1ull << 50;  // no file system has a petabyte free: always below the floor
+  auto store = std::make_shared<sb::SegmentStore>(dir, limits);
+  // A closed segment older than every slab: it goes first.
+  std::ofstream(dir + "/frames-000001.jsonl") << "{}\n";
+  store->addClosed(dir + "/frames-000001.jsonl", 3, 0);
+  sb::MapSlabs::Options options;
+  options.store = store;
+  sb::MapSlabs slabs(dir, options);
+  for (const sb::VolumeSlab& slab : d.slabs) slabs.add(slab);
+  const std::vector<std::string> files = slabs.files();  // drains: no failure
+  REQUIRE(files.size() == 1);
+  CHECK(files[0] == dir + "/map_slabs/slab-000003.ply");
+  CHECK(bytesOf(files[0]) == d.reference[2]);
+  CHECK_FALSE(fs::exists(dir + "/map_slabs/slab-000001.ply"));
+  CHECK_FALSE(fs::exists(dir + "/map_slabs/slab-000002.ply"));
+  CHECK_FALSE(fs::exists(dir + "/frames-000001.jsonl"));
+  CHECK(slabs.stats().removedForSpace == 2);
+  CHECK(slabs.stats().removedFiles == 2);
+  CHECK(store->usage().removedAttached == 2);
+  CHECK(store->usage().removedSegments == 1);
+  const sb::MapSlabFiles onDisk = sb::mapSlabFiles(dir);
+  CHECK(onDisk.files == 1);
+  CHECK(onDisk.bytes == d.reference[2].size());
+}
+
+TEST_CASE("map slabs: a slab that finds the disk full removes the oldest slab and is written",
+          "[map_slabs]") {
+  // The third slab's temporary file is /dev/full: its first write fails with ENOSPC, as on a full disk; the
+  // failed temporary is removed, so the write after it goes to a real file.
+  if (!fs::exists("/dev/full")) {
+    WARN("skipped: no /dev/full to stand for a full disk");
+    return;
+  }
+  const Drive& d = drive();
+  const auto fullDiskAtSlab3 = [](const std::string& dir) {
+    fs::create_directories(dir + "/map_slabs");
+    fs::create_symlink("/dev/full", dir + "/map_slabs/slab-000003.ply.partial.tmp");
+  };
+  // With the daemon's store: slab 1 goes (the oldest; the newest written, 2, stays), slab 3 is written.
+  const std::string dir = freshDir("map_slabs_disk_full");
+  fullDiskAtSlab3(dir);
+  sb::RetentionLimits limits;
+  limits.minFreeBytes = 0;
+  sb::MapSlabs::Options options;
+  options.store = std::make_shared<sb::SegmentStore>(dir, limits);
+  sb::MapSlabs slabs(dir, options);
+  for (const sb::VolumeSlab& slab : d.slabs) slabs.add(slab);
+  const std::vector<std::string> files = slabs.files();
+  CHECK(files ==
+        std::vector<std::string>{dir + "/map_slabs/slab-000002.ply", dir + "/map_slabs/slab-000003.ply"});
+  CHECK(bytesOf(dir + "/map_slabs/slab-000003.ply") == d.reference[2]);
+  CHECK(slabs.stats().removedForSpace == 1);
+  CHECK(options.store->usage().removedAttached == 1);
+
+  // Without a store (slambooster run: every slab kept) the full disk fails, naming the file and the reason.
+  const std::string plain = freshDir("map_slabs_disk_full_plain");
+  fullDiskAtSlab3(plain);
+  sb::MapSlabs failing(plain);
+  for (const sb::VolumeSlab& slab : d.slabs) failing.add(slab);
+  CHECK_THROWS_WITH(failing.drain(), Catch::Contains("slab-000003.ply") && Catch::Contains("No space left"));
+}
+
+namespace {
+
+// A binary PLY as writePly writes it (x y z nx ny nz, triangles) back into a mesh.
+sb::Mesh parsePly(const std::string& bytes) {
+  const size_t end = bytes.find("end_header\n");
+  REQUIRE(end != std::string::npos);
+  const auto count = [&](const std::string& element) {
+    const size_t at = bytes.find("element " + element + " ");
+    REQUIRE(at < end);
+    return size_t(std::stoull(bytes.substr(at + element.size() + 9)));
+  };
+  const size_t vertices = count("vertex"), faces = count("face");
+  const char* p = bytes.data() + end + 11;
+  REQUIRE(bytes.size() == end + 11 + vertices * 24 + faces * 13);
+  sb::Mesh mesh;
+  for (size_t i = 0; i < vertices; ++i, p += 24) {
+    float f[6];
+    std::memcpy(f, p, sizeof f);  // little-endian hosts (x86-64, armhf)
+    mesh.vertices.emplace_back(f[0], f[1], f[2]);
+    mesh.normals.emplace_back(f[3], f[4], f[5]);
+  }
+  for (size_t i = 0; i < faces; ++i, p += 13) {
+    std::array<uint32_t, 3> t;
+    std::memcpy(t.data(), p + 1, sizeof t);
+    mesh.triangles.push_back(t);
+  }
+  return mesh;
+}
+
+// The bytes after the header (the merged file's header has its own comment).
+std::string body(const std::string& bytes) {
+  return bytes.substr(bytes.find("end_header\n") + 11);
+}
+
+}  // namespace
+
+TEST_CASE("map slabs: mesh.ply is every slab file then the final volume, byte for byte, streamed in pieces",
+          "[map_slabs]") {
+  const Drive& d = drive();
+  const std::string dir = freshDir("map_slabs_merge");
+  sb::MapSlabs slabs(dir);
+  for (const sb::VolumeSlab& slab : d.slabs) slabs.add(slab);
+  // A final volume larger than the merge's pieces (16384 vertices or faces).
+  sb::Mesh last;
+  for (int i = 0; i < 40000; ++i) {
+    last.vertices.emplace_back(0.001f * float(i), 0.5f, -0.25f * float(i % 7));
+    last.normals.emplace_back(0.0f, float(i % 2), float((i + 1) % 2));
+  }
+  for (uint32_t i = 0; i + 2 < 40000; i += 2) last.triangles.push_back({i, i + 1, i + 2});
+  const size_t triangles = slabs.writeMap(dir + "/mesh.ply", last);
+  // The same mesh in one piece: the slabs' meshes (from the bytes of the reference) and `last`, indices moved
+  // on.
+  sb::Mesh all;
+  for (const std::string& r : d.reference) {
+    if (r.empty()) continue;
+    const sb::Mesh part = parsePly(r);
+    const uint32_t offset = uint32_t(all.vertices.size());
+    all.vertices.insert(all.vertices.end(), part.vertices.begin(), part.vertices.end());
+    all.normals.insert(all.normals.end(), part.normals.begin(), part.normals.end());
+    for (const auto& t : part.triangles)
+      all.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  }
+  const uint32_t offset = uint32_t(all.vertices.size());
+  all.vertices.insert(all.vertices.end(), last.vertices.begin(), last.vertices.end());
+  all.normals.insert(all.normals.end(), last.normals.begin(), last.normals.end());
+  for (const auto& t : last.triangles) all.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  CHECK(triangles == all.triangles.size());
+  const std::string reference = dir + "/reference.ply";
+  sb::writePly(reference, all);
+  const std::string merged = bytesOf(dir + "/mesh.ply");
+  CHECK(merged.find("element vertex " + std::to_string(all.vertices.size()) + "\n") != std::string::npos);
+  CHECK(merged.find("element face " + std::to_string(all.triangles.size()) + "\n") != std::string::npos);
+  CHECK(body(merged) == body(bytesOf(reference)));
 }

@@ -111,6 +111,16 @@ TEST_CASE("the daemon on the drive with output.mesh: SIGTERM after a slab writes
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   INFO(d.log());
   REQUIRE(countFiles(slabs, ".ply") > 0);
+  // STATUS counts the slab files on disk (docs/protocol.md): in `bytes`, and alone.
+  const sb::test::CommandResult status = sb::test::runCommand(
+      std::string(SB_SLAMBOOSTERCTL_BIN) + " --json --socket " + socketDir + "/s.sock status");
+  INFO(status.output);
+  REQUIRE(status.exitCode == 0);
+  const nlohmann::json disk =
+      nlohmann::json::parse(status.output.substr(0, status.output.find('\n')))["disk"];
+  CHECK(disk["slab_files"].get<size_t>() >= 1);
+  CHECK(disk["slab_bytes"].get<uint64_t>() > 0);
+  CHECK(disk["bytes"].get<uint64_t>() > disk["slab_bytes"].get<uint64_t>());
   d.signal(SIGTERM);
   REQUIRE(d.wait(60) == 0);
   std::filesystem::remove_all(socketDir);

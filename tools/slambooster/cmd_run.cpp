@@ -245,7 +245,7 @@ void runCommand(const RunOptions& o) {
           RunOutputs{o.out, info.groundTruthPath, header,
                      "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
                          formatKnobs(initial) + " (volume frame)",
-                     nullptr, o.mesh},
+                     nullptr, o.mesh, 0, nullptr},
           energy ? &*energy : nullptr);
 
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
