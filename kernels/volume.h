@@ -35,10 +35,6 @@ SB_INLINE int sbVoxelIndex(int resolution, SbVoxelOffset o, int x, int y, int z)
          resolution * (sbWrapVoxel(y, o.y, resolution) + resolution * sbWrapVoxel(z, o.z, resolution));
 }
 
-SB_INLINE float sbVoxelTsdf(SB_GLOBAL const short* volume, int resolution, SbVoxelOffset o, int x, int y, int z) {
-  return (float)volume[2 * sbVoxelIndex(resolution, o, x, y, z)] * (1.0f / SB_TSDF_SCALE);
-}
-
 // clearSlab: voxel (u, v, w) of the slab that leaves a moving volume, made unobserved (+1, 0): `count` physical
 // planes normal to `axis` (0 x, 1 y, 2 z) from physical plane `first`, wrapping at R; u in [0, count) counts
 // the planes, v and w in [0, R) the other two axes in order.
@@ -148,14 +144,6 @@ SB_INLINE float sbInterpolateTsdfVoxel(SB_GLOBAL const short* volume, int resolu
   const float c0 = c00 * (1.0f - fy) + c10 * fy;
   const float c1 = c01 * (1.0f - fy) + c11 * fy;
   return (c0 * (1.0f - fz) + c1 * fz) * (1.0f / SB_TSDF_SCALE);
-}
-
-// Trilinear interpolation of the tsdf at `pos` (volume frame, metres), clamped at the borders.
-SB_INLINE float sbInterpolateTsdf(SB_GLOBAL const short* volume, int resolution, SbVoxelOffset o, float size,
-                                  float3 pos) {
-  const float scale = (float)resolution / size;
-  return sbInterpolateTsdfVoxel(volume, resolution, o,
-                                sbMakeFloat3(pos.x * scale - 0.5f, pos.y * scale - 0.5f, pos.z * scale - 0.5f));
 }
 
 // Gradient of the interpolated tsdf at voxel coordinates `s` (as sbInterpolateTsdfVoxel; unnormalised, in raw

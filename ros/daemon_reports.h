@@ -10,7 +10,7 @@
 
 namespace sb::ros_bridge {
 
-// The tracking state of one frame (DESIGN section 4b).
+// The tracking state of one frame (docs/tracking-state.md).
 enum class TrackingState { good, weak, lost, relocalised };
 
 const char* trackingStateName(TrackingState state);
