@@ -349,18 +349,25 @@ TEST_CASE("adaptive replaces a re-tracked pose that confirms nothing by the pred
   CHECK(d.nextStartPose->translation().isApprox(fast.pose.translation() + Eigen::Vector3d(0.06, 0, 0)));
 }
 
-TEST_CASE("adaptive learns a motion only as far as the view fixes it (learn_conditioning)", "[controller][adaptive]") {
-  // The view fixes x and the rotations but leaves y free (walls only, no floor): ICP's 0.02 m slide along y
-  // is not learnt; its x motion is.
-  const char* cfg = R"({"bootstrap_frames": 0, "max_level": 0, "learn_conditioning": 0.001})";
-  AdaptiveController c("adaptive", config(cfg));
-  Driver drive(c);
+// Six frames at 0.01 m/frame along x, then one that ICP moved 0.012 along x and slid 0.02 along y, in a view
+// (walls, no floor) whose structure fixes x and the rotations but leaves y free.
+Observation slideAlongFreeY(Driver& drive) {
   for (int i = 0; i < 6; ++i) drive.step(moveX(0.01));
   Observation walls = drive.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));
   sb::TrackingQuality q{true, 1e-7, 0.01, sb::WeakDirection::ty, false};
   q.structure = sb::Matrix6::Identity() * 0.05;
   q.structure(1, 1) = 1e-7;
   walls.quality = q;
+  return walls;
+}
+
+TEST_CASE("adaptive learns a motion only as far as the view fixes it (learn_conditioning)", "[controller][adaptive]") {
+  // The view fixes x and the rotations but leaves y free (walls only, no floor): ICP's 0.02 m slide along y
+  // is not learnt; its x motion is.
+  const char* cfg = R"({"bootstrap_frames": 0, "max_level": 0, "learn_conditioning": 0.001})";
+  AdaptiveController c("adaptive", config(cfg));
+  Driver drive(c);
+  const Observation walls = slideAlongFreeY(drive);
   const Decision d = c.decide(walls);
   REQUIRE(d.nextStartPose);
   const Eigen::Vector3d step = d.nextStartPose->translation() - walls.pose.translation();
@@ -369,9 +376,7 @@ TEST_CASE("adaptive learns a motion only as far as the view fixes it (learn_cond
   // Off (0), the whole measured motion is learnt.
   AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0, "learn_conditioning": 0})"));
   Driver other(off);
-  for (int i = 0; i < 6; ++i) other.step(moveX(0.01));
-  Observation same = other.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));
-  same.quality = q;
+  const Observation same = slideAlongFreeY(other);
   const Decision all = off.decide(same);
   REQUIRE(all.nextStartPose);
   CHECK((all.nextStartPose->translation() - same.pose.translation()).isApprox(Eigen::Vector3d(0.012, 0.02, 0)));
@@ -383,12 +388,7 @@ TEST_CASE("adaptive's pose follows the prediction along what the view leaves fre
   // predicted step (none), its x step is kept but for lambda over the eigenvalue.
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0, "pose_conditioning": 0.001})"));
   Driver drive(c);
-  for (int i = 0; i < 6; ++i) drive.step(moveX(0.01));
-  Observation walls = drive.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));
-  sb::TrackingQuality q{true, 1e-7, 0.01, sb::WeakDirection::ty, false};
-  q.structure = sb::Matrix6::Identity() * 0.05;
-  q.structure(1, 1) = 1e-7;
-  walls.quality = q;
+  const Observation walls = slideAlongFreeY(drive);
   const Decision d = c.decide(walls);
   CHECK_FALSE(d.correctedPose);
   REQUIRE(d.refinedPose);
@@ -403,8 +403,6 @@ TEST_CASE("adaptive's pose follows the prediction along what the view leaves fre
   // Off (0, the default): ICP's pose.
   AdaptiveController off("adaptive", config(R"({"bootstrap_frames": 0, "max_level": 0})"));
   Driver other(off);
-  for (int i = 0; i < 6; ++i) other.step(moveX(0.01));
-  Observation same = other.observe(Eigen::Isometry3d(Eigen::Translation3d(0.012, 0.02, 0.0)));
-  same.quality = q;
+  const Observation same = slideAlongFreeY(other);
   CHECK_FALSE(off.decide(same).refinedPose);
 }
