@@ -12,6 +12,7 @@
 
 #include "controller/controller.h"
 #include "drivers/frame_source.h"
+#include "odometry/odometry_track.h"
 #include "pipeline/pipeline.h"
 #include "runtime/frame_record.h"
 #include "runtime/knob_pins.h"
@@ -43,6 +44,10 @@ class SlamRunner {
   void pinKnobs(const std::optional<Knobs>& knobs) { pins_ = knobs ? KnobPins::all(*knobs) : KnobPins{}; }
   // Energy of the most recent frame whose energy is known (J), passed to the controller from now on.
   void setLatestJoules(double joules) { latestJoules_ = joules; }
+  // The robot's odometry (odometry/odometry_track.h), shared with whoever adds samples (the daemon's socket);
+  // nullptr: none. Read at each frame's stamp from the next frame on.
+  void setOdometry(std::shared_ptr<const odometry::OdometryTrack> track) { odometry_ = std::move(track); }
+  const odometry::OdometryTrack* odometry() const { return odometry_.get(); }
   // Flushes every sink (files on disk reflect every frame so far).
   void flush();
 
@@ -74,6 +79,7 @@ class SlamRunner {
   double previousComputationMs_ = 0.0;
   size_t frames_ = 0;
   TrackingMonitor monitor_;
+  std::shared_ptr<const odometry::OdometryTrack> odometry_;
 };
 
 }  // namespace sb
