@@ -4,8 +4,10 @@
 // outputs (model.png, mesh.ply, report.html). `slambooster run` is one Run, and with it every bench, dse and
 // profile run (they start `slambooster run`); every pass of the daemon is one.
 //
+//   RunOutputs outputs{dir, groundTruth, summary, comment};  // the four every run has, in this order
+//   outputs.mapSlabs = true;                                  // the others by name, each with its default
 //   Run run(Pipeline::create(config, intrinsics, pool), createController(settings, context), depthScale,
-//           RunOutputs{dir, groundTruth, summary, comment}, account);   // account: borrowed, may be null
+//           outputs, account);   // account: borrowed, may be null
 //   while (auto frame = source.next()) run.step(*frame);
 //   run.finish(RunEnd{}, pool);  run.writeReport();
 //
@@ -28,7 +30,7 @@
 
 namespace sb {
 
-// Where and what a run writes at its start.
+// Where and what a run writes at its start: the first four by position, the rest by name (run.h's example).
 struct RunOutputs {
   std::string dir;              // created when missing
   std::string groundTruthPath;  // "" = no ATE in the summary
