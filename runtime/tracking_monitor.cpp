@@ -2,26 +2,8 @@
 
 namespace sb {
 
-namespace {
-
-RelocaliserParams relocaliserParams(const PipelineConfig& c) {
-  RelocaliserParams p;
-  p.candidates = c.relocaliseCandidates;
-  p.confirmFrames = c.relocaliseConfirmFrames;
-  p.minPairAgreement = c.relocaliseMinPairAgreement;
-  p.agreementMargin = c.relocaliseAgreementMargin;
-  p.minConditioning = c.relocaliseMinConditioning;
-  p.maxMotionM = c.relocaliseMaxMotion;
-  p.maxRotationDeg = c.relocaliseMaxRotationDeg;
-  p.keyframeCapacity = static_cast<size_t>(c.keyframeCapacity);
-  p.keyframeMinDissimilarity = c.keyframeMinDissimilarity;
-  return p;
-}
-
-}  // namespace
-
 TrackingMonitor::TrackingMonitor(const PipelineConfig& config)
-    : config_(config), encoder_(FernParams{}), relocaliser_(relocaliserParams(config)) {}
+    : config_(config), encoder_(FernParams{}), relocaliser_(RelocaliserParams(config)) {}
 
 void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec) {
   FrameResult& r = rec.result;
