@@ -4,8 +4,9 @@
 // outputs (model.png, mesh.ply, report.html). `slambooster run` is one Run, and with it every bench, dse and
 // profile run (they start `slambooster run`); every pass of the daemon is one.
 //
-//   RunOutputs outputs{dir, groundTruth, summary, comment};  // the four every run has, in this order
-//   outputs.mapSlabs = true;                                  // the others by name, each with its default
+//   RunOutputs outputs;                // every field by name; those not set keep their defaults
+//   outputs.dir = dir;  outputs.groundTruthPath = groundTruth;  outputs.summary = summary;
+//   outputs.comment = comment;  outputs.mapSlabs = true;
 //   Run run(Pipeline::create(config, intrinsics, pool), createController(settings, context), depthScale,
 //           outputs, account);   // account: borrowed, may be null
 //   while (auto frame = source.next()) run.step(*frame);
@@ -30,7 +31,7 @@
 
 namespace sb {
 
-// Where and what a run writes at its start: the first four by position, the rest by name (run.h's example).
+// Where and what a run writes at its start. Set by name (the example above), not by position.
 struct RunOutputs {
   std::string dir;              // created when missing
   std::string groundTruthPath;  // "" = no ATE in the summary

@@ -239,10 +239,13 @@ void runCommand(const RunOptions& o) {
       energy.emplace(*sampler);
     }
   }
-  RunOutputs outputs{o.out, info.groundTruthPath, header,
-                     "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
-                         formatKnobs(initial) + " (volume frame)"};
-  outputs.mapSlabs = o.mesh;  // one file per output, no slab limit, no retention store (a replay)
+  RunOutputs outputs;  // one file per output, no slab limit, no retention store (a replay)
+  outputs.dir = o.out;
+  outputs.groundTruthPath = info.groundTruthPath;
+  outputs.summary = header;
+  outputs.comment = "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
+                    formatKnobs(initial) + " (volume frame)";
+  outputs.mapSlabs = o.mesh;
   Run run(std::move(pipeline), std::move(controller), info.depthScale, outputs, energy ? &*energy : nullptr);
 
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
