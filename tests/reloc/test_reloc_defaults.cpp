@@ -1,7 +1,7 @@
 // One place per default (issue 42): the relocaliser's settings are keys of the pipeline config
 // (pipeline/config.h) and RelocaliserParams takes them from there; it repeats none of their defaults.
 
-#include <catch2/catch_test_macros.hpp>
+#include <catch2/catch.hpp>
 #include <fstream>
 #include <regex>
 #include <set>
