@@ -10,7 +10,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 werror=()
 if [ "${1:-}" = --werror ]; then werror=(-DSB_WERROR=ON); shift; fi
 build=${1:-"$root/build"}
-[ $# -gt 0 ] && shift
+if [ $# -gt 0 ]; then shift; fi
 targets=()
 for t in "$@"; do targets+=(--target "$t"); done
 generator=()
