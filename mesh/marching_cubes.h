@@ -41,7 +41,7 @@ struct VolumeView {
   // `first`'s centre at (0.5, 0.5, 0.5) voxels). All extents zero: the whole cube.
   std::array<int, 3> first{0, 0, 0};
   std::array<int, 3> extent{0, 0, 0};
-  // `data` holds the box alone (a copy of a slab, ComputeBackend::readVolumeBox): 2 * extent[0] * extent[1] *
+  // `data` holds the box alone (a copy of a slab, BackendVolume::readVolumeBox): 2 * extent[0] * extent[1] *
   // extent[2] int16, x fastest, box voxel (x, y, z) at x + extent[0] * (y + extent[1] * z); `offset` and
   // `first` must then be 0. The mesh is the one of the same box read in place from the cube, bit for bit.
   bool boxOnly = false;

@@ -21,10 +21,35 @@ constexpr int kPyramidLevels = 3;
 // [0] sum e^2 (m^2), [1..6] J^T e, [7..27] upper triangle of J^T J, [28] inliers, [29..31] rejection counts.
 using TrackSums = std::array<double, 32>;
 
-class ComputeBackend {
+// The TSDF volume the backend holds, as the host sees it: read it whole or a box of it, and move it (the moving
+// volume). Its own interface: VolumeWindow (pipeline/volume_window.h) needs nothing else of a backend.
+class BackendVolume {
  public:
-  virtual ~ComputeBackend() = default;
+  virtual ~BackendVolume() = default;
 
+  // The volume on the host (2 * R^3 int16, layout in kernels/volume.h: physical voxels, read through the
+  // cyclic offset of a moving volume, VolumePlacement::offset); valid until the next call.
+  virtual const int16_t* volumeData() = 0;
+
+  // A box of the volume copied to the host: logical voxels first .. first + extent - 1 on each axis, read
+  // through the cyclic offset of a moving volume (VolumePlacement::boxPieces), into `out`: 2 * extent[0] *
+  // extent[1] * extent[2] int16 (tsdf, weight), x fastest, box voxel (x, y, z) at x + extent[0] * (y +
+  // extent[1] * z). Reads only the box (a leaving slab, pipeline/volume_window.h), not the whole volume.
+  virtual void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                             int16_t* out) = 0;
+
+  // The moving volume (pipeline/volume_placement.h, docs/moving-volume.md): places the volume's corner at
+  // `cornerVoxels` (world, voxels; each axis moves by a multiple of VolumePlacement::kBlockVoxels). The voxel
+  // addresses take the new cyclic offset, so no voxel is copied; the planes that left are cleared (unobserved)
+  // and the empty-space skipping grid follows. Poses given to integrate and raycast and the raycast's maps stay
+  // in the world frame. A volume never moved has its corner at 0, the world's origin.
+  virtual void moveVolume(const Eigen::Vector3i& cornerVoxels) = 0;
+};
+
+// The stages of one frame on one device (the classic names, pipeline/stages.h) and the storage precision of
+// their maps. The volume's operations are BackendVolume's.
+class ComputeBackend : public BackendVolume {
+ public:
   // mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal for a raw frame (full sensor
   // size, `metresPerUnit` metres per raw unit) at the compute size (full size / csr), 3 pyramid levels.
   virtual void preprocess(const DepthRaw& raw, float metresPerUnit, int csr, StageTimes& times) = 0;
@@ -48,24 +73,6 @@ class ComputeBackend {
 
   // render: shades the current reference maps (light at `lightPosition`, volume frame, metres).
   virtual Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) = 0;
-
-  // The volume on the host (2 * R^3 int16, layout in kernels/volume.h: physical voxels, read through the
-  // cyclic offset of a moving volume, VolumePlacement::offset); valid until the next call.
-  virtual const int16_t* volumeData() = 0;
-
-  // A box of the volume copied to the host: logical voxels first .. first + extent - 1 on each axis, read
-  // through the cyclic offset of a moving volume (VolumePlacement::boxPieces), into `out`: 2 * extent[0] *
-  // extent[1] * extent[2] int16 (tsdf, weight), x fastest, box voxel (x, y, z) at x + extent[0] * (y +
-  // extent[1] * z). Reads only the box (a leaving slab, pipeline/volume_window.h), not the whole volume.
-  virtual void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
-                             int16_t* out) = 0;
-
-  // The moving volume (pipeline/volume_placement.h, docs/moving-volume.md): places the volume's corner at
-  // `cornerVoxels` (world, voxels; each axis moves by a multiple of VolumePlacement::kBlockVoxels). The voxel
-  // addresses take the new cyclic offset, so no voxel is copied; the planes that left are cleared (unobserved)
-  // and the empty-space skipping grid follows. Poses given to integrate and raycast and the raycast's maps stay
-  // in the world frame. A volume never moved has its corner at 0, the world's origin.
-  virtual void moveVolume(const Eigen::Vector3i& cornerVoxels) = 0;
 
   // Reduced precision (architecture.md D3, the paper's "+half"): preprocessed maps (mm2meters output and the
   // pyramid's depth, vertex and normal maps) and the raycast maps stored as half, arithmetic in float. May be

@@ -52,7 +52,7 @@ class VolumePlacement {
 // A logical box of the cyclic buffer (logical voxels first .. first + extent - 1 per axis, inside [0, R)) as
 // the physical boxes that store it: per axis the range starts at physical (first + offset) mod R and splits
 // in two where it wraps, so a box is 1 to 8 pieces. Each piece: where it is stored, where it lies in the box,
-// its size (voxels). For reading a slab alone (ComputeBackend::readVolumeBox). Throws sb::Error on a box
+// its size (voxels). For reading a slab alone (BackendVolume::readVolumeBox). Throws sb::Error on a box
 // outside the cube.
 struct BoxPiece {
   std::array<int, 3> physical{};  // the piece's first voxel in the buffer

@@ -46,7 +46,7 @@ Eigen::Vector3i VolumeWindow::shiftFor(const Eigen::Isometry3d& T_camera_to_worl
   return shift;
 }
 
-Eigen::Vector3i VolumeWindow::follow(const Eigen::Isometry3d& T_camera_to_world, ComputeBackend& backend) {
+Eigen::Vector3i VolumeWindow::follow(const Eigen::Isometry3d& T_camera_to_world, BackendVolume& backend) {
   const Eigen::Vector3i shift = shiftFor(T_camera_to_world, corner_);
   for (int axis = 0; axis < 3; ++axis) {
     const int voxels = shift[axis];

@@ -2,7 +2,7 @@
 // The moving volume's policy (docs/moving-volume.md; after Kintinuous, Whelan et al. 2012): after each frame
 // the window looks at the centre of the camera's view; when it lies farther than a threshold from the
 // volume's centre on some axis, the volume shifts along that axis by the whole blocks that bring the view
-// centre back to the centre. The backend does the shift as a cyclic buffer (ComputeBackend::moveVolume: a new
+// centre back to the centre. The backend does the shift as a cyclic buffer (BackendVolume::moveVolume: a new
 // address offset, the planes that left cleared, no voxel copied); before it, a copy of the slab that leaves
 // is handed to a listener (the run meshes it into the whole run's map). Poses stay in the world frame, the
 // frame of the first volume: a client never sees a shift, and a run that never shifts is exactly the
@@ -24,7 +24,7 @@
 namespace sb {
 
 // A box of voxels about to leave the volume, copied out of it before the shift clears them
-// (ComputeBackend::readVolumeBox: only the box is read): logical voxels first .. first + extent - 1 of the
+// (BackendVolume::readVolumeBox: only the box is read): logical voxels first .. first + extent - 1 of the
 // volume. It holds one voxel more than leaves, on the side of what stays, so that the cells between the slab
 // and the rest are meshed once, with the slab. The listener owns it (it may keep it: the volume is cleared
 // and reused at once).
@@ -59,7 +59,7 @@ class VolumeWindow {
 
   // Shifts `backend`'s volume when the view is far from its centre (shiftFor), axis by axis, each slab to the
   // listener first; returns the shift in voxels per axis (0: none).
-  Eigen::Vector3i follow(const Eigen::Isometry3d& T_camera_to_world, ComputeBackend& backend);
+  Eigen::Vector3i follow(const Eigen::Isometry3d& T_camera_to_world, BackendVolume& backend);
 
   // Called with every slab that leaves (a copy, read before it is cleared), on the thread that calls follow.
   // None: slabs are neither read nor kept.

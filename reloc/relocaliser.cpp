@@ -36,6 +36,17 @@ std::string describe(const TrackAttempt& a) {
 
 }  // namespace
 
+RelocaliserParams::RelocaliserParams(const PipelineConfig& c)
+    : candidates(c.relocaliseCandidates),
+      confirmFrames(c.relocaliseConfirmFrames),
+      minPairAgreement(c.relocaliseMinPairAgreement),
+      agreementMargin(c.relocaliseAgreementMargin),
+      minConditioning(c.relocaliseMinConditioning),
+      maxMotionM(c.relocaliseMaxMotion),
+      maxRotationDeg(c.relocaliseMaxRotationDeg),
+      keyframeCapacity(static_cast<size_t>(c.keyframeCapacity)),
+      keyframeMinDissimilarity(c.keyframeMinDissimilarity) {}
+
 Relocaliser::Relocaliser(const RelocaliserParams& p)
     : params_(p), keyframes_(p.keyframeCapacity, p.keyframeMinDissimilarity) {
   if (p.candidates < 0 || p.confirmFrames < 1)

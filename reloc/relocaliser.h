@@ -25,26 +25,32 @@
 
 namespace sb {
 
+// The relocaliser's settings. Each default lives once, as a key of the pipeline config (pipeline/config.h:
+// relocalise_*, keyframe_*; config/README.md): a default-constructed RelocaliserParams is the one made from
+// PipelineConfig{} (tests/reloc/test_reloc_defaults.cpp checks that no default here repeats one there).
 struct RelocaliserParams {
-  int candidates = 3;               // keyframes tried per lost frame (plus the last good pose)
-  int confirmFrames = 3;            // consecutive frames a candidate must hold (the first included)
-  double minPairAgreement = 0.87;   // of an attempt's pairs, [0, 1]
+  RelocaliserParams() : RelocaliserParams(PipelineConfig{}) {}
+  explicit RelocaliserParams(const PipelineConfig& c);
+
+  int candidates;             // keyframes tried per lost frame (plus the last good pose)
+  int confirmFrames;          // consecutive frames a candidate must hold (the first included)
+  double minPairAgreement;    // of an attempt's pairs, [0, 1]
   // And at least the 90th percentile of the agreement of the last `agreementWindowFrames` good frames less this:
   // a view placed right agrees with the map as well as this sensor's tracked views of this scene did when they
   // were right (the percentile, not the median: the frames before a loss agree less and less). True
   // relocalisations held -0.007 to +0.06 of it (7-Scenes kidnaps: 0.87-0.90, relocalised at 0.88-0.93;
   // synthetic: 0.92-0.97, at 0.97-1.00), the aliased places of a symmetric corridor 0.028-0.10 below it.
-  double agreementMargin = 0.015;
+  double agreementMargin;
   // The candidate's view must fix every motion at least this well (structure conditioning, tracking_quality.h),
   // more than tracking asks: a tracked frame has its last pose, a relocalised one nothing, and a view that
   // barely fixes a motion cannot say where along it the camera is (a corridor's blank end wall matched the other
   // end's at 0.00037-0.0012; true relocalisations held 0.0079-0.026).
-  double minConditioning = 0.003;
-  size_t agreementWindowFrames = 300;
-  double maxMotionM = 0.1;          // metres between two confirming frames
-  double maxRotationDeg = 10.0;     // degrees between two confirming frames
-  size_t keyframeCapacity = 300;
-  double keyframeMinDissimilarity = 0.2;
+  double minConditioning;
+  double maxMotionM;          // metres between two confirming frames
+  double maxRotationDeg;      // degrees between two confirming frames
+  size_t keyframeCapacity;    // keyframes held (the oldest goes when full)
+  double keyframeMinDissimilarity;  // a view unlike every keyframe by more than this becomes one
+  size_t agreementWindowFrames = 300;  // good frames whose agreement sets the bar (not a config key)
 };
 
 // One ICP run of the frame in hand from a start pose (Pipeline::trackFrom, bound to the frame).

@@ -13,13 +13,7 @@ namespace {
 constexpr double kFloor = -5;  // log10 of the smallest conditioning drawn (0 is drawn here)
 
 double threshold(const RunData& run) {
-  if (run.summary) {
-    const auto& config = run.summary->config;
-    if (config.is_object() && config.contains("constrained_min_conditioning") &&
-        config.at("constrained_min_conditioning").is_number())
-      return config.at("constrained_min_conditioning").get<double>();
-  }
-  return NAN;
+  return run.summary ? run.summary->constrainedMinConditioning() : NAN;
 }
 
 }  // namespace

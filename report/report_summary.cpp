@@ -78,8 +78,7 @@ void addOverviewSection(HtmlPage& page, const RunData& run) {
   addHeadline(t, "unaligned mean error", s.ate ? s.ate->unalignedMeanM * 100 : kNan, "cm",
               "headline.unaligned_mean_cm");
   addHeadline(t, "energy", s.joulesPerFrame(), "J/frame", "headline.joules_per_frame");
-  // The energy totals name it mean_watts (power/energy_json.h).
-  addHeadline(t, "mean power", s.energyNumber("mean_watts"), "W", "headline.mean_power_w");
+  addHeadline(t, "mean power", s.meanWatts(), "W", "headline.mean_power_w");
   if (s.knobs.is_object() && !s.knobs.empty()) {
     std::string text;
     for (auto it = s.knobs.begin(); it != s.knobs.end(); ++it)

@@ -186,6 +186,24 @@ double RunSummary::energyNumber(const std::string& key) const {
   return it != energy.end() && it->is_number() ? it->get<double>() : NAN;
 }
 
+std::optional<EnergyHeadline> RunSummary::energyHeadline() const {
+  if (!energy.is_object()) return std::nullopt;
+  const Fields f(energy, "summary", "energy");
+  EnergyHeadline h;
+  f.string("meter", h.meter);
+  f.count("frames", h.frames);
+  f.count("known_frames", h.knownFrames);
+  h.joulesPerFrame = joulesPerFrame();
+  h.meanWatts = meanWatts();
+  return h;
+}
+
+double RunSummary::constrainedMinConditioning() const {
+  if (!config.is_object()) return NAN;
+  const auto it = config.find("constrained_min_conditioning");
+  return it != config.end() && it->is_number() ? it->get<double>() : NAN;
+}
+
 json RunSummary::toJson() const {
   json j = {{"schema_version", schemaVersion},
             {"front_end", frontEnd},

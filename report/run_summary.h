@@ -65,6 +65,13 @@ struct InterruptedSummary {  // a signal ended the run ("interrupted")
   size_t atFrame = 0;
 };
 
+// The energy totals' headline ("energy", written by power/energy_json.h and runtime/energy_account.cpp).
+struct EnergyHeadline {
+  std::string meter;                       // the meter's name
+  size_t frames = 0, knownFrames = 0;      // frames resolved; of them with joules known
+  double joulesPerFrame = 0, meanWatts = 0;  // NaN when unknown
+};
+
 struct RunSummary {
   int schemaVersion = kRunSummarySchema;
   // What ran: set at the start by the run setup (runtime/run_setup.h), the same for both front ends.
@@ -102,9 +109,13 @@ struct RunSummary {
   std::optional<bool> complete;                    // every output on disk; absent while the run goes on
   std::string error;                               // why the run ended early or an output failed
 
-  // A number of the energy totals ("joules_per_frame", "mean_watts"); NaN when absent or unknown.
+  // The parts of the owned sub-objects that code reads, typed here so that no reader outside this file indexes
+  // summary.json by key (issue 42). NaN when absent or unknown.
   double energyNumber(const std::string& key) const;
   double joulesPerFrame() const { return energyNumber("joules_per_frame"); }
+  double meanWatts() const { return energyNumber("mean_watts"); }
+  std::optional<EnergyHeadline> energyHeadline() const;  // absent without a meter
+  double constrainedMinConditioning() const;             // config.constrained_min_conditioning
 
   nlohmann::json toJson() const;
   // Reads the keys present (absent ones keep their defaults) and checks their types. Throws sb::Error

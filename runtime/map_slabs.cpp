@@ -325,11 +325,11 @@ void writeRunMesh(const std::string& path, Pipeline& pipeline, MapSlabs* slabs, 
   if (window && !window->cornerVoxels().isZero())  // to the world frame (a volume that never moved is in it)
     transformMesh(mesh, Eigen::Isometry3f(Eigen::Translation3f(window->cornerMetres().cast<float>())));
   if (slabs && !slabs->files().empty()) {
-    summary.setExtra("mesh_triangles", slabs->writeMap(path, mesh));
-    summary.setExtra("mesh_slabs", slabs->files().size());
+    summary.header().meshTriangles = slabs->writeMap(path, mesh);
+    summary.header().meshSlabs = slabs->files().size();
   } else {
     writePly(path, mesh);  // whole or not at all (temporary file + rename)
-    summary.setExtra("mesh_triangles", mesh.triangles.size());
+    summary.header().meshTriangles = mesh.triangles.size();
   }
 }
 

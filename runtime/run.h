@@ -4,8 +4,11 @@
 // outputs (model.png, mesh.ply, report.html). `slambooster run` is one Run, and with it every bench, dse and
 // profile run (they start `slambooster run`); every pass of the daemon is one.
 //
+//   RunOutputs outputs;                // every field by name; those not set keep their defaults
+//   outputs.dir = dir;  outputs.groundTruthPath = groundTruth;  outputs.summary = summary;
+//   outputs.comment = comment;  outputs.mapSlabs = true;
 //   Run run(Pipeline::create(config, intrinsics, pool), createController(settings, context), depthScale,
-//           RunOutputs{dir, groundTruth, summary, comment}, account);   // account: borrowed, may be null
+//           outputs, account);   // account: borrowed, may be null
 //   while (auto frame = source.next()) run.step(*frame);
 //   run.finish(RunEnd{}, pool);  run.writeReport();
 //
@@ -28,7 +31,7 @@
 
 namespace sb {
 
-// Where and what a run writes at its start.
+// Where and what a run writes at its start. Set by name (the example above), not by position.
 struct RunOutputs {
   std::string dir;              // created when missing
   std::string groundTruthPath;  // "" = no ATE in the summary

@@ -104,15 +104,6 @@ SummarySink::SummarySink(const std::string& path, const std::string& groundTruth
       segments_(std::move(segments)),
       header_(std::move(header)) {}
 
-void SummarySink::setExtra(const std::string& key, const nlohmann::json& value) {
-  if (key == "mesh_triangles")
-    header_.meshTriangles = value.get<size_t>();
-  else if (key == "mesh_slabs")
-    header_.meshSlabs = value.get<size_t>();
-  else
-    throw std::logic_error("summary key '" + key + "' is not a field of RunSummary (report/run_summary.h)");
-}
-
 void SummarySink::onFrame(const FrameRecord& record) {
   stats_.add(record);
   // A snapshot per frame (without the ATE, computed at flush()): after a crash summary.json agrees with the

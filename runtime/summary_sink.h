@@ -67,11 +67,9 @@ class SummarySink final : public OutputSink {
   void onFrame(const FrameRecord& record) override;
   void flush() override;
 
-  // The fields written with every frame's counts: set them here, the next write carries them.
+  // The fields written with every frame's counts, typed (report/run_summary.h): set them here (the mesh counts:
+  // runtime/map_slabs.cpp), the next write carries them.
   RunSummary& header() { return header_; }
-  // The mesh counts by name ("mesh_triangles", "mesh_slabs": runtime/map_slabs.cpp sets them). Any other key
-  // throws std::logic_error: a new summary field is a member of RunSummary (report/run_summary.h).
-  void setExtra(const std::string& key, const nlohmann::json& value);
   // Where the ATE's trajectory comes from: read back at each flush (the trajectory file), never kept in
   // memory.
   void setTrajectorySource(std::function<Trajectory()> read) { readTrajectory_ = std::move(read); }

@@ -8,20 +8,6 @@ namespace sb {
 
 namespace {
 
-RelocaliserParams relocaliserParams(const PipelineConfig& c) {
-  RelocaliserParams p;
-  p.candidates = c.relocaliseCandidates;
-  p.confirmFrames = c.relocaliseConfirmFrames;
-  p.minPairAgreement = c.relocaliseMinPairAgreement;
-  p.agreementMargin = c.relocaliseAgreementMargin;
-  p.minConditioning = c.relocaliseMinConditioning;
-  p.maxMotionM = c.relocaliseMaxMotion;
-  p.maxRotationDeg = c.relocaliseMaxRotationDeg;
-  p.keyframeCapacity = static_cast<size_t>(c.keyframeCapacity);
-  p.keyframeMinDissimilarity = c.keyframeMinDissimilarity;
-  return p;
-}
-
 std::string format(const char* fmt, double a, double b) {
   char buf[160];
   std::snprintf(buf, sizeof buf, fmt, a, b);
@@ -38,7 +24,7 @@ const Eigen::Isometry3d& finalPose(const FrameRecord& rec) {
 }  // namespace
 
 TrackingMonitor::TrackingMonitor(const PipelineConfig& config)
-    : config_(config), encoder_(FernParams{}), relocaliser_(relocaliserParams(config)) {}
+    : config_(config), encoder_(FernParams{}), relocaliser_(RelocaliserParams(config)) {}
 
 void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
                               const FrameMotion& motion) {

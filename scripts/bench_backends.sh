@@ -60,14 +60,13 @@ for backend in ${backends//,/ }; do
     fi
     device=$(grep -o "compute backend: .*" "$dir.log" | head -1 || true)
     [ -n "$device" ] && echo "  ($backend: $device)" >&2
-    ms=$(jq '.computation_ms_per_frame' "$dir/summary.json")
+    ms=$("$bin" summary "$dir" --get computation_ms_per_frame)
     device_ms=$(jq -s 'map((.device_ms // {}) | to_entries | map(select(.key != "render") | .value) | add // 0)
                        | add / length' "$dir/frames.jsonl")
-    jq -r --arg b "$backend" --arg c "$controller" --argjson d "$device_ms" --argjson ms "$ms" \
-      '[$b, $c, .frames, ($ms * 100 | round / 100), (1000 / $ms * 10 | round / 10),
-        (if $d > 0 then ($d * 100 | round / 100) else "-" end),
-        (if .ate then (.ate.rmse_m * 10000 | round / 100) else "-" end),
-        "\(.tracked)/\(.tracking_attempted)"] | @tsv' "$dir/summary.json" |
-      awk -F'\t' '{printf "%-12s %-12s %8s %10s %8s %12s %9s %s\n", $1, $2, $3, $4, $5, $6, $7, $8}'
+    # summary.json through its type (`slambooster summary`; "-": no ground truth)
+    "$bin" summary "$dir" --missing - --get frames --get ate.rmse_m --get tracked --get tracking_attempted |
+      awk -F'\t' -v b="$backend" -v c="$controller" -v d="$device_ms" -v ms="$ms" '{
+        dev = d > 0 ? sprintf("%.2f", d) : "-"; ate = $2 == "-" ? "-" : sprintf("%.2f", $2 * 100)
+        printf "%-12s %-12s %8s %10.2f %8.1f %12s %9s %s/%s\n", b, c, $1, ms, 1000 / ms, dev, ate, $3, $4 }'
   done
 done

@@ -30,9 +30,8 @@ run() {  # $1 = label, $2 = readers, $3 = sleepers
   wait "$pid"
   local t1=$(date +%s.%N)
   local n=$(grep -vc '^#' "$out/trajectory.tum")
-  # summary.json's typed field (report/run_summary.h), not a grep of its text
-  local comp=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["computation_ms_per_frame"])' \
-    "$out/summary.json")
+  # summary.json's field through its type (report/run_summary.h, `slambooster summary`), not a grep of its text
+  local comp=$("$tool" summary "$out" --get computation_ms_per_frame)
   awk -v l="$1" -v n="$n" -v a="$t0" -v b="$t1" -v c="$comp" -v r="$result" \
     'BEGIN { printf "%s frames %d wall %.3f s  %.2f frames/s  computation %.1f ms/frame %s\n", l, n, b-a, n/(b-a), c, r }'
 }

@@ -19,7 +19,6 @@ controller=${3:-default}
 threads=${4:-2}
 bin="$build/tools/slambooster/slambooster"
 [ -x "$bin" ] || { echo "bench_moving_volume: $bin not found (build first)" >&2; exit 1; }
-command -v jq >/dev/null || { echo "bench_moving_volume: jq is needed (apt-get install jq)" >&2; exit 1; }
 [ -x /usr/bin/time ] || { echo "bench_moving_volume: /usr/bin/time is needed (apt-get install time)" >&2; exit 1; }
 mkdir -p "$out"
 seq="$out/seq"
@@ -40,10 +39,11 @@ for v in fixed5 moving5 moving5cam fixedbig; do
   /usr/bin/time -v -o "$run/time.txt" "$bin" run "$seq" --controller "$controller" --threads "$threads" "${args[@]}" \
     --out "$run" --quiet > "$run/run.log" 2>&1
   peak=$(awk -F': ' '/Maximum resident set size/ {printf "%.0f", $2 / 1024}' "$run/time.txt")
-  jq -r --arg v "$v" --arg p "$peak" '
-    [$v, .tracked_percent, ((.ate.rmse_m // -0.01) * 100), .computation_ms_per_frame,
-     (((.moving_volume.shift_ms // 0) + (.moving_volume.slab_ms // 0)) / .frames), (.moving_volume.shifts // 0), $p]
-    | map(tostring) | join(" ")' "$run/summary.json" |
-    awk '{printf "%-11s %8.1f %8.2f %9.1f %9.2f %7d %9s\n", $1, $2, $3, $4, $5, $6, $7}'
+  # "-": a field this run did not write (no ground truth: ATE -1; a fixed volume: no moving_volume, 0)
+  "$bin" summary "$run" --missing - --get tracked_percent --get ate.rmse_m --get computation_ms_per_frame \
+    --get moving_volume.shift_ms --get moving_volume.slab_ms --get moving_volume.shifts --get frames |
+    awk -F'\t' -v v="$v" -v p="$peak" 'function n(x) { return x == "-" ? 0 : x }
+      { printf "%-11s %8.1f %8.2f %9.1f %9.2f %7d %9s\n", v, $1, ($2 == "-" ? -1 : $2 * 100), $3,
+               (n($4) + n($5)) / $7, n($6), p }'
 done
 echo "outputs in $out/runs"

@@ -61,7 +61,7 @@
 # the CPU time. `--frames 20 --quick` took 20 minutes there (3 minutes on the idle machine at 15feaed). The dse figure is for running every setting to the
 # end: dse now stops a run once it is slower than the fastest setting within the bound so far, which took
 # 3.0x less computation time (2.3-4.4x per sequence) on 8 synthetic sequences with a 36-setting grid
-# (session 9, README; scripts/dse_savings.py).
+# (f638528, 2026-11-24; scripts/dse_savings.py).
 # Expect more with the 96-setting grid, half of whose settings are at csr 1 and 2.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

@@ -18,7 +18,7 @@ threads=${4:-0}
 bin="$build/tools/slambooster/slambooster"
 [ -x "$bin" ] || { echo "bench_pipeline: $bin not found (build first: scripts/build.sh $build)" >&2; exit 1; }
 [ -d "$sequence" ] || { echo "bench_pipeline: sequence '$sequence' not found" >&2; exit 1; }
-command -v jq >/dev/null || { echo "bench_pipeline: jq is needed to read summary.json (apt-get install jq)" >&2; exit 1; }
+command -v jq >/dev/null || { echo "bench_pipeline: jq is needed to list the stage times (apt-get install jq)" >&2; exit 1; }
 out=$(mktemp -d /tmp/bench_pipeline.XXXXXX)
 echo "sequence $sequence, $(nproc) cores, threads $threads, outputs in $out"
 for preset in ${presets//,/ }; do
@@ -27,10 +27,19 @@ for preset in ${presets//,/ }; do
     --threads "$threads" --quiet > "$out/$preset.log"
   rss_kb=$(awk -F: '/Maximum resident set size/ {gsub(/ /, "", $2); print $2}' "$out/$preset.time")
   echo "== preset $preset"
-  jq -r '"frames \(.frames), tracked \(.tracked)/\(.tracking_attempted) (\(.tracked_percent | . * 100 | round / 100)%)",
-         "computation \(.computation_ms_per_frame | . * 100 | round / 100) ms/frame (wall), process CPU \(.cpu_ms_per_frame | . * 100 | round / 100) ms/frame",
-         (.stage_ms_per_frame | to_entries | map("  \(.key) \(.value | . * 100 | round / 100) ms") | .[]),
-         (if .ate then "ATE rmse \(.ate.rmse_m * 1000 | round / 10) cm, mean \(.ate.mean_m * 1000 | round / 10) cm, max \(.ate.max_m * 1000 | round / 10) cm, unaligned mean \(.ate.unaligned_mean_m * 1000 | round / 10) cm"
-          else "ATE: no ground truth" end)' "$dir/summary.json"
+  # summary.json through its type (`slambooster summary`; "-": a field this run did not write)
+  IFS=$'\t' read -r frames tracked attempted pct comp cpu rmse mean max unaligned < <("$bin" summary "$dir" \
+    --missing - --get frames --get tracked --get tracking_attempted --get tracked_percent \
+    --get computation_ms_per_frame --get cpu_ms_per_frame --get ate.rmse_m --get ate.mean_m --get ate.max_m \
+    --get ate.unaligned_mean_m)
+  printf "frames %s, tracked %s/%s (%.2f%%)\n" "$frames" "$tracked" "$attempted" "$pct"
+  printf "computation %.2f ms/frame (wall), process CPU %.2f ms/frame\n" "$comp" "$cpu"
+  "$bin" summary "$dir" --get stage_ms_per_frame | jq -r 'to_entries[] | "  \(.key) \(.value * 100 | round / 100) ms"'
+  if [ "$rmse" = - ]; then
+    echo "ATE: no ground truth"
+  else
+    awk -v r="$rmse" -v m="$mean" -v x="$max" -v u="$unaligned" 'BEGIN {
+      printf "ATE rmse %.1f cm, mean %.1f cm, max %.1f cm, unaligned mean %.1f cm\n", r * 100, m * 100, x * 100, u * 100 }'
+  fi
   echo "peak RSS $((rss_kb / 1024)) MiB"
 done

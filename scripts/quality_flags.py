@@ -3,14 +3,16 @@
 frames flagged unconstrained, and of every other sequence's frames, per controller (frames with an ICP result;
 "constrained" as each run's frames.jsonl recorded it).
 
-    scripts/quality_flags.py BENCH_DIR [CORRIDOR_NAME] [--threshold T]
+    scripts/quality_flags.py BENCH_DIR [CORRIDOR_NAME] [--threshold T] [--tool SLAMBOOSTER]
         CORRIDOR_NAME: default stress-corridor; its segments.csv is read from the sequence directory its summary
         names. --threshold: flag frames whose recorded conditioning is below T instead of reading each run's
         recorded "constrained" (runs made under another constrained_min_conditioning, compared alike).
+        --tool: the slambooster that reads summary.json (`slambooster summary`; default build/ of the checkout).
 """
 import csv
 import json
 import os
+import subprocess
 import sys
 
 
@@ -29,12 +31,18 @@ def main(argv):
         i = argv.index("--threshold")
         threshold = float(argv[i + 1])
         argv = argv[:i] + argv[i + 2:]
+    tool = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "build", "tools", "slambooster", "slambooster")
+    if "--tool" in argv:
+        i = argv.index("--tool")
+        tool = argv[i + 1]
+        argv = argv[:i] + argv[i + 2:]
     runs = os.path.join(argv[0], "runs")
     corridor = argv[1] if len(argv) > 1 else "stress-corridor"
     wall = set()
-    summary = os.path.join(runs, corridor, "default", "summary.json")
-    if os.path.exists(summary):
-        seq = json.load(open(summary))["sequence"]
+    run = os.path.join(runs, corridor, "default")
+    if os.path.exists(os.path.join(run, "summary.json")):
+        seq = subprocess.run([tool, "summary", run, "--get", "sequence"], check=True, capture_output=True,
+                             text=True).stdout.rstrip("\n")
         for row in csv.DictReader(open(os.path.join(seq, "segments.csv"))):
             if row["label"] == "wall-only":
                 wall.update(range(int(row["begin_frame"]), int(row["end_frame"])))

@@ -56,7 +56,10 @@ while [ $# -gt 0 ]; do
 done
 [ -n "$warmup" ] || warmup=$(awk -v s="$seconds" 'BEGIN { w = s / 5; print (w < 60 ? w : 60) }')
 daemon="$build/daemon/slamboosterd"
-[ -x "$daemon" ] || { echo "soak_daemon: $daemon is missing; build the target slamboosterd" >&2; exit 2; }
+tool="$build/tools/slambooster/slambooster"  # reads summary.json (`slambooster summary`)
+for b in "$daemon" "$tool"; do
+  [ -x "$b" ] || { echo "soak_daemon: $b is missing; build the targets slamboosterd slambooster" >&2; exit 2; }
+done
 
 # A tmpfs of its own: the whole script runs again inside a private mount namespace (as root, or as an
 # unprivileged user mapped to root in a user namespace).
@@ -103,8 +106,8 @@ segment_bytes() {  # the rotated outputs on disk
     awk '{ s += $1 } END { printf "%d", s }' || true  # a segment removed meanwhile: find says so, no matter
 }
 summary_frames() {
-  # the top-level "frames" of summary.json (a text match could hit energy.frames); none while it is rewritten
-  python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["frames"])' "$outputs/summary.json" 2>/dev/null || true
+  # summary.json's "frames", read through its type (`slambooster summary`); none while it is rewritten
+  "$tool" summary "$outputs" --get frames 2>/dev/null || true
 }
 echo "t_s,frames,rss_kib,segment_bytes,dir_bytes,free_bytes,segments,removed_segments"
 start=$(date +%s.%N)

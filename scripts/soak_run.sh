@@ -79,8 +79,8 @@ log="$out/run.log"
 "$tool" run "$raw" --out "$out/outputs" --config "$out/pipeline.json" --threads 1 --quiet >"$log" 2>&1 &
 pid=$!
 summary_frames() {
-  # the top-level "frames" of summary.json (a text match could hit energy.frames); none while it is rewritten
-  python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["frames"])' "$out/outputs/summary.json" 2>/dev/null || true
+  # summary.json's "frames", read through its type (`slambooster summary`); none while it is rewritten
+  "$tool" summary "$out/outputs" --get frames 2>/dev/null || true
 }
 echo "t_s,frames,rss_kib"
 start=$(date +%s.%N)

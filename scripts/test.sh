@@ -17,7 +17,8 @@ case "${1:-}" in
   *) echo "usage: scripts/test.sh [--native-only]" >&2; exit 2 ;;
 esac
 "$root/scripts/install_deps.sh"
-"$root/scripts/build.sh" "$root/build"
+# Everything, warnings as errors: CI's build stays warning-free.
+"$root/scripts/build.sh" --werror "$root/build"
 # Every test has its own TIMEOUT and a label (tests/CMakeLists.txt): `ctest -L unit` is the quick loop.
 (cd "$root/build" && ctest --output-on-failure -j "$(nproc)")
 if [ "$armhf" = 1 ]; then

@@ -98,7 +98,7 @@ void checkRun(Received& r, size_t from, const std::string& outDir) {
 }
 
 TEST_CASE("slambooster_ros publishes the daemon's poses and survives a daemon restart", "[ros][e2e]") {
-  const auto& seq = fixture();
+  fixture();  // the short synthetic sequence, made once (daemonArgs replays it)
   e2e::TempDir tmp;
   const std::string socket = tmp.path + "/sb.sock";
   RosMaster master(tmp.path);

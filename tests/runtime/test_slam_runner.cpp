@@ -282,23 +282,29 @@ TEST_CASE("the controller's start pose is where the next frame's ICP begins; a f
 
 TEST_CASE("a frame finished without integration keeps the reference maps when asked", "[runtime]") {
   Fixture f;
+  const auto overrides = [](bool integrate, bool keepReference) {  // by name: refinedPose stays unset
+    sb::FrameOverrides o;
+    o.integrate = integrate;
+    o.keepReference = keepReference;
+    return o;
+  };
   const sb::Knobs k = sb::parseKnobs("csr=2,ir=1");
   f.pipeline->processFrame(f.frame(0), sb::test::kRoomDepthScale, k);
   sb::FrameResult r = f.pipeline->trackFrame(f.frame(1), sb::test::kRoomDepthScale, k);
   REQUIRE(r.tracked);
-  f.pipeline->finishFrame(r, std::nullopt, sb::FrameOverrides{false, true});
+  f.pipeline->finishFrame(r, std::nullopt, overrides(false, true));
   CHECK_FALSE(r.integrated);
   CHECK(r.times[sb::Stage::integrate] == 0.0);
   CHECK(r.times[sb::Stage::raycast] == 0.0);  // the camera moved, but the reference stays
   // Without keepReference a moved camera raycasts even when nothing was integrated.
   sb::FrameResult s = f.pipeline->trackFrame(f.frame(2), sb::test::kRoomDepthScale, k);
   REQUIRE(s.tracked);  // tracked against the reference of frame 0
-  f.pipeline->finishFrame(s, std::nullopt, sb::FrameOverrides{false, false});
+  f.pipeline->finishFrame(s, std::nullopt, overrides(false, false));
   CHECK_FALSE(s.integrated);
   CHECK(s.times[sb::Stage::raycast] > 0.0);
   // integrate = true fuses a frame the knobs' rate would skip (ir=1000).
   sb::FrameResult t = f.pipeline->trackFrame(f.frame(3), sb::test::kRoomDepthScale, sb::parseKnobs("csr=2,ir=1000"));
-  f.pipeline->finishFrame(t, std::nullopt, sb::FrameOverrides{true, false});
+  f.pipeline->finishFrame(t, std::nullopt, overrides(true, false));
   CHECK(t.integrated);
 }
 

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <cstdio>
 #include <filesystem>
@@ -204,13 +205,10 @@ void printRun(const RunOptions& o, const SummarySink& summary, const LoopEnd& lo
               << " cm, unaligned mean " << ate->unalignedMean * 100 << " cm (" << ate->matches << " matches)\n";
   else if (!written.ateError.empty())
     std::cout << "ATE not computed: " << written.ateError << "\n";
-  if (written.energy.is_object()) {
-    const nlohmann::json& e = written.energy;
-    std::cout << "energy (" << e["meter"].get<std::string>() << "): " << e["known_frames"] << "/" << e["frames"]
-              << " frames known";
-    if (e["joules_per_frame"].is_number())
-      std::cout << ", " << e["joules_per_frame"].get<double>() << " J/frame, " << e["mean_watts"].get<double>()
-                << " W mean";
+  if (const std::optional<EnergyHeadline> e = written.energyHeadline()) {
+    std::cout << "energy (" << e->meter << "): " << e->knownFrames << "/" << e->frames << " frames known";
+    if (std::isfinite(e->joulesPerFrame))
+      std::cout << ", " << e->joulesPerFrame << " J/frame, " << e->meanWatts << " W mean";
     std::cout << "; per frame in energy.jsonl, raw trace in power.csv\n";
   }
   std::cout << "outputs in " << o.out << "\n";
@@ -241,12 +239,14 @@ void runCommand(const RunOptions& o) {
       energy.emplace(*sampler);
     }
   }
-  Run run(std::move(pipeline), std::move(controller), info.depthScale,
-          RunOutputs{o.out, info.groundTruthPath, header,
-                     "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
-                         formatKnobs(initial) + " (volume frame)",
-                     nullptr, o.mesh, 0, nullptr},
-          energy ? &*energy : nullptr);
+  RunOutputs outputs;  // one file per output, no slab limit, no retention store (a replay)
+  outputs.dir = o.out;
+  outputs.groundTruthPath = info.groundTruthPath;
+  outputs.summary = header;
+  outputs.comment = "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
+                    formatKnobs(initial) + " (volume frame)";
+  outputs.mapSlabs = o.mesh;
+  Run run(std::move(pipeline), std::move(controller), info.depthScale, outputs, energy ? &*energy : nullptr);
 
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
   const LoopEnd loop = runFrames(o, *source, run, total);

@@ -20,5 +20,6 @@ void addCutCommand(CLI::App& app);
 void addReportCommand(CLI::App& app);
 void addRecordCommand(CLI::App& app);
 void addCompareCommand(CLI::App& app);
+void addSummaryCommand(CLI::App& app);
 
 }  // namespace sb::cli

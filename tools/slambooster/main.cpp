@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   sb::cli::addReportCommand(app);
   sb::cli::addRecordCommand(app);
   sb::cli::addCompareCommand(app);
+  sb::cli::addSummaryCommand(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
