@@ -213,14 +213,17 @@ void SlamWorker::startPass(Passes& p) {
   RunSummary header =
       runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, p.pool.threadCount());
   header.daemon = DaemonPass{p.pass, stats().cpus, stats().threads};
-  p.run = std::make_unique<Run>(
-      std::move(pipeline), std::move(controller), sequence_.depthScale,
-      RunOutputs{dir, p.pass == 1 ? sequence_.groundTruthPath : "", header,
-                 "slamboosterd " + sequence_.path + " pass " + std::to_string(p.pass) + " (volume frame)",
-                 segments_, config_.output.mesh,
-                 static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0),
-                 segments_ ? segments_ : passRetention_},
-      p.energy ? &*p.energy : nullptr);
+  RunOutputs outputs;
+  outputs.dir = dir;
+  outputs.groundTruthPath = p.pass == 1 ? sequence_.groundTruthPath : "";
+  outputs.summary = header;
+  outputs.comment = "slamboosterd " + sequence_.path + " pass " + std::to_string(p.pass) + " (volume frame)";
+  outputs.segments = segments_;
+  outputs.mapSlabs = config_.output.mesh;
+  outputs.keepSlabBytes = static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0);
+  outputs.slabRetention = segments_ ? segments_ : passRetention_;
+  p.run = std::make_unique<Run>(std::move(pipeline), std::move(controller), sequence_.depthScale, outputs,
+                                p.energy ? &*p.energy : nullptr);
   if (publishEnergy_)
     p.run->setEnergyListener([this](const power::FrameEnergy& e) {
       if (e.known) publishEnergy_(e);
