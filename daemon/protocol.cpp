@@ -165,39 +165,39 @@ nlohmann::json versionMessage(const std::string& release) {
       {"class", "VERSION"}, {"release", release}, {"proto_major", kProtoMajor}, {"proto_minor", kProtoMinor}};
 }
 
-namespace {
-
-// POSE's fields, by their names in the frame's encoding (frames.jsonl). A new POSE field is a name here, a
-// minor version (kProtoMinor) and its line in docs/protocol.md.
-constexpr const char* kPoseFields[] = {"frame",      "timestamp", "position", "quaternion",
-                                       "tracked",    "corrected", "state",    "velocity_m_per_frame",
-                                       "conditioning", "weakest_motion"};
-constexpr const char* kKnobFields[] = {"csr", "icp", "pd", "tr", "ir"};
-
-void copyField(const nlohmann::json& from, const char* key, nlohmann::json& to) {
-  if (const auto it = from.find(key); it != from.end()) to[key] = *it;
-}
-
-}  // namespace
-
 nlohmann::json poseMessage(const FrameReport& r) {
-  nlohmann::json j = {{"class", "POSE"}};
-  if (!r.frame.is_object()) return j;
-  for (const char* key : kPoseFields) copyField(r.frame, key, j);
-  // The velocity's name before protocol 1.3, kept for the clients of 1.0-1.2.
-  if (j.contains("velocity_m_per_frame")) j["velocity"] = j["velocity_m_per_frame"];
-  // The frame log writes it when ICP ran; POSE always (true when the conditioning is not known).
-  j["constrained"] = r.frame.value("constrained", true);
+  const PoseFields& p = r.pose;
+  nlohmann::json j = {{"class", "POSE"},
+                      {"frame", p.frame},
+                      {"timestamp", p.timestamp},
+                      {"position", p.position},
+                      {"quaternion", p.quaternion},
+                      {"tracked", p.tracked},
+                      {"corrected", p.corrected},
+                      {"state", trackingStateName(p.state)},
+                      {"velocity_m_per_frame", p.velocityMPerFrame},
+                      // The velocity's name before protocol 1.3, kept for the clients of 1.0-1.2.
+                      {"velocity", p.velocityMPerFrame},
+                      {"constrained", p.constrained},
+                      {"odometry", p.odometry},
+                      {"odometry_drift_m", p.odometryDriftM}};
+  if (p.conditioning) j["conditioning"] = *p.conditioning;
+  if (!p.weakestMotion.empty()) j["weakest_motion"] = p.weakestMotion;
   return j;
 }
 
 nlohmann::json knobsMessage(const FrameReport& r) {
-  nlohmann::json j = {{"class", "KNOBS"}, {"pinned", r.pinned}};
-  if (!r.frame.is_object()) return j;
-  for (const char* key : {"frame", "controller", "computation_ms"}) copyField(r.frame, key, j);
-  if (const auto knobs = r.frame.find("knobs"); knobs != r.frame.end() && knobs->is_object())
-    for (const char* key : kKnobFields) copyField(*knobs, key, j);
-  return j;
+  const KnobFields& k = r.knobs;
+  return {{"class", "KNOBS"},
+          {"pinned", r.pinned},
+          {"frame", k.frame},
+          {"controller", k.controller},
+          {"computation_ms", k.computationMs},
+          {"csr", k.knobs.csr},
+          {"icp", k.knobs.icpThreshold},
+          {"pd", {k.knobs.pyramidIterations[0], k.knobs.pyramidIterations[1], k.knobs.pyramidIterations[2]}},
+          {"tr", k.knobs.trackingRate},
+          {"ir", k.knobs.integrationRate}};
 }
 
 nlohmann::json energyMessage(const EnergyReport& e) {

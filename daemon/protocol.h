@@ -15,14 +15,16 @@
 #include <vector>
 
 #include "pipeline/knobs.h"
+#include "core/tracking_state.h"
 
 namespace sb::daemon {
 
 constexpr int kProtoMajor = 1;
 // 1: POSE carries constrained, conditioning, weakest_motion; 2: POSE carries state (good, weak, lost,
 // relocalised) and STATUS a tracking_state object; 3: POSE carries velocity_m_per_frame, the frame log's name
-// of its velocity (which it still carries as well).
-constexpr int kProtoMinor = 3;
+// of its velocity (which it still carries as well); 4: the state `odometry`, POSE's odometry and
+// odometry_drift_m (docs/odometry.md).
+constexpr int kProtoMinor = 4;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
@@ -54,12 +56,38 @@ struct ParseResult {
 // Parses one request line (without the '\n'; a trailing '\r' is ignored). Never throws.
 ParseResult parseRequest(std::string_view line);
 
-// One processed frame as the SLAM thread publishes it: immutable once made. `frame` is the frame's one
-// encoding, the frames.jsonl object (runtime/frame_log_sink.h frameRecordToJson); POSE and KNOBS take their
-// fields from it by name (kPoseFields in protocol.cpp), so a field added to the frame log reaches the socket
-// by naming it there.
+// One processed frame as the SLAM thread publishes it, typed: immutable once made (daemon/frame_report.h makes
+// it from the frame's record). POSE and KNOBS are written from these fields; their names on the wire are in
+// poseMessage and knobsMessage, and tests/daemon/test_frame_report.cpp checks each against the frames.jsonl
+// field of the same meaning, so a field renamed on either side fails a test.
+struct PoseFields {
+  uint64_t frame = 0;
+  double timestamp = 0.0;                        // seconds, the frame's capture time
+  std::array<double, 3> position{};              // T_camera_to_world translation, metres
+  std::array<double, 4> quaternion{0, 0, 0, 1};  // qx, qy, qz, qw
+  bool tracked = false;
+  bool corrected = false;
+  TrackingState state = TrackingState::good;
+  double velocityMPerFrame = 0.0;
+  std::optional<double> conditioning;  // when ICP ran
+  std::string weakestMotion;           // "tx".."rz" when ICP ran, else empty
+  bool constrained = true;             // true when the conditioning is not known
+  // Protocol 1.4, the robot's odometry (docs/odometry.md): the frame had an odometry pose at its stamp, and
+  // the distance driven on odometry alone since depth last tracked (metres; 0 unless state is odometry).
+  bool odometry = false;
+  double odometryDriftM = 0.0;
+};
+
+struct KnobFields {
+  uint64_t frame = 0;
+  std::string controller;
+  double computationMs = 0.0;
+  Knobs knobs;
+};
+
 struct FrameReport {
-  nlohmann::json frame = nlohmann::json::object();
+  PoseFields pose;
+  KnobFields knobs;
   std::vector<std::string> pinned;  // knobs pinned over the controller's choice
 };
 

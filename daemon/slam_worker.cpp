@@ -12,7 +12,7 @@
 #include "daemon/pass_directories.h"
 #include "pipeline/pipeline.h"
 #include "runtime/energy_account.h"
-#include "runtime/frame_log_sink.h"
+#include "daemon/frame_report.h"
 #include "runtime/run.h"
 #include "runtime/run_setup.h"
 
@@ -159,7 +159,7 @@ void SlamWorker::runPasses() {
     if (!p.run || item->restart) startPass(p);
     std::vector<std::string> pinned = applyChanges(p.run->runner());
     const FrameRecord record = p.run->step(item->frame);
-    publish_(FrameReport{frameRecordToJson(record), std::move(pinned)});
+    publish_(frameReport(record, std::move(pinned)));
     countFrame(p, record);
   }
   // A failed input (a truncated PNG) fails the pass: its summary and STATUS say so, never "complete".
@@ -260,6 +260,12 @@ void SlamWorker::countFrame(Passes& p, const FrameRecord& record) {
     stats_.lostFrames += lost;
     stats_.relocalisations += record.state == TrackingState::relocalised;
     stats_.trackingState = trackingStateName(record.state);
+    const FrameOdometry& o = record.odometry;
+    stats_.odometryFrames += o.available;
+    stats_.odometryMissing += !o.available && !o.why.empty();
+    stats_.odometryRejected += o.rejected;
+    stats_.odometryOnlyFrames += record.state == TrackingState::odometry;
+    stats_.odometryWhy = o.available && !o.rejected ? std::string() : o.why;
     stats_.computationMs = p.computationSum / static_cast<double>(stats_.frames);
     if (p.recent.size() > 1)
       stats_.fps = static_cast<double>(p.recent.size() - 1) /

@@ -34,10 +34,14 @@ struct WorkerStats {
   std::string error;               // when failed
   uint64_t frames = 0;             // frames processed (all passes)
   uint64_t tracked = 0;
-  // Tracking state (runtime/tracking_state.h), all passes: of the last frame, frames lost, times the tracker
+  // Tracking state (core/tracking_state.h), all passes: of the last frame, frames lost, times the tracker
   // was lost (stretches of lost frames) and times it relocalised.
   std::string trackingState = "good";
   uint64_t lostFrames = 0, lostStretches = 0, relocalisations = 0;
+  // The robot's odometry (docs/odometry.md), all passes: frames that had it, frames that did not (in a run with
+  // odometry), steps rejected as slips, frames posed by it alone; why the last frame had none.
+  uint64_t odometryFrames = 0, odometryMissing = 0, odometryRejected = 0, odometryOnlyFrames = 0;
+  std::string odometryWhy;
   uint32_t pass = 0;
   double fps = 0.0;            // over the last second or so of frames
   double computationMs = 0.0;  // mean over the run

@@ -31,6 +31,20 @@ OdometryTrack::OdometryTrack(const OdometryTrackParams& params) : params_(params
   if (params_.capacity < 2) params_.capacity = 2;
 }
 
+OdometryTrack::OdometryTrack(const OdometryTrack& other) {
+  std::lock_guard<std::mutex> lock(other.mutex_);
+  params_ = other.params_;
+  samples_ = other.samples_;
+}
+
+OdometryTrack& OdometryTrack::operator=(const OdometryTrack& other) {
+  if (this == &other) return *this;
+  std::scoped_lock lock(mutex_, other.mutex_);
+  params_ = other.params_;
+  samples_ = other.samples_;
+  return *this;
+}
+
 bool OdometryTrack::add(const OdometrySample& sample, std::string* why) {
   const auto refuse = [&](const std::string& text) {
     if (why) *why = text;
@@ -50,16 +64,16 @@ bool OdometryTrack::add(const OdometrySample& sample, std::string* why) {
   return true;
 }
 
-std::optional<Eigen::Isometry3d> OdometryTrack::poseAt(double t) const {
+std::optional<Eigen::Isometry3d> OdometryTrack::poseAt(double t, double maxGapS, double maxExtrapolationS) const {
   std::lock_guard<std::mutex> lock(mutex_);
   if (samples_.empty() || !std::isfinite(t) || t < samples_.front().timestamp) return std::nullopt;
   const OdometrySample& newest = samples_.back();
   if (t >= newest.timestamp) {
-    if (t - newest.timestamp > params_.maxExtrapolationS) return std::nullopt;
+    if (t - newest.timestamp > maxExtrapolationS) return std::nullopt;
     if (t == newest.timestamp || samples_.size() < 2) return newest.T_camera_to_odom;
     const OdometrySample& before = samples_[samples_.size() - 2];
     const double span = newest.timestamp - before.timestamp;
-    if (span > params_.maxGapS) return std::nullopt;
+    if (span > maxGapS) return std::nullopt;
     // Constant velocity past the newest: s > 1 on the segment before it.
     return interpolatePose(before.T_camera_to_odom, newest.T_camera_to_odom, 1.0 + (t - newest.timestamp) / span);
   }
@@ -68,7 +82,7 @@ std::optional<Eigen::Isometry3d> OdometryTrack::poseAt(double t) const {
   const OdometrySample& b = *after;
   const OdometrySample& a = *(after - 1);
   const double span = b.timestamp - a.timestamp;
-  if (span > params_.maxGapS) return std::nullopt;
+  if (span > maxGapS) return std::nullopt;
   return interpolatePose(a.T_camera_to_odom, b.T_camera_to_odom, (t - a.timestamp) / span);
 }
 

@@ -18,6 +18,8 @@
 #include <optional>
 #include <string>
 
+#include "odometry/odometry_config.h"
+
 namespace sb::odometry {
 
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
@@ -30,14 +32,20 @@ struct OdometrySample {
 };
 
 struct OdometryTrackParams {
-  size_t capacity = 4096;           // samples kept (oldest dropped): 80 s at 50 Hz
-  double maxGapS = 0.5;             // no interpolation across a gap between two samples longer than this
-  double maxExtrapolationS = 0.05;  // a stamp past the newest sample by at most this: extrapolated (its velocity)
+  size_t capacity = 4096;  // samples kept (oldest dropped): 80 s at 50 Hz
+  // No interpolation across a gap between two samples longer than this; a stamp past the newest sample by at
+  // most maxExtrapolationS is extrapolated with its velocity. The run's config (odometry.max_gap_s,
+  // odometry.max_extrapolation_s) sets them for the fusion (poseAt with bounds); these are its defaults.
+  double maxGapS = OdometryConfig{}.maxGapS;
+  double maxExtrapolationS = OdometryConfig{}.maxExtrapolationS;
 };
 
 class OdometryTrack {
  public:
   explicit OdometryTrack(const OdometryTrackParams& params = {});
+  // Copies hold the samples of the moment (the source locked while copying).
+  OdometryTrack(const OdometryTrack& other);
+  OdometryTrack& operator=(const OdometryTrack& other);
 
   // Adds a sample. Refused (false; `why` says why, naming the stamp) when its stamp is not finite or not after
   // the newest sample's, or its pose is not finite. Never throws.
@@ -46,7 +54,9 @@ class OdometryTrack {
   // linearly, rotation by slerp), or extrapolated with the newest two samples' motion up to maxExtrapolationS
   // past the newest. nullopt before the first sample, inside a gap longer than maxGapS, past the bound, or
   // with no sample.
-  std::optional<Eigen::Isometry3d> poseAt(double t) const;
+  std::optional<Eigen::Isometry3d> poseAt(double t) const { return poseAt(t, params_.maxGapS, params_.maxExtrapolationS); }
+  // The same with other bounds (the run's config).
+  std::optional<Eigen::Isometry3d> poseAt(double t, double maxGapS, double maxExtrapolationS) const;
   // The covariance at `t` of the nearest sample that states one (nullopt: none stated).
   std::optional<Matrix6> covarianceAt(double t) const;
 

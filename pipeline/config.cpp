@@ -146,6 +146,7 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
   for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>(position[i]);
   r.boolean("empty_space_skipping", c.emptySpaceSkipping);
   r.boolean("relocalise", c.relocalise);
+  r.section("odometry", [&](ConfigReader& s) { c.odometry.read(s); });
   std::string volumeMode = volumeModeName(c.volumeMode);
   r.string("volume_mode", volumeMode, {"auto", "moving", "fixed"});
   c.volumeMode = volumeMode == "moving" ? VolumeMode::moving
@@ -190,6 +191,7 @@ nlohmann::json configToJson(const PipelineConfig& c) {
   j["initial_position"] = {c.initialPosition[0], c.initialPosition[1], c.initialPosition[2]};
   j["empty_space_skipping"] = c.emptySpaceSkipping;
   j["relocalise"] = c.relocalise;
+  j["odometry"] = c.odometry.toJson();
   j["volume_mode"] = volumeModeName(c.volumeMode);
   j["backend"] = backendKindName(c.backend);
   j["opencl_platform"] = c.openclPlatform;

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/tracking_state.h"
 
 namespace sb::report {
 
@@ -103,11 +104,10 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   log.constrained.push_back(number(j, {"constrained"}, where, problems));
   log.state.push_back(kNaN);
   if (const json* state = find(j, {"state"})) {
-    static const char* const names[] = {"good", "weak", "lost", "relocalised"};
-    for (int s = 0; s < 4; ++s)
-      if (state->is_string() && state->get<std::string>() == names[s]) log.state.back() = s;
+    if (state->is_string())
+      if (const auto s = trackingStateFromName(state->get<std::string>())) log.state.back() = static_cast<double>(*s);
     if (!std::isfinite(log.state.back()))
-      problems.add(where + ": 'state' should be good, weak, lost or relocalised, found " + state->dump());
+      problems.add(where + ": 'state' should be good, weak, lost, relocalised or odometry, found " + state->dump());
   }
   if (const json* triggers = find(j, {"triggers"})) {
     log.recordsTriggers = true;

@@ -24,8 +24,8 @@ struct FrameLog {
   std::vector<double> level;           // "level": the controller's approximation level, when it has one
   std::vector<double> conditioning;    // "conditioning": tracking quality of the ICP problem (NaN: ICP did not run)
   std::vector<double> constrained;     // "constrained": 1 or 0 (NaN: ICP did not run)
-  // "state": the tracking state, as the index of runtime/tracking_state.h (0 good, 1 weak, 2 lost,
-  // 3 relocalised); NaN where the line has none (runs before the state existed).
+  // "state": the tracking state, as the index of core/tracking_state.h (0 good, 1 weak, 2 lost,
+  // 3 relocalised, 4 odometry); NaN where the line has none (runs before the state existed).
   std::vector<double> state;
   // Frames where each controller trigger fired ("triggers": ["surface", ...]), in first-seen order; a frame
   // with "corrected": true counts as a "correction" trigger.

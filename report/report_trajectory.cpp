@@ -1,5 +1,6 @@
 // Trajectory top view and per-frame error sections of a run report.
 
+#include "core/tracking_state.h"
 #include "report/run_sections.h"
 #include "report/text_escape.h"
 #include "report/trajectory_view.h"
@@ -37,17 +38,24 @@ namespace {
 // blank). Returns a caption sentence, empty when the log records no state.
 std::string addStateBand(LinePlot& plot, const FrameLog& f) {
   if (!f.hasColumn(f.state)) return "";
-  std::vector<double> weak, lost, relocalised;
+  std::vector<double> weak, lost, relocalised, odometry;
   for (size_t i = 0; i < f.size(); ++i) {
-    if (f.state[i] == 1) weak.push_back(f.frame[i]);
-    if (f.state[i] == 2) lost.push_back(f.frame[i]);
-    if (f.state[i] == 3) relocalised.push_back(f.frame[i]);
+    if (f.state[i] == static_cast<double>(TrackingState::weak)) weak.push_back(f.frame[i]);
+    if (f.state[i] == static_cast<double>(TrackingState::lost)) lost.push_back(f.frame[i]);
+    if (f.state[i] == static_cast<double>(TrackingState::relocalised)) relocalised.push_back(f.frame[i]);
+    if (f.state[i] == static_cast<double>(TrackingState::odometry)) odometry.push_back(f.frame[i]);
   }
   plot.events.push_back({"weak", weak, "#E69F00"});
   plot.events.push_back({"lost", lost, "#D55E00"});
   plot.events.push_back({"relocalised", relocalised, "#009E73"});
+  std::string odometryText;
+  if (!odometry.empty()) {  // only runs with odometry: the others' reports stay as they were
+    plot.events.push_back({"odometry", odometry, "#56B4E9"});
+    odometryText = ", " + std::to_string(odometry.size()) + " on odometry alone";
+  }
   return " Tracking state marked above the curves: " + std::to_string(weak.size()) + " weak, " +
-         std::to_string(lost.size()) + " lost, " + std::to_string(relocalised.size()) + " relocalised frames.";
+         std::to_string(lost.size()) + " lost, " + std::to_string(relocalised.size()) + " relocalised frames" +
+         odometryText + ".";
 }
 
 }  // namespace

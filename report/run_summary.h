@@ -47,7 +47,7 @@ struct AteSummary {
   size_t matches = 0;  // associated poses
 };
 
-// Tracking states over the run ("tracking_state"; runtime/tracking_state.h).
+// Tracking states over the run ("tracking_state"; core/tracking_state.h).
 struct TrackingStateSummary {
   std::map<std::string, size_t> frames;  // state name -> frames
   size_t lostStretches = 0, longestLostFrames = 0, recoveries = 0, longestFramesToRecover = 0;

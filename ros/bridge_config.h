@@ -19,6 +19,8 @@ struct CovarianceConfig {
   StateSigma weak{0.01, 0.01};        // the axes the view constrains
   StateSigma weakAxis{1.0, 1.0};      // the weakest motion (or every axis when the daemon does not name one)
   StateSigma lost{1000.0, 3.14159};   // the pose is the last good one, held: it says nothing about now
+  StateSigma odometry{0.05, 0.05};    // the pose follows the wheels alone (state odometry), plus the drift below
+  double odometryDriftPerM = 0.05;    // ... plus this many metres (radians) of sigma per metre driven on them
 };
 
 struct BridgeConfig {

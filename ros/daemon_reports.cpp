@@ -49,21 +49,9 @@ uint64_t frameOf(const nlohmann::json& j, const char* cls) {
 
 }  // namespace
 
-const char* trackingStateName(TrackingState state) {
-  switch (state) {
-    case TrackingState::good: return "good";
-    case TrackingState::weak: return "weak";
-    case TrackingState::lost: return "lost";
-    case TrackingState::relocalised: return "relocalised";
-  }
-  return "lost";
-}
-
 TrackingState trackingStateOf(const PoseReport& pose) {
   if (pose.state) {
-    for (auto s : {TrackingState::good, TrackingState::weak, TrackingState::lost, TrackingState::relocalised})
-      if (*pose.state == trackingStateName(s)) return s;
-    return TrackingState::lost;
+    return trackingStateFromName(*pose.state).value_or(TrackingState::lost);
   }
   if (!pose.tracked) return TrackingState::lost;
   if (pose.corrected || pose.constrained == false) return TrackingState::weak;
@@ -84,6 +72,8 @@ PoseReport parsePose(const nlohmann::json& j) {
   if (j.contains("conditioning")) p.conditioning = number(j, cls, "conditioning");
   if (const auto it = j.find("weakest_motion"); it != j.end() && it->is_string()) p.weakestMotion = *it;
   if (const auto it = j.find("state"); it != j.end() && it->is_string()) p.state = it->get<std::string>();
+  if (j.contains("odometry")) p.odometry = flag(j, cls, "odometry");
+  if (j.contains("odometry_drift_m")) p.odometryDriftM = number(j, cls, "odometry_drift_m");
   p.trackingState = trackingStateOf(p);
   return p;
 }

@@ -8,12 +8,13 @@
 #include <optional>
 #include <string>
 
+#include "core/tracking_state.h"
+
 namespace sb::ros_bridge {
 
-// The tracking state of one frame (docs/tracking-state.md).
-enum class TrackingState { good, weak, lost, relocalised };
-
-const char* trackingStateName(TrackingState state);
+// The tracking state of one frame: the daemon's one enum (core/tracking_state.h, docs/tracking-state.md).
+using sb::TrackingState;
+using sb::trackingStateName;
 
 struct PoseReport {
   uint64_t frame = 0;
@@ -27,6 +28,8 @@ struct PoseReport {
   std::optional<double> conditioning;
   std::string weakestMotion;              // "tx".."rz", empty when absent
   std::optional<std::string> state;       // the daemon's own state string when it sends one
+  bool odometry = false;                  // protocol 1.4: the frame had an odometry pose
+  double odometryDriftM = 0.0;            // protocol 1.4: metres driven on odometry alone (state odometry)
   TrackingState trackingState = TrackingState::lost;  // `state` when known, else derived (trackingStateOf)
 };
 

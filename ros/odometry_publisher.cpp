@@ -35,7 +35,8 @@ uint8_t levelOf(TrackingState state) {
   switch (state) {
     case TrackingState::good: return diagnostic_msgs::DiagnosticStatus::OK;
     case TrackingState::weak:
-    case TrackingState::relocalised: return diagnostic_msgs::DiagnosticStatus::WARN;
+    case TrackingState::relocalised:
+    case TrackingState::odometry: return diagnostic_msgs::DiagnosticStatus::WARN;
     case TrackingState::lost: return diagnostic_msgs::DiagnosticStatus::ERROR;
   }
   return diagnostic_msgs::DiagnosticStatus::ERROR;

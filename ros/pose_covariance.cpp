@@ -25,6 +25,10 @@ Covariance6 poseCovariance(const PoseReport& pose, const CovarianceConfig& confi
     case TrackingState::good: fill(config.good); break;
     case TrackingState::relocalised: fill(config.relocalised); break;
     case TrackingState::lost: fill(config.lost); break;
+    case TrackingState::odometry:  // grows with the distance driven on the wheels alone
+      fill(StateSigma{config.odometry.positionM + config.odometryDriftPerM * pose.odometryDriftM,
+                      config.odometry.rotationRad + config.odometryDriftPerM * pose.odometryDriftM});
+      break;
     case TrackingState::weak: {
       fill(config.weak);
       const int axis = weakAxis(pose.weakestMotion);

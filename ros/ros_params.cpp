@@ -36,6 +36,8 @@ BridgeConfig readBridgeConfig(const ros::NodeHandle& n) {
   readSigma(n, "weak", c.covariance.weak);
   readSigma(n, "weak_axis", c.covariance.weakAxis);
   readSigma(n, "lost", c.covariance.lost);
+  readSigma(n, "odometry", c.covariance.odometry);
+  n.param("odometry_drift_sigma_per_m", c.covariance.odometryDriftPerM, c.covariance.odometryDriftPerM);
   n.param("push_socket", c.pushSocket, c.pushSocket);
   n.param("depth_topic", c.depthTopic, c.depthTopic);
   n.param("camera_info_topic", c.cameraInfoTopic, c.cameraInfoTopic);

@@ -65,6 +65,12 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                            {"why", rec.relocalisation.why}};
   if (rec.keyframeAdded) j["keyframe_added"] = true;
   j["keyframes"] = rec.keyframes;
+  const FrameOdometry& o = rec.odometry;
+  if (o.available || !o.why.empty()) {  // only in runs with odometry: others keep their frames.jsonl
+    j["odometry"] = {{"available", o.available}, {"used", o.used}, {"rejected", o.rejected}, {"drift_m", o.driftM}};
+    if (!o.why.empty()) j["odometry"]["why"] = o.why;
+  }
+  if (!rec.implausible.empty()) j["implausible"] = rec.implausible;
   if (r.retracked) j["retracked_from"] = knobsToJson(r.firstKnobs);
   if (!rec.decision.reason.empty()) j["reason"] = rec.decision.reason;
   // Device (OpenCL profiling event) times per stage, beside the host times; absent on the cpu backend.

@@ -8,9 +8,18 @@
 #include "controller/controller.h"
 #include "pipeline/pipeline.h"
 #include "reloc/relocaliser.h"
-#include "runtime/tracking_state.h"
+#include "core/tracking_state.h"
 
 namespace sb {
+
+// What the robot's odometry did for a frame (docs/odometry.md); all false/0 without odometry.
+struct FrameOdometry {
+  bool available = false;  // the odometry had a pose at this frame's stamp and at the previous frame's
+  bool used = false;       // its motion seeded ICP and was fused with the tracked pose (or, state odometry, was it)
+  bool rejected = false;   // contradicted by the view along the motions it fixes (a wheel slip): not used
+  double driftM = 0.0;     // metres driven on odometry alone since depth last tracked (state odometry)
+  std::string why;         // when not available or rejected: why, for frames.jsonl
+};
 
 struct FrameRecord {
   FrameResult result;             // after finishFrame: final pose, stage times, velocity of the final pose
@@ -36,7 +45,10 @@ struct FrameRecord {
   // the controller's extrapolation of it: not a measurement. trajectory.tum and the ATE leave lost frames out
   // (the TUM convention: a trajectory lists the frames the system estimated; the tracked share and the lost
   // frames are in summary.json); the POSE message still carries them, marked lost, so a client knows.
-  bool hasPoseEstimate() const { return state != TrackingState::lost; }
+  bool hasPoseEstimate() const { return sb::hasPoseEstimate(state); }
+  FrameOdometry odometry;
+  // The frame's motion is one the platform cannot make (docs/odometry.md): it is not `good`. Why, or empty.
+  std::string implausible;
   int64_t startMonoNs = 0;
   int64_t endMonoNs = 0;
 };

@@ -84,12 +84,41 @@ Decision SlamRunner::decide(const Observation& obs, FrameRecord& rec) {
   return d;
 }
 
+FrameMotion SlamRunner::motionOf(const DepthFrame& frame, FrameRecord& rec) const {
+  FrameMotion motion;
+  motion.previousPose = previousPose_;
+  motion.previousStamp = previousStamp_;
+  motion.hasPrevious = frames_ > 0;
+  if (!odometry_) return motion;
+  if (!motion.hasPrevious) {
+    rec.odometry.why = "first frame: no motion yet";
+    return motion;
+  }
+  const odometry::OdometryConfig& c = pipeline_.config().odometry;
+  auto step = odometry::stepBetween(*odometry_, previousStamp_, frame.timestamp, c, rec.odometry.why);
+  if (!step) return motion;
+  rec.odometry.available = true;
+  // A step the platform cannot make is the wheels slipping (or a glitch), not motion.
+  const std::string slip =
+      odometry::implausibleMotion(c, Eigen::Isometry3d::Identity(), step->delta, step->dt, std::nullopt);
+  if (!slip.empty()) {
+    rec.odometry.rejected = true;
+    rec.odometry.why = "the odometry's step " + slip + ": a wheel slip, not used";
+    return motion;
+  }
+  motion.step = step;
+  return motion;
+}
+
 FrameRecord SlamRunner::step(const DepthFrame& frame) {
   FrameRecord rec;
   rec.startMonoNs = power::monotonicClock().nowNs();
   rec.knobsPinned = !pins_.empty();
   applyHalfPrecision(rec);
-  rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs(), nextStart_);
+  const FrameMotion motion = motionOf(frame, rec);
+  IcpStart start = nextStart_;
+  if (motion.step) start.pose = previousPose_ * motion.step->delta;  // ICP starts from the odometry's motion
+  rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs(), start);
   // Lost for a while: a plain track is not trusted (the relocaliser decides, in resolve()).
   if (monitor_.recovering()) pipeline_.discardTrack(rec.result);
   Observation obs = observe(rec.result, frame);
@@ -107,7 +136,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   }
   rec.trackedVelocity = obs.velocity;
   rec.controller = controller_->name();
-  monitor_.resolve(pipeline_, frame, depthScale_, rec);
+  monitor_.resolve(pipeline_, frame, depthScale_, rec, motion);
   const FrameResult& r = rec.result;
   pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
                         FrameOverrides{rec.decision.integrate, rec.decision.keepReference, rec.decision.refinedPose});
@@ -117,6 +146,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   nextHalf_ = rec.decision.halfPrecision;
   rec.decision.next = nextKnobs();  // the controller's choice with the pins in place
   previousPose_ = r.T_camera_to_world;
+  previousStamp_ = r.timestamp;
   previousComputationMs_ = r.times.computationMs();
   ++frames_;
   rec.endMonoNs = power::monotonicClock().nowNs();

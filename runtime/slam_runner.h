@@ -63,6 +63,8 @@ class SlamRunner {
   // Switches the backend's half precision to what the last decision wished (where the backend has it).
   void applyHalfPrecision(FrameRecord& rec);
   Observation observe(const FrameResult& result, const DepthFrame& frame) const;
+  // The previous frame's pose and stamp, and the odometry's step since then (rec.odometry says what it found).
+  FrameMotion motionOf(const DepthFrame& frame, FrameRecord& rec) const;
   // Controller::decide, timed into rec.controllerMs, its knobs validated (throws sb::Error naming it).
   Decision decide(const Observation& observation, FrameRecord& rec);
 
@@ -76,6 +78,7 @@ class SlamRunner {
   bool nextHalf_ = false;                        // the controller's half-precision wish for the next frame
   std::optional<double> latestJoules_;
   Eigen::Isometry3d previousPose_;
+  double previousStamp_ = 0.0;
   double previousComputationMs_ = 0.0;
   size_t frames_ = 0;
   TrackingMonitor monitor_;

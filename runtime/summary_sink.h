@@ -20,7 +20,7 @@
 #include "eval/trajectory_eval.h"
 #include "report/run_summary.h"
 #include "runtime/output_sink.h"
-#include "runtime/tracking_state.h"
+#include "core/tracking_state.h"
 
 namespace sb {
 
@@ -35,7 +35,7 @@ struct RunStats {
   std::map<std::string, size_t> triggerCounts;
   std::map<std::string, size_t> knobCounts;  // formatKnobs(knobs) -> frames run with them
   std::map<std::string, size_t> controllerCounts;  // controller name -> frames it decided (a daemon may switch)
-  // Tracking state (runtime/tracking_state.h): frames per state; stretches of lost frames (a stretch ends at
+  // Tracking state (core/tracking_state.h): frames per state; stretches of lost frames (a stretch ends at
   // a frame that is not lost); recoveries (stretches ended by a relocalisation) and their length in frames.
   std::array<size_t, kTrackingStateCount> stateFrames{};
   size_t lostStretches = 0, longestLost = 0, currentLost = 0;

@@ -1,5 +1,7 @@
 #include "runtime/tracking_monitor.h"
 
+#include <cstdio>
+
 namespace sb {
 
 namespace {
@@ -18,12 +20,26 @@ RelocaliserParams relocaliserParams(const PipelineConfig& c) {
   return p;
 }
 
+std::string format(const char* fmt, double a, double b) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
+
+// The pose a frame ends with, as the decision stands.
+const Eigen::Isometry3d& finalPose(const FrameRecord& rec) {
+  if (rec.decision.correctedPose) return *rec.decision.correctedPose;
+  if (rec.decision.refinedPose) return *rec.decision.refinedPose;
+  return rec.result.T_camera_to_world;
+}
+
 }  // namespace
 
 TrackingMonitor::TrackingMonitor(const PipelineConfig& config)
     : config_(config), encoder_(FernParams{}), relocaliser_(relocaliserParams(config)) {}
 
-void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec) {
+void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
+                              const FrameMotion& motion) {
   FrameResult& r = rec.result;
   Decision& d = rec.decision;
   if (!r.trackingAttempted && !recovering_) {  // bootstrap, or a frame skipped by the tracking rate
@@ -31,46 +47,145 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
     return;
   }
   if (recovering_) {
-    rec.relocalising = true;
-    if (config_.relocalise) {
-      Knobs knobs;  // DEFAULT's ICP (icp 1e-5, pd 10:5:4) at the relocaliser's compute size
-      knobs.csr = config_.relocaliseCsr;
-      const TryPose tryPose = [&](const Eigen::Isometry3d& start) {
-        return pipeline.trackFrom(frame, depthScale, knobs, start, r);
-      };
-      const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
-      rec.relocalisation = relocaliser_.relocalise(code, pipeline.pose(), tryPose);
-    } else {
-      rec.relocalisation.why = "relocalisation is off";
+    if (motion.step) {  // dead reckoning goes on while lost: the relocaliser's first guess
+      odometryPose_ = odometryPose_.value_or(motion.previousPose) * motion.step->delta;
+      odometryDistanceM_ += motion.step->distanceM();
+      odometryTimeS_ += motion.step->dt;
     }
-    // The held pose, nothing fused, no correction; the next frame's ICP starts from this frame's final pose.
-    d.correctedPose.reset();
-    d.refinedPose.reset();
-    d.integrate = false;
-    d.keepReference = false;
-    d.nextStartPose.reset();
-    if (rec.relocalisation.accepted) {
-      pipeline.adoptAttempt(*rec.relocalisation.attempt, r);
-      recovering_ = false;
-      failedInARow_ = 0;
-      rec.state = last_ = TrackingState::relocalised;
-    } else {
-      r.tracked = false;
-      rec.state = last_ = TrackingState::lost;
-    }
+    relocalise(pipeline, frame, depthScale, rec);
     return;
   }
+  if (r.tracked && !d.correctedPose && motion.hasPrevious) checkPhysics(pipeline, rec, motion);
   if (r.tracked) {
     failedInARow_ = 0;
+    if (motion.step) fuse(rec, motion);
+    odometryPose_.reset();
+    odometryDistanceM_ = odometryTimeS_ = 0.0;
+    const double dt = r.timestamp - motion.previousStamp;
+    if (motion.hasPrevious && dt > 0)
+      lastVelocity_ = (finalPose(rec).translation() - motion.previousPose.translation()) / dt;
+    else
+      lastVelocity_.reset();
     rec.state = last_ = r.quality.known && !r.quality.constrained ? TrackingState::weak : TrackingState::good;
     return;
   }
+  lastVelocity_.reset();
+  if (motion.step && followOdometry(rec, motion)) {
+    failedInARow_ = 0;
+    rec.state = last_ = TrackingState::odometry;
+    return;
+  }
   rec.state = last_ = TrackingState::lost;
-  if (++failedInARow_ >= config_.lostAfterFailedFrames) {
+  // With odometry whose budget is spent the pose is held from now on; without, after lost_after_failed_frames.
+  if (++failedInARow_ >= config_.lostAfterFailedFrames || motion.step) {
     recovering_ = true;
     relocaliser_.reset();
     // From the next frame on the pose is held where this frame leaves it: no further extrapolation.
     d.nextStartPose.reset();
+    d.correctedPose.reset();
+  }
+}
+
+void TrackingMonitor::checkPhysics(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion) {
+  FrameResult& r = rec.result;
+  const std::string why = odometry::implausibleMotion(config_.odometry, motion.previousPose, r.T_camera_to_world,
+                                                      r.timestamp - motion.previousStamp, lastVelocity_);
+  if (why.empty()) return;
+  // Not a motion this platform makes: the view matched the model somewhere else (a runaway, a spliced frame).
+  // Discarded like a failed track: the pose stays the previous one (or follows the odometry), nothing fused.
+  rec.implausible = why;
+  pipeline.discardTrack(r);
+  Decision& d = rec.decision;
+  d.refinedPose.reset();
+  d.integrate = false;
+  d.keepReference = false;
+  d.nextStartPose.reset();
+}
+
+void TrackingMonitor::fuse(FrameRecord& rec, const FrameMotion& motion) {
+  const odometry::OdometryStep& step = *motion.step;
+  Decision& d = rec.decision;
+  const Eigen::Isometry3d predicted = motion.previousPose * step.delta;
+  const Eigen::Isometry3d& tracked = d.refinedPose ? *d.refinedPose : rec.result.T_camera_to_world;
+  const odometry::Fusion f =
+      odometry::fuseWithOdometry(rec.result.quality, motion.previousPose, tracked, predicted, step, config_.odometry);
+  if (f.rejected) {
+    rec.odometry.rejected = true;
+    rec.odometry.why = f.why;
+    return;
+  }
+  rec.odometry.used = true;
+  d.refinedPose = f.pose;
+}
+
+bool TrackingMonitor::followOdometry(FrameRecord& rec, const FrameMotion& motion) {
+  const odometry::OdometryConfig& c = config_.odometry;
+  const odometry::OdometryStep& step = *motion.step;
+  const Eigen::Isometry3d pose = odometryPose_.value_or(motion.previousPose) * step.delta;
+  const double distance = odometryDistanceM_ + step.distanceM();
+  const double time = odometryTimeS_ + step.dt;
+  odometryPose_ = pose;
+  odometryDistanceM_ = distance;
+  odometryTimeS_ = time;
+  rec.odometry.driftM = distance;
+  if (distance > c.maxDistanceM || time > c.maxTimeS) {
+    rec.odometry.why = format("odometry alone for %.2f m, %.1f s: beyond its bound (max_distance_m, max_time_s)",
+                              distance, time);
+    return false;
+  }
+  Decision& d = rec.decision;
+  d.correctedPose = pose;
+  d.refinedPose.reset();
+  d.integrate = false;
+  d.keepReference = false;
+  d.nextStartPose.reset();
+  rec.odometry.used = true;
+  return true;
+}
+
+TrackAttempt TrackingMonitor::tryWithOdometry(const TrackAttempt& attempt) const {
+  if (!odometryPose_ || !attempt.tracked) return attempt;
+  const odometry::OdometryConfig& c = config_.odometry;
+  const double tolerance = c.relocaliseToleranceM + c.noisePerM * odometryDistanceM_;
+  if ((attempt.T_camera_to_world.translation() - odometryPose_->translation()).norm() <= tolerance) return attempt;
+  TrackAttempt refused = attempt;  // the wheels say the camera is elsewhere: a repeating place, not this one
+  refused.tracked = false;
+  return refused;
+}
+
+void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec) {
+  FrameResult& r = rec.result;
+  Decision& d = rec.decision;
+  rec.relocalising = true;
+  rec.odometry.driftM = odometryDistanceM_;
+  if (config_.relocalise) {
+    Knobs knobs;  // DEFAULT's ICP (icp 1e-5, pd 10:5:4) at the relocaliser's compute size
+    knobs.csr = config_.relocaliseCsr;
+    const TryPose tryPose = [&](const Eigen::Isometry3d& start) {
+      return tryWithOdometry(pipeline.trackFrom(frame, depthScale, knobs, start, r));
+    };
+    const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
+    // The odometry's dead-reckoned pose is the first candidate when there is one, else the held pose.
+    rec.relocalisation = relocaliser_.relocalise(code, odometryPose_.value_or(pipeline.pose()), tryPose);
+  } else {
+    rec.relocalisation.why = "relocalisation is off";
+  }
+  // The held pose, nothing fused, no correction; the next frame's ICP starts from this frame's final pose.
+  d.correctedPose.reset();
+  d.refinedPose.reset();
+  d.integrate = false;
+  d.keepReference = false;
+  d.nextStartPose.reset();
+  if (rec.relocalisation.accepted) {
+    pipeline.adoptAttempt(*rec.relocalisation.attempt, r);
+    recovering_ = false;
+    failedInARow_ = 0;
+    odometryPose_.reset();
+    odometryDistanceM_ = odometryTimeS_ = 0.0;
+    rec.state = last_ = TrackingState::relocalised;
+  } else {
+    r.tracked = false;
+    rec.state = last_ = TrackingState::lost;
   }
 }
 

@@ -7,6 +7,10 @@
 // the residual and inlier tests in the wrong place): the pose is held, nothing is fused, and each frame the
 // relocaliser (reloc/relocaliser.h) tries candidate poses until one is confirmed over consecutive frames.
 // While tracking is good the frames feed the relocaliser's keyframes.
+// With the robot's odometry (docs/odometry.md) a tracked pose is fused with the odometry's prediction, a frame
+// depth cannot track follows the odometry (state odometry) for a bounded distance and time, and the relocaliser
+// starts from the odometry's pose and refuses a candidate the odometry contradicts. With or without it, a
+// tracked motion the platform cannot make is not trusted (odometry/odometry_config.h: its physics).
 
 #include <cstddef>
 #include <string>
@@ -16,8 +20,17 @@
 #include "reloc/fern_encoder.h"
 #include "reloc/relocaliser.h"
 #include "runtime/frame_record.h"
+#include "runtime/odometry_fusion.h"
 
 namespace sb {
+
+// What the runner knows of a frame's motion before it is resolved.
+struct FrameMotion {
+  Eigen::Isometry3d previousPose = Eigen::Isometry3d::Identity();  // the previous frame's final pose
+  double previousStamp = 0.0;                                       // and its stamp (seconds)
+  bool hasPrevious = false;                                         // false on the first frame
+  std::optional<odometry::OdometryStep> step;  // the odometry's step since then (not rejected before ICP)
+};
 
 class TrackingMonitor {
  public:
@@ -28,19 +41,35 @@ class TrackingMonitor {
   // After the controller's decision on the frame in hand (rec.result, rec.decision): relocalises when
   // recovering, sets rec.state and rec.relocalisation, and overrides what a lost or relocalised frame may do
   // (no correction, no fusion, the next ICP from the held or relocalised pose).
-  void resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec);
+  // `motion`: the previous frame's final pose and stamp, and the odometry's step since then when there is one.
+  void resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
+               const FrameMotion& motion);
   // After finishFrame: a good frame is offered to the keyframe database.
   void after(const DepthFrame& frame, double depthScale, FrameRecord& rec);
 
   const Relocaliser& relocaliser() const { return relocaliser_; }
 
  private:
+  // The tracked pose against the platform's physics: an impossible motion is discarded (tracked false).
+  void checkPhysics(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion);
+  // A tracked frame with odometry: fused, or the odometry rejected as a slip.
+  void fuse(FrameRecord& rec, const FrameMotion& motion);
+  // A frame depth did not track, with odometry left in the budget: the pose follows it. False when it cannot.
+  bool followOdometry(FrameRecord& rec, const FrameMotion& motion);
+  // The relocaliser's try, refused when the odometry contradicts the candidate.
+  TrackAttempt tryWithOdometry(const TrackAttempt& attempt) const;
+  void relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec);
+
   PipelineConfig config_;
   FernEncoder encoder_;
   Relocaliser relocaliser_;
   int failedInARow_ = 0;
   bool recovering_ = false;
   TrackingState last_ = TrackingState::good;  // of the last frame with a tracking attempt
+  std::optional<Eigen::Vector3d> lastVelocity_;  // m/s, world frame: of the last tracked frame's motion
+  // Dead reckoning on the odometry since depth last tracked: the pose, the distance and time driven.
+  std::optional<Eigen::Isometry3d> odometryPose_;
+  double odometryDistanceM_ = 0.0, odometryTimeS_ = 0.0;
 };
 
 }  // namespace sb

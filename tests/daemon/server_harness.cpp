@@ -10,7 +10,7 @@
 
 #include "client/connection.h"
 #include "core/error.h"
-#include "runtime/frame_log_sink.h"
+#include "daemon/frame_report.h"
 
 namespace sb::test {
 
@@ -39,7 +39,7 @@ nlohmann::json ScriptedState::control(const daemon::ControlRequest& request) {
 }
 
 daemon::FrameReport scriptedFrame(uint64_t n) {
-  // A record as the runner makes it, published through the daemon's one encoder of a frame.
+  // A record as the runner makes it, published through the daemon's one projection of a record.
   FrameRecord record;
   FrameResult& r = record.result;
   r.frame = static_cast<decltype(r.frame)>(n);
@@ -52,7 +52,7 @@ daemon::FrameReport scriptedFrame(uint64_t n) {
   r.velocity = 0.25;
   r.times.ms[static_cast<int>(Stage::track)] = 12.5;
   record.controller = "fixed";
-  return daemon::FrameReport{frameRecordToJson(record), {}};
+  return daemon::frameReport(record, {});
 }
 
 ServerHarness::ServerHarness(daemon::SocketConfig config, uid_t daemonUid) : config_(std::move(config)) {

@@ -62,39 +62,47 @@ TEST_CASE("malformed requests are refused with a reason", "[daemon][protocol]") 
 }
 
 TEST_CASE("every message carries its class; encodings are stable", "[daemon][protocol]") {
-  // A frame as frames.jsonl encodes it (runtime/frame_log_sink.h): POSE and KNOBS pick their fields from it,
-  // and nothing else of it reaches the socket.
+  // A frame's typed fields (daemon/frame_report.h makes them from the record; test_frame_report checks them
+  // against frames.jsonl): POSE and KNOBS are written from them.
   FrameReport r;
-  r.frame = {{"frame", 7},          {"timestamp", 1.5},     {"position", {1.0, 2.0, 3.0}},
-             {"quaternion", {0.0, 0.0, 0.0, 1.0}}, {"tracked", true}, {"corrected", false},
-             {"state", "good"},     {"velocity_m_per_frame", 0.01}, {"controller", "fixed"},
-             {"computation_ms", 0.0}, {"residual_m", 0.001},
-             {"knobs", {{"csr", 1}, {"icp", 1e-5}, {"pd", {10, 5, 4}}, {"tr", 1}, {"ir", 2}}}};
+  r.pose.frame = 7;
+  r.pose.timestamp = 1.5;
+  r.pose.position = {1.0, 2.0, 3.0};
+  r.pose.tracked = true;
+  r.pose.velocityMPerFrame = 0.01;
+  r.knobs.frame = 7;
+  r.knobs.controller = "fixed";
+  r.knobs.knobs.integrationRate = 2;
   r.pinned = {"csr"};
   CHECK(toLine(poseMessage(r)) ==
-        R"({"class":"POSE","constrained":true,"corrected":false,"frame":7,"position":[1.0,2.0,3.0],)"
-        R"("quaternion":[0.0,0.0,0.0,1.0],"state":"good","timestamp":1.5,"tracked":true,"velocity":0.01,)"
-        R"("velocity_m_per_frame":0.01})"
+        R"({"class":"POSE","constrained":true,"corrected":false,"frame":7,"odometry":false,"odometry_drift_m":0.0,)"
+        R"("position":[1.0,2.0,3.0],"quaternion":[0.0,0.0,0.0,1.0],"state":"good","timestamp":1.5,"tracked":true,)"
+        R"("velocity":0.01,"velocity_m_per_frame":0.01})"
         "\n");
   // Protocol 1.2: the tracking state; a lost frame says so (clients stop trusting the pose).
   FrameReport lost = r;
-  lost.frame["tracked"] = false;
-  lost.frame["state"] = "lost";
+  lost.pose.tracked = false;
+  lost.pose.state = sb::TrackingState::lost;
   CHECK(poseMessage(lost).at("state") == "lost");
   // Protocol 1.1: a frame whose geometry left a motion free says so, with the conditioning and the motion.
   FrameReport wall = r;
-  wall.frame["constrained"] = false;
-  wall.frame["conditioning"] = 0.0004;
-  wall.frame["weakest_motion"] = "tx";
+  wall.pose.constrained = false;
+  wall.pose.conditioning = 0.0004;
+  wall.pose.weakestMotion = "tx";
   const nlohmann::json pose = poseMessage(wall);
   CHECK(pose.at("constrained") == false);
   CHECK(pose.at("conditioning") == 0.0004);
   CHECK(pose.at("weakest_motion") == "tx");
   // Protocol 1.3: the frame log's name of the velocity beside the old one.
-  CHECK(versionMessage("x").at("proto_minor") == 3);
   CHECK(pose.at("velocity") == pose.at("velocity_m_per_frame"));
-  // A frame without fields (never published, but never a throw on the event loop).
-  CHECK(toLine(poseMessage(FrameReport{})) == R"({"class":"POSE","constrained":true})" "\n");
+  // Protocol 1.4: the odometry state, whether the frame had odometry, the distance driven on it alone.
+  CHECK(versionMessage("x").at("proto_minor") == 4);
+  FrameReport wheels = r;
+  wheels.pose.state = sb::TrackingState::odometry;
+  wheels.pose.odometry = true;
+  wheels.pose.odometryDriftM = 0.5;
+  CHECK(poseMessage(wheels).at("state") == "odometry");
+  CHECK(poseMessage(wheels).at("odometry_drift_m") == 0.5);
   CHECK(toLine(knobsMessage(r)) ==
         R"({"class":"KNOBS","computation_ms":0.0,"controller":"fixed","csr":1,"frame":7,"icp":1e-05,"ir":2,)"
         R"("pd":[10,5,4],"pinned":["csr"],"tr":1})"

@@ -1,0 +1,59 @@
+#pragma once
+// What the runtime knows of the platform and of its odometry (docs/odometry.md): the `odometry` section of the
+// pipeline config (config/pipeline.json, keys in config/README.md). Every number is physics or a stated noise,
+// not a property of one test sequence.
+
+#include <nlohmann/json.hpp>
+
+namespace sb {
+class ConfigReader;
+}
+
+namespace sb::odometry {
+
+struct OdometryConfig {
+  // The platform's limits: no camera on it moves faster, turns faster or accelerates harder than this, so a
+  // tracked motion beyond them is not `good` (with or without odometry). A wheeled base stays under about
+  // 2 m/s and 0.5 g, a hand-held camera under about 2 m/s and 2-3 g; the defaults leave room for both, and the
+  // acceleration's for the estimate's own error: a frame that sticks and the next that catches up on a robot at
+  // 1 m/s reads as 60 m/s^2, and the velocity of a stationary camera's tracking jitter as a few m/s^2.
+  double maxSpeedMPerS = 3.0;             // m/s
+  double maxAccelerationMPerS2 = 100.0;   // m/s^2 (about 10 g), between the velocities of two consecutive frames
+  double maxTurnRateDegPerS = 400.0;      // deg/s
+  // The odometry's noise when its samples state no covariance: sigma of the translation of one frame's step,
+  // a fraction of the distance moved plus a floor (a cheap base: a few percent).
+  double noisePerM = 0.03;                // sigma per metre moved
+  double noiseFloorM = 0.001;             // metres
+  double noisePerRad = 0.03;              // sigma of the rotation per radian turned
+  double noiseFloorRad = 0.002;           // radians (0.11 deg)
+  // Fusion per eigen-motion of the view's structure (pipeline/tracking_quality.h): along an eigenvector with
+  // conditioning c the tracked pose weighs c / (c + lambda), where lambda = (sigmaIcpM / sigma_odometry)^2 *
+  // cFull: a view that constrains a motion like a fully furnished one (c = cFull) with a point noise of
+  // sigmaIcpM per frame meets the odometry's sigma as an equal. Below minConditioning (a motion the view leaves
+  // free: a corridor seen lengthwise) the odometry alone.
+  double icpSigmaM = 0.002;               // metres: ICP's error along a well-constrained motion, per frame
+  double fullConditioning = 0.05;         // a well-furnished view's conditioning (a corner: 0.1-0.3)
+  double minConditioning = 0.003;         // below: the view does not fix the motion (wall-only views: <= 0.0025)
+  // A wheel slip: the odometry's step is contradicted by the view along the motions it fixes by more than
+  // this many sigmas (and at least slipFloorM): the step is not used. A step beyond the platform's limits is
+  // a slip too.
+  double slipSigmas = 5.0;
+  double slipFloorM = 0.03;               // metres
+  // When depth cannot track, the pose follows the odometry alone for at most this distance and time (state
+  // `odometry`), then the frame is lost. The distance keeps the accumulated drift (noisePerM of it) inside
+  // ICP's reach when the view returns.
+  double maxDistanceM = 3.0;              // metres
+  double maxTimeS = 10.0;                 // seconds
+  // A relocalisation candidate farther than this from the odometry's pose (plus noisePerM of the distance
+  // driven since depth last tracked) is refused: a corridor repeats itself, the wheels know which part it is.
+  double relocaliseToleranceM = 0.5;      // metres
+  // Stamps: the odometry is interpolated at a frame's stamp, extrapolated at most this far past its newest
+  // sample, and not across a gap longer than maxGapS.
+  double maxExtrapolationS = 0.05;
+  double maxGapS = 0.5;
+
+  void read(ConfigReader& r);
+  nlohmann::json toJson() const;
+};
+
+}  // namespace sb::odometry

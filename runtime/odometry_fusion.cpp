@@ -1,0 +1,116 @@
+#include "runtime/odometry_fusion.h"
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <cstdio>
+
+#include "pipeline/icp_solve.h"
+
+namespace sb::odometry {
+
+namespace {
+
+constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
+
+double angleOf(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
+
+std::string format(const char* fmt, double a, double b) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
+
+Eigen::Isometry3d rigid(const Eigen::Isometry3d& T) {
+  Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
+  out.linear() = Eigen::Quaterniond(T.rotation()).normalized().toRotationMatrix();
+  out.translation() = T.translation();
+  return out;
+}
+
+}  // namespace
+
+std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, double t1, const OdometryConfig& c,
+                                        std::string& why) {
+  const auto a = track.poseAt(t0, c.maxGapS, c.maxExtrapolationS);
+  const auto b = track.poseAt(t1, c.maxGapS, c.maxExtrapolationS);
+  if (!a || !b) {
+    why = format("no odometry at %.3f s (newest sample %.3f s)", a ? t1 : t0, track.newestStamp().value_or(NAN));
+    return std::nullopt;
+  }
+  OdometryStep s;
+  s.delta = rigid(a->inverse() * *b);
+  s.dt = t1 - t0;
+  const double angle = angleOf(s.delta.linear());
+  s.sigmaM = c.noiseFloorM + c.noisePerM * s.distanceM();
+  s.sigmaRad = c.noiseFloorRad + c.noisePerRad * angle;
+  // A stated covariance (the source's, per sample) grows with the pose; the step's share is their difference
+  // when it is larger than the config's model.
+  const auto ca = track.covarianceAt(t0), cb = track.covarianceAt(t1);
+  if (ca && cb) {
+    const double dPos = (cb->topLeftCorner<3, 3>().trace() - ca->topLeftCorner<3, 3>().trace());
+    const double dRot = (cb->bottomRightCorner<3, 3>().trace() - ca->bottomRightCorner<3, 3>().trace());
+    if (dPos > 0) s.sigmaM = std::max(s.sigmaM, std::sqrt(dPos));
+    if (dRot > 0) s.sigmaRad = std::max(s.sigmaRad, std::sqrt(dRot));
+  }
+  return s;
+}
+
+std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& previous,
+                              const Eigen::Isometry3d& pose, double dt,
+                              const std::optional<Eigen::Vector3d>& previousVelocity) {
+  if (!(dt > 0)) return {};
+  const Eigen::Vector3d v = (pose.translation() - previous.translation()) / dt;
+  if (v.norm() > c.maxSpeedMPerS)
+    return format("moved at %.2f m/s, beyond the platform's %.2f m/s", v.norm(), c.maxSpeedMPerS);
+  const double turn = angleOf(previous.linear().transpose() * pose.linear()) * kDegPerRad / dt;
+  if (turn > c.maxTurnRateDegPerS)
+    return format("turned at %.0f deg/s, beyond the platform's %.0f deg/s", turn, c.maxTurnRateDegPerS);
+  if (previousVelocity) {
+    const double a = (v - *previousVelocity).norm() / dt;
+    if (a > c.maxAccelerationMPerS2)
+      return format("accelerated at %.1f m/s^2, beyond the platform's %.1f m/s^2", a, c.maxAccelerationMPerS2);
+  }
+  return {};
+}
+
+Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previous, const Eigen::Isometry3d& tracked,
+                        const Eigen::Isometry3d& predicted, const OdometryStep& step, const OdometryConfig& c) {
+  Fusion f;
+  f.pose = tracked;
+  if (!q.known || q.structure.isZero()) return f;
+  Eigen::SelfAdjointEigenSolver<Matrix6> eig(q.structure);
+  const Eigen::FullPivLU<Matrix6> basis(q.basis);
+  if (eig.info() != Eigen::Success || !basis.isInvertible()) return f;
+  // Steps in the world frame (the twists of icp_solve.h): the pose is exp(step) * previous.
+  const Twist odo = transformToTwist(rigid(predicted * previous.inverse()));
+  const Twist icp = transformToTwist(rigid(tracked * previous.inverse()));
+  if (!odo.allFinite() || !icp.allFinite()) return f;
+  const Twist change = eig.eigenvectors().transpose() * basis.solve(icp - odo);
+  // lambda: the conditioning at which the view's error along a motion equals the odometry's (see the config).
+  const double ratio = c.icpSigmaM / std::max(step.sigmaM, 1e-9);
+  const double lambda = ratio * ratio * c.fullConditioning;
+  Twist kept, fixedPart;
+  for (int i = 0; i < 6; ++i) {
+    const double ci = std::max(0.0, eig.eigenvalues()(i));
+    const bool fixes = ci >= c.minConditioning;
+    kept(i) = fixes ? change(i) * ci / (ci + lambda) : 0.0;
+    fixedPart(i) = fixes ? change(i) : 0.0;
+  }
+  // How far the view moves the prediction along the motions it fixes: a slip when beyond the odometry's noise.
+  const Eigen::Isometry3d viewed = rigid(twistToTransform(odo + q.basis * (eig.eigenvectors() * fixedPart)) * previous);
+  f.disagreementM = (viewed.translation() - predicted.translation()).norm();
+  f.disagreementRad = angleOf(predicted.linear().transpose() * viewed.linear());
+  const double gateM = std::max(c.slipSigmas * step.sigmaM, c.slipFloorM);
+  const double gateRad = std::max(c.slipSigmas * step.sigmaRad, c.slipFloorM);  // slipFloorM as radians: 1.7 deg
+  if (f.disagreementM > gateM || f.disagreementRad > gateRad) {
+    f.rejected = true;
+    f.why = format("the view moves the odometry's prediction by %.3f m, %.2f deg along the motions it fixes",
+                   f.disagreementM, f.disagreementRad * kDegPerRad);
+    return f;
+  }
+  const Twist fused = odo + q.basis * (eig.eigenvectors() * kept);
+  if (fused.allFinite()) f.pose = rigid(twistToTransform(fused) * previous);
+  return f;
+}
+
+}  // namespace sb::odometry

@@ -1,0 +1,52 @@
+#pragma once
+// The odometry meets the view (docs/odometry.md; DESIGN 4c): the step the wheels report between two frames,
+// the platform's physics, and the tracked pose fused with the odometry's prediction per eigen-motion of the
+// view's structure, after the degeneracy-aware update of Zhang, Kaess and Singh (ICRA 2016: "On degeneracy of
+// optimization-based state estimation problems"): along a motion the view fixes the tracked pose wins, along
+// one it leaves free the prediction does, and between the two they weigh by their noise.
+
+#include <Eigen/Geometry>
+#include <optional>
+#include <string>
+
+#include "odometry/odometry_config.h"
+#include "odometry/odometry_track.h"
+#include "pipeline/tracking_quality.h"
+
+namespace sb::odometry {
+
+// The odometry's motion between two frames' stamps.
+struct OdometryStep {
+  Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();  // in the earlier camera's frame: pose(t0)^-1 pose(t1)
+  double dt = 0.0;        // seconds
+  double sigmaM = 0.0;    // its translation's noise (metres), from the samples' covariance or the config
+  double sigmaRad = 0.0;  // its rotation's noise (radians)
+  double distanceM() const { return delta.translation().norm(); }
+};
+
+// The step between t0 and t1, or nullopt with `why` when the track has no pose at either stamp.
+std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, double t1, const OdometryConfig& c,
+                                        std::string& why);
+
+// Why a camera motion from `previous` to `pose` in `dt` seconds is one the platform cannot make (speed, turn
+// rate, or acceleration against `previousVelocity`, m/s in the world frame), or "" when it can. dt <= 0: "".
+std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& previous,
+                              const Eigen::Isometry3d& pose, double dt,
+                              const std::optional<Eigen::Vector3d>& previousVelocity);
+
+struct Fusion {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // the fused pose (the tracked one when rejected)
+  bool rejected = false;      // the view contradicts the odometry along the motions it fixes (a wheel slip)
+  double disagreementM = 0.0;   // along those motions: translation (metres) ...
+  double disagreementRad = 0.0;  // ... and rotation (radians)
+  std::string why;            // when rejected
+};
+
+// `previous`: the last frame's final pose; `tracked`: this frame's ICP result; `predicted` = previous *
+// step.delta; `quality`: the tracked frame's (its structure and basis). Without a known structure the view
+// cannot say which motions it fixes: the tracked pose, not rejected.
+Fusion fuseWithOdometry(const TrackingQuality& quality, const Eigen::Isometry3d& previous,
+                        const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted,
+                        const OdometryStep& step, const OdometryConfig& c);
+
+}  // namespace sb::odometry

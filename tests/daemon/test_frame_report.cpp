@@ -1,0 +1,120 @@
+// The socket's projection of a frame's record (daemon/frame_report.h): POSE and KNOBS are written from typed
+// fields, and every field that also appears in frames.jsonl (runtime/frame_log_sink.h, the frame's one
+// encoding) carries the same value under the same name there. A field renamed on either side, or a field the
+// ROS bridge reads under another name (ros/daemon_reports.h), fails here.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "daemon/frame_report.h"
+#include "ros/daemon_reports.h"
+#include "runtime/frame_log_sink.h"
+
+using namespace sb;
+using namespace sb::daemon;
+
+namespace {
+
+FrameRecord sampleRecord() {
+  FrameRecord rec;
+  FrameResult& r = rec.result;
+  r.frame = 42;
+  r.timestamp = 1234.5;
+  r.T_camera_to_world = Eigen::Translation3d(1.0, -2.0, 3.5) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
+  r.trackingAttempted = true;
+  r.tracked = true;
+  r.poseOverridden = true;
+  r.velocity = 0.031;
+  r.quality.known = true;
+  r.quality.conditioning = 0.0021;
+  r.quality.weakest = WeakDirection::tz;
+  r.quality.constrained = false;
+  r.knobs.csr = 4;
+  r.knobs.trackingRate = 1;
+  r.knobs.integrationRate = 5;
+  r.times.ms[static_cast<int>(Stage::track)] = 7.25;
+  rec.state = TrackingState::odometry;
+  rec.controller = "adaptive";
+  rec.odometry.available = true;
+  rec.odometry.used = true;
+  rec.odometry.driftM = 0.75;
+  return rec;
+}
+
+}  // namespace
+
+TEST_CASE("POSE and KNOBS carry the record's values under their frames.jsonl names", "[daemon][protocol]") {
+  const FrameRecord rec = sampleRecord();
+  const FrameReport report = frameReport(rec, {"csr"});
+  const nlohmann::json pose = poseMessage(report);
+  const nlohmann::json knobs = knobsMessage(report);
+  const nlohmann::json log = frameRecordToJson(rec);
+
+  // POSE's fields, every one: a field added to POSE must be named here (and in docs/protocol.md).
+  std::vector<std::string> poseKeys;
+  for (auto it = pose.begin(); it != pose.end(); ++it) poseKeys.push_back(it.key());
+  CHECK(poseKeys == std::vector<std::string>{"class", "conditioning", "constrained", "corrected", "frame",
+                                             "odometry", "odometry_drift_m", "position", "quaternion", "state",
+                                             "timestamp", "tracked", "velocity", "velocity_m_per_frame",
+                                             "weakest_motion"});
+  // The same name, the same value, in frames.jsonl (POSE's legacy "velocity" and its odometry summary aside).
+  for (const char* key : {"frame", "timestamp", "position", "quaternion", "tracked", "corrected", "state",
+                          "velocity_m_per_frame", "conditioning", "weakest_motion", "constrained"}) {
+    INFO(key);
+    REQUIRE(log.contains(key));
+    CHECK(pose.at(key) == log.at(key));
+  }
+  CHECK(pose.at("velocity") == log.at("velocity_m_per_frame"));
+  CHECK(pose.at("odometry") == log.at("odometry").at("available"));
+  CHECK(pose.at("odometry_drift_m") == log.at("odometry").at("drift_m"));
+  CHECK(pose.at("state") == "odometry");
+
+  std::vector<std::string> knobKeys;
+  for (auto it = knobs.begin(); it != knobs.end(); ++it) knobKeys.push_back(it.key());
+  CHECK(knobKeys == std::vector<std::string>{"class", "computation_ms", "controller", "csr", "frame", "icp", "ir",
+                                             "pd", "pinned", "tr"});
+  for (const char* key : {"frame", "controller", "computation_ms"}) {
+    INFO(key);
+    CHECK(knobs.at(key) == log.at(key));
+  }
+  for (const char* key : {"csr", "icp", "pd", "tr", "ir"}) {
+    INFO(key);
+    CHECK(knobs.at(key) == log.at("knobs").at(key));
+  }
+  CHECK(knobs.at("pinned") == nlohmann::json{"csr"});
+}
+
+TEST_CASE("the ROS bridge reads every POSE and KNOBS field the daemon writes", "[daemon][protocol][ros]") {
+  const FrameRecord rec = sampleRecord();
+  const FrameReport report = frameReport(rec, {});
+  const ros_bridge::PoseReport p = ros_bridge::parsePose(poseMessage(report));
+  CHECK(p.frame == 42);
+  CHECK(p.timestamp == 1234.5);
+  CHECK(p.position == report.pose.position);
+  CHECK(p.quaternion == report.pose.quaternion);
+  CHECK(p.tracked);
+  CHECK(p.corrected);
+  CHECK(p.velocity == Approx(0.031));
+  REQUIRE(p.constrained);
+  CHECK(*p.constrained == false);
+  REQUIRE(p.conditioning);
+  CHECK(*p.conditioning == 0.0021);
+  CHECK(p.weakestMotion == "tz");
+  CHECK(p.trackingState == TrackingState::odometry);  // one enum: the daemon's
+  CHECK(p.odometry);
+  CHECK(p.odometryDriftM == 0.75);
+  // Every state the daemon can send is one the bridge knows by name.
+  for (int s = 0; s < kTrackingStateCount; ++s) {
+    FrameRecord other = rec;
+    other.state = static_cast<TrackingState>(s);
+    CHECK(ros_bridge::parsePose(poseMessage(frameReport(other, {}))).trackingState == other.state);
+  }
+  const ros_bridge::KnobsReport k = ros_bridge::parseKnobs(knobsMessage(report));
+  CHECK(k.frame == 42);
+  CHECK(k.controller == "adaptive");
+  CHECK(k.csr == 4);
+  CHECK(k.ir == 5);
+  CHECK(k.tr == 1);
+  CHECK(k.pd == std::array<double, 3>{10, 5, 4});
+  CHECK(k.icp == rec.result.knobs.icpThreshold);
+  CHECK(k.computationMs == rec.result.times.computationMs());
+}

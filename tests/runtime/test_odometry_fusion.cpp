@@ -1,0 +1,136 @@
+// runtime/odometry_fusion.h on hand-made views: a structure matrix whose eigen-motions are the camera axes
+// (basis identity: the twist's translation then rotation, camera at the origin), each with its conditioning.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "runtime/odometry_fusion.h"
+
+using namespace sb;
+using namespace sb::odometry;
+
+namespace {
+
+// A view that fixes every motion with conditioning `c`, except those in `free` (0-5: tx ty tz rx ry rz).
+TrackingQuality view(double c, std::initializer_list<int> free = {}) {
+  TrackingQuality q;
+  q.known = true;
+  Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Constant(c);
+  for (int i : free) d(i) = 1e-5;
+  q.structure = d.asDiagonal();
+  q.basis = Matrix6::Identity();
+  q.conditioning = d.minCoeff();
+  return q;
+}
+
+Eigen::Isometry3d moved(double x, double y, double z) {
+  return Eigen::Isometry3d(Eigen::Translation3d(x, y, z));
+}
+
+OdometryStep stepOf(const Eigen::Isometry3d& delta, const OdometryConfig& c) {
+  OdometryStep s;
+  s.delta = delta;
+  s.dt = 1.0 / 30;
+  s.sigmaM = c.noiseFloorM + c.noisePerM * delta.translation().norm();
+  s.sigmaRad = c.noiseFloorRad;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("along a motion the view leaves free the odometry wins; along one it fixes, the view",
+          "[odometry][fusion]") {
+  const OdometryConfig c;
+  const Eigen::Isometry3d previous = Eigen::Isometry3d::Identity();
+  // A corridor seen lengthwise: forward (tz) is free. The wheels moved 3.5 cm forward; ICP stuck at 0 along z
+  // and found 4 mm sideways, which the walls fix.
+  const Eigen::Isometry3d predicted = moved(0.0, 0.0, 0.035);
+  const Eigen::Isometry3d tracked = moved(0.004, 0.0, 0.0);
+  const Fusion f = fuseWithOdometry(view(0.2, {2}), previous, tracked, predicted, stepOf(predicted, c), c);
+  REQUIRE_FALSE(f.rejected);
+  CHECK(f.pose.translation().z() == Approx(0.035).margin(1e-6));  // free: the odometry alone
+  // Fixed: the view weighs c / (c + lambda); lambda from the noises (config): ICP's weight well over a half.
+  const double sigma = c.noiseFloorM + c.noisePerM * 0.035;
+  const double lambda = std::pow(c.icpSigmaM / sigma, 2) * c.fullConditioning;
+  CHECK(f.pose.translation().x() == Approx(0.004 * 0.2 / (0.2 + lambda)).margin(1e-6));
+  CHECK(0.2 / (0.2 + lambda) > 0.7);
+
+  // The same motion in a furnished view (every motion fixed): the tracked pose, nearly.
+  const Fusion corner = fuseWithOdometry(view(0.2), previous, moved(0.0, 0.0, 0.033), predicted,
+                                         stepOf(predicted, c), c);
+  REQUIRE_FALSE(corner.rejected);
+  CHECK(corner.pose.translation().z() == Approx(0.033 + 0.002 * lambda / (0.2 + lambda)).margin(1e-6));
+
+  // A blank wall ahead (the view fixes only tz, rx, ry): sliding sideways and turning about z are the wheels'.
+  const Eigen::Isometry3d slide = moved(0.02, 0.0, 0.0);
+  const Fusion wall =
+      fuseWithOdometry(view(0.2, {0, 1, 5}), previous, Eigen::Isometry3d::Identity(), slide, stepOf(slide, c), c);
+  CHECK(wall.pose.translation().x() == Approx(0.02).margin(1e-6));
+}
+
+TEST_CASE("a wheel slip the view contradicts along the motions it fixes is rejected, not fused",
+          "[odometry][fusion]") {
+  const OdometryConfig c;
+  const Eigen::Isometry3d previous = Eigen::Isometry3d::Identity();
+  // The wheels spun: the odometry says 0.4 m forward, the view (which fixes forward here) says 2 cm.
+  const Eigen::Isometry3d slipped = moved(0.0, 0.0, 0.4);
+  const Eigen::Isometry3d tracked = moved(0.0, 0.0, 0.02);
+  const Fusion f = fuseWithOdometry(view(0.2), previous, tracked, slipped, stepOf(slipped, c), c);
+  CHECK(f.rejected);
+  CHECK(f.disagreementM == Approx(0.38).margin(1e-6));
+  CHECK(f.pose.isApprox(tracked));
+  CHECK_THAT(f.why, Catch::Contains("0.380 m"));
+  // Along a motion the view leaves free, the view cannot contradict it: fused (the wheels' word is all there is).
+  const Fusion corridor = fuseWithOdometry(view(0.2, {2}), previous, tracked, slipped, stepOf(slipped, c), c);
+  CHECK_FALSE(corridor.rejected);
+  // A rotation slip: the wheels say 10 degrees, the view (fixing every rotation) says none.
+  const Eigen::Isometry3d turned(Eigen::AngleAxisd(10 * M_PI / 180, Eigen::Vector3d::UnitY()));
+  const Fusion turn =
+      fuseWithOdometry(view(0.2), previous, Eigen::Isometry3d::Identity(), turned, stepOf(turned, c), c);
+  CHECK(turn.rejected);
+  // Within the noise: fused.
+  const Fusion small = fuseWithOdometry(view(0.2), previous, moved(0.0, 0.0, 0.036), moved(0.0, 0.0, 0.035),
+                                        stepOf(moved(0.0, 0.0, 0.035), c), c);
+  CHECK_FALSE(small.rejected);
+  // No structure known: the tracked pose, not judged.
+  CHECK(fuseWithOdometry(TrackingQuality{}, previous, tracked, slipped, stepOf(slipped, c), c).pose.isApprox(tracked));
+}
+
+TEST_CASE("a motion the platform cannot make is named; one it can is not", "[odometry][physics]") {
+  const OdometryConfig c;  // 3 m/s, 100 m/s^2, 400 deg/s
+  const Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+  const double dt = 1.0 / 30;
+  CHECK(implausibleMotion(c, start, moved(0.0, 0.0, 0.035), dt, Eigen::Vector3d(0, 0, 1.0)).empty());
+  // A runaway: 0.3 m in one frame (9 m/s).
+  CHECK_THAT(implausibleMotion(c, start, moved(0.0, 0.0, 0.3), dt, Eigen::Vector3d(0, 0, 1.0)),
+             Catch::Contains("m/s") && Catch::Contains("beyond"));
+  // A spliced far frame: 5 m away.
+  CHECK_FALSE(implausibleMotion(c, start, moved(5.0, 0.0, 0.0), dt, std::nullopt).empty());
+  // A stuck frame caught up at 1 m/s (0 -> 2 m/s in a frame, 60 m/s^2): the estimate's error, not a runaway.
+  CHECK(implausibleMotion(c, start, moved(0.0, 0.0, 0.067), dt, Eigen::Vector3d::Zero()).empty());
+  // Reversing at 2.5 m/s within one frame: 150 m/s^2.
+  CHECK_THAT(implausibleMotion(c, start, moved(0.0, 0.0, -0.083), dt, Eigen::Vector3d(0, 0, 2.5)),
+             Catch::Contains("accelerated"));
+  // Turning 30 degrees in one frame: 900 deg/s.
+  const Eigen::Isometry3d spun(Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitY()));
+  CHECK_THAT(implausibleMotion(c, start, spun, dt, std::nullopt), Catch::Contains("deg/s"));
+  // No time between the frames (or stamps out of order): not judged.
+  CHECK(implausibleMotion(c, start, moved(5.0, 0.0, 0.0), 0.0, std::nullopt).empty());
+}
+
+TEST_CASE("the odometry's step between two frames, with its noise", "[odometry][fusion]") {
+  OdometryConfig c;
+  OdometryTrack track;
+  for (int i = 0; i <= 10; ++i) {
+    OdometrySample s;
+    s.timestamp = i * 0.02;
+    s.T_camera_to_odom = moved(0.0, 0.0, i * 0.02);  // 1 m/s forward
+    REQUIRE(track.add(s));
+  }
+  std::string why;
+  const auto step = stepBetween(track, 0.03, 0.0633, c, why);
+  REQUIRE(step);
+  CHECK(step->delta.translation().z() == Approx(0.0333).margin(1e-9));
+  CHECK(step->sigmaM == Approx(c.noiseFloorM + c.noisePerM * 0.0333).margin(1e-9));
+  CHECK_FALSE(stepBetween(track, 0.1, 0.5, c, why));  // past the newest sample by more than the bound
+  CHECK_THAT(why, Catch::Contains("no odometry at 0.500"));
+}
