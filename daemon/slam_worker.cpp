@@ -213,6 +213,7 @@ void SlamWorker::startPass(Passes& p) {
   RunSummary header =
       runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, p.pool.threadCount());
   header.daemon = DaemonPass{p.pass, stats().cpus, stats().threads};
+  header.odometry = odometry_.summary();
   p.run = std::make_unique<Run>(
       std::move(pipeline), std::move(controller), sequence_.depthScale,
       RunOutputs{dir, p.pass == 1 ? sequence_.groundTruthPath : "", header,
@@ -221,6 +222,7 @@ void SlamWorker::startPass(Passes& p) {
                  static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0),
                  segments_ ? segments_ : passRetention_},
       p.energy ? &*p.energy : nullptr);
+  if (odometry_.track) p.run->runner().setOdometry(odometry_.track);
   if (publishEnergy_)
     p.run->setEnergyListener([this](const power::FrameEnergy& e) {
       if (e.known) publishEnergy_(e);
