@@ -20,7 +20,7 @@ nlohmann::json addOdomSamples(odometry::OdometryTrack& track, const OdomRequest&
   for (const OdomSample& s : request.samples) {
     std::string why;
     if (!track.add(toOdometrySample(s), &why))
-      throw Error("?ODOM: " + (request.samples.size() > 1 ? "samples[" + std::to_string(accepted) + "].t: " : "t: ") +
+      throw Error("?ODOM: '" + (request.samples.size() > 1 ? "samples[" + std::to_string(accepted) + "].t" : "t") + "': " +
                   why + (accepted ? " (the " + std::to_string(accepted) + " samples before it were added)" : ""));
     ++accepted;
   }
