@@ -17,6 +17,8 @@ constexpr Key kKeys[] = {
     {"max_speed_m_per_s", &OdometryConfig::maxSpeedMPerS, 0.01, 1000.0},
     {"max_acceleration_m_per_s2", &OdometryConfig::maxAccelerationMPerS2, 0.01, 10000.0},
     {"max_turn_rate_deg_per_s", &OdometryConfig::maxTurnRateDegPerS, 1.0, 100000.0},
+    {"jump_agreement_margin", &OdometryConfig::jumpAgreementMargin, 0.0, 1.0},
+    {"max_correction_m", &OdometryConfig::maxCorrectionM, 0.0, 100.0},
     {"noise_per_m", &OdometryConfig::noisePerM, 0.0, 1.0},
     {"noise_floor_m", &OdometryConfig::noiseFloorM, 1e-6, 1.0},
     {"noise_per_rad", &OdometryConfig::noisePerRad, 0.0, 1.0},

@@ -20,6 +20,13 @@ struct OdometryConfig {
   double maxSpeedMPerS = 3.0;             // m/s
   double maxAccelerationMPerS2 = 100.0;   // m/s^2 (about 10 g), between the velocities of two consecutive frames
   double maxTurnRateDegPerS = 400.0;      // deg/s
+  // An estimate may jump where the camera cannot: a pose that stuck for some frames catches up at once when the
+  // view fixes it again. Such a jump stands when the view agrees with the model at least as well as on the
+  // recent tracked frames (pair agreement at least their median less this margin) and it lies within ICP's
+  // reach (beyond the platform's motion by at most maxCorrectionM); a runaway loses agreement (the inliers fall),
+  // a frame from elsewhere lies metres away.
+  double jumpAgreementMargin = 0.05;      // fraction of the model's pairs
+  double maxCorrectionM = 0.5;            // metres
   // The odometry's noise when its samples state no covariance: sigma of the translation of one frame's step,
   // a fraction of the distance moved plus a floor (a cheap base: a few percent).
   double noisePerM = 0.03;                // sigma per metre moved

@@ -197,7 +197,7 @@ void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d
   r.T_camera_to_world = pose_;
   const bool bootstrap = r.frame < static_cast<size_t>(config_.bootstrapFrames);
   const bool due = overrides.integrate ? *overrides.integrate : r.frame % r.knobs.integrationRate == 0;
-  if (bootstrap || (r.tracked && due)) {
+  if (bootstrap || ((r.tracked || overrides.integrateUntracked) && due)) {
     backend_->integrate(pose_.cast<float>(), r.times);
     r.integrated = true;
     referenceStale_ = true;

@@ -81,6 +81,8 @@ struct FrameOverrides {
   bool keepReference = false;
   // A tracked frame's pose refined by the controller (not a correction: FrameResult::poseOverridden stays false).
   std::optional<Eigen::Isometry3d> refinedPose;
+  // Integrate (when due) although the frame was not tracked: its pose came from elsewhere (the odometry's).
+  bool integrateUntracked = false;
 };
 
 class Pipeline {

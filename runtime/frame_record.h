@@ -18,6 +18,7 @@ struct FrameOdometry {
   bool used = false;       // its motion seeded ICP and was fused with the tracked pose (or, state odometry, was it)
   bool rejected = false;   // contradicted by the view along the motions it fixes (a wheel slip): not used
   double driftM = 0.0;     // metres driven on odometry alone since depth last tracked (state odometry)
+  bool fused = false;      // state odometry: the frame was fused at the odometry's pose (the view is back)
   std::string why;         // when not available or rejected: why, for frames.jsonl
 };
 

@@ -44,7 +44,9 @@ struct Fusion {
 
 // `previous`: the last frame's final pose; `tracked`: this frame's ICP result; `predicted` = previous *
 // step.delta; `quality`: the tracked frame's (its structure and basis). Without a known structure the view
-// cannot say which motions it fixes: the tracked pose, not rejected.
+// cannot say which motions it fixes: the tracked pose, not rejected. ICP registers against the map, whose error
+// does not grow with the compute size as a frame-to-frame match's would: icp_sigma_m holds at every csr
+// (measured on the corridor drive: scaling it with csr made adaptive's ATE worse, 6.7 -> 7.2 cm).
 Fusion fuseWithOdometry(const TrackingQuality& quality, const Eigen::Isometry3d& previous,
                         const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted,
                         const OdometryStep& step, const OdometryConfig& c);

@@ -139,7 +139,8 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   monitor_.resolve(pipeline_, frame, depthScale_, rec, motion);
   const FrameResult& r = rec.result;
   pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
-                        FrameOverrides{rec.decision.integrate, rec.decision.keepReference, rec.decision.refinedPose});
+                        FrameOverrides{rec.decision.integrate, rec.decision.keepReference, rec.decision.refinedPose,
+                                       rec.odometry.fused});
   monitor_.after(frame, depthScale_, rec);
   next_ = rec.decision.next;
   nextStart_ = IcpStart{rec.decision.nextStartPose, rec.decision.nextHoldBelowConditioning};

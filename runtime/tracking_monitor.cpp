@@ -1,6 +1,8 @@
 #include "runtime/tracking_monitor.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <vector>
 
 namespace sb {
 
@@ -55,10 +57,26 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
     relocalise(pipeline, frame, depthScale, rec);
     return;
   }
-  if (r.tracked && !d.correctedPose && motion.hasPrevious) checkPhysics(pipeline, rec, motion);
+  if (r.tracked && motion.step) {
+    // With odometry the view and the wheels are weighed first; where they disagree along a motion the view
+    // fixes, physics says who is wrong: a tracked motion the platform cannot make is the view's error (the
+    // pose follows the odometry below), a plausible one says the wheels slipped (the tracked pose stands).
+    fuse(rec, motion);
+    if (rec.odometry.rejected && !d.correctedPose) {
+      checkPhysics(pipeline, rec, motion);
+      if (!r.tracked) {
+        rec.odometry.rejected = false;
+        rec.odometry.why.clear();
+      }
+    }
+  } else if (r.tracked && !d.correctedPose && motion.hasPrevious) {
+    checkPhysics(pipeline, rec, motion);
+  }
   if (r.tracked) {
     failedInARow_ = 0;
-    if (motion.step) fuse(rec, motion);
+    implausibleInARow_ = 0;
+    agreement_.push_back(r.pairAgreement);
+    if (agreement_.size() > kAgreementFrames) agreement_.pop_front();
     odometryPose_.reset();
     odometryDistanceM_ = odometryTimeS_ = 0.0;
     const double dt = r.timestamp - motion.previousStamp;
@@ -69,13 +87,19 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
     rec.state = last_ = r.quality.known && !r.quality.constrained ? TrackingState::weak : TrackingState::good;
     return;
   }
-  lastVelocity_.reset();
+  if (rec.implausible.empty()) lastVelocity_.reset();
   if (motion.step && followOdometry(rec, motion)) {
     failedInARow_ = 0;
     rec.state = last_ = TrackingState::odometry;
     return;
   }
   rec.state = last_ = TrackingState::lost;
+  if (!rec.implausible.empty() && ++implausibleInARow_ < kMaxImplausibleInARow) {
+    // The view matched the model elsewhere; the next frame tracks again from the extrapolated pose (a turn
+    // before a bare wall, a spliced frame), until too many in a row say the tracker is not coming back.
+    return;
+  }
+  implausibleInARow_ = 0;
   // With odometry whose budget is spent the pose is held from now on; without, after lost_after_failed_frames.
   if (++failedInARow_ >= config_.lostAfterFailedFrames || motion.step) {
     recovering_ = true;
@@ -88,14 +112,29 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
 
 void TrackingMonitor::checkPhysics(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion) {
   FrameResult& r = rec.result;
-  const std::string why = odometry::implausibleMotion(config_.odometry, motion.previousPose, r.T_camera_to_world,
-                                                      r.timestamp - motion.previousStamp, lastVelocity_);
+  const odometry::OdometryConfig& c = config_.odometry;
+  const double dt = r.timestamp - motion.previousStamp;
+  const std::string why =
+      odometry::implausibleMotion(c, motion.previousPose, r.T_camera_to_world, dt, lastVelocity_);
   if (why.empty()) return;
+  // The estimate catching up (the view agrees as well as before, within ICP's reach): it stands.
+  const double excess =
+      (r.T_camera_to_world.translation() - motion.previousPose.translation()).norm() - c.maxSpeedMPerS * dt;
+  if (!agreement_.empty() && excess <= c.maxCorrectionM) {
+    std::vector<double> recent(agreement_.begin(), agreement_.end());
+    std::nth_element(recent.begin(), recent.begin() + recent.size() / 2, recent.end());
+    if (r.pairAgreement >= recent[recent.size() / 2] - c.jumpAgreementMargin) return;
+  }
   // Not a motion this platform makes: the view matched the model somewhere else (a runaway, a spliced frame).
-  // Discarded like a failed track: the pose stays the previous one (or follows the odometry), nothing fused.
+  // Discarded like a failed track: the pose goes on at the last velocity (or follows the odometry), nothing
+  // fused, and the next frame tracks from there; a run of them ends as failures (relocalisation).
   rec.implausible = why;
   pipeline.discardTrack(r);
   Decision& d = rec.decision;
+  // The pose goes on at the last plausible velocity (held without one), the rotation held.
+  Eigen::Isometry3d extrapolated = motion.previousPose;
+  if (lastVelocity_ && dt > 0) extrapolated.translation() += *lastVelocity_ * dt;
+  d.correctedPose = extrapolated;
   d.refinedPose.reset();
   d.integrate = false;
   d.keepReference = false;
@@ -116,6 +155,7 @@ void TrackingMonitor::fuse(FrameRecord& rec, const FrameMotion& motion) {
   }
   rec.odometry.used = true;
   d.refinedPose = f.pose;
+  d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
 }
 
 bool TrackingMonitor::followOdometry(FrameRecord& rec, const FrameMotion& motion) {
@@ -136,7 +176,12 @@ bool TrackingMonitor::followOdometry(FrameRecord& rec, const FrameMotion& motion
   Decision& d = rec.decision;
   d.correctedPose = pose;
   d.refinedPose.reset();
-  d.integrate = false;
+  // A covered lens or a blank view: nothing fused. When the view is back but the model in it is too sparse to
+  // track against (the volume moved on while the camera was blind, the region ahead was never mapped), the
+  // frame is fused at the odometry's pose, within its drift bound: the map's weights keep what it held, the
+  // holes fill, and the next frame tracks against it.
+  rec.odometry.fused = rec.result.trackingAttempted && rec.result.inlierFraction > 0.0 && rec.implausible.empty();
+  d.integrate = rec.odometry.fused;
   d.keepReference = false;
   d.nextStartPose.reset();
   rec.odometry.used = true;

@@ -13,6 +13,7 @@
 // tracked motion the platform cannot make is not trusted (odometry/odometry_config.h: its physics).
 
 #include <cstddef>
+#include <deque>
 #include <string>
 
 #include "drivers/frame_source.h"
@@ -66,6 +67,12 @@ class TrackingMonitor {
   int failedInARow_ = 0;
   bool recovering_ = false;
   TrackingState last_ = TrackingState::good;  // of the last frame with a tracking attempt
+  // Frames in a row whose tracked motion the platform cannot make: the pose goes on at the last velocity and the
+  // next frame tracks from there, up to this many (1 s at 30 Hz); then they count as failures (relocalisation).
+  static constexpr int kMaxImplausibleInARow = 30;
+  static constexpr size_t kAgreementFrames = 30;  // the recent tracked frames a jump's evidence is held against
+  int implausibleInARow_ = 0;
+  std::deque<double> agreement_;  // pair agreement of the last tracked frames (the evidence a jump must keep)
   std::optional<Eigen::Vector3d> lastVelocity_;  // m/s, world frame: of the last tracked frame's motion
   // Dead reckoning on the odometry since depth last tracked: the pose, the distance and time driven.
   std::optional<Eigen::Isometry3d> odometryPose_;
