@@ -11,7 +11,7 @@ odometry::OdometrySample toOdometrySample(const OdomSample& s) {
   out.T_camera_to_odom.linear() = Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized().toRotationMatrix();
   out.T_camera_to_odom.translation() = Eigen::Vector3d(s.position[0], s.position[1], s.position[2]);
   if (s.covariance)
-    out.covariance = Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(s.covariance->data());
+    out.covariance = odometry::Matrix6(Eigen::Map<const Eigen::Matrix<double, 6, 6, Eigen::RowMajor>>(s.covariance->data()));
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "runtime/odometry_input.h"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/error.h"

@@ -44,7 +44,7 @@ const Drive& drive() {
   return d;
 }
 
-std::vector<std::string> daemonArgs(const std::string& socket, const std::string& out, const std::string& odometry,
+std::vector<std::string> driveDaemonArgs(const std::string& socket, const std::string& out, const std::string& odometry,
                                     const std::string& pacing) {
   return {kDaemon, "--input", drive().sequence, "--out", out, "--socket", socket, "--pacing", pacing,
           "--at-end", "exit", "--controller", "fixed", "--set", "slam.threads=1", "--set",
@@ -94,14 +94,14 @@ TEST_CASE("odometry: run, the daemon's replay and the socket give the run the sa
     CHECK(poses(out + "/trajectory.tum") == poses(runOut + "/trajectory.tum"));
   };
   SECTION("the daemon's replay reads odometry.txt") {
-    ChildProcess d(daemonArgs(tmp.path + "/s.sock", tmp.path + "/d", "auto", "fast"), {}, tmp.path + "/log.txt");
+    ChildProcess d(driveDaemonArgs(tmp.path + "/s.sock", tmp.path + "/d", "auto", "fast"), {}, tmp.path + "/log.txt");
     REQUIRE(d.wait(60) == 0);
     INFO(d.log());
     sameAsRun(tmp.path + "/d", drive().sequence + "/odometry.txt");
   }
   SECTION("the socket: slamboosterctl odom pushes the file with ?ODOM") {
     // Recorded pacing at a fifth of the speed: the samples are all in before the second frame (0.17 s).
-    auto args = daemonArgs(tmp.path + "/s.sock", tmp.path + "/d", "socket", "recorded");
+    auto args = driveDaemonArgs(tmp.path + "/s.sock", tmp.path + "/d", "socket", "recorded");
     args.insert(args.end(), {"--set", "source.speed=0.2"});
     ChildProcess d(args, {}, tmp.path + "/log.txt");
     REQUIRE(sb::test::waitForPath(tmp.path + "/s.sock", 20));
@@ -118,7 +118,7 @@ TEST_CASE("odometry: run, the daemon's replay and the socket give the run the sa
     sameAsRun(tmp.path + "/d", "socket");
   }
   SECTION("source.odometry none: ?ODOM refused") {
-    auto args = daemonArgs(tmp.path + "/s.sock", tmp.path + "/d", "none", "recorded");
+    auto args = driveDaemonArgs(tmp.path + "/s.sock", tmp.path + "/d", "none", "recorded");
     ChildProcess d(args, {}, tmp.path + "/log.txt");
     REQUIRE(sb::test::waitForPath(tmp.path + "/s.sock", 20));
     const auto push = runCommand(kCtl + " --socket " + tmp.path + "/s.sock odom " + drive().sequence + "/odometry.txt");

@@ -1,5 +1,6 @@
 #include "tests/ros/bag_writer.h"
 
+#include <Eigen/Geometry>
 #include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
 #include <tf2_msgs/TFMessage.h>

@@ -2,6 +2,7 @@
 // from /tf_static (or --camera-mount) gives `slambooster run FILE.bag` and the daemon's replay of the bag the
 // samples of the drive's odometry.txt, and the same trajectory as the drive's TUM directory.
 
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
 
