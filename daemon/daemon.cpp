@@ -14,6 +14,7 @@
 #include "core/input_file.h"
 #include "daemon/daemon_parts.h"
 #include "daemon/fd_budget.h"
+#include "daemon/odom_intake.h"
 #include "daemon/peer_auth.h"
 #include "daemon/source_registry.h"
 #include "power/energy_json.h"
@@ -130,6 +131,7 @@ int Daemon::run() {
   Mailbox& mailbox = *p.mailbox;
   try {
     p.worker = makeWorker(info, mailbox);
+    p.worker->setOdometry(openDaemonOdometry());
   } catch (const ConfigError&) {
     throw;
   } catch (const Error& e) {
@@ -297,6 +299,29 @@ nlohmann::json Daemon::status() {
     j["energy"] = energy;
   }
   return j;
+}
+
+OdometryInput Daemon::openDaemonOdometry() {
+  const SourceConfig& c = config_.source;
+  OdometryInput in;
+  if (c.odometry != "socket")
+    in = openOdometry(c.odometry, c.type == "replay" ? c.path : std::string(),
+                      BagOdometryOptions{c.odomTopic, c.cameraMount});
+  if (!in.track && (c.odometry == "auto" || c.odometry == "socket")) {
+    liveOdometry_ = liveOdometry("socket");
+    in = liveOdometry_;
+  }
+  if (in.track) spdlog::info("odometry: {} ({} samples)", in.source, in.track->size());
+  return in;
+}
+
+nlohmann::json Daemon::odometry(const OdomRequest& request) {
+  if (!liveOdometry_.track)
+    throw Error(config_.source.odometry == "none"
+                    ? "?ODOM: this daemon takes no odometry (source.odometry is \"none\")"
+                    : "?ODOM: this daemon's odometry comes from " + config_.source.odometry +
+                          " (source.odometry \"socket\" or \"auto\" without a file takes ?ODOM)");
+  return addOdomSamples(*liveOdometry_.track, request);
 }
 
 nlohmann::json Daemon::control(const ControlRequest& request) {

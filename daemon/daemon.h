@@ -18,6 +18,7 @@
 #include "daemon/daemon_config.h"
 #include "daemon/protocol.h"
 #include "daemon/service_state.h"
+#include "runtime/odometry_input.h"
 
 namespace sb {
 struct SequenceInfo;
@@ -49,8 +50,11 @@ class Daemon : public ServiceState {
 
   nlohmann::json status() override;
   nlohmann::json control(const ControlRequest& request) override;
+  nlohmann::json odometry(const OdomRequest& request) override;
 
  private:
+  // The odometry of source.odometry (runtime/odometry_input.h); the socket's live track when it takes ?ODOM.
+  OdometryInput openDaemonOdometry();
   struct Parts;
   std::unique_ptr<SlamWorker> makeWorker(const SequenceInfo& info, Mailbox& mailbox);
   void onSignal();
@@ -65,6 +69,7 @@ class Daemon : public ServiceState {
   std::string release_;
   std::chrono::steady_clock::time_point started_;
   std::unique_ptr<Parts> parts_;
+  OdometryInput liveOdometry_;  // what ?ODOM adds to (shared with the SLAM thread); no track: ?ODOM refused
   bool stopping_ = false;
   bool workerDone_ = false;
 };

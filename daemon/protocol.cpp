@@ -19,7 +19,7 @@ struct CommandName {
 constexpr CommandName kCommands[] = {
     {"WATCH", Command::watch, true, false},      {"POLL", Command::poll, false, false},
     {"STATUS", Command::status, false, false},   {"CONTROL", Command::control, true, true},
-    {"VERSION", Command::version, false, false},
+    {"VERSION", Command::version, false, false}, {"ODOM", Command::odom, true, true},
 };
 
 std::string knownCommands() {
@@ -156,6 +156,7 @@ ParseResult parseRequest(std::string_view line) {
   r.command = command->command;
   if (r.command == Command::watch && !readWatch(args, r.watch, result.error)) return result;
   if (r.command == Command::control && !readControl(args, r.control, result.error)) return result;
+  if (r.command == Command::odom && !readOdom(args, r.odom, result.error)) return result;
   result.request = std::move(r);
   return result;
 }

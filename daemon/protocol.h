@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "daemon/odom_request.h"
 #include "pipeline/knobs.h"
 #include "core/tracking_state.h"
 
@@ -24,13 +25,14 @@ constexpr int kProtoMajor = 1;
 // relocalised) and STATUS a tracking_state object; 3: POSE carries velocity_m_per_frame, the frame log's name
 // of its velocity (which it still carries as well); 4: the state `odometry`, POSE's odometry and
 // odometry_drift_m (docs/odometry.md).
-constexpr int kProtoMinor = 4;
+// 5: ?ODOM (any local client pushes the robot's odometry: daemon/odom_request.h).
+constexpr int kProtoMinor = 5;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
 constexpr size_t kMaxNameBytes = 64;
 
-enum class Command { watch, poll, status, control, version };
+enum class Command { watch, poll, status, control, version, odom };
 
 struct WatchRequest {  // fields absent from the request stay unset (the client's current choice is kept)
   std::optional<bool> enable, pose, knobs, energy;
@@ -46,6 +48,7 @@ struct Request {
   Command command = Command::poll;
   WatchRequest watch;      // command == watch
   ControlRequest control;  // command == control
+  OdomRequest odom;        // command == odom
 };
 
 struct ParseResult {

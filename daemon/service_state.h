@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.h"
 #include "daemon/protocol.h"
 
 namespace sb::daemon {
@@ -16,6 +17,14 @@ class ServiceState {
   // Applies an authorised ?CONTROL request and returns the CONTROL reply fields (without "class"). Throws
   // sb::Error with a message for the ERROR reply when the request cannot be applied (nothing changes then).
   virtual nlohmann::json control(const ControlRequest& request) = 0;
+  // Adds ?ODOM's samples to the live odometry and returns the ODOM reply fields (without "class"). Throws
+  // sb::Error naming the sample when one is refused (the samples before it stay added), or when this daemon
+  // takes no odometry from the socket.
+  virtual nlohmann::json odometry(const OdomRequest& request);
 };
+
+inline nlohmann::json ServiceState::odometry(const OdomRequest&) {
+  throw Error("?ODOM: this daemon takes no odometry from the socket");
+}
 
 }  // namespace sb::daemon

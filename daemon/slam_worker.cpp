@@ -213,6 +213,7 @@ void SlamWorker::startPass(Passes& p) {
   RunSummary header =
       runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, p.pool.threadCount());
   header.daemon = DaemonPass{p.pass, stats().cpus, stats().threads};
+  header.odometry = odometry_.summary();
   RunOutputs outputs;
   outputs.dir = dir;
   outputs.groundTruthPath = p.pass == 1 ? sequence_.groundTruthPath : "";
@@ -224,6 +225,7 @@ void SlamWorker::startPass(Passes& p) {
   outputs.slabRetention = segments_ ? segments_ : passRetention_;
   p.run = std::make_unique<Run>(std::move(pipeline), std::move(controller), sequence_.depthScale, outputs,
                                 p.energy ? &*p.energy : nullptr);
+  if (odometry_.track) p.run->runner().setOdometry(odometry_.track);
   if (publishEnergy_)
     p.run->setEnergyListener([this](const power::FrameEnergy& e) {
       if (e.known) publishEnergy_(e);

@@ -25,6 +25,7 @@
 #include "pipeline/config.h"
 #include "power/power_sampler.h"
 #include "runtime/knob_pins.h"
+#include "runtime/odometry_input.h"
 #include "runtime/slam_runner.h"
 
 namespace sb::daemon {
@@ -87,6 +88,10 @@ class SlamWorker {
   // (daemon/pass_directories.h), so that the passes of a replay looping for weeks never fill the disk.
   void setPassRetention(std::shared_ptr<SegmentStore> retention) { passRetention_ = std::move(retention); }
 
+  // Before start(): every pass's runner reads this odometry (runtime/odometry_input.h; its track may be the
+  // live one the socket adds to), and its summary says so. Default: none.
+  void setOdometry(OdometryInput odometry) { odometry_ = std::move(odometry); }
+
   void start();
   void requestStop() { stop_ = true; }
   void join();
@@ -126,6 +131,7 @@ class SlamWorker {
   EnergyPublish publishEnergy_;
   std::shared_ptr<SegmentStore> segments_;
   std::shared_ptr<SegmentStore> passRetention_;
+  OdometryInput odometry_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 

@@ -181,6 +181,14 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
       s["accept_pauses"] = acceptPauses_;
       return reply(client, statusMessage(std::move(s)));
     }
+    case Command::odom:
+      try {
+        nlohmann::json result = state_.odometry(r.odom);
+        result["class"] = "ODOM";
+        return reply(client, result);
+      } catch (const Error& e) {
+        return reply(client, errorMessage(e.what()));
+      }
     case Command::control: {
       if (!policy_.allowed(client.peer())) return reply(client, permissionDenied(client));
       try {

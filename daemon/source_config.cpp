@@ -45,6 +45,10 @@ void SourceConfig::read(ConfigReader& r) {
                               " raw units per metre (1000 for millimetres, 5000 for TUM)");
   r.integer("queue_frames", queueFrames, 1, 256);
   r.string("depth_topic", depthTopic);
+  r.string("odometry", odometry);
+  if (odometry.empty()) r.fail("odometry", "\"auto\", \"socket\", \"none\" or the path of an odometry.txt");
+  r.string("odom_topic", odomTopic);
+  r.string("camera_mount", cameraMount);
   r.section("camera", [&](ConfigReader& section) { camera.read(section); });
   const auto types = sourceTypes();
   if (std::find(types.begin(), types.end(), type) == types.end()) {
@@ -78,6 +82,9 @@ nlohmann::json SourceConfig::toJson() const {
           {"depth_scale", depthScale},
           {"queue_frames", queueFrames},
           {"depth_topic", depthTopic},
+          {"odometry", odometry},
+          {"odom_topic", odomTopic},
+          {"camera_mount", cameraMount},
           {"camera", camera.toJson()}};
 }
 

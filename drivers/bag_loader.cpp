@@ -17,6 +17,7 @@ namespace fs = std::filesystem;
 
 struct LoadedPlugin {
   SbOpenBagFn open = nullptr;
+  SbReadBagOdometryFn odometry = nullptr;
   std::string error;  // why it could not be loaded (then open is null)
 };
 
@@ -51,13 +52,15 @@ LoadedPlugin load() {
     }
     const auto abi = reinterpret_cast<SbBagPluginAbiFn>(dlsym(handle, kBagPluginAbiSymbol));
     const auto open = reinterpret_cast<SbOpenBagFn>(dlsym(handle, kBagPluginOpenSymbol));
-    if (!abi || !open || abi() != kBagPluginAbi) {
+    const auto odometry = reinterpret_cast<SbReadBagOdometryFn>(dlsym(handle, kBagPluginOdometrySymbol));
+    if (!abi || !open || !odometry || abi() != kBagPluginAbi) {
       plugin.error = "the bag plugin '" + path + "' is of another version than this program (ABI " +
                      (abi ? std::to_string(abi()) : std::string("unknown")) + ", expected " +
                      std::to_string(kBagPluginAbi) + "): install matching slambooster and slambooster-ros";
       return plugin;
     }
     plugin.open = open;
+    plugin.odometry = odometry;
     return plugin;
   }
   plugin.error = "reading ROS bag files needs the bag plugin (" + std::string(kBagPluginFile) +
@@ -66,14 +69,30 @@ LoadedPlugin load() {
   return plugin;
 }
 
+const LoadedPlugin& plugin() {
+  static std::once_flag once;
+  static LoadedPlugin loaded;
+  std::call_once(once, [] { loaded = load(); });
+  return loaded;
+}
+
 }  // namespace
 
 std::unique_ptr<FrameSource> openBag(const std::string& path, const SequenceOptions& options) {
-  static std::once_flag once;
-  static LoadedPlugin plugin;
-  std::call_once(once, [] { plugin = load(); });
-  if (!plugin.open) throw Error("opening '" + path + "': " + plugin.error);
-  return std::unique_ptr<FrameSource>(plugin.open(path, options));
+  const LoadedPlugin& p = plugin();
+  if (!p.open) throw Error("opening '" + path + "': " + p.error);
+  return std::unique_ptr<FrameSource>(p.open(path, options));
+}
+
+std::vector<odometry::OdometrySample> readBagOdometry(const std::string& path, const std::string& topic,
+                                                     const std::string& cameraMount, std::string* source) {
+  const LoadedPlugin& p = plugin();
+  if (!p.odometry) throw Error("reading the odometry of '" + path + "': " + p.error);
+  std::vector<odometry::OdometrySample> out;
+  std::string from;
+  p.odometry(path, topic, cameraMount, out, from);
+  if (source) *source = from;
+  return out;
 }
 
 }  // namespace sb

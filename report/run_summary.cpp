@@ -128,6 +128,14 @@ void fieldsOf(AteSummary& a, Field field) {
 }
 
 template <typename Field>
+void fieldsOf(OdometrySummary& o, Field field) {
+  field("source", o.source);
+  field("samples", o.samples);
+  field("frames_with_pose", o.framesWithPose);
+  field("path_m", o.pathM);
+}
+
+template <typename Field>
 void fieldsOf(StoppedSummary& x, Field field) {
   field("at_frame", x.atFrame);
   field("limit_ms", x.limitMs);
@@ -232,6 +240,7 @@ json RunSummary::toJson() const {
             {"tracking_state", sectionJson(trackingState)}};
   if (machine) j["machine"] = sectionJson(*machine);
   if (daemon) j["daemon"] = sectionJson(*daemon);
+  if (odometry) j["odometry"] = sectionJson(*odometry);
   if (ate) j["ate"] = sectionJson(*ate);
   if (!ateError.empty()) j["ate_error"] = ateError;
   if (cpuMsPerFrame) j["cpu_ms_per_frame"] = *cpuMsPerFrame;
@@ -282,6 +291,7 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.counts("knob_frames", s.knobFrames);
   f.counts("controller_frames", s.controllerFrames);
   if (f.find("tracking_state")) fieldsOf(s.trackingState, Reader{f.nested("tracking_state")});
+  readSection(f, "odometry", s.odometry);
   readSection(f, "ate", s.ate);
   f.string("ate_error", s.ateError);
   f.optionalNumber("cpu_ms_per_frame", s.cpuMsPerFrame);

@@ -55,6 +55,14 @@ struct TrackingStateSummary {
   bool lostAtEnd = false;
 };
 
+// The robot's odometry the run was given ("odometry"; runtime/odometry_input.h): absent without one.
+struct OdometrySummary {
+  std::string source;         // where from: a file's path, "BAG TOPIC ...", "socket", ...
+  size_t samples = 0;         // samples the track held at the last frame
+  size_t framesWithPose = 0;  // frames whose stamp the odometry covered (interpolated)
+  double pathM = 0.0;         // the odometry camera's path over those frames, metres
+};
+
 struct StoppedSummary {  // `run --stop-after-ms` stopped the run ("stopped")
   size_t atFrame = 0;
   double limitMs = 0.0, computationMs = 0.0;
@@ -95,6 +103,7 @@ struct RunSummary {
   std::map<std::string, size_t> triggers, knobFrames;  // trigger -> frames; formatKnobs -> frames
   std::map<std::string, size_t> controllerFrames;      // controller -> frames it decided
   TrackingStateSummary trackingState;
+  std::optional<OdometrySummary> odometry;
 
   // At flushes and at the end.
   std::optional<AteSummary> ate;

@@ -37,6 +37,9 @@ struct BridgeConfig {
   std::string pushSocket;                      // the daemon's push source socket (source.type "push")
   std::string depthTopic = "camera/depth/image";  // sensor_msgs/Image, 16UC1 (mm) or 32FC1 (m)
   std::string cameraInfoTopic;                 // empty: camera_info beside depth_topic
+  // The robot's odometry into the daemon (?ODOM; empty odom_topic: off).
+  std::string odomTopic = "/odom";                               // nav_msgs/Odometry
+  std::string odomCameraFrame = "camera_depth_optical_frame";  // the depth camera's optical frame in TF
   double pushDepthScale = 0.0;  // raw units per metre of the frames handed to the daemon; 0 = from the
                                 // encoding (16UC1: 1000, its millimetres as they are; 32FC1: 5000, 0.2 mm)
 };

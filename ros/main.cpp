@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "ros/daemon_link.h"
 #include "ros/depth_forwarder.h"
+#include "ros/odometry_forwarder.h"
 #include "ros/odometry_publisher.h"
 #include "ros/ros_params.h"
 
@@ -27,6 +28,8 @@ int main(int argc, char** argv) {
   // delays a depth frame.
   std::unique_ptr<sb::ros_bridge::DepthForwarder> forwarder;
   if (!config.pushSocket.empty()) forwarder = std::make_unique<sb::ros_bridge::DepthForwarder>(node, config);
+  std::unique_ptr<sb::ros_bridge::OdometryForwarder> wheels;  // the robot's odometry to the daemon (?ODOM)
+  if (!config.odomTopic.empty()) wheels = std::make_unique<sb::ros_bridge::OdometryForwarder>(node, config);
   ros::AsyncSpinner spinner(1);
   spinner.start();
   sb::ros_bridge::OdometryPublisher publisher(node, privateNode, config);

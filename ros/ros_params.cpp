@@ -42,6 +42,10 @@ BridgeConfig readBridgeConfig(const ros::NodeHandle& n) {
   n.param("depth_topic", c.depthTopic, c.depthTopic);
   n.param("camera_info_topic", c.cameraInfoTopic, c.cameraInfoTopic);
   n.param("push_depth_scale", c.pushDepthScale, c.pushDepthScale);
+  n.param("odom_topic", c.odomTopic, c.odomTopic);
+  n.param("odom_camera_frame", c.odomCameraFrame, c.odomCameraFrame);
+  if (!c.odomTopic.empty() && c.odomCameraFrame.empty())
+    throw Error("parameter ~odom_camera_frame is empty while ~odom_topic is set: name the depth camera's optical frame");
 
   if (c.socketPath.empty()) throw Error("parameter ~socket is empty: give slamboosterd's socket path");
   if (c.mapFrame.empty() || c.cameraFrame.empty() || c.mapFrame == c.cameraFrame)

@@ -26,6 +26,7 @@
 #include "core/thread_pool.h"
 #include "runtime/energy_account.h"
 #include "runtime/map_slabs.h"
+#include "runtime/odometry_input.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 
@@ -98,6 +99,7 @@ class Run {
   std::unique_ptr<RotatingFile> energyLog_;  // energy.jsonl, with an energy account
   std::function<void(const power::FrameEnergy&)> listener_;
   std::unique_ptr<MapSlabs> mapSlabs_;  // RunOutputs::mapSlabs with a moving volume
+  std::optional<Eigen::Isometry3d> lastOdometryPose_;  // of the last frame the odometry covered
 };
 
 // The "overview" viewpoint of model.png: above and behind the volume centre, looking at it.

@@ -273,13 +273,27 @@ StressKind parseStressKind(const std::string& name) {
   throw Error("synth: unknown stress trajectory '" + name + "'; use one of: " + known);
 }
 
+namespace {
+
+// The seed of a stress kind's generator: each kind its own stream for the same --seed.
+uint64_t stressSeed(StressKind kind, uint64_t seed) {
+  constexpr uint64_t kSalts[] = {0xB0257ull,   0xB1A4Cull,   0x4A2DB0257ull, 0x20B07ull, 0x9A4ull,
+                                 0xC022D02ull, 0x41D4A9ull, 0x41D4A9A0ull,  0xD21BEull};
+  return seed * 0x9E3779B97F4A7C15ull + kSalts[static_cast<int>(kind)];
+}
+
+}  // namespace
+
+stress::DrivePath drivePath(const Scene& scene, uint64_t seed, const StressParams& params) {
+  Rng rng(stressSeed(StressKind::Drive, seed));
+  return stress::DrivePath(scene, params, rng);
+}
+
 StressTrajectory stressTrajectory(StressKind kind, const Scene& scene, uint64_t seed,
                                   const StressParams& params) {
   if (!scene.hasRoom)
     throw Error("synth: stress trajectories need a generated room (scene '" + scene.name + "' has none)");
-  constexpr uint64_t kSalts[] = {0xB0257ull,   0xB1A4Cull,   0x4A2DB0257ull, 0x20B07ull, 0x9A4ull,
-                                 0xC022D02ull, 0x41D4A9ull, 0x41D4A9A0ull,  0xD21BEull};
-  Rng rng(seed * 0x9E3779B97F4A7C15ull + kSalts[static_cast<int>(kind)]);
+  Rng rng(stressSeed(kind, seed));
   switch (kind) {
     case StressKind::Bursts:
       return burstsTrajectory(scene, params, rng);

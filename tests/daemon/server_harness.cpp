@@ -26,6 +26,10 @@ nlohmann::json ScriptedState::status() {
           {"uptime_s", 1.0}};
 }
 
+nlohmann::json ScriptedState::odometry(const daemon::OdomRequest& request) {
+  return daemon::addOdomSamples(odometryTrack, request);
+}
+
 nlohmann::json ScriptedState::control(const daemon::ControlRequest& request) {
   if (request.controller && *request.controller == "nosuch")
     throw Error("?CONTROL: unknown controller 'nosuch' (known: fixed, slambooster)");

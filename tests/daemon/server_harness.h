@@ -11,6 +11,7 @@
 #include "daemon/event_loop.h"
 #include "core/unique_fd.h"
 #include "daemon/mailbox.h"
+#include "daemon/odom_intake.h"
 #include "daemon/socket_server.h"
 #include "daemon/unix_socket.h"
 
@@ -21,7 +22,10 @@ class ScriptedState : public daemon::ServiceState {
  public:
   nlohmann::json status() override;
   nlohmann::json control(const daemon::ControlRequest& request) override;
+  // ?ODOM into a live track, as the daemon does (daemon/odom_intake.h).
+  nlohmann::json odometry(const daemon::OdomRequest& request) override;
   std::vector<std::string> controls;  // what control() was asked, in order (event-loop thread)
+  odometry::OdometryTrack odometryTrack;
 };
 
 // The deterministic frame report number n of the golden scripts.

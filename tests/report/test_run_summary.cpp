@@ -41,6 +41,7 @@ RunSummary sample() {
   s.cpuMsPerFrame = 12.5;
   s.stopped = sb::StoppedSummary{30, 100.0, 101.0};
   s.interrupted = sb::InterruptedSummary{"SIGTERM", 30};
+  s.odometry = sb::OdometrySummary{"seq/odometry.txt", 812, 30, 2.25};
   s.energy = {{"joules_per_frame", 0.25}, {"mean_watts", 5.0}};
   s.modelView = "overview";
   s.movingVolume = {{"shifts", 3}};
@@ -61,6 +62,8 @@ TEST_CASE("RunSummary: every field survives toJson and fromJson", "[report][summ
   CHECK(back.schemaVersion == sb::kRunSummarySchema);
   CHECK(back.daemon->cpus == "4-7");
   CHECK(back.ate->matches == 28);
+  CHECK(back.odometry->framesWithPose == 30);
+  CHECK(written["odometry"]["source"] == "seq/odometry.txt");
   CHECK(back.joulesPerFrame() == 0.25);
   CHECK(back.energyNumber("mean_watts") == 5.0);
   CHECK(std::isnan(RunSummary{}.joulesPerFrame()));
@@ -73,7 +76,7 @@ TEST_CASE("RunSummary: every field survives toJson and fromJson", "[report][summ
 TEST_CASE("RunSummary: optional sections are absent until set", "[report][summary]") {
   const json j = RunSummary{}.toJson();
   for (const char* key : {"ate", "ate_error", "machine", "daemon", "stopped", "energy", "complete",
-                          "moving_volume", "mesh_triangles", "error", "model_view", "cpu_ms_per_frame"})
+                          "moving_volume", "mesh_triangles", "error", "model_view", "cpu_ms_per_frame", "odometry"})
     CHECK_FALSE(j.contains(key));
   CHECK(j["schema_version"] == sb::kRunSummarySchema);
 }

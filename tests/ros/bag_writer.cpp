@@ -1,15 +1,20 @@
 #include "tests/ros/bag_writer.h"
 
+#include <Eigen/Geometry>
+#include <nav_msgs/Odometry.h>
 #include <rosbag/bag.h>
+#include <tf2_msgs/TFMessage.h>
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 
 #include "drivers/sequence.h"
+#include "core/trajectory.h"
 #include "drivers/tum_writer.h"
 
 namespace sb::test::ros_e2e {
@@ -23,6 +28,60 @@ std::unique_ptr<FrameSource> openPlain(const std::string& sequence) {
   SequenceOptions o;
   o.prefetch = false;
   return openSequence(sequence, o);
+}
+
+Eigen::Isometry3d mount() {
+  std::istringstream in(kBagCameraMount);
+  double v[7];
+  for (double& x : v) in >> x;
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(v[6], v[3], v[4], v[5]).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
+  return T;
+}
+
+// The base's odometry (the camera's poses less the mount) on /odom, and the mount on /tf_static.
+void writeOdometry(rosbag::Bag& bag, const BagSpec& spec) {
+  const Eigen::Isometry3d M = mount();
+  const ros::Time start(kRecordDelayS);
+  if (spec.tfStatic) {
+    tf2_msgs::TFMessage tf;
+    geometry_msgs::TransformStamped t;
+    t.header.stamp = start;
+    t.header.frame_id = "base_link";
+    t.child_frame_id = "openni_depth_optical_frame";
+    const Eigen::Quaterniond q(M.rotation());
+    t.transform.translation.x = M.translation().x();
+    t.transform.translation.y = M.translation().y();
+    t.transform.translation.z = M.translation().z();
+    t.transform.rotation.x = q.x();
+    t.transform.rotation.y = q.y();
+    t.transform.rotation.z = q.z();
+    t.transform.rotation.w = q.w();
+    tf.transforms.push_back(t);
+    bag.write("/tf_static", start, tf);
+  }
+  uint32_t seq = 0;
+  for (const TimedPose& p : readTumTrajectory(spec.odometryFile)) {
+    const Eigen::Isometry3d base = p.T_camera_to_world * M.inverse();
+    nav_msgs::Odometry o;
+    o.header.stamp = ros::Time(p.timestamp);
+    o.header.seq = seq++;
+    o.header.frame_id = "odom";
+    o.child_frame_id = "base_link";
+    const Eigen::Quaterniond q(base.rotation());
+    o.pose.pose.position.x = base.translation().x();
+    o.pose.pose.position.y = base.translation().y();
+    o.pose.pose.position.z = base.translation().z();
+    o.pose.pose.orientation.x = q.x();
+    o.pose.pose.orientation.y = q.y();
+    o.pose.pose.orientation.z = q.z();
+    o.pose.pose.orientation.w = q.w();
+    o.pose.covariance[0] = o.pose.covariance[7] = 1e-4;  // x, y; the rest unknown (large)
+    o.pose.covariance[14] = o.pose.covariance[21] = o.pose.covariance[28] = 1e6;
+    o.pose.covariance[35] = 1e-3;
+    bag.write("/odom", o.header.stamp + ros::Duration(kRecordDelayS), o);
+  }
 }
 
 }  // namespace
@@ -79,6 +138,7 @@ size_t writeBag(const std::string& bagPath, const std::string& sequence, const B
     }
     ++n;
   }
+  if (!spec.odometryFile.empty()) writeOdometry(bag, spec);
   bag.close();
   return n;
 }

@@ -15,7 +15,14 @@ struct BagSpec {
                                    // (only for a sequence of depth_scale 1000)
   bool cameraInfo = true;
   bool rgbTopic = true;
+  // An odometry.txt (T_camera_to_odom) to write as nav_msgs/Odometry on /odom (child frame base_link), with
+  // /tf_static base_link -> the depth images' frame (kBagCameraMount) unless tfStatic is false.
+  std::string odometryFile;
+  bool tfStatic = true;
 };
+
+// The camera mount the bags' /tf_static states ("x y z qx qy qz qw": 1.25 m up, optical axes; exact in binary).
+inline constexpr const char* kBagCameraMount = "0 0 1.25 -0.5 0.5 -0.5 0.5";
 
 // Returns the number of depth frames written. Throws std::runtime_error on a 16UC1 request for a sequence
 // whose depth scale is not 1000.

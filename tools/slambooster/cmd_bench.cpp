@@ -52,6 +52,7 @@ struct BenchOptions {
   size_t frames = 0;
   int jobs = 1;
   unsigned threads = 1;
+  bool noOdometry = false;  // --no-odometry: passed to every run
   bool quiet = false;
   MatrixMode matrix;  // --plan, --run-index, --shard, --report-only
 };
@@ -178,6 +179,7 @@ BenchPlan planBench(const BenchOptions& o) {
       j.outDir = o.out + "/runs/" + name + "/" + label;
       const std::string config = label == "offline" ? configOf["offline@" + name] : configOf[label];
       j.runArgs = {seq, "--config", config, "--threads", std::to_string(o.threads), "--frames", std::to_string(o.frames)};
+      if (o.noOdometry) j.runArgs.push_back("--no-odometry");  // else each run reads SEQ/odometry.txt
       if (!o.powerConfig.empty())
         j.runArgs.insert(j.runArgs.end(), {"--power", fs::absolute(o.powerConfig).string()});
       dirOf[{name, label}] = j.outDir;
@@ -330,6 +332,8 @@ void addBenchCommand(CLI::App& app, const std::vector<std::string>& commandLine)
   sub->add_option("--power", o->powerConfig,
                   "Power meter config (config/power.json keys) for every run: J/frame in results.csv and the main table\n"
                   "(runs then go one at a time: one meter cannot tell parallel runs apart)");
+  sub->add_flag("--no-odometry", o->noOdometry,
+                "Runs ignore the sequences' odometry.txt (by default each run reads its sequence's)");
   sub->add_flag("--quiet", o->quiet, "No progress");
   addMatrixOptions(*sub, o->matrix, commandLine);
   sub->callback([o] { benchCommand(*o); });

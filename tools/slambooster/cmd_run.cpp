@@ -31,6 +31,7 @@
 #include "pipeline/pipeline.h"
 #include "power/power_config.h"
 #include "runtime/energy_account.h"
+#include "runtime/odometry_input.h"
 #include "runtime/run.h"
 #include "runtime/run_setup.h"
 #include "tools/slambooster/commands.h"
@@ -61,6 +62,9 @@ struct RunOptions {
   bool quiet = false;
   std::string modelView = "last";  // viewpoint of model.png: "last" camera pose or "overview"
   std::string depthTopic;          // ROS bag input: the depth image topic (empty: the bag's only one)
+  std::string odometry;            // an odometry.txt (or .bag); empty: the sequence's own (runtime/odometry_input.h)
+  bool noOdometry = false;
+  BagOdometryOptions bagOdometry;  // ROS bag input: --odom-topic, --camera-mount
 };
 
 std::array<float, 3> parsePosition(const std::string& text) {
@@ -226,8 +230,11 @@ void runCommand(const RunOptions& o) {
   auto pipeline = Pipeline::create(setup.pipeline, info.intrinsics, pool);
   auto controller = createController(setup.controller, ControllerContext{setup.pipeline.knobs});
   const Knobs initial = controller->initialKnobs();
-  const RunSummary header =
+  const OdometryInput odometry =
+      openOdometry(o.noOdometry ? "none" : o.odometry.empty() ? "auto" : o.odometry, o.sequence, o.bagOdometry);
+  RunSummary header =
       runSummaryHeader("run", o.sequence, setup.controller, *controller, *pipeline, pool.threadCount());
+  header.odometry = odometry.summary();
   // Energy: the run borrows the account of a sampler this command owns.
   std::unique_ptr<power::PowerSampler> sampler;
   std::optional<EnergyAccount> energy;
@@ -247,6 +254,11 @@ void runCommand(const RunOptions& o) {
                     formatKnobs(initial) + " (volume frame)";
   outputs.mapSlabs = o.mesh;
   Run run(std::move(pipeline), std::move(controller), info.depthScale, outputs, energy ? &*energy : nullptr);
+  if (odometry.track) {
+    run.runner().setOdometry(odometry.track);
+    if (!o.quiet)
+      std::cerr << "odometry: " << odometry.track->size() << " samples from " << odometry.source << "\n";
+  }
 
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
   const LoopEnd loop = runFrames(o, *source, run, total);
@@ -274,6 +286,16 @@ void addRunCommand(CLI::App& app) {
       ->required();
   sub->add_option("--depth-topic", options->depthTopic,
                   "ROS bag: the depth sensor_msgs/Image topic (default: the bag's only 16UC1/32FC1 image topic)");
+  auto* odometryFile = sub->add_option(
+      "--odometry", options->odometry,
+      "The robot's odometry: a TUM-format file of the camera's poses in the odometry frame (default: the\n"
+      "sequence's odometry.txt when present, or a bag's only nav_msgs/Odometry topic)");
+  sub->add_flag("--no-odometry", options->noOdometry, "Ignore the sequence's odometry")->excludes(odometryFile);
+  sub->add_option("--odom-topic", options->bagOdometry.topic,
+                  "ROS bag: the nav_msgs/Odometry topic (default: the bag's only one)");
+  sub->add_option("--camera-mount", options->bagOdometry.cameraMount,
+                  "ROS bag: the depth camera's optical frame in the odometry's base frame, \"x y z qx qy qz qw\"\n"
+                  "(default: from the bag's /tf_static)");
   sub->add_option("--out", options->out, "Output directory")->required();
   sub->add_option("--config", options->configPath, "Pipeline config (JSON)");
   sub->add_option("--knobs", options->knobs, "Knobs, e.g. csr=2,icp=1e-4,pd=8:5:4,tr=1,ir=2 (on top of the preset)");

@@ -2,7 +2,8 @@
 // built-in one, or a stress trajectory) and write it in TUM layout. Stress sequences also get segments.csv
 // (label, first frame, end frame) naming their calm / burst / blank-wall parts. `--scene corridor` is a long
 // corridor (synth/corridor_scene.h) instead of a room; `--stress drive` drives it, with a volume hint that
-// holds the whole path; kidnap's covered frames are written with no depth.
+// holds the whole path, and odometry.txt beside depth.txt (the base's wheel odometry with stated, seeded errors:
+// synth/drive_odometry.h); kidnap's covered frames are written with no depth.
 
 #include <unistd.h>
 
@@ -21,7 +22,9 @@
 #include "core/trajectory.h"
 #include "synth/builtin_trajectory.h"
 #include "synth/corridor_scene.h"
+#include "synth/drive_odometry.h"
 #include "synth/scene_generator.h"
+#include "synth/stress_drive.h"
 #include "synth/stress_trajectory.h"
 #include "synth/synth_sequence.h"
 #include "tools/slambooster/commands.h"
@@ -63,6 +66,8 @@ struct SynthArgs {
   bool noNoise = false;
   unsigned threads = 0;
   synth::CorridorParams corridor;  // --scene corridor
+  synth::OdometryErrors odometry;  // --stress drive: odometry.txt
+  bool noOdometry = false;
 };
 
 // The scenes --scene takes: the generated rooms and the corridor.
@@ -122,6 +127,9 @@ void runSynth(SynthArgs& a) {
     trajectory = std::move(stress.poses);
     segments = std::move(stress.segments);
   }
+  const bool driveOdometry = !a.stress.empty() && synth::parseStressKind(a.stress) == synth::StressKind::Drive &&
+                             !a.noOdometry;
+  if (driveOdometry) a.odometry.validate();  // before anything is rendered
   const bool tty = isatty(STDERR_FILENO) != 0;
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -142,6 +150,13 @@ void runSynth(SynthArgs& a) {
     if (!csv) throw Error("synth: cannot write '" + o.outDir + "/segments.csv'");
     std::printf("synth: stress '%s': %zu segments in %s/segments.csv\n", a.stress.c_str(), segments.size(),
                 o.outDir.c_str());
+  }
+  if (driveOdometry) {
+    const synth::stress::DrivePath path = synth::drivePath(*stressScene, o.seed);
+    const Trajectory odometry = synth::driveOdometry(path, trajectory[r.frames - 1].timestamp, a.odometry, o.seed);
+    synth::writeOdometryFile(o.outDir + "/odometry.txt", odometry, a.odometry, o.seed);
+    std::printf("synth: odometry: %zu samples in %s/odometry.txt (%s)\n", odometry.size(), o.outDir.c_str(),
+                a.odometry.describe().c_str());
   }
   std::printf("synth: valid pixels %.1f%%; volume hint: cube %.2f m, first camera at (%.3f, %.3f, %.3f) of it\n",
               100.0 * r.validFraction, r.volume.sizeM, r.volume.initialPosition[0], r.volume.initialPosition[1],
@@ -218,6 +233,45 @@ void addSynthCommand(CLI::App& app) {
       ->check(kFinite & CLI::Range(0, kMaxDepthImageSide));
   sub->add_option("--threads", args->threads, "Worker threads (default: all cores)")
       ->check(CLI::Range(0u, kMaxThreads));
+  synth::OdometryErrors& odo = args->odometry;
+  const char* const odometryGroup = "Odometry of --stress drive (odometry.txt)";
+  sub->add_flag("--no-odometry", args->noOdometry, "--stress drive: do not write odometry.txt")
+      ->group(odometryGroup);
+  sub->add_option("--odom-rate", odo.rateHz, "Odometry samples per second (Hz)")
+      ->check(kFinite & CLI::Range(1.0, 1000.0))
+      ->capture_default_str()
+      ->group(odometryGroup);
+  sub->add_option("--odom-scale", odo.scale,
+                  "Scale error of the distance driven (0.03: it reads 3% long; applied per increment)")
+      ->check(kFinite & CLI::Range(-0.5, 0.5))
+      ->capture_default_str()
+      ->group(odometryGroup);
+  sub->add_option("--odom-yaw-scale", odo.yawScale, "Scale error of the turns (0.02: they read 2% large)")
+      ->check(kFinite & CLI::Range(-0.5, 0.5))
+      ->capture_default_str()
+      ->group(odometryGroup);
+  sub->add_option("--odom-yaw-bias", odo.yawBiasDegps, "Yaw drift, degrees per second (also at rest)")
+      ->check(kFinite & CLI::Range(-30.0, 30.0))
+      ->capture_default_str()
+      ->group(odometryGroup);
+  sub->add_option("--odom-noise", odo.noiseMPerSqrtM,
+                  "Translation noise: std of its random walk after 1 m driven, metres")
+      ->check(kFinite & CLI::Range(0.0, 1.0))
+      ->capture_default_str()
+      ->group(odometryGroup);
+  sub->add_option("--odom-yaw-noise", odo.yawNoiseDegPerSqrtS,
+                  "Yaw noise: std of its random walk after 1 s, degrees")
+      ->check(kFinite & CLI::Range(0.0, 10.0))
+      ->capture_default_str()
+      ->group(odometryGroup);
+  sub->add_option("--odom-slip-at", odo.slipAtS,
+                  "A wheel slip at this time, seconds: one step reads --odom-slip-m more forward motion")
+      ->check(kFinite & CLI::Range(0.0, 1e6))
+      ->group(odometryGroup);
+  sub->add_option("--odom-slip-m", odo.slipM, "The wheel slip's extra forward reading, metres")
+      ->check(kFinite & CLI::Range(-10.0, 10.0))
+      ->capture_default_str()
+      ->group(odometryGroup);
   sub->add_flag("--overwrite", o.overwrite, "Replace the contents of a non-empty --out directory");
   sub->callback([args] { runSynth(*args); });
 }

@@ -2,6 +2,7 @@
 //   slamboosterctl watch [--count N] [--no-pose] [--no-knobs] [--no-energy]
 //   slamboosterctl poll | status
 //   slamboosterctl control [--controller NAME] [--pin KNOB=VALUE]... [--unpin KNOB|all]...
+//   slamboosterctl odom FILE   (push a TUM-format odometry.txt with ?ODOM)
 // Human-readable by default; --json prints the daemon's JSON lines as they are. Exit codes: 0 ok,
 // 1 the daemon refused (ERROR) or could not be reached, 2 usage.
 
@@ -11,8 +12,10 @@
 #include <nlohmann/json.hpp>
 
 #include "client/connection.h"
+#include "client/odometry_pusher.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/trajectory.h"
 #include "tools/slamboosterctl/human_format.h"
 
 namespace {
@@ -27,6 +30,8 @@ struct Options {
   // control
   std::string controller;
   std::vector<std::string> pins, unpins;
+  // odom
+  std::string odometryFile;
 };
 
 void print(const Options& o, const nlohmann::json& m) {
@@ -101,6 +106,20 @@ std::string controlRequest(const Options& o) {
   return "?CONTROL=" + j.dump();
 }
 
+// Pushes an odometry.txt (TUM format, T_camera_to_odom) to the daemon's live odometry.
+int pushOdometryFile(const Options& o) {
+  std::vector<sb::odometry::OdometrySample> samples;
+  for (const sb::TimedPose& p : sb::readTumTrajectory(o.odometryFile))
+    samples.push_back({p.timestamp, p.T_camera_to_world, std::nullopt});
+  sb::client::Connection c(o.socket, o.timeout);
+  const size_t accepted = sb::client::pushOdometry(c, samples, o.timeout);
+  if (o.json)
+    print(o, {{"class", "ODOM"}, {"accepted", accepted}});
+  else
+    std::cout << "odometry: " << accepted << " samples of " << o.odometryFile << " accepted\n";
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -124,8 +143,12 @@ int main(int argc, char** argv) {
   controlCmd->add_option("--controller", o.controller, "Switch to this controller");
   controlCmd->add_option("--pin", o.pins, "Pin a knob: csr, icp, pd0, pd1, pd2, tr or ir, e.g. --pin csr=2");
   controlCmd->add_option("--unpin", o.unpins, "Unpin a knob, or all");
+  auto* odomCmd = app.add_subcommand("odom", "Push the robot's odometry: a TUM-format odometry.txt (the camera's "
+                                             "poses in the odometry frame, on the depth frames' clock)");
+  odomCmd->add_option("file", o.odometryFile, "odometry.txt")->required();
   try {
     app.parse(argc, argv);
+    if (*odomCmd) return pushOdometryFile(o);
     if (*watchCmd) return watch(o);
     if (app.got_subcommand("poll")) return requestReply(o, "?POLL;", "POLL");
     if (app.got_subcommand("status")) return requestReply(o, "?STATUS;", "STATUS");

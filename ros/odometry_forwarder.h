@@ -1,0 +1,42 @@
+#pragma once
+// The robot's wheel odometry into slamboosterd (issue 41's live ROS door): subscribes ~odom_topic
+// (nav_msgs/Odometry, default /odom), looks the camera mount up once with tf2 (the messages' child frame, the
+// base, to ~odom_camera_frame, the depth camera's optical frame), and pushes each sample, T_camera_to_odom
+// stamped with the message's header stamp, to the daemon's socket with ?ODOM (client/odometry_pusher.h).
+// Samples that arrive before the mount is known are skipped (counted); a daemon restart is survived by
+// reconnecting on the next sample.
+
+#include <nav_msgs/Odometry.h>
+#include <ros/node_handle.h>
+#include <ros/subscriber.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include "client/connection.h"
+#include "ros/bridge_config.h"
+
+namespace sb::ros_bridge {
+
+class OdometryForwarder {
+ public:
+  OdometryForwarder(ros::NodeHandle& node, const BridgeConfig& config);
+
+ private:
+  void onOdometry(const nav_msgs::Odometry::ConstPtr& message);
+
+  const BridgeConfig& config_;
+  tf2_ros::Buffer buffer_;
+  tf2_ros::TransformListener listener_;
+  ros::Subscriber odometry_;
+  std::mutex mutex_;
+  std::optional<Eigen::Isometry3d> mount_;  // the camera's optical frame in the base frame
+  std::unique_ptr<client::Connection> connection_;
+  uint64_t pushed_ = 0, skipped_ = 0;
+};
+
+}  // namespace sb::ros_bridge
