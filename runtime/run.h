@@ -22,6 +22,7 @@
 #include "core/rotating_file.h"
 #include "core/thread_pool.h"
 #include "runtime/energy_account.h"
+#include "runtime/map_sink.h"
 #include "runtime/map_slabs.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
@@ -46,6 +47,9 @@ struct RunOutputs {
   // The daemon's retention store (rotation, or a looping replay's pass directories), or nullptr: with it the
   // slab files give way to its free-space floor and to a full disk (MapSlabsOptions::store).
   std::shared_ptr<SegmentStore> slabRetention;
+  // The navigation map (issue 45; navmap/nav_map_sink.h), or nullptr: given every frame and every slab that
+  // leaves, written into DIR at the end (map.pgm, map.yaml, map.bt) and by the daemon at its period.
+  std::shared_ptr<MapSink> mapSink;
 };
 
 // What a run writes at its end.
@@ -82,6 +86,7 @@ class Run {
   SlamRunner& runner() { return runner_; }
   Pipeline& pipeline() { return *pipeline_; }
   SummarySink& summary() { return *outputs_.summary; }
+  MapSink* mapSink() { return mapSink_.get(); }
   const std::string& dir() const { return dir_; }
 
  private:
@@ -95,6 +100,7 @@ class Run {
   std::unique_ptr<RotatingFile> energyLog_;  // energy.jsonl, with an energy account
   std::function<void(const power::FrameEnergy&)> listener_;
   std::unique_ptr<MapSlabs> mapSlabs_;  // RunOutputs::mapSlabs with a moving volume
+  std::shared_ptr<MapSink> mapSink_;    // RunOutputs::mapSink
 };
 
 // The "overview" viewpoint of model.png: above and behind the volume centre, looking at it.

@@ -33,6 +33,7 @@
 #include "runtime/run.h"
 #include "runtime/run_setup.h"
 #include "tools/slambooster/commands.h"
+#include "tools/slambooster/navmap_options.h"
 #include "tools/slambooster/stop_signals.h"
 
 namespace sb::cli {
@@ -58,6 +59,7 @@ struct RunOptions {
   bool mesh = false;
   bool fixedVolume = false;  // the paper's fixed volume whatever the config says (volume_mode "fixed")
   bool quiet = false;
+  NavMapOptions navmap;  // the navigation map (issue 45)
   std::string modelView = "last";  // viewpoint of model.png: "last" camera pose or "overview"
   std::string depthTopic;          // ROS bag input: the depth image topic (empty: the bag's only one)
 };
@@ -245,7 +247,7 @@ void runCommand(const RunOptions& o) {
           RunOutputs{o.out, info.groundTruthPath, header,
                      "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
                          formatKnobs(initial) + " (volume frame)",
-                     nullptr, o.mesh, 0, nullptr},
+                     nullptr, o.mesh, 0, nullptr, makeNavMapSink(o.navmap, setup.pipeline, info)},
           energy ? &*energy : nullptr);
 
   const size_t total = o.frames > 0 && info.frameCount > 0 ? std::min(o.frames, info.frameCount) : info.frameCount;
@@ -307,6 +309,7 @@ void addRunCommand(CLI::App& app) {
          "centre, looking at it)")
       ->check(CLI::IsMember({"last", "overview"}));
   sub->add_flag("--quiet", options->quiet, "No progress bar");
+  addNavMapOptions(sub, options->navmap);
   sub->callback([options] { runCommand(*options); });
 }
 
