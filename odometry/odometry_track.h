@@ -38,6 +38,8 @@ struct OdometryTrackParams {
 class OdometryTrack {
  public:
   explicit OdometryTrack(const OdometryTrackParams& params = {});
+  // Movable (readOdometryFile returns one); not while another thread uses `other`.
+  OdometryTrack(OdometryTrack&& other) noexcept : params_(other.params_), samples_(std::move(other.samples_)) {}
 
   // Adds a sample. Refused (false; `why` says why, naming the stamp) when its stamp is not finite or not after
   // the newest sample's, or its pose is not finite. Never throws.
