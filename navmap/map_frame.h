@@ -39,7 +39,7 @@ MapFrame mapFrameFromOdometry(const Eigen::Isometry3d& T_world_camera, const Eig
 struct FloorFitParams {
   double maxTiltDeg = 30.0;    // the floor's normal within this of the camera's -y (image up), degrees
   double minHeightM = 0.1;     // the plane at least this far below the camera, metres
-  double inlierM = 0.02;       // a point within this of the plane counts for it, metres
+  double inlierM = 0.04;       // a point within this of the plane counts for it, metres
   double minInlierShare = 0.05;  // of the valid pixels: fewer and no floor is found
   int iterations = 200;        // RANSAC hypotheses (seeded: the same points give the same plane)
 };

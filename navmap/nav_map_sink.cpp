@@ -7,7 +7,8 @@
 namespace sb::navmap {
 
 namespace {
-constexpr int kFloorFitStridePx = 4;  // back-project every 4th pixel of every 4th row for the floor fit
+constexpr int kFloorFitStridePx = 4;     // back-project every 4th pixel of every 4th row for the floor fit
+constexpr size_t kFloorFitEveryFrames = 3;  // of the first floorFitFrames
 }
 
 NavMapSink::NavMapSink(const NavMapConfig& config, const PipelineConfig& pipeline, const Intrinsics& intrinsics,
@@ -38,25 +39,35 @@ void NavMapSink::findUp(const FrameRecord& record, const DepthFrame& frame) {
     return;
   }
   if (c.up != "floor" || !why_.empty()) return;
-  std::vector<Eigen::Vector3d> points;
-  const DepthRaw& depth = frame.depth;
-  const double sx = double(intrinsics_.width) / depth.width(), sy = double(intrinsics_.height) / depth.height();
-  for (int v = 0; v < depth.height(); v += kFloorFitStridePx)
-    for (int u = 0; u < depth.width(); u += kFloorFitStridePx) {
-      const double z = depth(u, v) / depthScale_;
-      if (z <= 0.0) continue;
-      points.emplace_back((u * sx - intrinsics_.cx) / intrinsics_.fx * z, (v * sy - intrinsics_.cy) / intrinsics_.fy * z, z);
-    }
-  if (const std::optional<FloorFit> fit = fitFloor(points)) {
-    MapFrame f = mapFrameFromMount(pose, fit->mount);
-    f.source = "floor fit on frame " + std::to_string(frame.index) + ": " + fit->describe();
+  // The floor fit: points of every kFloorFitEveryFrames-th frame of the first floorFitFrames, in the first
+  // frame's camera frame (a depth frame alone is too noisy at the floor's 2-4 m: a roll off by 3-4 deg on the
+  // corridor drive; ten frames together: 0.0 deg), fitted once.
+  if (frames_ == 1) firstPose_ = pose;
+  if ((frames_ - 1) % kFloorFitEveryFrames == 0) {
+    const Eigen::Isometry3d toFirst = firstPose_.inverse() * pose;
+    const DepthRaw& depth = frame.depth;
+    const double sx = double(intrinsics_.width) / depth.width(), sy = double(intrinsics_.height) / depth.height();
+    const int phase = int(frames_ / kFloorFitEveryFrames);  // another sample of pixels per frame
+    for (int v = phase % kFloorFitStridePx; v < depth.height(); v += kFloorFitStridePx)
+      for (int u = (phase / kFloorFitStridePx) % kFloorFitStridePx; u < depth.width(); u += kFloorFitStridePx) {
+        const double z = depth(u, v) / depthScale_;
+        if (z <= 0.0) continue;
+        floorPoints_.push_back(toFirst * Eigen::Vector3d((u * sx - intrinsics_.cx) / intrinsics_.fx * z,
+                                                         (v * sy - intrinsics_.cy) / intrinsics_.fy * z, z));
+      }
+  }
+  if (frames_ < size_t(c.floorFitFrames)) return;
+  if (const std::optional<FloorFit> fit = fitFloor(floorPoints_)) {
+    MapFrame f = mapFrameFromMount(firstPose_, fit->mount);
+    f.source = "floor fit on the first " + std::to_string(frames_) + " frames: " + fit->describe();
     map_.setFrame(f);
     spdlog::info("navmap: map frame from the {}", f.source);
-  } else if (frames_ >= size_t(c.floorFitFrames)) {
+  } else {
     why_ = "no occupancy grid: no floor found in the first " + std::to_string(c.floorFitFrames) +
            " frames (a plane below the camera, tilted at most 30 deg); give the camera's mount instead";
     spdlog::warn("navmap: {}", why_);
   }
+  std::vector<Eigen::Vector3d>().swap(floorPoints_);
 }
 
 VoxelBox NavMapSink::volumeBox(Pipeline& pipeline) const {
@@ -78,20 +89,25 @@ void NavMapSink::onFrame(const FrameRecord& record, const DepthFrame& frame, Pip
   if (map_.frame() && frames_ % size_t(map_.config().updatePeriodFrames) == 0) map_.refreshLive(volumeBox(pipeline));
 }
 
-void NavMapSink::onSlab(const VolumeSlab& slab) {
+VoxelBox slabBox(const VolumeSlab& slab) {
   VoxelBox box;
   box.data = slab.voxels.data();
   box.dims = slab.extent;
   box.extent = slab.extent;
   box.corner = slab.corner;
   box.voxelSizeM = slab.voxelSize;
-  // The slab holds the first plane that stays as well (on the side of the volume); the volume counts it.
+  // The slab holds the first plane that stays as well (pipeline/volume_window.cpp: a shift towards +axis
+  // reads planes 0 .. leaving, towards -axis R - leaving - 1 .. R - 1); a whole volume that left has none.
   const size_t axis = size_t(slab.axis);
   if (slab.extent[axis] < slab.resolution && slab.extent[axis] > 1) {
     --box.extent[axis];
-    if (slab.first[axis] != 0) box.first[axis] = 1;  // a shift towards -axis: the plane that stays is first
+    if (slab.first[axis] != 0) box.first[axis] = 1;
   }
-  if (!map_.addCommitted(box)) ++slabsBeforeUp_;
+  return box;
+}
+
+void NavMapSink::onSlab(const VolumeSlab& slab) {
+  if (!map_.addCommitted(slabBox(slab))) ++slabsBeforeUp_;
 }
 
 void NavMapSink::write(const std::string& dir, Pipeline& pipeline) {

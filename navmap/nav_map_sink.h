@@ -17,6 +17,11 @@
 
 namespace sb::navmap {
 
+// The voxels of `slab` the map takes (NavMap::addCommitted): all but the plane that stays in the volume (the
+// slab holds it so the mesh is seamless; the volume counts it in the map), so a cell on the boundary is
+// counted once.
+VoxelBox slabBox(const VolumeSlab& slab);
+
 class NavMapSink : public MapSink {
  public:
   // Throws sb::Error for a bad config (naming the key).
@@ -48,6 +53,8 @@ class NavMapSink : public MapSink {
   int resolution_;
   size_t frames_ = 0;
   size_t slabsBeforeUp_ = 0;
+  Eigen::Isometry3d firstPose_ = Eigen::Isometry3d::Identity();  // the floor fit's frame
+  std::vector<Eigen::Vector3d> floorPoints_;                      // until the floor fit
   std::string why_;
 };
 

@@ -27,7 +27,7 @@ struct NavMapConfig {
   double mountHeightM = 0.0;   // the first camera's optical centre above the floor, metres
   double mountPitchDeg = 0.0;  // its optical axis below the horizon, degrees
   double mountRollDeg = 0.0;   // about the optical axis, degrees
-  int floorFitFrames = 30;     // "floor": the fit is tried on each of the first this many frames
+  int floorFitFrames = 30;     // "floor": fitted once on every third of the first this many frames together
 
   // Throws sb::Error naming the key for a value out of range.
   void validate(double voxelSizeM) const;

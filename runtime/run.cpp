@@ -135,7 +135,7 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
   if (mapSink_)
     attempt([&] {
       mapSink_->write(dir_, *pipeline_);  // map.pgm, map.yaml, map.bt (navmap/), each atomically
-      outputs_.summary->setExtra("navmap", mapSink_->summaryJson());
+      summary.navmap = mapSink_->summaryJson();
     });
   if (const VolumeWindow* window = pipeline_->volumeWindow())
     summary.movingVolume = movingVolumeJson(*window, mapSlabs_.get());
