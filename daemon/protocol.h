@@ -21,14 +21,14 @@ namespace sb::daemon {
 constexpr int kProtoMajor = 1;
 // 1: POSE carries constrained, conditioning, weakest_motion; 2: POSE carries state (good, weak, lost,
 // relocalised) and STATUS a tracking_state object; 3: POSE carries velocity_m_per_frame, the frame log's name
-// of its velocity (which it still carries as well).
-constexpr int kProtoMinor = 3;
+// of its velocity (which it still carries as well); 4: ?MAP answers MAP, the navigation grid (issue 45).
+constexpr int kProtoMinor = 4;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
 constexpr size_t kMaxNameBytes = 64;
 
-enum class Command { watch, poll, status, control, version };
+enum class Command { watch, poll, status, control, version, map };
 
 struct WatchRequest {  // fields absent from the request stay unset (the client's current choice is kept)
   std::optional<bool> enable, pose, knobs, energy;
@@ -71,7 +71,21 @@ struct EnergyReport {
   std::string meter;
 };
 
+// The navigation grid (navmap/) as the SLAM thread last wrote it: immutable once made.
+struct MapReport {
+  uint32_t pass = 0;
+  uint64_t frame = 0;          // frames of the pass when it was made
+  int width = 0, height = 0;   // cells
+  double resolutionM = 0.05;   // cell side
+  double originX = 0.0, originY = 0.0;  // map frame, metres: the lower-left corner of cell (0, 0)
+  std::string up;              // where the map frame (z up) came from
+  std::vector<int8_t> cells;   // row-major from cell (0, 0), row 0 the lowest y: -1 unknown, 0 free, 100 occupied
+};
+
 nlohmann::json versionMessage(const std::string& release);
+// MAP: the grid's cells run-length encoded as "runs": [value, count, value, count, ...] (nav_msgs/OccupancyGrid
+// order and values).
+nlohmann::json mapMessage(const MapReport& m);
 nlohmann::json poseMessage(const FrameReport& r);
 nlohmann::json knobsMessage(const FrameReport& r);
 nlohmann::json energyMessage(const EnergyReport& e);

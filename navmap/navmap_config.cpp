@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "core/config_reader.h"
 #include "core/error.h"
 
 namespace sb::navmap {
@@ -24,6 +25,51 @@ void NavMapConfig::validate(double voxelSizeM) const {
   if (up == "mount" && !(mountHeightM > 0.0 && mountHeightM < 10.0)) fail("mount_height_m", "(0, 10) m with up mount");
   if (std::abs(mountPitchDeg) > 90.0 || std::abs(mountRollDeg) > 90.0) fail("mount_pitch_deg/mount_roll_deg", "-90-90");
   if (floorFitFrames < 1) fail("floor_fit_frames", ">= 1");
+}
+
+void NavMapConfig::read(ConfigReader& r) {
+  r.string("up", up, {"none", "mount", "floor"});
+  r.number("mount_height_m", mountHeightM, 0.0, 10.0);
+  r.number("mount_pitch_deg", mountPitchDeg, -90.0, 90.0);
+  r.number("mount_roll_deg", mountRollDeg, -90.0, 90.0);
+  r.integer("floor_fit_frames", floorFitFrames, 1, 10000);
+  r.number("band_min_m", bandMinM, 0.0, 10.0);
+  r.number("band_max_m", bandMaxM, 0.0, 10.0);
+  r.number("resolution_m", resolutionM, 0.01, 1.0);
+  r.number("surface_depth_m", surfaceDepthM, 0.001, 1.0);
+  r.integer("min_occupied_voxels", minOccupiedVoxels, 1, 100000);
+  r.number("free_share", freeShare, 0.001, 1.0);
+  r.number("occupied_thresh", occupiedThresh, 0.0, 1.0);
+  r.number("free_thresh", freeThresh, 0.0, 1.0);
+  r.number("octomap_resolution_m", octomapResolutionM, 0.0, 2.0);
+  r.integer("update_period_frames", updatePeriodFrames, 1, 100000);
+  r.finish();
+}
+
+nlohmann::json NavMapConfig::toJson() const {
+  return {{"up", up},
+          {"mount_height_m", mountHeightM},
+          {"mount_pitch_deg", mountPitchDeg},
+          {"mount_roll_deg", mountRollDeg},
+          {"floor_fit_frames", floorFitFrames},
+          {"band_min_m", bandMinM},
+          {"band_max_m", bandMaxM},
+          {"resolution_m", resolutionM},
+          {"surface_depth_m", surfaceDepthM},
+          {"min_occupied_voxels", minOccupiedVoxels},
+          {"free_share", freeShare},
+          {"occupied_thresh", occupiedThresh},
+          {"free_thresh", freeThresh},
+          {"octomap_resolution_m", octomapResolutionM},
+          {"update_period_frames", updatePeriodFrames}};
+}
+
+NavMapConfig loadNavMapConfig(const std::string& path) {
+  const nlohmann::json j = readJsonConfig(path, "navigation map settings");
+  ConfigReader r(j, path);
+  NavMapConfig c;
+  c.read(r);
+  return c;
 }
 
 }  // namespace sb::navmap

@@ -2,6 +2,7 @@
 // The navigation map's settings (issue 45; config/README.md "navmap"): the robot's height band, the grid's
 // cells, when a voxel is surface or free, the OctoMap's resolution and how often the grid follows the volume.
 
+#include <nlohmann/json.hpp>
 #include <string>
 
 namespace sb {
@@ -31,6 +32,12 @@ struct NavMapConfig {
 
   // Throws sb::Error naming the key for a value out of range.
   void validate(double voxelSizeM) const;
+  // config/navmap.json's keys (config/README.md "navmap"); read throws sb::Error naming the file and key.
+  void read(ConfigReader& r);
+  nlohmann::json toJson() const;
 };
+
+// The settings file `path` (config/navmap.json keys). Throws sb::Error naming the file and key.
+NavMapConfig loadNavMapConfig(const std::string& path);
 
 }  // namespace sb::navmap

@@ -91,7 +91,7 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   CHECK(pose.at("conditioning") == 0.0004);
   CHECK(pose.at("weakest_motion") == "tx");
   // Protocol 1.3: the frame log's name of the velocity beside the old one.
-  CHECK(versionMessage("x").at("proto_minor") == 3);
+  CHECK(versionMessage("x").at("proto_minor") == 4);
   CHECK(pose.at("velocity") == pose.at("velocity_m_per_frame"));
   // A frame without fields (never published, but never a throw on the event loop).
   CHECK(toLine(poseMessage(FrameReport{})) == R"({"class":"POSE","constrained":true})" "\n");
