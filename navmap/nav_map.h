@@ -4,8 +4,8 @@
 // over the whole volume per frame:
 //   - each slab that leaves the moving volume (addCommitted: its votes are kept for good; the plane of the
 //     slab that stays in the volume is left to the volume, so a cell on the boundary is counted once);
-//   - the volume itself every NavMapConfig::updatePeriodFrames frames (refreshLive: its band's votes replace
-//     the previous ones), and once more when the files are written.
+//   - the volume itself when the grid is written or published (the end of a run, the daemon's period;
+//     refreshLive: its band's votes replace the previous ones), or every NavMapConfig::updatePeriodFrames.
 // The grid is the sum of both. Memory: GridVotes' chunks (16 KiB per 3.2 m x 3.2 m of 5 cm cells explored)
 // plus a hash of 3D cells (~40 bytes per observed cell of octomapResolutionM); map.bt's tree is built only
 // while it is written.

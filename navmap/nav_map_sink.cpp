@@ -86,7 +86,8 @@ VoxelBox NavMapSink::volumeBox(Pipeline& pipeline) const {
 void NavMapSink::onFrame(const FrameRecord& record, const DepthFrame& frame, Pipeline& pipeline) {
   ++frames_;
   if (!map_.frame()) findUp(record, frame);
-  if (map_.frame() && frames_ % size_t(map_.config().updatePeriodFrames) == 0) map_.refreshLive(volumeBox(pipeline));
+  const int period = map_.config().updatePeriodFrames;
+  if (map_.frame() && period > 0 && frames_ % size_t(period) == 0) map_.refreshLive(volumeBox(pipeline));
 }
 
 VoxelBox slabBox(const VolumeSlab& slab) {

@@ -20,7 +20,7 @@ void NavMapConfig::validate(double voxelSizeM) const {
     fail("occupied_thresh/free_thresh", "0 <= free < occupied <= 1");
   if (octomapResolutionM != 0.0 && !(octomapResolutionM >= voxelSizeM * 0.999 && octomapResolutionM <= 2.0))
     fail("octomap_resolution_m", "0 (no map.bt) or the volume's voxel (" + std::to_string(voxelSizeM) + " m) to 2 m");
-  if (updatePeriodFrames < 1) fail("update_period_frames", ">= 1");
+  if (updatePeriodFrames < 0) fail("update_period_frames", ">= 0 (0: only when written)");
   if (up != "none" && up != "mount" && up != "floor") fail("up", "none, mount or floor");
   if (up == "mount" && !(mountHeightM > 0.0 && mountHeightM < 10.0)) fail("mount_height_m", "(0, 10) m with up mount");
   if (std::abs(mountPitchDeg) > 90.0 || std::abs(mountRollDeg) > 90.0) fail("mount_pitch_deg/mount_roll_deg", "-90-90");
@@ -42,7 +42,7 @@ void NavMapConfig::read(ConfigReader& r) {
   r.number("occupied_thresh", occupiedThresh, 0.0, 1.0);
   r.number("free_thresh", freeThresh, 0.0, 1.0);
   r.number("octomap_resolution_m", octomapResolutionM, 0.0, 2.0);
-  r.integer("update_period_frames", updatePeriodFrames, 1, 100000);
+  r.integer("update_period_frames", updatePeriodFrames, 0, 100000);
   r.finish();
 }
 

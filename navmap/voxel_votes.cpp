@@ -117,21 +117,32 @@ void voteVolume(const VoxelBox& box, const Eigen::Isometry3d& T_world_to_map, co
   const Eigen::Vector3i c0((lo * inv).array().floor().cast<int>());
   const Eigen::Vector3i n = (hi * inv).array().floor().cast<int>().matrix() - c0 + Eigen::Vector3i::Ones();
   std::vector<uint32_t> surface(size_t(n.prod()), 0), free(size_t(n.prod()), 0);
-  for (int z = box.first[2]; z < box.first[2] + box.extent[2]; ++z)
-    for (int y = box.first[1]; y < box.first[1] + box.extent[1]; ++y) {
-      const size_t row = size_t(box.dims[0]) * (size_t(wrap(y, box.offset[1], box.dims[1])) +
-                                                size_t(box.dims[1]) * size_t(wrap(z, box.offset[2], box.dims[2])));
-      const Eigen::Vector3d base = m.origin + m.axes.col(1) * y + m.axes.col(2) * z;
-      for (int x = box.first[0]; x < box.first[0] + box.extent[0]; ++x) {
-        const int cls = classify(box.data + 2 * (row + size_t(wrap(x, box.offset[0], box.dims[0]))));
-        if (cls != 1 && cls != 2) continue;
-        const Eigen::Vector3d p = (base + m.axes.col(0) * x) * inv;
+  // Blocks of k^3 voxels (k voxels: the OctoMap's leaf, rounded) vote for the leaf of their centre: one
+  // transform per block, the voxels themselves only classified (a tilted map frame moves a block's voxels by
+  // at most half a leaf).
+  const int k = std::max(1, int(std::lround(config.octomapResolutionM / box.voxelSizeM)));
+  for (int bz = box.first[2]; bz < box.first[2] + box.extent[2]; bz += k)
+    for (int by = box.first[1]; by < box.first[1] + box.extent[1]; by += k)
+      for (int bx = box.first[0]; bx < box.first[0] + box.extent[0]; bx += k) {
+        const int ez = std::min(bz + k, box.first[2] + box.extent[2]), ey = std::min(by + k, box.first[1] + box.extent[1]),
+                  ex = std::min(bx + k, box.first[0] + box.extent[0]);
+        uint32_t s = 0, f = 0;
+        for (int z = bz; z < ez; ++z)
+          for (int y = by; y < ey; ++y) {
+            const size_t row = size_t(box.dims[0]) * (size_t(wrap(y, box.offset[1], box.dims[1])) +
+                                                      size_t(box.dims[1]) * size_t(wrap(z, box.offset[2], box.dims[2])));
+            for (int x = bx; x < ex; ++x) {
+              const int cls = classify(box.data + 2 * (row + size_t(wrap(x, box.offset[0], box.dims[0]))));
+              s += cls == 2, f += cls == 1;
+            }
+          }
+        if (s == 0 && f == 0) continue;
+        const Eigen::Vector3d p = m.at(0.5 * (bx + ex - 1), 0.5 * (by + ey - 1), 0.5 * (bz + ez - 1)) * inv;
         const Eigen::Vector3i c = p.array().floor().cast<int>().matrix() - c0;
         const Eigen::Vector3i cc = c.cwiseMax(Eigen::Vector3i::Zero()).cwiseMin(n - Eigen::Vector3i::Ones());
         const size_t cell = size_t(cc.x()) + size_t(n.x()) * (size_t(cc.y()) + size_t(n.y()) * size_t(cc.z()));
-        (cls == 2 ? surface : free)[cell] += 1;
+        surface[cell] += s, free[cell] += f;
       }
-    }
   for (int z = 0; z < n.z(); ++z)
     for (int y = 0; y < n.y(); ++y)
       for (int x = 0; x < n.x(); ++x) {

@@ -26,6 +26,7 @@ struct EvalMapOptions {
   uint64_t seed = 0;
   synth::CorridorParams corridor;
   double bandMin = 0.1, bandMax = 1.5;
+  std::string picture;  // a PGM: the grid in the scene's frame above the truth (README's picture)
 };
 
 struct Pgm {
@@ -148,6 +149,20 @@ void evalMap(const EvalMapOptions& o) {
         for (int di = -1; di <= 1 && !hit; ++di) hit = mapAt(i + di, j + dj) == 0;
       found += hit;
     }
+  if (!o.picture.empty()) {  // rows along the corridor (scene z), the map above the truth, 4 px between
+    std::ofstream out(o.picture, std::ios::binary);
+    out << "P5\n" << nz << " " << 2 * nx + 4 << "\n255\n";
+    for (int ix = nx - 1; ix >= 0; --ix)
+      for (int iz = 0; iz < nz; ++iz) {
+        const Eigen::Vector3d p = sceneToMap * Eigen::Vector3d(x0 + (ix + 0.5) * res, floorY - midBand, z0 + (iz + 0.5) * res);
+        const int v = mapAt(int(std::floor((p.x() - origin.x()) / res)), int(std::floor((p.y() - origin.y()) / res)));
+        out.put(char(v < 0 ? 205 : v));
+      }
+    for (int i = 0; i < 4 * nz; ++i) out.put(char(255));
+    for (int ix = nx - 1; ix >= 0; --ix)
+      for (int iz = 0; iz < nz; ++iz) out.put(char(truth[size_t(iz) * size_t(nx) + size_t(ix)] ? 0 : 254));
+    if (!out) throw Error("cannot write '" + o.picture + "'");
+  }
   std::cout << std::fixed << std::setprecision(3) << "map " << map.width << "x" << map.height << " cells of " << res
             << " m (" << frame.value("source", "") << "), aligned by the trajectory (ATE rmse " << ate.rmse * 100
             << " cm)\n"
@@ -169,6 +184,7 @@ void addEvalMapCommand(CLI::App& app) {
   sub->add_option("--corridor-spacing", o->corridor.spacingScale, "synth --corridor-spacing")->capture_default_str();
   sub->add_option("--band-min", o->bandMin, "The robot's band (m), as the run's")->capture_default_str();
   sub->add_option("--band-max", o->bandMax)->capture_default_str();
+  sub->add_option("--picture", o->picture, "Also write a PGM: the grid in the scene's frame above the true occupancy");
   sub->callback([o] { evalMap(*o); });
 }
 

@@ -39,8 +39,9 @@ void addNavMapOptions(CLI::App* sub, NavMapOptions& o) {
   sub->add_option("--octomap-resolution", o.octomapResolution,
                   "map.bt leaf side (m; at least the volume's voxel; 0: no map.bt)")
       ->check(CLI::NonNegativeNumber);
-  sub->add_option("--map-update-frames", o.updatePeriod, "Navigation map: re-read the volume every N frames")
-      ->check(CLI::PositiveNumber);
+  sub->add_option("--map-update-frames", o.updatePeriod,
+                  "Navigation map: re-read the volume every N frames (0: only at the end)")
+      ->check(CLI::NonNegativeNumber);
 }
 
 std::shared_ptr<MapSink> makeNavMapSink(const NavMapOptions& o, const PipelineConfig& pipeline,

@@ -18,7 +18,7 @@ struct NavMapOptions {
   std::string band;   // "MIN,MAX" (m)
   double resolution = 0.05;
   double octomapResolution = 0.1;
-  int updatePeriod = 30;
+  int updatePeriod = 0;
 };
 
 void addNavMapOptions(CLI::App* sub, NavMapOptions& options);
