@@ -132,6 +132,9 @@ int Daemon::run() {
   try {
     p.worker = makeWorker(info, mailbox);
     p.worker->setOdometry(openDaemonOdometry());
+    p.worker->setMapPublish([this, &mailbox](MapReport report) {  // the grid, for ?MAP (output.navmap)
+      mailbox.post([this, r = std::move(report)] { parts_->server->publishMap(r); });
+    });
   } catch (const ConfigError&) {
     throw;
   } catch (const Error& e) {

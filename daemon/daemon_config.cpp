@@ -69,6 +69,8 @@ void readOutput(ConfigReader& r, OutputConfig& o) {
   r.boolean("mesh", o.mesh);
   r.boolean("model_png", o.modelPng);
   r.boolean("report", o.report);
+  r.string("navmap", o.navmap);
+  r.number("navmap_period_s", o.navmapPeriodS, 0.5, 86400.0);
   r.section("rotation", [&](ConfigReader& s) { readRotation(s, o.rotation); });
   if (o.dir.empty()) r.fail("dir", "a directory for trajectory.tum, frames.jsonl and summary.json (not empty)");
 }
@@ -184,6 +186,8 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"mesh", c.output.mesh},
             {"model_png", c.output.modelPng},
             {"report", c.output.report},
+            {"navmap", c.output.navmap},
+            {"navmap_period_s", c.output.navmapPeriodS},
             {"rotation",
              {{"mode", c.output.rotation.mode},
               {"segment_mib", c.output.rotation.segmentMib},

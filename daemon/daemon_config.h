@@ -52,6 +52,11 @@ struct OutputConfig {
   bool mesh = false;                         // also write mesh.ply of the final volume at exit
   bool modelPng = false;                     // also write model.png (the model rendered from the last pose)
   bool report = true;                        // write report.html (report/) at the end of each pass
+  // The navigation map (navmap/, issue 45): a settings file (config/navmap.json keys: which way is up, the
+  // robot's band); "" = none. Its map.pgm, map.yaml and map.bt are written into the pass's directory
+  // atomically every navmapPeriodS seconds and at the end, and ?MAP answers the grid.
+  std::string navmap;
+  double navmapPeriodS = 10.0;
   RotationConfig rotation;                   // per-frame outputs of long sessions
 };
 

@@ -20,6 +20,7 @@ constexpr CommandName kCommands[] = {
     {"WATCH", Command::watch, true, false},      {"POLL", Command::poll, false, false},
     {"STATUS", Command::status, false, false},   {"CONTROL", Command::control, true, true},
     {"VERSION", Command::version, false, false}, {"ODOM", Command::odom, true, true},
+    {"MAP", Command::map, false, false},
 };
 
 std::string knownCommands() {
@@ -224,6 +225,20 @@ nlohmann::json errorMessage(const std::string& message) {
 
 std::string toLine(const nlohmann::json& message) {
   return message.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+nlohmann::json mapMessage(const MapReport& m) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (size_t i = 0; i < m.cells.size();) {
+    size_t j = i;
+    while (j < m.cells.size() && m.cells[j] == m.cells[i]) ++j;
+    runs.push_back(int(m.cells[i]));
+    runs.push_back(j - i);
+    i = j;
+  }
+  return {{"class", "MAP"},           {"pass", m.pass},          {"frame", m.frame},
+          {"width", m.width},         {"height", m.height},      {"resolution", m.resolutionM},
+          {"origin", {m.originX, m.originY, 0.0}}, {"up", m.up}, {"runs", std::move(runs)}};
 }
 
 }  // namespace sb::daemon

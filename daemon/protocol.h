@@ -26,13 +26,14 @@ constexpr int kProtoMajor = 1;
 // of its velocity (which it still carries as well); 4: the state `odometry`, POSE's odometry and
 // odometry_drift_m (docs/odometry.md).
 // 5: ?ODOM (any local client pushes the robot's odometry: daemon/odom_request.h).
-constexpr int kProtoMinor = 5;
+// 6: ?MAP answers MAP, the navigation grid (issue 45; docs/navmap.md).
+constexpr int kProtoMinor = 6;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
 constexpr size_t kMaxNameBytes = 64;
 
-enum class Command { watch, poll, status, control, version, odom };
+enum class Command { watch, poll, status, control, version, odom, map };
 
 struct WatchRequest {  // fields absent from the request stay unset (the client's current choice is kept)
   std::optional<bool> enable, pose, knobs, energy;
@@ -102,7 +103,21 @@ struct EnergyReport {
   std::string meter;
 };
 
+// The navigation grid (navmap/) as the SLAM thread last wrote it: immutable once made.
+struct MapReport {
+  uint32_t pass = 0;
+  uint64_t frame = 0;          // frames of the pass when it was made
+  int width = 0, height = 0;   // cells
+  double resolutionM = 0.05;   // cell side
+  double originX = 0.0, originY = 0.0;  // map frame, metres: the lower-left corner of cell (0, 0)
+  std::string up;              // where the map frame (z up) came from
+  std::vector<int8_t> cells;   // row-major from cell (0, 0), row 0 the lowest y: -1 unknown, 0 free, 100 occupied
+};
+
 nlohmann::json versionMessage(const std::string& release);
+// MAP: the grid's cells run-length encoded as "runs": [value, count, value, count, ...] (nav_msgs/OccupancyGrid
+// order and values).
+nlohmann::json mapMessage(const MapReport& m);
 nlohmann::json poseMessage(const FrameReport& r);
 nlohmann::json knobsMessage(const FrameReport& r);
 nlohmann::json energyMessage(const EnergyReport& e);

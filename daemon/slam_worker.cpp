@@ -62,6 +62,7 @@ SlamWorker::SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence,
   context_.baseKnobs = pipelineConfig_.knobs;
   settings_ = loadControllerSettings(config.slam, context_);
   stats_.controller = settings_.name;
+  if (!config.output.navmap.empty()) maps_ = std::make_unique<MapPublisher>(config.output, pipelineConfig_, sequence);
 }
 
 SlamWorker::~SlamWorker() {
@@ -159,6 +160,7 @@ void SlamWorker::runPasses() {
     if (!p.run || item->restart) startPass(p);
     std::vector<std::string> pinned = applyChanges(p.run->runner());
     const FrameRecord record = p.run->step(item->frame);
+    if (maps_) maps_->afterFrame(*p.run, p.run->runner().frames());
     publish_(frameReport(record, std::move(pinned)));
     countFrame(p, record);
   }
@@ -223,6 +225,7 @@ void SlamWorker::startPass(Passes& p) {
   outputs.mapSlabs = config_.output.mesh;
   outputs.keepSlabBytes = static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0);
   outputs.slabRetention = segments_ ? segments_ : passRetention_;
+  outputs.mapSink = maps_ ? maps_->startPass(p.pass) : nullptr;
   p.run = std::make_unique<Run>(std::move(pipeline), std::move(controller), sequence_.depthScale, outputs,
                                 p.energy ? &*p.energy : nullptr);
   if (odometry_.track) p.run->runner().setOdometry(odometry_.track);

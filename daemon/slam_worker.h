@@ -21,6 +21,7 @@
 #include "core/segment_store.h"
 #include "daemon/daemon_config.h"
 #include "daemon/frame_queue.h"
+#include "daemon/map_publisher.h"
 #include "daemon/protocol.h"
 #include "pipeline/config.h"
 #include "power/power_sampler.h"
@@ -87,6 +88,10 @@ class SlamWorker {
   // Before start(), with source.at_end "loop": the retention that each ended pass's directory joins
   // (daemon/pass_directories.h), so that the passes of a replay looping for weeks never fill the disk.
   void setPassRetention(std::shared_ptr<SegmentStore> retention) { passRetention_ = std::move(retention); }
+  // Before start(), with output.navmap: the grid every output.navmap_period_s (daemon/map_publisher.h).
+  void setMapPublish(MapPublisher::Publish publish) {
+    if (maps_) maps_->setPublish(std::move(publish));
+  }
 
   // Before start(): every pass's runner reads this odometry (runtime/odometry_input.h; its track may be the
   // live one the socket adds to), and its summary says so. Default: none.
@@ -132,6 +137,7 @@ class SlamWorker {
   std::shared_ptr<SegmentStore> segments_;
   std::shared_ptr<SegmentStore> passRetention_;
   OdometryInput odometry_;
+  std::unique_ptr<MapPublisher> maps_;  // output.navmap
   std::atomic<bool> stop_{false};
   std::thread thread_;
 

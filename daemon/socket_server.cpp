@@ -173,6 +173,11 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
     }
     case Command::poll:
       return reply(client, pollMessage());
+    case Command::map:
+      if (!lastMap_)
+        return reply(client, errorMessage("?MAP: no navigation grid yet (output.navmap: a settings file saying "
+                                          "which way is up; the grid comes at the first output.navmap_period_s)"));
+      return deliver(client, lastMap_);
     case Command::status: {
       nlohmann::json s = state_.status();
       s["clients"] = clients_.size();
@@ -256,6 +261,8 @@ void SocketServer::publishEnergy(const EnergyReport& report) {
   for (auto& [fd, client] : clients_)
     if (client->watching && client->watchEnergy) deliver(*client, energy);
 }
+
+void SocketServer::publishMap(const MapReport& report) { lastMap_ = makeLine(mapMessage(report)); }
 
 void SocketServer::pauseAccepting(int error) {
   if (acceptPaused_) return;

@@ -38,6 +38,8 @@ class SocketServer {
 
   void publishFrame(const FrameReport& report);
   void publishEnergy(const EnergyReport& report);
+  // The navigation grid the SLAM thread last wrote: ?MAP answers it (encoded once, shared by every reply).
+  void publishMap(const MapReport& report);
   // Disconnects clients stalled longer than the configured limit. Call periodically.
   void dropStalledClients();
   // Listens again after accept() failed for lack of descriptors (it pauses rather than spin). The daemon
@@ -76,6 +78,7 @@ class SocketServer {
   std::string release_;
   std::map<int, std::unique_ptr<Client>> clients_;
   std::optional<nlohmann::json> lastPose_, lastKnobs_, lastEnergy_;
+  Line lastMap_;  // MAP, or null before the first grid
   uint64_t framesPublished_ = 0;
   uint64_t messagesDropped_ = 0;
   uint64_t clientsDisconnected_ = 0;

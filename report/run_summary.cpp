@@ -249,6 +249,7 @@ json RunSummary::toJson() const {
   if (!energy.is_null()) j["energy"] = energy;
   if (!modelView.empty()) j["model_view"] = modelView;
   if (!movingVolume.is_null()) j["moving_volume"] = movingVolume;
+  if (!navmap.is_null()) j["navmap"] = navmap;
   if (meshTriangles) j["mesh_triangles"] = *meshTriangles;
   if (meshSlabs) j["mesh_slabs"] = *meshSlabs;
   if (complete) j["complete"] = *complete;
@@ -300,6 +301,7 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.object("energy", s.energy);
   f.string("model_view", s.modelView);
   f.object("moving_volume", s.movingVolume);
+  f.object("navmap", s.navmap);
   if (f.find("mesh_triangles")) f.count("mesh_triangles", s.meshTriangles.emplace());
   if (f.find("mesh_slabs")) f.count("mesh_slabs", s.meshSlabs.emplace());
   if (f.find("complete")) f.boolean("complete", s.complete.emplace());

@@ -114,6 +114,7 @@ struct RunSummary {
   nlohmann::json energy;        // energy totals (power/energy_json.h); null without a meter
   std::string modelView;        // model.png's viewpoint ("last", "overview"); "" = none written
   nlohmann::json movingVolume;  // runtime/map_slabs.h movingVolumeJson; null with a fixed volume
+  nlohmann::json navmap;        // the navigation map (navmap/nav_map_sink.h summaryJson); null without one
   std::optional<size_t> meshTriangles, meshSlabs;  // mesh.ply (and the slabs it merged)
   std::optional<bool> complete;                    // every output on disk; absent while the run goes on
   std::string error;                               // why the run ended early or an output failed

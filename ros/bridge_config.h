@@ -33,6 +33,9 @@ struct BridgeConfig {
   double reconnectSeconds = 0.5;  // wait between attempts to reach the daemon
   double connectTimeoutSeconds = 2.0;  // for the VERSION greeting and the WATCH reply
   CovarianceConfig covariance;
+  // The navigation grid (issue 45): ?MAP every mapPeriodSeconds, published latched on ~map in gridFrame.
+  std::string gridFrame = "slambooster_grid";  // the map frame of the grid: z up, z = 0 the floor
+  double mapPeriodSeconds = 5.0;               // 0: no ~map
   // Depth from ROS topics into the daemon (empty push_socket: off).
   std::string pushSocket;                      // the daemon's push source socket (source.type "push")
   std::string depthTopic = "camera/depth/image";  // sensor_msgs/Image, 16UC1 (mm) or 32FC1 (m)

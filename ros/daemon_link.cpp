@@ -17,8 +17,8 @@ constexpr int kProtoMajor = 1;  // the protocol major this bridge speaks (docs/p
 
 }  // namespace
 
-DaemonLink::DaemonLink(const BridgeConfig& config, OdometryPublisher& publisher)
-    : config_(config), publisher_(publisher) {}
+DaemonLink::DaemonLink(const BridgeConfig& config, OdometryPublisher& publisher, GridPublisher* grid)
+    : config_(config), publisher_(publisher), grid_(grid) {}
 
 std::string DaemonLink::serveOnce() {
   client::Connection connection(config_.socketPath, config_.connectTimeoutSeconds);
@@ -30,7 +30,12 @@ std::string DaemonLink::serveOnce() {
   announcedDown_ = false;
   ROS_INFO("connected to slamboosterd %s at %s", connection.version().value("release", "?").c_str(),
            config_.socketPath.c_str());
+  ros::WallTime nextMap = ros::WallTime::now();
   while (ros::ok()) {
+    if (grid_ && config_.mapPeriodSeconds > 0 && ros::WallTime::now() >= nextMap) {
+      connection.send("?MAP;");  // the daemon's grid (protocol minor 4); an older daemon answers ERROR
+      nextMap = ros::WallTime::now() + ros::WallDuration(config_.mapPeriodSeconds);
+    }
     bool timedOut = false;
     auto message = connection.next(kPollSeconds, timedOut);
     if (timedOut) continue;
@@ -42,6 +47,8 @@ std::string DaemonLink::serveOnce() {
       publisher_.onKnobs(parseKnobs(*message));
     else if (cls == "ENERGY")
       publisher_.onEnergy(parseEnergy(*message));
+    else if (cls == "MAP" && grid_)
+      grid_->onMap(*message);
     else if (cls == "ERROR")
       ROS_WARN("slamboosterd: %s", message->value("message", "").c_str());
     // Other classes (WATCH, future ones) are ignored, as the protocol asks.

@@ -5,13 +5,14 @@
 #include <string>
 
 #include "ros/bridge_config.h"
+#include "ros/grid_publisher.h"
 #include "ros/odometry_publisher.h"
 
 namespace sb::ros_bridge {
 
 class DaemonLink {
  public:
-  DaemonLink(const BridgeConfig& config, OdometryPublisher& publisher);
+  DaemonLink(const BridgeConfig& config, OdometryPublisher& publisher, GridPublisher* grid = nullptr);
   // Runs until ros::ok() turns false.
   void run();
 
@@ -21,6 +22,7 @@ class DaemonLink {
 
   const BridgeConfig& config_;
   OdometryPublisher& publisher_;
+  GridPublisher* grid_;  // ~map, or nullptr
   bool announcedDown_ = false;  // "disconnected" was published since the last connection
 };
 

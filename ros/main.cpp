@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "ros/daemon_link.h"
 #include "ros/depth_forwarder.h"
+#include "ros/grid_publisher.h"
 #include "ros/odometry_forwarder.h"
 #include "ros/odometry_publisher.h"
 #include "ros/ros_params.h"
@@ -33,7 +34,8 @@ int main(int argc, char** argv) {
   ros::AsyncSpinner spinner(1);
   spinner.start();
   sb::ros_bridge::OdometryPublisher publisher(node, privateNode, config);
-  sb::ros_bridge::DaemonLink(config, publisher).run();
+  sb::ros_bridge::GridPublisher grid(privateNode, config);  // ~map (issue 45)
+  sb::ros_bridge::DaemonLink(config, publisher, &grid).run();
   spinner.stop();
   return 0;
 }

@@ -31,6 +31,8 @@ BridgeConfig readBridgeConfig(const ros::NodeHandle& n) {
   n.param("stamp", c.stamp, c.stamp);
   n.param("reconnect_s", c.reconnectSeconds, c.reconnectSeconds);
   n.param("connect_timeout_s", c.connectTimeoutSeconds, c.connectTimeoutSeconds);
+  n.param("grid_frame", c.gridFrame, c.gridFrame);
+  n.param("map_period_s", c.mapPeriodSeconds, c.mapPeriodSeconds);
   readSigma(n, "good", c.covariance.good);
   readSigma(n, "relocalised", c.covariance.relocalised);
   readSigma(n, "weak", c.covariance.weak);

@@ -60,12 +60,18 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
   if (energy_)
     energyLog_ =
         std::make_unique<RotatingFile>(dir_, "energy.jsonl", "per-frame energy log", "", outputs.segments);
-  if (VolumeWindow* window = pipeline_->volumeWindow(); window && outputs.mapSlabs) {
-    MapSlabs::Options options;
-    options.keepBytes = outputs.keepSlabBytes;
-    options.store = outputs.slabRetention;
-    mapSlabs_ = std::make_unique<MapSlabs>(dir_, options);
-    window->setSlabListener([this](VolumeSlab&& slab) { mapSlabs_->add(std::move(slab)); });
+  mapSink_ = outputs.mapSink;
+  if (VolumeWindow* window = pipeline_->volumeWindow(); window && (outputs.mapSlabs || mapSink_)) {
+    if (outputs.mapSlabs) {
+      MapSlabs::Options options;
+      options.keepBytes = outputs.keepSlabBytes;
+      options.store = outputs.slabRetention;
+      mapSlabs_ = std::make_unique<MapSlabs>(dir_, options);
+    }
+    window->setSlabListener([this](VolumeSlab&& slab) {
+      if (mapSink_) mapSink_->onSlab(slab);  // the navigation map first: the slab then goes to the worker
+      if (mapSlabs_) mapSlabs_->add(std::move(slab));
+    });
   }
 }
 
@@ -75,6 +81,7 @@ FrameRecord Run::step(const DepthFrame& frame) {
   if (const odometry::OdometryTrack* track = runner_.odometry(); track && header.odometry)
     countOdometryFrame(*track, frame.timestamp, *header.odometry, lastOdometryPose_);
   FrameRecord rec = runner_.step(frame);
+  if (mapSink_) mapSink_->onFrame(rec, frame, *pipeline_);
   if (energy_) record(energy_->add(rec));
   return rec;
 }
@@ -128,6 +135,11 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
     attempt([&] {
       // The final volume and, with a moving volume, every slab that left (runtime/map_slabs.h).
       writeRunMesh((out / "mesh.ply").string(), *pipeline_, mapSlabs_.get(), pool, *outputs_.summary);
+    });
+  if (mapSink_)
+    attempt([&] {
+      mapSink_->write(dir_, *pipeline_);  // map.pgm, map.yaml, map.bt (navmap/), each atomically
+      summary.navmap = mapSink_->summaryJson();
     });
   if (const VolumeWindow* window = pipeline_->volumeWindow())
     summary.movingVolume = movingVolumeJson(*window, mapSlabs_.get());

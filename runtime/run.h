@@ -25,6 +25,7 @@
 #include "core/rotating_file.h"
 #include "core/thread_pool.h"
 #include "runtime/energy_account.h"
+#include "runtime/map_sink.h"
 #include "runtime/map_slabs.h"
 #include "runtime/odometry_input.h"
 #include "runtime/slam_runner.h"
@@ -50,6 +51,9 @@ struct RunOutputs {
   // The daemon's retention store (rotation, or a looping replay's pass directories), or nullptr: with it the
   // slab files give way to its free-space floor and to a full disk (MapSlabsOptions::store).
   std::shared_ptr<SegmentStore> slabRetention;
+  // The navigation map (issue 45; navmap/nav_map_sink.h), or nullptr: given every frame and every slab that
+  // leaves, written into DIR at the end (map.pgm, map.yaml, map.bt) and by the daemon at its period.
+  std::shared_ptr<MapSink> mapSink;
 };
 
 // What a run writes at its end.
@@ -86,6 +90,7 @@ class Run {
   SlamRunner& runner() { return runner_; }
   Pipeline& pipeline() { return *pipeline_; }
   SummarySink& summary() { return *outputs_.summary; }
+  MapSink* mapSink() { return mapSink_.get(); }
   const std::string& dir() const { return dir_; }
 
  private:
@@ -100,6 +105,7 @@ class Run {
   std::function<void(const power::FrameEnergy&)> listener_;
   std::unique_ptr<MapSlabs> mapSlabs_;  // RunOutputs::mapSlabs with a moving volume
   std::optional<Eigen::Isometry3d> lastOdometryPose_;  // of the last frame the odometry covered
+  std::shared_ptr<MapSink> mapSink_;    // RunOutputs::mapSink
 };
 
 // The "overview" viewpoint of model.png: above and behind the volume centre, looking at it.

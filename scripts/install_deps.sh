@@ -13,6 +13,7 @@ packages=(
   libsystemd-dev systemd                         # daemon: sd_notify, socket activation; systemd-analyze verify
   libusb-1.0-0-dev                               # SmartPower (v1) HID meter
   libopenni2-dev                                 # live depth cameras
+  liboctomap-dev                                 # navmap/: map.bt (optional: without it no map.bt)
   chromium                                       # report tests: render the HTML run report headless
   munge slurmctld slurmd slurm-client            # tests/tools/test_cluster.sh: the matrix as a Slurm array job
   parallel                                       # the matrix on GNU parallel (scripts/parallel_matrix.sh, its test)

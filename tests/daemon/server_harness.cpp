@@ -89,6 +89,10 @@ void ServerHarness::publishFrame(const daemon::FrameReport& report) {
   mailbox_->post([this, report] { server_->publishFrame(report); });
 }
 
+void ServerHarness::publishMap(const daemon::MapReport& report) {
+  mailbox_->post([this, report] { server_->publishMap(report); });
+}
+
 void ServerHarness::publishEnergy(const daemon::EnergyReport& report) {
   mailbox_->post([this, report] { server_->publishEnergy(report); });
 }

@@ -73,6 +73,8 @@ void runScript(const fs::path& script) {
     } else if (line.rfind("! energy ", 0) == 0) {
       const uint64_t n = std::stoull(line.substr(9));
       server.publishEnergy({n, 0.5 * static_cast<double>(n), 4.0, "scripted"});
+    } else if (line == "! map") {  // a hand-made 3 x 2 grid (docs/protocol.md's example)
+      server.publishMap({1, 300, 3, 2, 0.05, -1.25, 0.5, "mount: test", {100, 0, -1, 0, -1, 100}});
     } else {
       FAIL("bad script line");
     }
@@ -80,7 +82,7 @@ void runScript(const fs::path& script) {
   // Nothing unexpected may come before the reply to this sentinel.
   client.send("?VERSION;\n");
   CHECK(client.readLine() ==
-        R"({"class":"VERSION","proto_major":1,"proto_minor":5,"release":"test-release"})");
+        R"({"class":"VERSION","proto_major":1,"proto_minor":6,"release":"test-release"})");
 }
 
 }  // namespace

@@ -45,6 +45,7 @@ RunSummary sample() {
   s.energy = {{"joules_per_frame", 0.25}, {"mean_watts", 5.0}};
   s.modelView = "overview";
   s.movingVolume = {{"shifts", 3}};
+  s.navmap = {{"grid", true}};
   s.meshTriangles = 1000;
   s.meshSlabs = 2;
   s.complete = false;

@@ -35,6 +35,7 @@
 #include "runtime/run.h"
 #include "runtime/run_setup.h"
 #include "tools/slambooster/commands.h"
+#include "tools/slambooster/navmap_options.h"
 #include "tools/slambooster/stop_signals.h"
 
 namespace sb::cli {
@@ -60,6 +61,7 @@ struct RunOptions {
   bool mesh = false;
   bool fixedVolume = false;  // the paper's fixed volume whatever the config says (volume_mode "fixed")
   bool quiet = false;
+  NavMapOptions navmap;  // the navigation map (issue 45)
   std::string modelView = "last";  // viewpoint of model.png: "last" camera pose or "overview"
   std::string depthTopic;          // ROS bag input: the depth image topic (empty: the bag's only one)
   std::string odometry;            // an odometry.txt (or .bag); empty: the sequence's own (runtime/odometry_input.h)
@@ -253,6 +255,7 @@ void runCommand(const RunOptions& o) {
   outputs.comment = "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
                     formatKnobs(initial) + " (volume frame)";
   outputs.mapSlabs = o.mesh;
+  outputs.mapSink = makeNavMapSink(o.navmap, setup.pipeline, info);
   Run run(std::move(pipeline), std::move(controller), info.depthScale, outputs, energy ? &*energy : nullptr);
   if (odometry.track) {
     run.runner().setOdometry(odometry.track);
@@ -329,6 +332,7 @@ void addRunCommand(CLI::App& app) {
          "centre, looking at it)")
       ->check(CLI::IsMember({"last", "overview"}));
   sub->add_flag("--quiet", options->quiet, "No progress bar");
+  addNavMapOptions(sub, options->navmap);
   sub->callback([options] { runCommand(*options); });
 }
 

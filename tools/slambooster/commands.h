@@ -14,6 +14,7 @@ void addBenchCommand(CLI::App& app, const std::vector<std::string>& commandLine)
 void addDseCommand(CLI::App& app, const std::vector<std::string>& commandLine);
 void addProfileCommand(CLI::App& app, const std::vector<std::string>& commandLine);
 void addEvalCommand(CLI::App& app);
+void addEvalMapCommand(CLI::App& app);  // the navigation grid against a synthetic corridor's truth
 void addEnergyCommand(CLI::App& app);
 void addSynthCommand(CLI::App& app);
 void addCutCommand(CLI::App& app);

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   sb::cli::addDseCommand(app, commandLine);
   sb::cli::addProfileCommand(app, commandLine);
   sb::cli::addEvalCommand(app);
+  sb::cli::addEvalMapCommand(app);
   sb::cli::addEnergyCommand(app);
   sb::cli::addSynthCommand(app);
   sb::cli::addCutCommand(app);

@@ -1,0 +1,53 @@
+#include "daemon/map_publisher.h"
+
+#include <spdlog/spdlog.h>
+
+#include "core/error.h"
+
+namespace sb::daemon {
+
+MapPublisher::MapPublisher(const OutputConfig& output, const PipelineConfig& pipeline, const SequenceInfo& sequence)
+    : settings_(navmap::loadNavMapConfig(output.navmap)),
+      period_(output.navmapPeriodS),
+      pipeline_(pipeline),
+      sequence_(sequence) {
+  settings_.validate(double(pipeline.volumeSize) / pipeline.volumeResolution);
+}
+
+std::shared_ptr<MapSink> MapPublisher::startPass(uint32_t pass) {
+  pass_ = pass;
+  sink_ = std::make_shared<navmap::NavMapSink>(settings_, pipeline_, sequence_.intrinsics, sequence_.depthScale);
+  lastWrite_ = std::chrono::steady_clock::now();
+  if (settings_.up == "none") {
+    spdlog::warn("navmap: {}", sink_->why());
+    sink_.reset();
+  }
+  return sink_;
+}
+
+void MapPublisher::afterFrame(Run& run, uint64_t frame) {
+  if (!sink_ || !sink_->map().frame()) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - lastWrite_ < period_) return;
+  lastWrite_ = now;
+  try {
+    sink_->write(run.dir(), run.pipeline());  // atomically: a reader never sees half a map
+  } catch (const Error& e) {
+    spdlog::warn("navmap: {}", e.what());  // the next period tries again; the run goes on
+  }
+  if (!publish_) return;
+  const navmap::OccupancyImage grid = sink_->grid();
+  MapReport report;
+  report.pass = pass_;
+  report.frame = frame;
+  report.width = grid.width;
+  report.height = grid.height;
+  report.resolutionM = grid.resolutionM;
+  report.originX = grid.originM.x();
+  report.originY = grid.originM.y();
+  report.up = sink_->map().frame()->source;
+  report.cells = grid.cells;
+  publish_(std::move(report));
+}
+
+}  // namespace sb::daemon

@@ -1,0 +1,78 @@
+#include "navmap/nav_map.h"
+
+#include <chrono>
+#include <filesystem>
+
+#include "core/error.h"
+
+namespace sb::navmap {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+}  // namespace
+
+NavMap::NavMap(const NavMapConfig& config, double voxelSizeM, double muM)
+    : config_(config), voxelSizeM_(voxelSizeM), muM_(muM) {
+  config_.validate(voxelSizeM);
+}
+
+bool NavMap::addCommitted(const VoxelBox& box) {
+  if (!frame_) return false;
+  const auto start = Clock::now();
+  VoxelBox b = box;
+  b.muM = muM_;
+  voteGrid(b, frame_->T_world_to_map, config_, committed_);
+  voteVolume(b, frame_->T_world_to_map, config_, committedCells_);
+  ++stats_.slabs;
+  stats_.slabMs += msSince(start);
+  return true;
+}
+
+void NavMap::refreshLive(const VoxelBox& volume) {
+  if (!frame_) return;
+  const auto start = Clock::now();
+  VoxelBox b = volume;
+  b.muM = muM_;
+  live_.clear();
+  voteGrid(b, frame_->T_world_to_map, config_, live_);
+  ++stats_.refreshes;
+  stats_.refreshMs += msSince(start);
+}
+
+OccupancyImage NavMap::grid() const {
+  GridVotes all = committed_;
+  all.merge(live_);
+  return gridImage(all, config_, voxelSizeM_);
+}
+
+OccupancyImage NavMap::write(const std::string& dir, const VoxelBox* volume) {
+  if (!frame_) throw Error("navmap: no map frame (which way is up) to write '" + dir + "/map.pgm' in");
+  if (volume) refreshLive(*volume);
+  const auto start = Clock::now();
+  OccupancyImage image = grid();
+  writeGridFiles(dir, image, config_, *frame_);
+  if (config_.octomapResolutionM > 0.0 && octomapAvailable()) {
+    VolumeVotes cells = committedCells_;
+    if (volume) {
+      VoxelBox b = *volume;
+      b.muM = muM_;
+      voteVolume(b, frame_->T_world_to_map, config_, cells);
+    }
+    writeOctomap((std::filesystem::path(dir) / "map.bt").string(), cells, config_, voxelSizeM_, &stats_.octomap);
+  }
+  ++stats_.writes;
+  stats_.writeMs += msSince(start);
+  return image;
+}
+
+NavMapStats NavMap::stats() const {
+  NavMapStats s = stats_;
+  s.gridBytes = committed_.bytes() + live_.bytes();
+  s.volumeCells = committedCells_.size();
+  return s;
+}
+
+}  // namespace sb::navmap

@@ -1,0 +1,66 @@
+#pragma once
+// The navigation map of a run (issue 45): the 2D occupancy grid of the robot's band and the 3D cells of
+// map.bt, kept as the run goes. Voxels vote (navmap/voxel_votes.h) from two places only, never from a pass
+// over the whole volume per frame:
+//   - each slab that leaves the moving volume (addCommitted: its votes are kept for good; the plane of the
+//     slab that stays in the volume is left to the volume, so a cell on the boundary is counted once);
+//   - the volume itself when the grid is written or published (the end of a run, the daemon's period;
+//     refreshLive: its band's votes replace the previous ones), or every NavMapConfig::updatePeriodFrames.
+// The grid is the sum of both. Memory: GridVotes' chunks (16 KiB per 3.2 m x 3.2 m of 5 cm cells explored)
+// plus a hash of 3D cells (~40 bytes per observed cell of octomapResolutionM); map.bt's tree is built only
+// while it is written.
+//
+// Not thread-safe: the SLAM thread adds, refreshes and writes.
+
+#include <optional>
+#include <string>
+
+#include "navmap/grid_votes.h"
+#include "navmap/map_files.h"
+#include "navmap/map_frame.h"
+#include "navmap/navmap_config.h"
+#include "navmap/octomap_file.h"
+#include "navmap/voxel_votes.h"
+
+namespace sb::navmap {
+
+struct NavMapStats {
+  size_t slabs = 0, refreshes = 0, writes = 0;
+  double slabMs = 0.0, refreshMs = 0.0, writeMs = 0.0;  // summed wall time
+  size_t gridBytes = 0;       // the grid's votes (committed and live)
+  size_t volumeCells = 0;     // 3D cells held (committed)
+  OctomapStats octomap;       // of the last map.bt
+};
+
+class NavMap {
+ public:
+  // voxelSizeM and muM of the TSDF volume the votes come from. Throws sb::Error for a bad config.
+  NavMap(const NavMapConfig& config, double voxelSizeM, double muM);
+
+  void setFrame(const MapFrame& frame) { frame_ = frame; }
+  const std::optional<MapFrame>& frame() const { return frame_; }
+
+  // A box that left the volume for good; ignored (false) before the frame is known.
+  bool addCommitted(const VoxelBox& box);
+  // The volume now: its band's votes replace the last refresh's.
+  void refreshLive(const VoxelBox& volume);
+  // The grid of every vote so far (committed and the last refresh).
+  OccupancyImage grid() const;
+  // DIR/map.pgm, map.yaml, map_frame.json and (with liboctomap and octomapResolutionM > 0) map.bt, each
+  // atomically; `volume` (or nullptr) is refreshed first and adds its 3D cells to map.bt. Needs the frame.
+  // Throws sb::Error naming a file.
+  OccupancyImage write(const std::string& dir, const VoxelBox* volume);
+
+  const NavMapConfig& config() const { return config_; }
+  NavMapStats stats() const;
+
+ private:
+  NavMapConfig config_;
+  double voxelSizeM_, muM_;
+  std::optional<MapFrame> frame_;
+  GridVotes committed_, live_;
+  VolumeVotes committedCells_;
+  NavMapStats stats_;
+};
+
+}  // namespace sb::navmap

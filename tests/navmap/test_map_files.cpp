@@ -1,0 +1,81 @@
+// map_server's files against a hand-made grid, and map.bt read back by liboctomap.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "navmap/map_files.h"
+#include "navmap/nav_map.h"
+#include "tests/navmap/tsdf_scene.h"
+#include "tests/support/test_data.h"
+
+#ifdef SB_HAVE_OCTOMAP
+#include <octomap/OcTree.h>
+#endif
+
+using namespace sb::navmap;
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("map.pgm and map.yaml of a hand-made grid", "[navmap]") {
+  // 3 x 2 cells: the bottom row (y = 0) occupied, free, unknown; the top row free, unknown, occupied.
+  OccupancyImage g;
+  g.width = 3, g.height = 2, g.resolutionM = 0.05;
+  g.originM = Eigen::Vector2d(-1.25, 0.5);
+  g.cells = {100, 0, -1, 0, -1, 100};
+  // Row 0 of the image is the top (y = 1): 254 205 0, then 0 254 205.
+  const std::string expected = std::string("P5\n# slambooster navmap\n3 2\n255\n") +
+                               std::string("\xfe\xcd\x00\x00\xfe\xcd", 6);
+  CHECK(pgmBytes(g) == expected);
+  CHECK(yamlText(g, NavMapConfig{}, "map.pgm") ==
+        "image: map.pgm\nresolution: 0.050000\norigin: [-1.250000, 0.500000, 0.0]\nnegate: 0\n"
+        "occupied_thresh: 0.650\nfree_thresh: 0.196\n");
+  const std::string dir = sb::test::scratchDir("navmap_files");
+  MapFrame frame;
+  frame.source = "mount: test";
+  writeGridFiles(dir, g, NavMapConfig{}, frame);
+  CHECK(slurp(dir + "/map.pgm") == expected);
+  CHECK(slurp(dir + "/map.yaml").rfind("image: map.pgm\n", 0) == 0);
+  CHECK(slurp(dir + "/map_frame.json").find("\"occupied_cells\": 2") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir + "/map.pgm.tmp"));
+}
+
+TEST_CASE("map.bt loads with liboctomap: the wall occupied, the room free", "[navmap]") {
+  if (!octomapAvailable()) {
+    WARN("built without liboctomap: no map.bt");
+    return;
+  }
+  // A wall facing the camera at world z = 3 (map x = 2.5) over a floor at world y = 2.2 (map z = 0).
+  const sb::navmap::test::TsdfScene scene(
+      [](const Eigen::Vector3d& w) { return std::min(2.2 - w.y(), 3.0 - w.z()); }, 100, 0.04);
+  NavMapConfig config;
+  config.octomapResolutionM = 0.08;
+  NavMap map(config, scene.voxel, scene.mu);
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+  camera.translation() = Eigen::Vector3d(2.0, 1.0, 0.5);
+  map.setFrame(mapFrameFromMount(camera, CameraMount{1.2, 0.0, 0.0}));
+  const std::string dir = sb::test::scratchDir("navmap_octomap");
+  const VoxelBox volume = scene.box();
+  map.write(dir, &volume);
+  CHECK(map.stats().octomap.occupiedLeaves > 0);
+#ifdef SB_HAVE_OCTOMAP
+  octomap::OcTree tree(0.1);
+  REQUIRE(tree.readBinary(dir + "/map.bt"));
+  CHECK(tree.getResolution() == Approx(0.08));
+  const octomap::OcTreeNode* wall = tree.search(2.52, 0.0, 0.8);
+  REQUIRE(wall);
+  CHECK(tree.isNodeOccupied(wall));
+  const octomap::OcTreeNode* room = tree.search(1.0, 0.0, 0.8);
+  REQUIRE(room);
+  CHECK(!tree.isNodeOccupied(room));
+#endif
+}
