@@ -85,6 +85,9 @@ VoxelBox NavMapSink::volumeBox(Pipeline& pipeline) const {
 
 void NavMapSink::onFrame(const FrameRecord& record, const DepthFrame& frame, Pipeline& pipeline) {
   ++frames_;
+  // The robot's odometry says which way is up (its frame's z, REP 103), from the first good frame that has it.
+  if (!map_.frame() && record.odometry.cameraToOdom && record.state == TrackingState::good)
+    setFrameFromOdometry(record.result.T_camera_to_world, *record.odometry.cameraToOdom);
   if (!map_.frame()) findUp(record, frame);
   const int period = map_.config().updatePeriodFrames;
   if (map_.frame() && period > 0 && frames_ % size_t(period) == 0) map_.refreshLive(volumeBox(pipeline));

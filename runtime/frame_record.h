@@ -3,6 +3,7 @@
 // the controller's own cost. Output sinks receive it; the daemon publishes it.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "controller/controller.h"
@@ -19,6 +20,9 @@ struct FrameOdometry {
   bool rejected = false;   // contradicted by the view along the motions it fixes (a wheel slip): not used
   double driftM = 0.0;     // metres driven on odometry alone since depth last tracked (state odometry)
   bool fused = false;      // state odometry: the frame was fused at the odometry's pose (the view is back)
+  // The camera's pose in the odometry frame at the frame's stamp (T_camera_to_odom), when available: the
+  // odometry frame's z axis is up (REP 103), which the navigation map needs.
+  std::optional<Eigen::Isometry3d> cameraToOdom;
   std::string why;         // when not available or rejected: why, for frames.jsonl
 };
 

@@ -95,6 +95,7 @@ FrameMotion SlamRunner::motionOf(const DepthFrame& frame, FrameRecord& rec) cons
     return motion;
   }
   const odometry::OdometryConfig& c = pipeline_.config().odometry;
+  rec.odometry.cameraToOdom = odometry_->poseAt(frame.timestamp, c.maxGapS, c.maxExtrapolationS);
   auto step = odometry::stepBetween(*odometry_, previousStamp_, frame.timestamp, c, rec.odometry.why);
   if (!step) return motion;
   rec.odometry.available = true;

@@ -255,7 +255,7 @@ void runCommand(const RunOptions& o) {
   outputs.comment = "slambooster run " + o.sequence + " controller " + setup.controller.name + " initial knobs " +
                     formatKnobs(initial) + " (volume frame)";
   outputs.mapSlabs = o.mesh;
-  outputs.mapSink = makeNavMapSink(o.navmap, setup.pipeline, info);
+  outputs.mapSink = makeNavMapSink(o.navmap, setup.pipeline, info, odometry.track != nullptr);
   Run run(std::move(pipeline), std::move(controller), info.depthScale, outputs, energy ? &*energy : nullptr);
   if (odometry.track) {
     run.runner().setOdometry(odometry.track);

@@ -45,7 +45,7 @@ void addNavMapOptions(CLI::App* sub, NavMapOptions& o) {
 }
 
 std::shared_ptr<MapSink> makeNavMapSink(const NavMapOptions& o, const PipelineConfig& pipeline,
-                                        const SequenceInfo& info) {
+                                        const SequenceInfo& info, bool odometry) {
   navmap::NavMapConfig config;
   if (!o.mount.empty() && o.floor) throw Error("--map-mount and --map-floor: give one");
   if (!o.mount.empty()) {
@@ -63,7 +63,7 @@ std::shared_ptr<MapSink> makeNavMapSink(const NavMapOptions& o, const PipelineCo
   config.octomapResolutionM = o.octomapResolution;
   config.updatePeriodFrames = o.updatePeriod;
   auto sink = std::make_shared<navmap::NavMapSink>(config, pipeline, info.intrinsics, info.depthScale);
-  if (config.up == "none") {
+  if (config.up == "none" && !odometry) {
     spdlog::warn("navmap: {}", sink->why());
     return nullptr;
   }

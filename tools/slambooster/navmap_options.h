@@ -23,9 +23,10 @@ struct NavMapOptions {
 
 void addNavMapOptions(CLI::App* sub, NavMapOptions& options);
 
-// The run's map sink, or nullptr (and a line on the log saying why: nothing says which way is up). Throws
-// sb::Error for a malformed option.
+// The run's map sink, or nullptr (and a line on the log saying why: nothing says which way is up). With
+// `odometry` the sink is made even without a mount or a floor fit: the odometry's frame says which way is up.
+// Throws sb::Error for a malformed option.
 std::shared_ptr<MapSink> makeNavMapSink(const NavMapOptions& options, const PipelineConfig& pipeline,
-                                        const SequenceInfo& info);
+                                        const SequenceInfo& info, bool odometry = false);
 
 }  // namespace sb::cli
