@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "daemon/source_registry.h"
+#include "drivers/camera_bounds.h"
 
 namespace sb::daemon {
 
@@ -22,15 +23,6 @@ void CameraConfig::read(ConfigReader& r) {
     r.fail("reconnect_max_s", "a value >= 'reconnect_min_s' (" + std::to_string(reconnectMinSeconds) + " s)");
 }
 
-namespace {
-
-// Plausible depth scales, raw units per metre: 100 (centimetres) to 100000 (10 micrometres, a 0.65 m range
-// in 16 bits). 1000 (millimetres) and 5000 (TUM) are the usual ones.
-constexpr double kMinDepthScale = 100.0;
-constexpr double kMaxDepthScale = 100000.0;
-
-}  // namespace
-
 void SourceConfig::read(ConfigReader& r) {
   r.string("type", type);
   r.string("path", path);
@@ -45,6 +37,9 @@ void SourceConfig::read(ConfigReader& r) {
                               " raw units per metre (1000 for millimetres, 5000 for TUM)");
   r.integer("queue_frames", queueFrames, 1, 256);
   r.string("depth_topic", depthTopic);
+  r.number("push_timeout_s", pushTimeoutSeconds, 0.1, 3600.0);
+  r.integer("max_frame_pixels", maxFramePixels, size_t(kMinDepthImageSide) * kMinDepthImageSide,
+            size_t(kMaxDepthImageSide) * kMaxDepthImageSide);
   r.section("camera", [&](ConfigReader& section) { camera.read(section); });
   const auto types = sourceTypes();
   if (std::find(types.begin(), types.end(), type) == types.end()) {
@@ -78,6 +73,8 @@ nlohmann::json SourceConfig::toJson() const {
           {"depth_scale", depthScale},
           {"queue_frames", queueFrames},
           {"depth_topic", depthTopic},
+          {"push_timeout_s", pushTimeoutSeconds},
+          {"max_frame_pixels", maxFramePixels},
           {"camera", camera.toJson()}};
 }
 

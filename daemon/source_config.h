@@ -40,6 +40,10 @@ struct SourceConfig {
   double depthScale = 0.0;          // raw units per metre; 0 = from calibration.json / the format
   size_t queueFrames = 4;           // capacity of the capture -> SLAM queue (frames)
   std::string depthTopic;           // replay of a ROS bag: its depth image topic; empty = the bag's only one
+  double pushTimeoutSeconds = 5.0;  // push: a client silent this long within or before a frame is closed
+  size_t maxFramePixels = 1310720;  // push: largest frame accepted, width x height pixels (1280x1024)
+  unsigned socketMode = 0660;       // push: its socket's permission bits; not a key: socket.mode, set by the
+                                    // daemon (the push socket follows the control socket)
   CameraConfig camera;              // type "openni2" (and "pattern": its size and rate)
 
   // The `source` section's keys (config/README.md); type must be a registered source.

@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "ros/daemon_link.h"
 #include "ros/depth_forwarder.h"
+#include "ros/master_watch.h"
 #include "ros/odometry_publisher.h"
 #include "ros/ros_params.h"
 
@@ -29,6 +30,7 @@ int main(int argc, char** argv) {
   if (!config.pushSocket.empty()) forwarder = std::make_unique<sb::ros_bridge::DepthForwarder>(node, config);
   ros::AsyncSpinner spinner(1);
   spinner.start();
+  const sb::ros_bridge::MasterWatch watch;  // a restarted master ends the bridge with status 3
   sb::ros_bridge::OdometryPublisher publisher(node, privateNode, config);
   sb::ros_bridge::DaemonLink(config, publisher).run();
   spinner.stop();
