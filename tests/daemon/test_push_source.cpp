@@ -17,10 +17,12 @@
 #include <thread>
 
 #include "client/frame_pusher.h"
+#include "core/trajectory.h"
 #include "core/unique_fd.h"
 #include "drivers/sequence.h"
 #include "tests/daemon/daemon_e2e.h"
 #include "tests/daemon/process.h"
+#include "tests/support/files.h"
 
 using namespace sb::test::e2e;
 using sb::test::ChildProcess;
@@ -95,6 +97,13 @@ struct PushDaemon {
     return logSays(text);
   }
   nlohmann::json status() const { return ctlJson(socket, "status"); }
+  // Waits until trajectory.tum has `lines` frames (the SLAM thread took them).
+  bool waitTracked(size_t lines, double seconds) const {
+    const auto deadline = Clock::now() + std::chrono::duration<double>(seconds);
+    while (Clock::now() < deadline && dataLines(out + "/trajectory.tum") < lines)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return dataLines(out + "/trajectory.tum") >= lines;
+  }
   size_t framesDone() const { return status()["source"].value("frames", size_t(0)); }
 };
 
@@ -204,13 +213,14 @@ TEST_CASE("push source: tiny, absurd and huge first frames are refused, the daem
   const nlohmann::json s = d.status()["source"];
   CHECK(s["frames"] == 3);
   CHECK(s["rejected"] == 7);
+  CHECK(d.waitTracked(3, 20));
   int status = 0;
   d.terminate(status);
   CHECK(status == 0);
   CHECK(sb::test::readJson(d.out + "/summary.json")["frames"] == 3);
 }
 
-TEST_CASE("push source: stamps trajectory.tum could not keep are refused; eval reads the trajectory back",
+TEST_CASE("push source: stamps trajectory.tum could not keep are refused; the TUM reader reads it back",
           "[daemon][push][system]") {
   PushDaemon d("stamps");
   {
@@ -223,6 +233,7 @@ TEST_CASE("push source: stamps trajectory.tum could not keep are refused; eval r
     const nlohmann::json s = d.status()["source"];
     CHECK(s["frames"] == 4);
     CHECK(s["rejected"] == 5);
+    CHECK(d.waitTracked(4, 20));
   }
   int status = 0;
   d.terminate(status);
@@ -231,15 +242,14 @@ TEST_CASE("push source: stamps trajectory.tum could not keep are refused; eval r
   const std::string trajectory = d.out + "/trajectory.tum";
   CHECK(trajectoryTimestamps(trajectory) ==
         std::set<std::string>{"1.000000", "1.033000", "1.066000", "1.100000"});
-  const auto eval = sb::test::runCommand(kTool + " eval " + trajectory + " " + trajectory);
-  INFO(eval.output);
-  CHECK(eval.exitCode == 0);
+  // The reader `slambooster eval` uses takes it (it refuses a stamp that does not increase).
+  CHECK_NOTHROW(sb::readTumTrajectory(trajectory));
 }
 
 TEST_CASE("push source: the socket follows socket.mode; a push path that is the control socket or a file",
           "[daemon][push][system]") {
   {
-    PushDaemon d("mode", {"--set", "socket.mode=384"});  // 0600
+    PushDaemon d("mode", {"--set", "socket.mode=0600"});
     struct stat st {};
     REQUIRE(::stat(d.pushPath.c_str(), &st) == 0);
     CHECK((st.st_mode & 0777) == 0600);
