@@ -83,15 +83,30 @@ UniqueFd openOwnSubdirectory(int parent, const std::string& parentPath, const st
 
 UniqueFd createReplacing(int dir, const std::string& dirPath, const std::string& name) {
   const std::string path = join(dirPath, name);
-  if (::unlinkat(dir, name.c_str(), 0) != 0 && errno != ENOENT)
-    throw Error("cannot replace '" + path + "': " + std::strerror(errno) + " (check the output directory)");
-  UniqueFd fd(openExclusive(dir, name));
-  if (!fd.valid()) {
-    const int error = errno;
-    throw Error("cannot create '" + path + "': " + std::strerror(error) +
-                (error == EEXIST ? " (the name was made again while it was being replaced: who else writes there?)"
-                                 : " (check the output directory)"));
+  const auto fail = [&](const std::string& what, int error) {
+    return Error("cannot " + what + " '" + path + "': " + std::strerror(error) +
+                 (error == EEXIST ? " (the name was made again while it was being replaced: who else writes there?)"
+                                  : " (check the output directory)"));
+  };
+  // Opened without following a symlink and without truncating, then looked at through the descriptor: a file
+  // of one link (ours, from an earlier run) is truncated; a symlink or a file with other links (planted) is
+  // unlinked and made anew; a device (e.g. /dev/full) is written as before, never removed.
+  UniqueFd fd(::openat(dir, name.c_str(), O_WRONLY | O_NOFOLLOW | O_CLOEXEC));
+  if (fd.valid()) {
+    struct stat st {};
+    if (::fstat(fd.get(), &st) != 0) throw fail("examine", errno);
+    if (!S_ISREG(st.st_mode)) return fd;
+    if (st.st_nlink == 1) {
+      if (::ftruncate(fd.get(), 0) != 0) throw fail("truncate", errno);
+      return fd;
+    }
+    fd.reset();
+  } else if (errno != ENOENT && errno != ELOOP) {
+    throw fail("open", errno);
   }
+  if (::unlinkat(dir, name.c_str(), 0) != 0 && errno != ENOENT) throw fail("replace", errno);
+  fd.reset(openExclusive(dir, name));
+  if (!fd.valid()) throw fail("create", errno);
   return fd;
 }
 
@@ -103,7 +118,11 @@ UniqueFd createReplacing(const std::string& path) {
 
 TemporaryFile::TemporaryFile(const std::string& target, const std::string& tag) {
   std::tie(dirPath_, targetName_) = splitPath(target);
-  dir_ = openDirectory(dirPath_);
+  try {
+    dir_ = openDirectory(dirPath_);
+  } catch (const Error& e) {
+    throw Error("cannot write '" + target + "': " + e.what());
+  }
   create(tag);
 }
 

@@ -7,9 +7,10 @@
 //   under a name of its own that did not exist before ("<name><tag>.<random>"), with
 //   O_CREAT|O_EXCL|O_NOFOLLOW through the directory's descriptor, written through that descriptor, and renamed
 //   over its name (rename replaces a symlink itself, never its target);
-// - an output written in place (trajectory.tum, frames.jsonl, energy.jsonl, their segments) replaces its name:
-//   the name is unlinked (a symlink or hard link there goes, the file it pointed at stays as it was) and
-//   created anew with O_CREAT|O_EXCL|O_NOFOLLOW.
+// - an output written in place (trajectory.tum, frames.jsonl, energy.jsonl, their segments) is opened without
+//   following a symlink and looked at through its descriptor before anything is truncated: a symlink or a
+//   file with other hard links there is unlinked (the file it pointed at stays as it was) and the name created
+//   anew with O_CREAT|O_EXCL|O_NOFOLLOW; a file of one link is truncated; a device is written as it is.
 // A name that is made again between the two steps fails with an error naming it; nothing is followed.
 
 #include <cstdio>
@@ -29,8 +30,8 @@ UniqueFd openDirectory(const std::string& path);
 // and removed there stays inside `parent`.
 UniqueFd openOwnSubdirectory(int parent, const std::string& parentPath, const std::string& name);
 
-// Creates DIR/NAME as a new empty file (0644 less the umask) for writing, replacing whatever had that name
-// (unlinked, never followed). Throws sb::Error naming the file.
+// DIR/NAME as an empty file for writing (0644 less the umask when made): never through a symlink or into a
+// file with other hard links (those are replaced); a device stays a device. Throws sb::Error naming the file.
 UniqueFd createReplacing(const std::string& path);
 UniqueFd createReplacing(int dir, const std::string& dirPath, const std::string& name);
 

@@ -192,6 +192,10 @@ void MapSlabs::listEarlier() {
 
 void MapSlabs::openFolder() {
   // Opened once, never through a symlink: every slab written or removed later is in this directory.
+  const std::filesystem::path folder = std::filesystem::path(dir_) / kFolder;
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw Error("cannot create '" + folder.string() + "': " + ec.message());
   folder_ = openOwnSubdirectory(openDirectory(dir_).get(), dir_, kFolder);
 }
 
