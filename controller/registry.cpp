@@ -1,5 +1,6 @@
 #include "controller/registry.h"
 
+
 #include "controller/adaptive_controller.h"
 #include "controller/budget_controller.h"
 #include "controller/fixed_controller.h"
@@ -8,6 +9,7 @@
 #include "controller/step_controller.h"
 #include "controller/tc_controller.h"
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb {
 
@@ -76,7 +78,8 @@ const ControllerType& findEntry(const std::string& name, const std::string& wher
     if (name == e.name) return e;
   std::string names;
   for (const ControllerType& e : controllerTypes()) names += (names.empty() ? "" : ", ") + e.name;
-  throw Error(where + ": unknown controller '" + name + "' (known: " + names + ")");
+  // Quoted with control bytes escaped: a NUL inside the name (a request's "\u0000") must not cut the message.
+  throw Error(where + ": unknown controller " + quoteForMessage(name) + " (known: " + names + ")");
 }
 
 bool isSection(const std::string& key) {

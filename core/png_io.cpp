@@ -73,15 +73,11 @@ void flushPngData(png_structp png) {
   }
 }
 
-// Writes rows with libpng to `path` exactly as given; `rows` point into the caller's pixel buffer.
-void writePngRowsTo(const std::string& path, const std::string& name, int width, int height, int bitDepth,
+// Writes rows with libpng to `file` exactly as given; `rows` point into the caller's pixel buffer.
+void writePngRowsTo(std::FILE* file, const std::string& name, int width, int height, int bitDepth,
                     int colourType, const std::vector<png_bytep>& rows, bool swap16) {
-  FilePtr file(std::fopen(path.c_str(), "wb"));
-  if (!file)
-    throw Error("cannot write PNG '" + name + "': " + std::strerror(errno) +
-                " (check that the directory exists and is writable)");
   PngErrorState state;
-  PngSink sink{file.get(), 0};
+  PngSink sink{file, 0};
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &state, onPngError, onPngWarning);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info) {
@@ -106,16 +102,14 @@ void writePngRowsTo(const std::string& path, const std::string& name, int width,
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   errno = 0;
-  if (std::fflush(file.get()) != 0) throw failed(std::strerror(errno ? errno : EIO));
-  errno = 0;
-  if (std::fclose(file.release()) != 0) throw failed(std::strerror(errno ? errno : EIO));
+  if (std::fflush(file) != 0) throw failed(std::strerror(errno ? errno : EIO));
 }
 
 // Whole or not at all: the PNG is written to a temporary sibling and renamed over `path` once complete.
 void writePngRows(const std::string& path, int width, int height, int bitDepth, int colourType,
                   const std::vector<png_bytep>& rows, bool swap16) {
-  writeFileAtomically(path, [&](const std::string& temporary) {
-    writePngRowsTo(temporary, path, width, height, bitDepth, colourType, rows, swap16);
+  writeFileAtomically(path, [&](std::FILE* file, const std::string&) {
+    writePngRowsTo(file, path, width, height, bitDepth, colourType, rows, swap16);
   });
 }
 

@@ -11,6 +11,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 
 namespace sb {
 
@@ -113,10 +114,11 @@ RotatingFile::~RotatingFile() {
 
 void RotatingFile::openSegment() {
   if (store_) path_ = (std::filesystem::path(dir_) / segmentName(stem_ + ext_, ++segment_)).string();
-  fd_.reset(::open(path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644));
-  if (!fd_.valid())
-    throw Error("cannot write " + what_ + " '" + path_ + "': " + std::strerror(errno) +
-                " (check the output directory)");
+  try {
+    fd_ = createReplacing(path_);  // a symlink or hard link of that name is replaced, never written through
+  } catch (const Error& e) {
+    throw Error("cannot write " + what_ + ": " + e.what());
+  }
   size_ = 0;
   opened_ = std::chrono::steady_clock::now();
   if (!header_.empty()) write(header_);

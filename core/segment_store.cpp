@@ -168,6 +168,12 @@ void SegmentStore::writeMakingRoom(const std::function<void()>& write) {
   }
 }
 
+void SegmentStore::makeRoom(uint64_t bytes) {
+  std::lock_guard lock(mutex_);
+  while (bytes > 0 && freeBytesLocked() < bytes && removeOldestForSpaceLocked()) {
+  }
+}
+
 void SegmentStore::enforce() {
   std::lock_guard lock(mutex_);
   while (totalLocked() > limits_.keepBytes && removeOldestLocked()) {

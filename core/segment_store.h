@@ -99,6 +99,10 @@ class SegmentStore {
   // throws sb::DiskFullError (core/disk_full.h) and a segment is left; then the error goes to the caller. For
   // the outputs that do not rotate but must go on when the disk fills (summary.json, rewritten every frame).
   void writeMakingRoom(const std::function<void()>& write);
+  // Before a write of about `bytes`: removes the oldest closed segments or attached files while the file
+  // system has less free space than that (and some are left). A map slab needs about twice its file's size
+  // while it is written (runtime/map_slabs.h).
+  void makeRoom(uint64_t bytes);
   SegmentUsage usage() const;
   // `files` are removed for space (with the segments, oldest first) until detached (before they are
   // destroyed).

@@ -123,7 +123,9 @@ int Daemon::run() {
   const size_t fdLimit = ensureFdBudget(config_.socket.maxClients);  // before any file is opened
   spdlog::debug("open-file limit {}: {} clients plus {} for the pipeline", fdLimit, config_.socket.maxClients,
                 kReservedFds + 1);
-  p.source = createSource(config_.source);
+  SourceConfig source = config_.source;
+  source.socketMode = config_.socket.mode;  // the push socket follows the control socket's mode
+  p.source = createSource(source);
   const SequenceInfo info = p.source->info();
   p.queue = std::make_unique<FrameQueue>(
       config_.source.queueFrames, p.source->live() ? FrameQueue::Policy::newest : FrameQueue::Policy::wait);

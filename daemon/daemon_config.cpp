@@ -1,10 +1,12 @@
 #include "daemon/daemon_config.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "core/config_reader.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "core/json_text.h"
 #include "daemon/cpu_affinity.h"
 
@@ -44,11 +46,15 @@ void readSlam(ConfigReader& r, SlamConfig& s) {
 
 constexpr double kMib = 1024.0 * 1024.0;
 constexpr double kMinKeepSlabsMib = 16.0;
+constexpr double kMinSegmentSeconds = 1.0;  // output.rotation.segment_s, when not 0
 
 void readRotation(ConfigReader& r, RotationConfig& c) {
   r.string("mode", c.mode, {"live", "always", "never"});
   r.number("segment_mib", c.segmentMib, 0.0625, 1048576.0);
   r.number("segment_s", c.segmentSeconds, 0.0, 31.0 * 86400.0);
+  if (c.segmentSeconds > 0.0 && c.segmentSeconds < kMinSegmentSeconds)  // 1e-9: two files per frame
+    r.fail("segment_s", "0 (no age limit) or at least " + std::to_string(int(kMinSegmentSeconds)) +
+                            " s (segments are whole files, not a few frames each)");
   r.number("keep_mib", c.keepMib, 0.5, 1073741824.0);
   r.integer("keep_segments", c.keepSegments, 0, 100000000);
   r.number("min_free_mib", c.minFreeMib, 0.0, 1073741824.0);
@@ -134,6 +140,13 @@ DaemonConfig parseDaemonConfigOrThrow(const nlohmann::json& j, const std::string
   r.section("socket", [&](ConfigReader& s) { readSocket(s, c.socket); });
   r.section("power", [&](ConfigReader& s) { readPower(s, c.power); });
   r.number("status_interval_s", c.statusIntervalSeconds, 0.05, 3600.0);
+  if (c.source.type == "push" && !c.source.path.empty()) {
+    // The push source's socket and the control socket must be two files (they would replace each other).
+    const auto normal = [](const std::string& p) { return std::filesystem::absolute(p).lexically_normal(); };
+    if (normal(c.source.path) == normal(c.socket.path))
+      throw ConfigError(where + ": 'source.path' = " + quoteForMessage(c.source.path) +
+                        " is the control socket's path (socket.path): the push source needs a socket of its own");
+  }
   r.string("log_level", c.logLevel, {"trace", "debug", "info", "warn", "error"});
   r.finish();
   return c;

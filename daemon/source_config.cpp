@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "daemon/source_registry.h"
+#include "drivers/camera_bounds.h"
 
 namespace sb::daemon {
 
@@ -22,15 +23,6 @@ void CameraConfig::read(ConfigReader& r) {
     r.fail("reconnect_max_s", "a value >= 'reconnect_min_s' (" + std::to_string(reconnectMinSeconds) + " s)");
 }
 
-namespace {
-
-// Plausible depth scales, raw units per metre: 100 (centimetres) to 100000 (10 micrometres, a 0.65 m range
-// in 16 bits). 1000 (millimetres) and 5000 (TUM) are the usual ones.
-constexpr double kMinDepthScale = 100.0;
-constexpr double kMaxDepthScale = 100000.0;
-
-}  // namespace
-
 void SourceConfig::read(ConfigReader& r) {
   r.string("type", type);
   r.string("path", path);
@@ -49,6 +41,9 @@ void SourceConfig::read(ConfigReader& r) {
   if (odometry.empty()) r.fail("odometry", "\"auto\", \"socket\", \"none\" or the path of an odometry.txt");
   r.string("odom_topic", odomTopic);
   r.string("camera_mount", cameraMount);
+  r.number("push_timeout_s", pushTimeoutSeconds, 0.1, 3600.0);
+  r.integer("max_frame_pixels", maxFramePixels, size_t(kMinDepthImageSide) * kMinDepthImageSide,
+            size_t(kMaxDepthImageSide) * kMaxDepthImageSide);
   r.section("camera", [&](ConfigReader& section) { camera.read(section); });
   const auto types = sourceTypes();
   if (std::find(types.begin(), types.end(), type) == types.end()) {
@@ -85,6 +80,8 @@ nlohmann::json SourceConfig::toJson() const {
           {"odometry", odometry},
           {"odom_topic", odomTopic},
           {"camera_mount", cameraMount},
+          {"push_timeout_s", pushTimeoutSeconds},
+          {"max_frame_pixels", maxFramePixels},
           {"camera", camera.toJson()}};
 }
 

@@ -45,6 +45,10 @@ struct SourceConfig {
   std::string odometry = "auto";
   std::string odomTopic;    // replay of a ROS bag: its nav_msgs/Odometry topic; empty = the bag's only one
   std::string cameraMount;  // replay of a ROS bag: "x y z qx qy qz qw" of the camera in the base; empty = /tf_static
+  double pushTimeoutSeconds = 5.0;  // push: a client silent this long within or before a frame is closed
+  size_t maxFramePixels = 1310720;  // push: largest frame accepted, width x height pixels (1280x1024)
+  unsigned socketMode = 0660;       // push: its socket's permission bits; not a key: socket.mode, set by the
+                                    // daemon (the push socket follows the control socket)
   CameraConfig camera;              // type "openni2" (and "pattern": its size and rate)
 
   // The `source` section's keys (config/README.md); type must be a registered source.

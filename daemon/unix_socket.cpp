@@ -53,13 +53,13 @@ ListeningSocket openListeningSocket(const std::string& path, unsigned mode) {
   return bindListeningSocket(path, mode);
 }
 
-ListeningSocket bindListeningSocket(const std::string& path, unsigned mode) {
+ListeningSocket bindListeningSocket(const std::string& path, unsigned mode, const std::string& key) {
   ListeningSocket s;
   const sockaddr_un addr = unixSocketAddress(path);
   struct stat st {};
   if (lstat(path.c_str(), &st) == 0) {
     if (!S_ISSOCK(st.st_mode))
-      throw Error("socket path '" + path + "' exists and is not a socket; remove it or set socket.path");
+      throw Error("socket path '" + path + "' exists and is not a socket; remove it or set " + key);
     if (someoneListens(path))
       throw Error("socket '" + path + "' is in use by another process (is slamboosterd already running?)");
     ::unlink(path.c_str());  // stale, from a daemon that did not exit cleanly
@@ -73,7 +73,7 @@ ListeningSocket bindListeningSocket(const std::string& path, unsigned mode) {
   umask(old);
   if (bound != 0)
     throw Error("cannot create socket '" + path + "': " + std::strerror(bindErrno) +
-                " (does the directory exist and is it writable? set socket.path)");
+                " (does the directory exist and is it writable? set " + key + ")");
   s.path = path;
   if (chmod(path.c_str(), mode) != 0)
     throw Error("cannot set mode of socket '" + path + "': " + std::strerror(errno));

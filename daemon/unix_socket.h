@@ -24,7 +24,8 @@ struct ListeningSocket {
 ListeningSocket openListeningSocket(const std::string& path, unsigned mode);
 
 // The same without socket activation: always binds `path` (for a second socket, e.g. the push source's).
-ListeningSocket bindListeningSocket(const std::string& path, unsigned mode);
+// `key` is the configuration key that sets `path`, named in errors.
+ListeningSocket bindListeningSocket(const std::string& path, unsigned mode, const std::string& key = "socket.path");
 
 // The client's side (connectUnix) is in the client library, client/connection.h.
 

@@ -2,11 +2,16 @@
 
 #include <dlfcn.h>
 
+#include <spdlog/spdlog.h>
+
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <vector>
 
 #include "core/error.h"
+#include "drivers/camera_bounds.h"
+#include "drivers/stamp_gate.h"
 #include "drivers/bag_plugin.h"
 
 namespace sb {
@@ -78,10 +83,46 @@ const LoadedPlugin& plugin() {
 
 }  // namespace
 
+namespace {
+
+// The bag's frames with their stamps checked as trajectory.tum's reader checks them (drivers/stamp_gate.h):
+// a frame whose stamp does not increase, or is out of range, is dropped with a warning (the first few, then
+// a count at the end).
+class StampCheckedBag : public FrameSource {
+ public:
+  StampCheckedBag(std::unique_ptr<FrameSource> bag, std::string path) : bag_(std::move(bag)), path_(std::move(path)) {}
+  ~StampCheckedBag() override {
+    if (gate_.refused() > kWarnings)
+      spdlog::warn("bag '{}': {} frames dropped in all for their stamps", path_, gate_.refused());
+  }
+  const SequenceInfo& info() const override { return bag_->info(); }
+  std::optional<DepthFrame> next() override {
+    while (auto frame = bag_->next()) {
+      const auto why = gate_.check(frame->timestamp);
+      if (!why) return frame;
+      if (gate_.refused() <= kWarnings)
+        spdlog::warn("bag '{}': frame {} dropped: its {} (trajectory.tum must be readable by `slambooster eval`)",
+                     path_, frame->index, *why);
+    }
+    return std::nullopt;
+  }
+
+ private:
+  static constexpr size_t kWarnings = 5;
+  std::unique_ptr<FrameSource> bag_;
+  std::string path_;
+  StampGate gate_;
+};
+
+}  // namespace
+
 std::unique_ptr<FrameSource> openBag(const std::string& path, const SequenceOptions& options) {
   const LoadedPlugin& p = plugin();
   if (!p.open) throw Error("opening '" + path + "': " + p.error);
-  return std::unique_ptr<FrameSource>(p.open(path, options));
+  std::unique_ptr<FrameSource> bag(p.open(path, options));
+  // The CameraInfo's size, intrinsics and depth scale under the bounds of every door (drivers/camera_bounds.h).
+  checkCameraBounds("bag '" + path + "' (its CameraInfo)", bag->info().intrinsics, bag->info().depthScale);
+  return std::make_unique<StampCheckedBag>(std::move(bag), path);
 }
 
 std::vector<odometry::OdometrySample> readBagOdometry(const std::string& path, const std::string& topic,

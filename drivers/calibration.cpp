@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/json_text.h"
+#include "drivers/camera_bounds.h"
 
 namespace sb {
 
@@ -136,36 +137,28 @@ void resolveCamera(SequenceInfo& info, const Calibration* calibration, const Seq
 
 void checkIntrinsics(const SequenceInfo& info, const Calibration* calibration,
                      const SequenceOptions& options) {
-  const Intrinsics& k = info.intrinsics;
-  const double side = std::max(k.width, k.height);
-  struct Check {
+  // The bounds every door shares (drivers/camera_bounds.h); a value that came from the defaults is not checked.
+  struct Given {
     const char* name;
-    const std::optional<float>& option;
-    const std::optional<float>* fromFile;
-    float value;
-    double lo, hi;
+    bool fromOption, fromFile;
   };
-  const auto file = [&](std::optional<float> Calibration::*member) {
-    return calibration ? &(calibration->*member) : nullptr;
+  const Calibration* c = calibration;
+  const Given given[] = {
+      {"fx", options.fx.has_value(), c && c->fx.has_value()},
+      {"fy", options.fy.has_value(), c && c->fy.has_value()},
+      {"cx", options.cx.has_value(), c && c->cx.has_value()},
+      {"cy", options.cy.has_value(), c && c->cy.has_value()},
+      {"depth_scale", options.depthScale.has_value(), c && c->depthScale.has_value()},
   };
-  const Check checks[] = {
-      {"fx", options.fx, file(&Calibration::fx), k.fx, side / 100, side * 100},
-      {"fy", options.fy, file(&Calibration::fy), k.fy, side / 100, side * 100},
-      {"cx", options.cx, file(&Calibration::cx), k.cx, -double(k.width), 2.0 * k.width},
-      {"cy", options.cy, file(&Calibration::cy), k.cy, -double(k.height), 2.0 * k.height},
-  };
-  for (const Check& c : checks) {
-    const bool fromOption = c.option.has_value();
-    if (!fromOption && !(c.fromFile && *c.fromFile)) continue;  // a default
-    if (c.value >= c.lo && c.value <= c.hi) continue;
-    std::ostringstream msg;
-    msg << "sequence '" << info.path << "': " << c.name << " = " << c.value << " pixels ("
-        << (fromOption ? std::string("from the command line") : "from '" + calibration->path + "'")
-        << ") is not plausible for a " << k.width << "x" << k.height << " image; expected " << c.name
-        << " in [" << c.lo << ", " << c.hi << "]"
-        << (c.name[0] == 'f' ? " (a field of view between about 1 and 179 degrees)"
-                             : " (the principal point lies near the image centre)");
-    throw Error(msg.str());
+  for (const CameraBound& b : cameraBounds(info.intrinsics, info.depthScale)) {
+    if (b.value >= b.lo && b.value <= b.hi) continue;
+    for (const Given& g : given) {
+      if (std::string(g.name) != b.name || (!g.fromOption && !g.fromFile)) continue;
+      const std::string from =
+          g.fromOption ? std::string("from the command line") : "from '" + calibration->path + "'";
+      throw Error(cameraBoundMessage("sequence '" + info.path + "' (" + b.name + " " + from + ")", b,
+                                     info.intrinsics));
+    }
   }
 }
 

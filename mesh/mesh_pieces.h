@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "core/exclusive_file.h"
 #include "mesh/marching_cubes.h"
 
 namespace sb {
@@ -24,10 +25,13 @@ void extractMeshPieces(const VolumeView& volume, const MeshOptions& options, Thr
                        const MeshPieceSink& sink);
 
 // Writes the pieces of a mesh with normals as one binary PLY at `path` (whole or not at all: a temporary
-// sibling renamed over it). Not thread-safe.
+// sibling renamed over it; the files aside and the temporary are new files of core/exclusive_file.h, never a
+// name made beforehand). Not thread-safe.
 class PlyPieceWriter {
  public:
-  explicit PlyPieceWriter(std::string path);
+  explicit PlyPieceWriter(const std::string& path);
+  // The file `name` in the open directory `dir` (at `dirPath`, for messages).
+  PlyPieceWriter(int dir, const std::string& dirPath, const std::string& name);
   ~PlyPieceWriter();  // removes the files aside (a writer never finished leaves nothing)
   PlyPieceWriter(const PlyPieceWriter&) = delete;
   PlyPieceWriter& operator=(const PlyPieceWriter&) = delete;
@@ -41,14 +45,11 @@ class PlyPieceWriter {
   void finish();
 
  private:
-  struct Closer {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-  };
   void put(std::FILE* file, const std::string& bytes, const std::string& name);
 
-  std::string path_;
-  std::string verticesPath_, facesPath_;
-  std::unique_ptr<std::FILE, Closer> verticesFile_, facesFile_;
+  UniqueFd dir_;
+  std::string dirPath_, name_, path_;
+  std::unique_ptr<TemporaryFile> verticesFile_, facesFile_;
   size_t vertices_ = 0, triangles_ = 0;
 };
 

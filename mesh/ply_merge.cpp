@@ -9,6 +9,8 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
+#include "core/stdio_streambuf.h"
 
 namespace sb {
 
@@ -67,7 +69,7 @@ uint32_t getU32(const char* p) {
 }
 
 // Copies `count` items of `bytes` from `in` (at its position) to `out`; faces get `offset` added to indices.
-void copyItems(std::ifstream& in, std::ofstream& out, size_t count, size_t bytes, bool faces, uint32_t offset,
+void copyItems(std::ifstream& in, std::ostream& out, size_t count, size_t bytes, bool faces, uint32_t offset,
                const std::string& path) {
   std::string buf;
   for (size_t done = 0; done < count;) {
@@ -99,9 +101,10 @@ size_t writeMergedPly(const std::string& path, const std::vector<std::string>& p
     faces += parts.back().faces;
   }
   if (vertices > UINT32_MAX) throw Error("writeMergedPly '" + path + "': more than 2^32 vertices");
-  const std::string aside = path + ".partial";
-  std::ofstream out(aside, std::ios::binary | std::ios::trunc);
-  if (!out) throw Error("cannot create '" + aside + "': " + std::strerror(errno) + "; check the directory");
+  // A new file of its own (core/exclusive_file.h), renamed over `path` once whole.
+  TemporaryFile aside(path, ".partial");
+  StdioStreamBuf buffer(aside.stream());
+  std::ostream out(&buffer);
   out << "ply\nformat binary_little_endian 1.0\n"
       << "comment SLAMBooster TSDF surface (marching tetrahedra), world frame, metres: " << parts.size()
       << " slabs of a moving volume and the final volume\n"
@@ -140,10 +143,9 @@ size_t writeMergedPly(const std::string& path, const std::vector<std::string>& p
     flush(false);
   }
   flush(true);
-  out.close();
-  if (!out) throw Error("writing '" + aside + "' failed (disk full?); free space and retry");
-  if (std::rename(aside.c_str(), path.c_str()) != 0)
-    throw Error("cannot rename '" + aside + "' to '" + path + "': " + std::strerror(errno));
+  out.flush();
+  if (!out) throw Error("writing '" + aside.path() + "' failed (disk full?); free space and retry");
+  aside.commit();
   return faces;
 }
 

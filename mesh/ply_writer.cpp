@@ -1,5 +1,7 @@
 #include "mesh/ply_writer.h"
 
+#include <fcntl.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +13,8 @@
 #include "core/atomic_file.h"
 #include "core/disk_full.h"
 #include "core/error.h"
+#include "core/exclusive_file.h"
+#include "core/stdio_streambuf.h"
 #include "mesh/mesh_pieces.h"
 
 namespace sb {
@@ -116,11 +120,9 @@ void writeAsciiBody(std::ostream& out, const Mesh& mesh) {
 void writePly(const std::string& path, const Mesh& mesh, PlyFormat format) {
   checkMesh(path, mesh);
   // Whole or not at all: a temporary sibling renamed over `path` once every byte is written.
-  writeFileAtomically(path, [&](const std::string& temporary) {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw Error("writePly: cannot create '" + temporary + "': " + std::strerror(errno) +
-                  "; check that the directory exists and is writable");
+  writeFileAtomically(path, [&](std::FILE* file, const std::string&) {
+    StdioStreamBuf buffer(file);
+    std::ostream out(&buffer);
     errno = 0;
     out << header(mesh, format);
     if (format == PlyFormat::Ascii)
@@ -128,32 +130,37 @@ void writePly(const std::string& path, const Mesh& mesh, PlyFormat format) {
     else
       writeBinaryBody(out, mesh);
     int error = errno;  // the failed write's reason (the stream keeps only a flag)
-    out.close();
+    out.flush();
     if (!error) error = errno;
-    if (!out) throwWriteError("writePly: writing '" + path + "' failed", error);
+    if (!out || std::ferror(file)) throwWriteError("writePly: writing '" + path + "' failed", error);
   });
 }
 
-PlyPieceWriter::PlyPieceWriter(std::string path)
-    : path_(std::move(path)), verticesPath_(path_ + ".vertices.tmp"), facesPath_(path_ + ".faces.tmp") {
-  verticesFile_.reset(std::fopen(verticesPath_.c_str(), "wb"));
-  if (verticesFile_) facesFile_.reset(std::fopen(facesPath_.c_str(), "wb"));
-  if (!verticesFile_ || !facesFile_) {
-    const int error = errno;
-    const std::string name = verticesFile_ ? facesPath_ : verticesPath_;
-    verticesFile_.reset();
-    std::remove(verticesPath_.c_str());
-    throw Error("writePly: cannot create '" + name + "': " + std::strerror(error) +
-                "; check that the directory exists and is writable");
-  }
+namespace {
+
+std::pair<std::string, std::string> splitPlyPath(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  if (slash == std::string::npos) return {".", path};
+  return {slash == 0 ? "/" : path.substr(0, slash), path.substr(slash + 1)};
 }
 
-PlyPieceWriter::~PlyPieceWriter() {
-  verticesFile_.reset();
-  facesFile_.reset();
-  std::remove(verticesPath_.c_str());
-  std::remove(facesPath_.c_str());
+}  // namespace
+
+PlyPieceWriter::PlyPieceWriter(const std::string& path)
+    : PlyPieceWriter(openDirectory(splitPlyPath(path).first).get(), splitPlyPath(path).first,
+                     splitPlyPath(path).second) {}
+
+PlyPieceWriter::PlyPieceWriter(int dir, const std::string& dirPath, const std::string& name)
+    : dir_(::fcntl(dir, F_DUPFD_CLOEXEC, 0)),
+      dirPath_(dirPath),
+      name_(name),
+      path_(dirPath == "." ? name : dirPath + "/" + name) {
+  if (!dir_.valid()) throw Error("writePly: cannot use the directory '" + dirPath + "': " + std::strerror(errno));
+  verticesFile_ = std::make_unique<TemporaryFile>(dir_.get(), dirPath_, name_, ".vertices.tmp");
+  facesFile_ = std::make_unique<TemporaryFile>(dir_.get(), dirPath_, name_, ".faces.tmp");
 }
+
+PlyPieceWriter::~PlyPieceWriter() = default;  // the files aside are removed by their TemporaryFile
 
 void PlyPieceWriter::put(std::FILE* file, const std::string& bytes, const std::string& name) {
   errno = 0;
@@ -170,17 +177,19 @@ void PlyPieceWriter::add(const Mesh& piece) {
   if (total > std::numeric_limits<uint32_t>::max())
     throw Error("writePly '" + path_ + "': " + std::to_string(total) +
                 " vertices exceed the uint32 index range");
+  std::FILE* vertices = verticesFile_->stream();
+  std::FILE* faces = facesFile_->stream();
   std::string buf;
   buf.reserve(kWriteChunkBytes + 64);
   for (size_t i = 0; i < piece.vertices.size(); ++i) {
     for (int a = 0; a < 3; ++a) putF32(buf, piece.vertices[i][a]);
     for (int a = 0; a < 3; ++a) putF32(buf, piece.normals[i][a]);
     if (buf.size() >= kWriteChunkBytes) {
-      put(verticesFile_.get(), buf, verticesPath_);
+      put(vertices, buf, verticesFile_->path());
       buf.clear();
     }
   }
-  put(verticesFile_.get(), buf, verticesPath_);
+  put(vertices, buf, verticesFile_->path());
   buf.clear();
   for (size_t t = 0; t < piece.triangles.size(); ++t) {
     buf.push_back(static_cast<char>(kTriangleCorners));
@@ -192,49 +201,39 @@ void PlyPieceWriter::add(const Mesh& piece) {
       putU32(buf, idx);
     }
     if (buf.size() >= kWriteChunkBytes) {
-      put(facesFile_.get(), buf, facesPath_);
+      put(faces, buf, facesFile_->path());
       buf.clear();
     }
   }
-  put(facesFile_.get(), buf, facesPath_);
+  put(faces, buf, facesFile_->path());
   vertices_ = total;
   triangles_ += piece.triangles.size();
 }
 
 void PlyPieceWriter::finish() {
-  for (auto* file : {&verticesFile_, &facesFile_}) {
-    const std::string& name = file == &verticesFile_ ? verticesPath_ : facesPath_;
+  for (TemporaryFile* aside : {verticesFile_.get(), facesFile_.get()}) {
+    std::FILE* file = aside->stream();
     errno = 0;
-    const bool failed = std::fflush(file->get()) != 0 || std::ferror(file->get());
-    if (failed) throwWriteError("writePly: writing '" + name + "' failed", errno);
+    const bool failed = std::fflush(file) != 0 || std::ferror(file);
+    if (failed) throwWriteError("writePly: writing '" + aside->path() + "' failed", errno);
   }
+  TemporaryFile target(dir_.get(), dirPath_, name_, ".tmp");
+  std::FILE* out = target.stream();
+  put(out, header(vertices_, triangles_, true, PlyFormat::BinaryLittleEndian), target.path());
+  std::string buf(kWriteChunkBytes, '\0');
+  for (TemporaryFile* aside : {verticesFile_.get(), facesFile_.get()}) {
+    std::FILE* in = aside->stream();  // read back through the descriptor it was written with
+    if (std::fseek(in, 0, SEEK_SET) != 0)
+      throw Error("writePly: cannot read back '" + aside->path() + "': " + std::strerror(errno));
+    size_t n;
+    while ((n = std::fread(&buf[0], 1, buf.size(), in)) > 0) put(out, buf.substr(0, n), target.path());
+    if (std::ferror(in)) throw Error("writePly: cannot read back '" + aside->path() + "': " + std::strerror(errno));
+  }
+  errno = 0;
+  if (std::fflush(out) != 0 || std::ferror(out)) throwWriteError("writePly: writing '" + path_ + "' failed", errno);
+  target.commit();
   verticesFile_.reset();
   facesFile_.reset();
-  writeFileAtomically(path_, [&](const std::string& temporary) {
-    std::unique_ptr<std::FILE, Closer> out(std::fopen(temporary.c_str(), "wb"));
-    if (!out)
-      throw Error("writePly: cannot create '" + temporary + "': " + std::strerror(errno) +
-                  "; check that the directory exists and is writable");
-    put(out.get(), header(vertices_, triangles_, true, PlyFormat::BinaryLittleEndian), temporary);
-    std::string buf(kWriteChunkBytes, '\0');
-    for (const std::string& name : {verticesPath_, facesPath_}) {
-      std::unique_ptr<std::FILE, Closer> in(std::fopen(name.c_str(), "rb"));
-      if (!in) throw Error("writePly: cannot read back '" + name + "': " + std::strerror(errno));
-      size_t n;
-      while ((n = std::fread(&buf[0], 1, buf.size(), in.get())) > 0)
-        put(out.get(), buf.substr(0, n), temporary);
-      if (std::ferror(in.get()))
-        throw Error("writePly: cannot read back '" + name + "': " + std::strerror(errno));
-    }
-    errno = 0;
-    if (std::fflush(out.get()) != 0 || std::ferror(out.get()))
-      throwWriteError("writePly: writing '" + path_ + "' failed", errno);
-    std::FILE* raw = out.release();
-    errno = 0;
-    if (std::fclose(raw) != 0) throwWriteError("writePly: writing '" + path_ + "' failed", errno);
-  });
-  std::remove(verticesPath_.c_str());
-  std::remove(facesPath_.c_str());
 }
 
 }  // namespace sb

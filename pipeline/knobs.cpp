@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/input_file.h"
 
 namespace sb {
 
@@ -52,7 +53,7 @@ Knobs knobPreset(const std::string& name) {
     k.integrationRate = 1;
     return k;
   }
-  throw Error("unknown knob preset '" + name + "' (use 'default' or 'accurate')");
+  throw Error("unknown knob preset " + quoteForMessage(name) + " (use 'default' or 'accurate')");
 }
 
 void validateKnobs(const Knobs& k) {

@@ -2,11 +2,15 @@
 
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 #include "report/html_page.h"
 #include "report/run_data.h"
 #include "report/run_sections.h"
@@ -71,20 +75,16 @@ RunReportResult writeRunReport(const std::string& runDir, const RunReportOptions
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw Error("cannot write the report '" + result.path + "': directory '" + dir.string() + "' does not exist");
-  const fs::path temporary = out.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream file(temporary, std::ios::binary);
-    file << html;
-    file.close();
-    if (!file) {
-      fs::remove(temporary, ec);
-      throw Error("cannot write the report '" + temporary.string() + "' (permissions? disk full?)");
-    }
-  }
-  fs::rename(temporary, out, ec);
-  if (ec) {
-    fs::remove(temporary, ec);
-    throw Error("cannot move the report into place as '" + result.path + "': " + ec.message());
+  // A new temporary file (core/exclusive_file.h), renamed over the report once whole.
+  TemporaryFile temporary(result.path);
+  std::FILE* file = temporary.stream();
+  if (std::fwrite(html.data(), 1, html.size(), file) != html.size())
+    throw Error("cannot write the report '" + temporary.path() + "': " + std::strerror(errno) +
+                " (permissions? disk full?)");
+  try {
+    temporary.commit();
+  } catch (const Error& e) {
+    throw Error("cannot write the report '" + result.path + "': " + e.what());
   }
   return result;
 }

@@ -11,6 +11,7 @@
 #include "ros/depth_forwarder.h"
 #include "ros/grid_publisher.h"
 #include "ros/odometry_forwarder.h"
+#include "ros/master_watch.h"
 #include "ros/odometry_publisher.h"
 #include "ros/ros_params.h"
 
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   if (!config.odomTopic.empty()) wheels = std::make_unique<sb::ros_bridge::OdometryForwarder>(node, config);
   ros::AsyncSpinner spinner(1);
   spinner.start();
+  const sb::ros_bridge::MasterWatch watch;  // a restarted master ends the bridge with status 3
   sb::ros_bridge::OdometryPublisher publisher(node, privateNode, config);
   sb::ros_bridge::GridPublisher grid(privateNode, config);  // ~map (issue 45)
   sb::ros_bridge::DaemonLink(config, publisher, &grid).run();

@@ -7,17 +7,20 @@
 #include <cstring>
 
 #include "core/disk_full.h"
+#include "core/exclusive_file.h"
 
 namespace sb {
 
-LineFile::LineFile(const std::string& path, std::string what)
-    : fd_(::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644)),
-      path_(path),
-      what_(std::move(what)) {
-  if (!fd_.valid())
-    throw Error("cannot write " + what_ + " '" + path + "': " + std::strerror(errno) +
-                " (check the output directory)");
+LineFile::LineFile(const std::string& path, std::string what) : path_(path), what_(std::move(what)) {
+  try {
+    fd_ = createReplacing(path);
+  } catch (const Error& e) {
+    throw Error("cannot write " + what_ + ": " + e.what());
+  }
 }
+
+LineFile::LineFile(UniqueFd fd, const std::string& path, std::string what)
+    : fd_(std::move(fd)), path_(path), what_(std::move(what)) {}
 
 void LineFile::append(std::string_view lines) {
   size_t done = 0;

@@ -16,8 +16,11 @@ namespace sb {
 
 class LineFile {
  public:
-  // Creates (truncates) `path`. `what` names the file in errors ("trajectory", "per-frame log").
+  // Creates `path` anew (core/exclusive_file.h createReplacing: a symlink or hard link of that name is
+  // replaced, never written through). `what` names the file in errors ("trajectory", "per-frame log").
   LineFile(const std::string& path, std::string what);
+  // Writes to `fd` (an empty file opened for writing, e.g. a TemporaryFile's), named `path` in errors.
+  LineFile(UniqueFd fd, const std::string& path, std::string what);
   // Appends `lines` (one or more, each ending in '\n') with one write. Throws sb::DiskFullError when the
   // disk is full, sb::Error on any other failure.
   void append(std::string_view lines);

@@ -1,7 +1,9 @@
 #include "runtime/map_slabs.h"
 
 #include <spdlog/spdlog.h>
+#include <fcntl.h>
 #include <sys/resource.h>
+#include <unistd.h>
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif
@@ -10,9 +12,11 @@
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 #include "mesh/mesh_pieces.h"
 #include "mesh/ply_merge.h"
 #include "mesh/ply_writer.h"
@@ -31,6 +35,7 @@ double msSince(Clock::time_point start) {
 constexpr int kWorkerNice = 10;  // the worker's nice above the SLAM thread's
 constexpr const char* kPrefix = "slab-";
 constexpr const char* kSuffix = ".ply";
+constexpr const char* kFolder = "map_slabs";  // inside the run's directory, never a symlink (issue 44 S2)
 
 // The number of a slab file's name (slab-NNNNNN.ply), 0 for any other name.
 size_t slabNumber(const std::string& name) {
@@ -164,7 +169,9 @@ void MapSlabs::listEarlier() {
   // after.
   const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
   std::error_code ec;
-  if (!std::filesystem::is_directory(folder, ec)) return;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(folder, ec))) return;
+  // A symlink (to a directory elsewhere) is refused: slabs are written and removed only inside dir_.
+  folder_ = openOwnSubdirectory(openDirectory(dir_).get(), dir_, kFolder);
   std::vector<std::pair<size_t, Written>> earlier;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const size_t number = slabNumber(entry.path().filename().string());
@@ -184,15 +191,16 @@ void MapSlabs::listEarlier() {
 }
 
 void MapSlabs::openFolder() {
-  const std::filesystem::path folder = std::filesystem::path(dir_) / "map_slabs";
+  // Opened once, never through a symlink: every slab written or removed later is in this directory.
+  const std::filesystem::path folder = std::filesystem::path(dir_) / kFolder;
   std::error_code ec;
-  std::filesystem::create_directories(folder, ec);
+  std::filesystem::create_directories(dir_, ec);
   if (ec) throw Error("cannot create '" + folder.string() + "': " + ec.message());
-  folderOpen_ = true;
+  folder_ = openOwnSubdirectory(openDirectory(dir_).get(), dir_, kFolder);
 }
 
 void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
-  if (!folderOpen_) openFolder();
+  if (!folder_.valid()) openFolder();
   // The copy of the slab (no offset: VolumeView::boxOnly); the same mesh as the box read in place.
   VolumeView view;
   view.data = slab.voxels.data();
@@ -202,13 +210,14 @@ void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
   view.boxOnly = true;
   char name[40];
   std::snprintf(name, sizeof name, "%s%06zu%s", kPrefix, firstNumber_ + slab.shift, kSuffix);
-  const std::string path = (std::filesystem::path(dir_) / "map_slabs" / name).string();
+  const std::string folderPath = (std::filesystem::path(dir_) / kFolder).string();
+  const std::string path = (std::filesystem::path(folderPath) / name).string();
   const Eigen::Isometry3f toWorld(Eigen::Translation3f(slab.corner.cast<float>()));
   // Streamed: each piece of the mesh goes to the file as it is extracted (the mesh is never held whole); the
   // file's bytes are writePly's of the whole mesh.
   size_t triangles = 0;
   const auto writeFile = [&] {
-    PlyPieceWriter ply(path + ".partial");
+    PlyPieceWriter ply(folder_.get(), folderPath, name);  // new temporaries, renamed to `name` when whole
     extractMeshPieces(view, MeshOptions{}, serial, [&](Mesh& piece) {
       transformMesh(piece, toWorld);
       ply.add(piece);
@@ -216,19 +225,23 @@ void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
     triangles = ply.triangles();
     if (triangles > 0) ply.finish();
   };
-  if (options_.store)
+  if (options_.store) {
+    // Room before the write (issue 44 M3): at its peak a slab takes about twice its file's size (the vertices
+    // and faces aside, then the file), so the store frees twice the largest slab so far first; a full disk
+    // during the write still removes the oldest and writes again.
+    options_.store->makeRoom(2 * largestSlabBytes_);
     options_.store->writeMakingRoom(writeFile);  // a full disk: the oldest slab or segment goes, then again
-  else
+  } else {
     writeFile();
+  }
   std::vector<int16_t>().swap(slab.voxels);
   if (triangles == 0) return;  // nothing observed left (e.g. the space behind the first view)
-  if (std::rename((path + ".partial").c_str(), path.c_str()) != 0)
-    throw Error("cannot rename '" + path + ".partial' to '" + path + "'");
   std::error_code ec;
   const uint64_t bytes = std::filesystem::file_size(path, ec);
   {
     std::lock_guard lock(mutex_);
     written_.push_back(Written{path, ec ? 0 : bytes, true, SegmentStore::nowOrder()});
+    largestSlabBytes_ = std::max(largestSlabBytes_, written_.back().bytes);
     writtenBytes_ += written_.back().bytes;
     triangles_ += triangles;
     enforceRetentionLocked();
@@ -247,9 +260,8 @@ uint64_t MapSlabs::removeOldestAttached() {
   if (written_.size() < 2) return 0;
   const uint64_t bytes = written_.front().bytes;
   const std::string path = written_.front().path;
-  std::error_code ec;
-  std::filesystem::remove(path, ec);  // already gone (removed by hand): forgotten all the same
-  if (ec) spdlog::warn("map slabs: cannot remove '{}' to make room: {}", path, ec.message());
+  const int error = removeSlabFile(path);  // already gone (removed by hand): forgotten all the same
+  if (error) spdlog::warn("map slabs: cannot remove '{}' to make room: {}", path, std::strerror(error));
   removeOldestLocked();
   ++stats_.removedForSpace;
   return bytes;
@@ -263,14 +275,20 @@ void MapSlabs::removeOldestLocked() {
   written_.pop_front();
 }
 
+int MapSlabs::removeSlabFile(const std::string& path) const {
+  // Through the folder's descriptor: a map_slabs swapped for a symlink meanwhile is never followed.
+  const std::string name = std::filesystem::path(path).filename().string();
+  if (!folder_.valid() || ::unlinkat(folder_.get(), name.c_str(), 0) == 0 || errno == ENOENT) return 0;
+  return errno;
+}
+
 void MapSlabs::enforceRetentionLocked() {
   if (options_.keepBytes == 0) return;
   while (writtenBytes_ > options_.keepBytes && written_.size() > 1) {
     const Written& oldest = written_.front();
-    std::error_code ec;
-    std::filesystem::remove(oldest.path, ec);
-    if (ec)
-      throw Error("cannot remove the old slab '" + oldest.path + "' (map_slabs retention): " + ec.message());
+    if (const int error = removeSlabFile(oldest.path))
+      throw Error("cannot remove the old slab '" + oldest.path + "' (map_slabs retention): " +
+                  std::strerror(error));
     removeOldestLocked();
   }
 }
@@ -302,6 +320,7 @@ size_t MapSlabs::writeMap(const std::string& path, const Mesh& finalVolume) {
 MapSlabFiles mapSlabFiles(const std::string& dir) {
   MapSlabFiles out;
   std::error_code ec;
+  if (std::filesystem::is_symlink(std::filesystem::path(dir) / kFolder, ec)) return out;  // not ours
   for (const auto& entry :
        std::filesystem::directory_iterator(std::filesystem::path(dir) / "map_slabs", ec)) {
     std::error_code sizeError;

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "core/segment_store.h"
+#include "core/unique_fd.h"
 #include "core/thread_pool.h"
 #include "mesh/marching_cubes.h"
 #include "pipeline/pipeline.h"
@@ -105,6 +106,7 @@ class MapSlabs : private AttachedFiles {
   void write(VolumeSlab& slab, ThreadPool& serial);        // on the worker; releases the slab's voxels
   void openFolder();                                       // on the worker, at the first slab
   void removeOldestLocked();
+  int removeSlabFile(const std::string& path) const;  // 0, or errno
   void enforceRetentionLocked();
   void rethrowLocked();
 
@@ -118,10 +120,11 @@ class MapSlabs : private AttachedFiles {
   size_t queuedBytes_ = 0;  // their bytes
   bool stop_ = false;
   std::exception_ptr error_;     // the first failure not yet thrown
-  bool folderOpen_ = false;      // the worker's
+  UniqueFd folder_;              // dir_/map_slabs, never a symlink (opened at start or at the first slab)
   size_t firstNumber_ = 0;       // files are numbered firstNumber_ + shift
   std::deque<Written> written_;  // every slab file kept, oldest first (earlier starts' first)
   uint64_t writtenBytes_ = 0;
+  uint64_t largestSlabBytes_ = 0;  // the largest slab file written (the worker's)
   std::vector<std::string> files_;  // this run's kept, refreshed by files()
   size_t triangles_ = 0;
   MapSlabsStats stats_;

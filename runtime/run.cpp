@@ -80,10 +80,23 @@ FrameRecord Run::step(const DepthFrame& frame) {
   RunSummary& header = outputs_.summary->header();
   if (const odometry::OdometryTrack* track = runner_.odometry(); track && header.odometry)
     countOdometryFrame(*track, frame.timestamp, *header.odometry, lastOdometryPose_);
-  FrameRecord rec = runner_.step(frame);
-  if (mapSink_) mapSink_->onFrame(rec, frame, *pipeline_);
-  if (energy_) record(energy_->add(rec));
-  return rec;
+  try {
+    FrameRecord rec = runner_.step(frame);
+    if (mapSink_) mapSink_->onFrame(rec, frame, *pipeline_);
+    if (energy_) record(energy_->add(rec));
+    return rec;
+  } catch (const Error& e) {
+    // A bad frame or a failed write (a full disk under a map slab) ends the run: summary.json says why, for
+    // both front ends (best effort: the disk may be full).
+    RunSummary& summary = outputs_.summary->header();
+    summary.error = e.what();
+    summary.complete = false;
+    try {
+      flush();
+    } catch (const Error&) {
+    }
+    throw;
+  }
 }
 
 void Run::record(const std::vector<power::FrameEnergy>& results) {

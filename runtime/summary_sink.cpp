@@ -1,5 +1,6 @@
 #include "runtime/summary_sink.h"
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 #include "runtime/frame_log_sink.h"
 #include "runtime/line_file.h"
 
@@ -130,17 +132,14 @@ void SummarySink::flush() {
 }
 
 void SummarySink::write(const RunSummary& summary) const {
-  // Whole or not at all: a temporary file renamed over the old one (which stays as it was on failure).
-  const std::string tmp = path_ + ".tmp";
+  // Whole or not at all: a new temporary file (core/exclusive_file.h) renamed over the old one (which stays
+  // as it was on failure).
   const std::string text =
       summary.toJson().dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   const auto writeTemporary = [&] {
-    try {
-      LineFile(tmp, "summary").append(text);
-    } catch (...) {
-      std::remove(tmp.c_str());
-      throw;
-    }
+    TemporaryFile tmp(path_);  // removed unless committed
+    LineFile(UniqueFd(::fcntl(tmp.fd(), F_DUPFD_CLOEXEC, 0)), tmp.path(), "summary").append(text);
+    tmp.commit();
   };
   try {
     if (segments_)
@@ -150,7 +149,6 @@ void SummarySink::write(const RunSummary& summary) const {
   } catch (const Error& e) {
     throw Error(std::string(e.what()) + "; '" + path_ + "' keeps the previous summary");
   }
-  if (std::rename(tmp.c_str(), path_.c_str()) != 0) throw Error("cannot rename '" + tmp + "' to '" + path_ + "'");
 }
 
 }  // namespace sb

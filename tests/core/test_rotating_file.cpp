@@ -279,3 +279,29 @@ TEST_CASE("attached files give way to a full disk and the free-space floor with 
   store->detach(&slabs);
   floorStore->detach(&slabs);
 }
+
+TEST_CASE("makeRoom frees room before a write: the oldest go while the free space is below the need",
+          "[core][rotation]") {
+  // Issue 44 M3: a map slab needs about twice its file's size while it is written; the store makes that room
+  // first instead of letting the write fail.
+  const std::string dir = test::scratchDir("rotation_make_room");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  auto store = std::make_shared<SegmentStore>(dir, smallLimits());
+  for (const int64_t order : {10, 30}) {
+    const std::string path = dir + "/seg-" + std::to_string(order);
+    std::ofstream(path) << "x";
+    store->addClosed(path, 1, order);
+  }
+  FakeAttached slabs({20, 40});  // 40: the newest slab, stays
+  store->attach(&slabs);
+  store->makeRoom(1024);  // any file system has a KiB free: nothing goes
+  CHECK(fs::exists(dir + "/seg-10"));
+  CHECK(slabs.removed.empty());
+  store->makeRoom(1ull << 50);  // no file system has a petabyte free: every removable one goes, oldest first
+  CHECK_FALSE(fs::exists(dir + "/seg-10"));
+  CHECK_FALSE(fs::exists(dir + "/seg-30"));
+  CHECK(slabs.removed == std::vector<int64_t>{20});
+  CHECK(store->usage().removedAttached == 1);
+  store->detach(&slabs);
+}

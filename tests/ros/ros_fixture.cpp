@@ -31,8 +31,9 @@ int freePort() {
   return port;
 }
 
-RosMaster::RosMaster(const std::string& dir) : dir_(dir) {
-  const int port = freePort();
+RosMaster::RosMaster(const std::string& dir) : RosMaster(dir, freePort()) {}
+
+RosMaster::RosMaster(const std::string& dir, int port) : dir_(dir) {
   uri_ = "http://127.0.0.1:" + std::to_string(port) + "/";
   process_ = std::make_unique<ChildProcess>(
       std::vector<std::string>{SB_ROSMASTER_BIN, "--core", "-p", std::to_string(port), "-w", "3"}, env(),

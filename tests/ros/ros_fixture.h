@@ -27,6 +27,8 @@ int freePort();
 class RosMaster {
  public:
   explicit RosMaster(const std::string& dir);
+  // On `port` (a master started again where an earlier one was).
+  RosMaster(const std::string& dir, int port);
   ~RosMaster();
   const std::string& uri() const { return uri_; }
   // The environment a child process needs to join this master.

@@ -10,7 +10,12 @@
 //   earlier start count first and this run's number on after them.
 
 #include <array>
+#include <sys/mount.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -241,26 +246,50 @@ TEST_CASE(
 
 TEST_CASE("map slabs: a slab that finds the disk full removes the oldest slab and is written",
           "[map_slabs]") {
-  // The third slab's temporary file is /dev/full: its first write fails with ENOSPC, as on a full disk; the
-  // failed temporary is removed, so the write after it goes to a real file.
-  if (!fs::exists("/dev/full")) {
-    WARN("skipped: no /dev/full to stand for a full disk");
+  // A real full disk (a tmpfs; root only): a slab's temporaries are new files of their own names
+  // (core/exclusive_file.h), so no fixed name can be linked to /dev/full any more (issue 44).
+  if (::geteuid() != 0) {
+    WARN("skipped: not root, no tmpfs to stand for a full disk");
     return;
   }
   const Drive& d = drive();
-  const auto fullDiskAtSlab3 = [](const std::string& dir) {
-    fs::create_directories(dir + "/map_slabs");
-    fs::create_symlink("/dev/full", dir + "/map_slabs/slab-000003.ply.partial.tmp");
+  REQUIRE(d.slabs.size() == 3);
+  struct Unmount {
+    std::string dir;
+    ~Unmount() { ::umount2(dir.c_str(), MNT_DETACH); }
   };
-  // With the daemon's store: slab 1 goes (the oldest; the newest written, 2, stays), slab 3 is written.
+  const auto freeBytes = [](const std::string& dir) {
+    struct statvfs fs {};
+    REQUIRE(::statvfs(dir.c_str(), &fs) == 0);
+    return uint64_t(fs.f_bavail) * fs.f_frsize;
+  };
+  const auto fill = [&](const std::string& path, uint64_t leave) {  // leaves about `leave` bytes free
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    REQUIRE(f);
+    const std::string block(4096, 'x');
+    while (freeBytes(fs::path(path).parent_path().string()) > leave + block.size() &&
+           std::fwrite(block.data(), 1, block.size(), f) == block.size() && std::fflush(f) == 0) {
+    }
+    std::fclose(f);
+  };
+  // With the daemon's store: before slab 3 the store makes room for twice the largest slab (M3), which
+  // removes slab 1 (the oldest; the newest written, 2, stays), and slab 3 is written.
   const std::string dir = freshDir("map_slabs_disk_full");
-  fullDiskAtSlab3(dir);
+  fs::create_directories(dir);
+  REQUIRE(::mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=64m") == 0);
+  Unmount unmount{dir};
   sb::RetentionLimits limits;
   limits.minFreeBytes = 0;
   sb::MapSlabs::Options options;
   options.store = std::make_shared<sb::SegmentStore>(dir, limits);
   sb::MapSlabs slabs(dir, options);
-  for (const sb::VolumeSlab& slab : d.slabs) slabs.add(slab);
+  slabs.add(d.slabs[0]);
+  slabs.add(d.slabs[1]);
+  slabs.drain();
+  const uint64_t size1 = d.reference[0].size(), size3 = d.reference[2].size();
+  const uint64_t need = 2 * size3 + (64 << 10);  // slab 3 at its peak, and a margin
+  fill(dir + "/filler", need > size1 ? need - size1 : 0);
+  slabs.add(d.slabs[2]);
   const std::vector<std::string> files = slabs.files();
   CHECK(files ==
         std::vector<std::string>{dir + "/map_slabs/slab-000002.ply", dir + "/map_slabs/slab-000003.ply"});
@@ -270,9 +299,15 @@ TEST_CASE("map slabs: a slab that finds the disk full removes the oldest slab an
 
   // Without a store (slambooster run: every slab kept) the full disk fails, naming the file and the reason.
   const std::string plain = freshDir("map_slabs_disk_full_plain");
-  fullDiskAtSlab3(plain);
+  fs::create_directories(plain);
+  REQUIRE(::mount("tmpfs", plain.c_str(), "tmpfs", 0, "size=64m") == 0);
+  Unmount unmountPlain{plain};
   sb::MapSlabs failing(plain);
-  for (const sb::VolumeSlab& slab : d.slabs) failing.add(slab);
+  failing.add(d.slabs[0]);
+  failing.add(d.slabs[1]);
+  failing.drain();
+  fill(plain + "/filler", 0);
+  failing.add(d.slabs[2]);
   CHECK_THROWS_WITH(failing.drain(), Catch::Contains("slab-000003.ply") && Catch::Contains("No space left"));
 }
 

@@ -3,8 +3,12 @@
 // agrees with a run that wrote single files, and the report reads only the newest segment; summary.json's
 // rewrite on a full disk makes room as the segments' writes do.
 
+#include <sys/mount.h>
+#include <unistd.h>
+
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -129,17 +133,35 @@ TEST_CASE("a full disk is a DiskFullError; summary.json's rewrite then removes t
   sb::LineFile full("/dev/full", "summary");
   CHECK_THROWS_AS(full.append("{}\n"), sb::DiskFullError);
 
-  // The summary's temporary file is a link to /dev/full: its first write finds the disk full (and the link is
-  // removed with the failed temporary, so the next write has room). Before, summary.json was not covered by
-  // the retention: the first full disk stopped the run (issue 34).
+  // The summary's temporary is a new file of its own name (core/exclusive_file.h; a link planted at a fixed
+  // name is never written through, issue 44), so the full disk is a real one: a 64 KiB tmpfs filled by a
+  // closed segment (root only, as test_run_reliability's). Its first write finds the disk full and removes
+  // the oldest segment. Before, summary.json was not covered by the retention: the first full disk stopped
+  // the run (issue 34).
+  if (::geteuid() != 0) {
+    WARN("not root: the full-disk part needs a tmpfs (mount), skipped");
+    return;
+  }
   const std::string dir = sb::test::scratchDir("rotation_summary_full");
+  REQUIRE(::mount("tmpfs", dir.c_str(), "tmpfs", 0, "size=64k") == 0);
+  struct Unmount {
+    std::string dir;
+    ~Unmount() { ::umount2(dir.c_str(), MNT_DETACH); }
+  } unmount{dir};
+  const auto fill = [](const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    REQUIRE(f);
+    const std::string block(4096, 'x');
+    while (std::fwrite(block.data(), 1, block.size(), f) == block.size() && std::fflush(f) == 0) {
+    }
+    std::fclose(f);
+    return std::filesystem::file_size(path);
+  };
   sb::RetentionLimits limits;
   limits.minFreeBytes = 0;
   auto store = std::make_shared<sb::SegmentStore>(dir, limits);
-  std::ofstream(dir + "/frames-000001.jsonl") << "{}\n";
-  store->addClosed(dir + "/frames-000001.jsonl", 3, 1);
+  store->addClosed(dir + "/frames-000001.jsonl", fill(dir + "/frames-000001.jsonl"), 1);
   const std::string summaryPath = dir + "/summary.json";
-  std::filesystem::create_symlink("/dev/full", summaryPath + ".tmp");
   sb::SummarySink withRetention(summaryPath, "", {}, store);
   CHECK_NOTHROW(withRetention.onFrame(sb::FrameRecord{}));
   CHECK(store->usage().removedSegments == 1);
@@ -147,7 +169,7 @@ TEST_CASE("a full disk is a DiskFullError; summary.json's rewrite then removes t
   CHECK(sb::test::readJson(summaryPath)["frames"] == 1);
 
   // Without a segment store (a replay) the full disk is the caller's error, naming the file.
-  std::filesystem::create_symlink("/dev/full", summaryPath + ".tmp");
+  fill(dir + "/filler");
   sb::SummarySink alone(summaryPath, "", {});
   CHECK_THROWS_WITH(alone.onFrame(sb::FrameRecord{}),
                     Catch::Contains("summary.json.tmp") && Catch::Contains("keeps the previous summary"));

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "tools/slambooster/matrix_plan.h"
 
 namespace sb::cli {
 
@@ -283,13 +284,8 @@ std::string writeBenchHtml(const BenchResults& r, const std::vector<BenchSection
   page.link("results.csv", "results.csv", "Raw numbers: ");
   page.link("report.md", "report.md", "The tables in Markdown: ");
 
-  const std::string path = r.outDir + "/report.html", temporary = path + ".tmp";
-  {
-    std::ofstream out(temporary);
-    out << page.str();
-    if (!out) throw Error("cannot write '" + temporary + "'");
-  }
-  fs::rename(temporary, path);
+  const std::string path = r.outDir + "/report.html";
+  writeFileAtomically(path, page.str());
   return path;
 }
 

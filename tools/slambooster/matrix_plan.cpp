@@ -3,7 +3,9 @@
 #include <unistd.h>
 
 #include <charconv>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -11,6 +13,7 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "core/exclusive_file.h"
 
 namespace sb::cli {
 
@@ -155,15 +158,11 @@ std::vector<std::string> missingRuns(const std::vector<Job>& jobs, const std::st
 }
 
 void writeFileAtomically(const std::string& path, const std::string& text) {
-  char host[256] = {};
-  gethostname(host, sizeof(host) - 1);
-  const std::string tmp = path + ".tmp." + host + "." + std::to_string(getpid());
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw Error("cannot write '" + tmp + "' (check the output directory)");
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw Error("cannot rename '" + tmp + "' to '" + path + "'");
+  // A new temporary of a name no one made before (core/exclusive_file.h), renamed over `path`.
+  TemporaryFile tmp(path);
+  if (std::fwrite(text.data(), 1, text.size(), tmp.stream()) != text.size())
+    throw Error("cannot write '" + tmp.path() + "': " + std::strerror(errno) + " (check the output directory)");
+  tmp.commit();
 }
 
 }  // namespace sb::cli
