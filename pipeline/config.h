@@ -79,6 +79,10 @@ struct PipelineConfig {
   std::array<float, 3> initialPosition{0.5f, 0.5f, 0.3f};  // first camera position, fractions of the side
   float mu = 0.1f;                                      // metres: TSDF truncation distance
   int maxWeight = 100;                                  // maximum TSDF weight (frames)
+  // Integrations between two that also carve free space (voxels in front of the band set towards +1, as
+  // KinectFusion does every frame); the others visit only the blocks the band crosses
+  // (pipeline/surface_blocks.h). 1: every integration carves (as before issue 43); 0: never.
+  int integrateCarveEvery = 8;
 
   // --- raycast ---
   float nearPlane = 0.4f;               // metres (camera depth)
