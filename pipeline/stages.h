@@ -32,8 +32,10 @@ struct StageWork {
   long long integrateBlocks = 0;   // blocks of 8^3 voxels integrate visited (all its calls of the frame)
   long long carvingIntegrations = 0;  // integrations that also carved free space (visited every block in view)
   long long raycastPixels = 0;     // pixels of the frame's last raycast
-  long long raycastSamples = 0;    // tsdf samples of that raycast (interpolations, gradients not counted); 0:
-                                   // not counted (the opencl backend)
+  // Steps of that raycast's marches (0: not counted, the opencl backend): tsdf samples (interpolations; the
+  // gradient at a hit not counted) and lookups of the empty-space skipping grid.
+  long long raycastSamples = 0;
+  long long raycastLookups = 0;
 };
 
 // Milliseconds spent per stage (host clock), indexed by Stage.

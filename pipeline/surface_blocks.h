@@ -10,7 +10,7 @@
 // (the floor of its projection plus half a pixel) onto a pixel u with a reading d and lies at camera depth z
 // with |d - z| < mu; so its centre is inside the frustum of pixel u's square between depths d - mu and d + mu.
 // Pixels are taken in tiles (tile x tile pixels): a tile whose readings span at most mu is one frustum from
-// its nearest reading - mu to its farthest + mu, else each pixel is its own. Each frustum is cut along the
+// its nearest reading - mu to its farthest + mu, else its quarters are, down to single pixels. Each frustum is cut along the
 // depth into slices no longer than half a block, and the blocks holding a voxel centre inside a slice's
 // bounding box (widened by kMarginVoxels) are listed. Blocks are logical (a moving volume's blocks follow it;
 // its cyclic offset is a multiple of 8 voxels, so a logical block is a contiguous block of the buffer).
@@ -26,6 +26,7 @@ class SurfaceBlocks {
  public:
   static constexpr int kShift = SB_SURFACE_BLOCK_SHIFT;  // blocks of (1 << kShift)^3 voxels
   static constexpr float kMarginVoxels = 0.05f;   // slack for float rounding of the kernel's voxel positions
+  static constexpr float kTileRangeMu = 1.0f;     // a tile whose readings span more (in mu) is split in four
 
   // Lists the blocks of a resolution^3 volume of voxel side `voxel` (metres) that the band |d - z| < mu of the
   // depth image (metres, width x height, 0 = no reading; intrinsics k) crosses, seen from `cameraToVolume`
@@ -41,6 +42,9 @@ class SurfaceBlocks {
   }
 
  private:
+  // Marks the frustum of pixels [u0, u1] x [v0, v1] from their nearest reading - mu to their farthest + mu, or
+  // of each quarter when the readings span more than kTileRangeMu * mu.
+  void markTile(const float* depth, int width, int u0, int u1, int v0, int v1, float mu);
   // Marks the blocks of the frustum of pixels [u0, u1] x [v0, v1] between camera depths zNear and zFar.
   void markFrustum(int u0, int u1, int v0, int v1, float zNear, float zFar);
 

@@ -30,6 +30,7 @@ void RunStats::add(const FrameRecord& rec) {
   stageSums.work.carvingIntegrations += r.times.work.carvingIntegrations;
   stageSums.work.raycastPixels += r.times.work.raycastPixels;
   stageSums.work.raycastSamples += r.times.work.raycastSamples;
+  stageSums.work.raycastLookups += r.times.work.raycastLookups;
   controllerMsSum += rec.controllerMs;
   for (const std::string& t : triggerNames(rec.decision.triggers)) ++triggerCounts[t];
   ++knobCounts[formatKnobs(r.knobs)];
@@ -68,7 +69,8 @@ void RunStats::fill(RunSummary& s) const {
   const StageWork& w = stageSums.work;
   s.work = {{"integrate_blocks_per_integration", integrated ? double(w.integrateBlocks) / integrated : 0.0},
             {"carving_integrations", double(w.carvingIntegrations)},
-            {"raycast_samples_per_pixel", w.raycastPixels ? double(w.raycastSamples) / double(w.raycastPixels) : 0.0}};
+            {"raycast_samples_per_pixel", w.raycastPixels ? double(w.raycastSamples) / double(w.raycastPixels) : 0.0},
+            {"raycast_lookups_per_pixel", w.raycastPixels ? double(w.raycastLookups) / double(w.raycastPixels) : 0.0}};
   s.triggers = triggerCounts;
   s.knobFrames = knobCounts;
   s.controllerFrames = controllerCounts;

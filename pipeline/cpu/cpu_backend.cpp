@@ -186,14 +186,20 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   float* outV = referenceVertex_.data();
   float* outN = referenceNormal_.data();
   // Square tiles: neighbouring rays read neighbouring voxels.
-  std::atomic<long long> samples{0};
+  std::atomic<long long> samples{0}, lookups{0};
   pool_.parallelFor(0, h, kTile, [&](int, int y0, int y1) {
-    long long chunk = 0;
-    for (int tx = 0; tx < w; tx += kTile) chunk += raycastRect(in, outV, outN, w, tx, std::min(w, tx + kTile), y0, y1);
-    samples += chunk;
+    RaycastWork chunk;
+    for (int tx = 0; tx < w; tx += kTile) {
+      const RaycastWork rect = raycastRect(in, outV, outN, w, tx, std::min(w, tx + kTile), y0, y1);
+      chunk.samples += rect.samples;
+      chunk.lookups += rect.lookups;
+    }
+    samples += chunk.samples;
+    lookups += chunk.lookups;
   });
   times.work.raycastPixels = static_cast<long long>(w) * h;
   times.work.raycastSamples = samples.load();
+  times.work.raycastLookups = lookups.load();
   if (placement_.moved()) {  // the maps in the world frame (a volume that never moved skips this)
     const Eigen::Vector3f c = placement_.cornerMetres();
     const float3 corner = sbMakeFloat3(c.x(), c.y(), c.z());

@@ -147,7 +147,8 @@ struct Ray {
   int previousSkipped;  // the sample before the current one was left out (fPrevious is not its value)
   int lookup;           // not in the small-step band: the sample at t asks the skipping grid
   int hit;              // the march ended below 0
-  int samples;          // interpolations so far (the work counter, StageWork::raycastSamples)
+  int samples;          // interpolations so far (the work counters, StageWork)
+  int lookups;          // lookups of the skipping grid so far
 };
 
 // One iteration of sbRaycastPixel's march loop; returns false when the march has ended. kFirst: the sample
@@ -158,7 +159,10 @@ SB_HOT_INLINE bool advance(const RaycastInputs& in, const Volume& vol, Ray& r) {
   const F4 s = r.skip.sOrigin + r.sDirection * splat(r.t);
   float skipTo = -1.0f;
   // Inside the small-step band (the previous sample was taken and is below smallStepBelow) no lookup.
-  if (r.lookup && r.t >= r.lookupLo && r.t < r.lookupHi) skipTo = skipByDistance(vol, r.skip, s);
+  if (r.lookup && r.t >= r.lookupLo && r.t < r.lookupHi) {
+    skipTo = skipByDistance(vol, r.skip, s);
+    ++r.lookups;
+  }
   if (skipTo > r.t) {
     const float skipEnd = sbFmin(skipTo, r.tExit) - SB_SKIP_MARGIN * in.smallStep;
     // The kernel's next = (int)sbFloor(q) + 1 and n = max(next, n + 1) with the truncation instead of the
@@ -274,6 +278,7 @@ inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam,
     tExit = sbFmin(tExit, in.rayBounds[2 * tile + 1]);
   }
   r.samples = 0;
+  r.lookups = 0;
   if (tEnter < tExit) {
     // The ray in voxel coordinates; sInverse is 0 where the direction is 0.
     const F4 sd4 = d4 * splat(cam.scale);
@@ -345,10 +350,10 @@ constexpr int kTileColumns = 8;
 
 }  // namespace
 
-long long raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0,
-                      int y1) {
-  long long samples = 0;
-  if (x0 >= x1 || y0 >= y1) return samples;
+RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0,
+                        int y1) {
+  RaycastWork work;
+  if (x0 >= x1 || y0 >= y1) return work;
   const Volume vol(in);
   const Camera cam(in);
   // The next pixel: tiles of kTileColumns columns from the left, each row by row.
@@ -365,7 +370,8 @@ long long raycastRect(const RaycastInputs& in, float* vertex, float* normal, int
         }
       }
       if (start(in, vol, cam, r, vertex, normal, width, px, py)) return true;
-      samples += r.samples;
+      work.samples += r.samples;
+      work.lookups += r.lookups;
     }
     return false;
   };
@@ -377,12 +383,13 @@ long long raycastRect(const RaycastInputs& in, float* vertex, float* normal, int
     for (int i = 0; i < kRaysInFlight; ++i) {
       if (active[i] && !advance<false>(in, vol, rays[i])) {
         finish(vol, rays[i], cam.o, vertex, normal);
-        samples += rays[i].samples;
+        work.samples += rays[i].samples;
+        work.lookups += rays[i].lookups;
         if (!(active[i] = launch(rays[i]))) --flying;
       }
     }
   }
-  return samples;
+  return work;
 }
 
 }  // namespace sb

@@ -39,8 +39,11 @@ struct RaycastInputs {
 
 // raycast of the pixels [x0, x1) x [y0, y1) into `vertex` and `normal` (3 floats per pixel, rows of `width`
 // pixels): the surface point and unit normal in the volume frame, or 0 and an invalid normal
-// (SB_INVALID_NORMAL), exactly as kernels/raycast.h's raycast writes them. Returns the tsdf samples taken
-// (interpolations, the gradient's not counted).
-long long raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0, int y1);
+// (SB_INVALID_NORMAL), exactly as kernels/raycast.h's raycast writes them. Returns the steps the marches took.
+struct RaycastWork {
+  long long samples = 0;  // interpolations (the gradient's not counted)
+  long long lookups = 0;  // lookups of the skipping grid
+};
+RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0, int y1);
 
 }  // namespace sb
