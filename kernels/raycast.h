@@ -15,6 +15,9 @@
 // block to the nearest block with surface, which the march (sbSkipByDistance) jumps by.
 #define SB_SKIP_SHIFT 2
 
+// The ray bounds' tiles (pipeline/ray_bounds.h): SB_RAY_BOUNDS_TILE x SB_RAY_BOUNDS_TILE pixels.
+#define SB_RAY_BOUNDS_TILE 8
+
 // The surface mask bits that a voxel whose tsdf is below the small-step threshold sets in its block, from
 // which of its block's lower faces it lies on: `faces` = (x % B == 0) + 2 (y % B == 0) + 4 (z % B == 0), B
 // the block side. Bit c (c = cx + 2 cy + 4 cz) is set when c names only such axes (bit 0: any such voxel). A
@@ -102,7 +105,8 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
                               SB_GLOBAL const short* volume, int resolution, SbVoxelOffset offset, float size,
                               SB_GLOBAL const unsigned char* blockDistance, int distanceShift,
                               SbMat34 cameraToWorld, SbCamera k, float nearPlane, float farPlane,
-                              float largeStep, float smallStep, float smallStepBelow, int x, int y) {
+                              float largeStep, float smallStep, float smallStepBelow, float tMin, float tMax,
+                              int x, int y) {
   const int index = y * width + x;
   const float3 origin = sbMakeFloat3(cameraToWorld.m[3], cameraToWorld.m[7], cameraToWorld.m[11]);
   const float3 direction = sbRotate(cameraToWorld, sbMakeFloat3(((float)x - k.cx) / k.fx, ((float)y - k.cy) / k.fy, 1.0f));
@@ -134,6 +138,8 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
   const int blocksPerSide = resolution >> distanceShift;
   float3 vertex = sbMakeFloat3(0.0f, 0.0f, 0.0f);
   float3 normal = sbMakeFloat3(SB_INVALID_NORMAL, 0.0f, 0.0f);
+  // The ray bounds (pipeline/ray_bounds.h): no sample past tMax is below smallStepBelow, so none ends the march.
+  tExit = sbFmin(tExit, tMax);
   if (tEnter < tExit) {
     // Samples lie on a fixed grid, t = tBase + n * step: tEnter + n * largeStep, then from the first sample
     // below smallStepBelow on, that sample + n * smallStep. Skipping only leaves out samples of that grid
@@ -144,10 +150,21 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
     float step = largeStep;
     int smallSteps = 0;  // the step is smallStep
     float t = tEnter;
-    float fPrevious = sbInterpolateTsdfVoxel(volume, resolution, offset, sOrigin + sDirection * t);
-    float fCurrent = fPrevious;
     int first = 1;            // the first sample is at tEnter, already interpolated
     int previousSkipped = 0;  // the sample before the current one was left out (fPrevious is not its value)
+    float fPrevious = 1.0f;
+    if (tMin > tEnter) {
+      // No sample before tMin is below smallStepBelow (pipeline/ray_bounds.h): the march skips to it as it skips
+      // a box, from the first sample (which is above 0, so the march starts).
+      const int next = (int)sbFloor((tMin - SB_SKIP_MARGIN * smallStep - tBase) / step) + 1;
+      n = next > 1 ? next : 1;
+      first = 0;
+      previousSkipped = 1;
+      t = tBase + (float)n * step;
+    } else {
+      fPrevious = sbInterpolateTsdfVoxel(volume, resolution, offset, sOrigin + sDirection * t);
+    }
+    float fCurrent = fPrevious;
     if (fPrevious > 0.0f) {
       while (t < tExit) {
         const float3 s = sOrigin + sDirection * t;
@@ -205,16 +222,23 @@ SB_INLINE void sbRaycastPixel(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t*
 // depth along the camera's z axis (metres), marched from nearPlane to farPlane (clipped to the volume) with
 // `largeStep` until the tsdf falls below `smallStepBelow`, then with `smallStep`; the zero crossing is
 // interpolated linearly. `blockDistance`: the distance grid of blocks of (1 << SB_SKIP_SHIFT)^3 voxels (see
-// sbSkipByDistance), or 0 for no empty-space skipping. Skipping leaves the result unchanged (see
-// sbRaycastPixel): only the number of samples differs. Writes the surface point and unit normal
-// (volume frame) or vertex 0 and an invalid normal.
+// sbSkipByDistance), or 0 for no empty-space skipping. `rayBounds`: per tile of SB_RAY_BOUNDS_TILE^2 pixels
+// (`boundsColumns` tiles per row), tMin and tMax (pipeline/ray_bounds.h), or 0 for none. Skipping and the
+// bounds leave the result unchanged (see sbRaycastPixel): only the number of samples differs. Writes the
+// surface point and unit normal (volume frame) or vertex 0 and an invalid normal.
 SB_INLINE void raycast(SB_GLOBAL sb_map_t* outVertex, SB_GLOBAL sb_map_t* outNormal, int width,
                        SB_GLOBAL const short* volume, int resolution, SbVoxelOffset offset, float size,
-                       SB_GLOBAL const unsigned char* blockDistance, SbMat34 cameraToWorld, SbCamera k,
-                       float nearPlane, float farPlane, float largeStep, float smallStep,
-                       float smallStepBelow, int x, int y) {
+                       SB_GLOBAL const unsigned char* blockDistance, SB_GLOBAL const float* rayBounds,
+                       int boundsColumns, SbMat34 cameraToWorld, SbCamera k, float nearPlane, float farPlane,
+                       float largeStep, float smallStep, float smallStepBelow, int x, int y) {
+  float tMin = -1e30f, tMax = 1e30f;
+  if (rayBounds != 0) {
+    const int tile = (y / SB_RAY_BOUNDS_TILE) * boundsColumns + x / SB_RAY_BOUNDS_TILE;
+    tMin = rayBounds[2 * tile];
+    tMax = rayBounds[2 * tile + 1];
+  }
   sbRaycastPixel(outVertex, outNormal, width, volume, resolution, offset, size, blockDistance, SB_SKIP_SHIFT,
-                 cameraToWorld, k, nearPlane, farPlane, largeStep, smallStep, smallStepBelow, x, y);
+                 cameraToWorld, k, nearPlane, farPlane, largeStep, smallStep, smallStepBelow, tMin, tMax, x, y);
 }
 
 // The moving volume: moves pixel `index` of raycast maps from the frame of a volume whose corner lies at

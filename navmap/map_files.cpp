@@ -17,11 +17,9 @@ namespace {
 constexpr uint8_t kPgmOccupied = 0, kPgmFree = 254, kPgmUnknown = 205;  // map_server's trinary values
 
 void writeText(const std::string& path, const std::string& bytes) {
-  writeFileAtomically(path, [&](const std::string& temporary) {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), std::streamsize(bytes.size()));
-    out.close();
-    if (!out) throw Error("cannot write '" + temporary + "' (check the disk and its permissions)");
+  writeFileAtomically(path, [&](std::FILE* file, const std::string& temporary) {
+    if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size())
+      throw Error("cannot write '" + temporary + "' (check the disk and its permissions)");
   });
 }
 

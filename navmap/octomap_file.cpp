@@ -1,5 +1,8 @@
 #include "navmap/octomap_file.h"
 
+#include <cstdio>
+#include <sstream>
+
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "navmap/voxel_votes.h"
@@ -31,8 +34,13 @@ bool writeOctomap(const std::string& path, const VolumeVotes& votes, const NavMa
   tree.updateInnerOccupancy();
   tree.prune();
   s.treeBytes = tree.memoryUsage();
-  writeFileAtomically(path, [&](const std::string& temporary) {
-    if (!tree.writeBinary(temporary)) throw Error("cannot write the OctoMap '" + temporary + "'");
+  // Into memory, then through the exclusive temporary (core/atomic_file.h): never a file opened by name.
+  std::ostringstream bytes(std::ios::binary);
+  if (!tree.writeBinary(bytes)) throw Error("cannot encode the OctoMap for '" + path + "'");
+  const std::string data = bytes.str();
+  writeFileAtomically(path, [&](std::FILE* file, const std::string& temporary) {
+    if (std::fwrite(data.data(), 1, data.size(), file) != data.size())
+      throw Error("cannot write the OctoMap '" + temporary + "' (check the disk and its permissions)");
   });
   if (stats) *stats = s;
   return true;

@@ -60,6 +60,7 @@ const std::vector<IntField>& intFields() {
       {"bootstrap_frames", &PipelineConfig::bootstrapFrames, 1, 1000},
       {"volume_resolution", &PipelineConfig::volumeResolution, 8, 1024},
       {"max_weight", &PipelineConfig::maxWeight, 1, 32767},
+      {"integrate_carve_every", &PipelineConfig::integrateCarveEvery, 0, 100000},
       {"quality_block_px", &PipelineConfig::qualityBlockPixels, 1, 256},
       {"lost_after_failed_frames", &PipelineConfig::lostAfterFailedFrames, 1, 1000},
       {"relocalise_candidates", &PipelineConfig::relocaliseCandidates, 0, 32},

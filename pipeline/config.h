@@ -83,6 +83,12 @@ struct PipelineConfig {
   std::array<float, 3> initialPosition{0.5f, 0.5f, 0.3f};  // first camera position, fractions of the side
   float mu = 0.1f;                                      // metres: TSDF truncation distance
   int maxWeight = 100;                                  // maximum TSDF weight (frames)
+  // Integrations between two that also carve free space (voxels in front of the band set towards +1, as
+  // KinectFusion does every frame); the others visit only the blocks the band crosses
+  // (pipeline/surface_blocks.h). 1: every integration carves (as before issue 43); 0: never. 1 by default: 8
+  // fails the corridor drive (test_moving_volume_cli, 97.2% tracked) and costs DEFAULT 0.16 cm on
+  // stress-hard-bursts (docs/performance-history.md, issue 43).
+  int integrateCarveEvery = 1;
 
   // --- raycast ---
   float nearPlane = 0.4f;               // metres (camera depth)

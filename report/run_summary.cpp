@@ -234,6 +234,7 @@ json RunSummary::toJson() const {
             {"computation_ms_per_frame", computationMsPerFrame},
             {"controller_ms_per_frame", controllerMsPerFrame},
             {"stage_ms_per_frame", json(stageMsPerFrame)},
+            {"work", json(work)},
             {"triggers", json(triggers)},
             {"knob_frames", json(knobFrames)},
             {"controller_frames", json(controllerFrames)},
@@ -288,6 +289,7 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.number("computation_ms_per_frame", s.computationMsPerFrame);
   f.number("controller_ms_per_frame", s.controllerMsPerFrame);
   f.counts("stage_ms_per_frame", s.stageMsPerFrame);
+  f.counts("work", s.work);
   f.counts("triggers", s.triggers);
   f.counts("knob_frames", s.knobFrames);
   f.counts("controller_frames", s.controllerFrames);

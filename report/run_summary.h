@@ -100,6 +100,11 @@ struct RunSummary {
   double computationMsPerFrame = 0.0;             // preprocessing + tracking + integration + raycast, mean
   double controllerMsPerFrame = 0.0;              // Controller::decide, mean
   std::map<std::string, double> stageMsPerFrame;  // classic stage name -> mean ms
+  // What integrate and raycast did (pipeline/stages.h StageWork): integrate_blocks_per_integration (blocks of
+  // 8^3 voxels visited), carving_integrations, raycast_samples_per_pixel and raycast_lookups_per_pixel (the
+  // march's steps per raycast pixel: tsdf samples, skipping-grid lookups; 0 on the opencl backend, which does
+  // not count them).
+  std::map<std::string, double> work;
   std::map<std::string, size_t> triggers, knobFrames;  // trigger -> frames; formatKnobs -> frames
   std::map<std::string, size_t> controllerFrames;      // controller -> frames it decided
   TrackingStateSummary trackingState;

@@ -73,6 +73,12 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   }
   if (!rec.implausible.empty()) j["implausible"] = rec.implausible;
   if (r.retracked) j["retracked_from"] = knobsToJson(r.firstKnobs);
+  // Issue 43: the work behind integrate's and raycast's times.
+  const StageWork& w = r.times.work;
+  j["work"] = {{"integrate_blocks", w.integrateBlocks},
+               {"carving", w.carvingIntegrations > 0},
+               {"raycast_samples_per_pixel", w.raycastPixels ? double(w.raycastSamples) / double(w.raycastPixels) : 0.0},
+               {"raycast_lookups_per_pixel", w.raycastPixels ? double(w.raycastLookups) / double(w.raycastPixels) : 0.0}};
   if (!rec.decision.reason.empty()) j["reason"] = rec.decision.reason;
   // Device (OpenCL profiling event) times per stage, beside the host times; absent on the cpu backend.
   if (r.times.deviceMs != decltype(r.times.deviceMs){}) {

@@ -28,6 +28,11 @@ void RunStats::add(const FrameRecord& rec) {
   retracked += r.retracked;
   halfApplied += rec.halfApplied;
   for (int s = 0; s < kStageCount; ++s) stageSums.ms[s] += r.times.ms[s];
+  stageSums.work.integrateBlocks += r.times.work.integrateBlocks;
+  stageSums.work.carvingIntegrations += r.times.work.carvingIntegrations;
+  stageSums.work.raycastPixels += r.times.work.raycastPixels;
+  stageSums.work.raycastSamples += r.times.work.raycastSamples;
+  stageSums.work.raycastLookups += r.times.work.raycastLookups;
   controllerMsSum += rec.controllerMs;
   for (const std::string& t : triggerNames(rec.decision.triggers)) ++triggerCounts[t];
   ++knobCounts[formatKnobs(r.knobs)];
@@ -62,6 +67,12 @@ void RunStats::fill(RunSummary& s) const {
   s.stageMsPerFrame.clear();
   for (int st = 0; st < kStageCount; ++st)
     s.stageMsPerFrame[stageName(static_cast<Stage>(st))] = frames ? stageSums.ms[st] / frames : 0.0;
+  // Issue 43: the work of integrate (per integration) and of the frames' last raycasts (per pixel).
+  const StageWork& w = stageSums.work;
+  s.work = {{"integrate_blocks_per_integration", integrated ? double(w.integrateBlocks) / integrated : 0.0},
+            {"carving_integrations", double(w.carvingIntegrations)},
+            {"raycast_samples_per_pixel", w.raycastPixels ? double(w.raycastSamples) / double(w.raycastPixels) : 0.0},
+            {"raycast_lookups_per_pixel", w.raycastPixels ? double(w.raycastLookups) / double(w.raycastPixels) : 0.0}};
   s.triggers = triggerCounts;
   s.knobFrames = knobCounts;
   s.controllerFrames = controllerCounts;

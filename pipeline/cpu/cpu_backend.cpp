@@ -1,6 +1,7 @@
 #include "pipeline/cpu/cpu_backend.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -10,11 +11,10 @@
 #include "kernels/raycast.h"
 #include "kernels/track.h"
 #include "pipeline/block_distance.h"
-#include "pipeline/cpu/cpu_integrate.h"
 #include "pipeline/cpu/cpu_raycast.h"
 #include "pipeline/cpu/cpu_track.h"
-#include "pipeline/cpu/integrate_cull.h"
 #include "pipeline/cpu/simd4.h"
+#include "pipeline/cpu/stage_timer.h"
 #include "pipeline/kernel_args.h"
 
 namespace sb {
@@ -23,19 +23,6 @@ namespace {
 
 constexpr int kTile = 8;          // raycast tile side, pixels
 
-class StageTimer {
- public:
-  StageTimer(StageTimes& times, Stage stage) : times_(times), stage_(stage), start_(std::chrono::steady_clock::now()) {}
-  ~StageTimer() {
-    times_[stage_] += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
-  }
-
- private:
-  StageTimes& times_;
-  Stage stage_;
-  std::chrono::steady_clock::time_point start_;
-};
-
 // Runs fn(x, y) over a width x height image, rows split in fixed chunks.
 template <typename Fn>
 void forEachPixel(ThreadPool& pool, int width, int height, const Fn& fn) {
@@ -43,39 +30,6 @@ void forEachPixel(ThreadPool& pool, int width, int height, const Fn& fn) {
     for (int y = y0; y < y1; ++y)
       for (int x = 0; x < width; ++x) fn(x, y);
   });
-}
-
-// The interval of real x where a + b*x >= 0, intersected into [lo, hi].
-void clipLinear(double a, double b, double& lo, double& hi) {
-  if (b > 0) {
-    lo = std::max(lo, -a / b);
-  } else if (b < 0) {
-    hi = std::min(hi, -a / b);
-  } else if (a < 0) {
-    hi = lo - 1;  // empty
-  }
-}
-
-// Or-s into masks[x / 4] the surface mask bits of voxels x in [x0, x1) of one row (int16 (tsdf, weight)
-// pairs) whose tsdf is below `below`: `faceBits` for a voxel on its block's lower x face (x % 4 == 0),
-// `innerBits` for the others (the row's y and z faces are in both). sbBlockSurfaceMask by rows, kept for speed:
-// fused into integrate, it reads rows still in cache (test_cpu_integrate.cpp checks it against the kernel).
-// Branch-free, one store per block: a freshly integrated row's tsdf is below the threshold in no pattern.
-// Voxel x (logical) is stored at row[2 * (x + delta)] (its physical place in the cyclic buffer; delta 0 for a
-// fixed volume).
-void orRowSurfaceMask(const int16_t* row, int delta, int x0, int x1, int16_t below, uint8_t innerBits,
-                      uint8_t faceBits, uint8_t* masks) {
-  static_assert(CpuBackend::kSkipShift == 2, "blocks of 4 voxels along x");
-  const auto bitsIf = [](bool set, uint8_t bits) { return static_cast<uint8_t>(-static_cast<int>(set) & bits); };
-  const auto tsdf = [&](int x) { return row[2 * (x + delta)]; };
-  int x = x0;
-  for (; x < x1 && (x & 3) != 0; ++x) masks[x >> 2] |= bitsIf(tsdf(x) < below, innerBits);
-  for (; x + 4 <= x1; x += 4) {
-    const int16_t* v = row + 2 * (x + delta);
-    masks[x >> 2] |= static_cast<uint8_t>(bitsIf(v[0] < below, faceBits) |
-                                          bitsIf((v[2] < below) | (v[4] < below) | (v[6] < below), innerBits));
-  }
-  for (; x < x1; ++x) masks[x >> 2] |= bitsIf(tsdf(x) < below, (x & 3) == 0 ? faceBits : innerBits);
 }
 
 // The interior pixels x in [r, w - r) of row y (rows y - r .. y + r exist) of bilateralFilter, tap by tap (a
@@ -202,101 +156,6 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
   }
 }
 
-void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) {
-  StageTimer t(times, Stage::integrate);
-  const int res = config_.volumeResolution;
-  const float voxel = config_.voxelSize();
-  // Voxel positions are in the volume frame (the world frame until the volume moves).
-  const Eigen::Isometry3f worldToCamera = placement_.toVolumeFrame(cameraToWorld).inverse();
-  const SbMat34 w2c = toMat34(worldToCamera.matrix());
-  const SbCamera k = toCamera(computeK_);
-  const SbVoxelOffset offset = placement_.offset();
-  // A logical row of voxels lies in the cyclic buffer as two runs: x < seam at physical x + offset.x, the rest
-  // at x + offset.x - R.
-  const int seam = res - offset.x;
-  const int w = computeK_.width, h = computeK_.height;
-  const float maxDepth = depth_.empty() ? 0.0f : *std::max_element(depth_.begin(), depth_.end());
-  const double zLimit = maxDepth + config_.mu;  // farther voxels cannot be within the truncation band
-  const float3 step = sbRotate(w2c, sbMakeFloat3(voxel, 0.0f, 0.0f));
-  const int blocks = res >> kSkipShift;
-  const float mu = config_.mu;
-  const int maxWeight = config_.maxWeight;
-  int16_t* vol = volume_.data();
-  const float* depth = depth_.data();
-  constexpr int kCullShift = IntegrateCull::kShift;
-  cull_.update(pool_, depth, w, h, k, w2c, res, voxel, mu);
-  // Empty-space skipping masks (kernels/raycast.h) of the voxels below the raycast's small-step threshold,
-  // recomputed for every block whose voxels this integration all visited, or-ed into the old mask for the
-  // others (a stale bit there only costs skips).
-  const int16_t flagBelow = surfaceTsdfBelow(config_.raycastSmallStepBelow);
-  constexpr int kSide = 1 << kSkipShift;
-  constexpr int kBlockVoxels = kSide * kSide * kSide;
-  uint8_t maskBits[8];
-  for (int faces = 0; faces < 8; ++faces) maskBits[faces] = sbSurfaceMaskBits(faces);
-  // One chunk per z-slab of blocks, so each block's mask is written by one thread only.
-  pool_.parallelFor(0, blocks, 1, [&](int, int bz0, int bz1) {
-    std::vector<int> visited(static_cast<size_t>(blocks) * blocks);
-    std::vector<uint8_t> mask(static_cast<size_t>(blocks) * blocks);
-    for (int bz = bz0; bz < bz1; ++bz) {
-      std::fill(visited.begin(), visited.end(), 0);
-      std::fill(mask.begin(), mask.end(), 0);
-      for (int z = bz * kSide; z < (bz + 1) * kSide; ++z) {
-        for (int y = 0; y < res; ++y) {
-          const uint8_t* live = cull_.liveRow(y >> kCullShift, z >> kCullShift);
-          if (!cull_.anyLive(y >> kCullShift, z >> kCullShift)) continue;
-          const float3 base =
-              sbTransform(w2c, sbMakeFloat3(0.5f * voxel, (y + 0.5f) * voxel, (z + 0.5f) * voxel));
-          // Conservative x-range of the row inside the view frustum and in front of zLimit; the per-voxel
-          // checks in integrateVoxel stay exact.
-          double lo = 0, hi = res - 1;
-          clipLinear(base.z - SB_MIN_PROJECTION_DEPTH, step.z, lo, hi);
-          clipLinear(zLimit - base.z, -step.z, lo, hi);
-          clipLinear(k.fx * base.x + (k.cx + 0.5) * base.z, k.fx * step.x + (k.cx + 0.5) * step.z, lo, hi);
-          clipLinear(-(k.fx * base.x + (k.cx + 0.5 - w) * base.z),
-                     -(k.fx * step.x + (k.cx + 0.5 - w) * step.z), lo, hi);
-          clipLinear(k.fy * base.y + (k.cy + 0.5) * base.z, k.fy * step.y + (k.cy + 0.5) * step.z, lo, hi);
-          clipLinear(-(k.fy * base.y + (k.cy + 0.5 - h) * base.z),
-                     -(k.fy * step.y + (k.cy + 0.5 - h) * step.z), lo, hi);
-          if (hi < lo) continue;
-          const int x0 = std::max(0, static_cast<int>(std::floor(lo)) - 1);
-          const int x1 = std::min(res, static_cast<int>(std::ceil(hi)) + 2);
-          const size_t rowIndex = static_cast<size_t>(sbWrapVoxel(y, offset.y, res)) * res +
-                                  static_cast<size_t>(sbWrapVoxel(z, offset.z, res)) * res * res;
-          const size_t blockRow = static_cast<size_t>(y >> kSkipShift) * blocks;
-          const int rowFaces = ((y & (kSide - 1)) == 0 ? 2 : 0) + ((z & (kSide - 1)) == 0 ? 4 : 0);
-          int16_t* rowVoxels = vol + 2 * rowIndex;
-          // Runs of blocks that culling kept, within [x0, x1).
-          for (int runStart = x0; runStart < x1;) {
-            if (!live[runStart >> kCullShift]) {
-              runStart = ((runStart >> kCullShift) + 1) << kCullShift;
-              continue;
-            }
-            int runEnd = runStart;
-            while (runEnd < x1 && live[runEnd >> kCullShift]) runEnd = ((runEnd >> kCullShift) + 1) << kCullShift;
-            runEnd = std::min(runEnd, x1);
-            for (int part = 0; part < 2; ++part) {  // the runs before and after the seam
-              const int a = part == 0 ? runStart : std::max(runStart, seam);
-              const int b = part == 0 ? std::min(runEnd, seam) : runEnd;
-              if (a >= b) continue;
-              const int delta = part == 0 ? offset.x : offset.x - res;
-              integrateRow(rowVoxels, delta, a, b, base, step, depth, w, h, k, mu, maxWeight);
-              orRowSurfaceMask(rowVoxels, delta, a, b, flagBelow, maskBits[rowFaces], maskBits[rowFaces + 1],
-                               &mask[blockRow]);
-            }
-            for (int bx = runStart >> kSkipShift; bx * kSide < runEnd; ++bx)
-              visited[blockRow + bx] += std::min(runEnd, (bx + 1) * kSide) - std::max(runStart, bx * kSide);
-            runStart = runEnd;
-          }
-        }
-      }
-      uint8_t* masks = &blockSurfaceMask_[static_cast<size_t>(bz) * blocks * blocks];
-      for (size_t i = 0; i < visited.size(); ++i)
-        masks[i] = visited[i] == kBlockVoxels ? mask[i] : (masks[i] | mask[i]);
-    }
-  });
-  computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_, pool_);
-}
-
 void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) {
   StageTimer t(times, Stage::raycast);
   referenceK_ = full_.scaled(csr);
@@ -313,6 +172,12 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   in.distanceShift = kSkipShift;
   in.cameraToWorld = toMat34(placement_.toVolumeFrame(cameraToWorld).matrix());
   in.camera = toCamera(referenceK_);
+  if (config_.emptySpaceSkipping) {  // the ray bounds come from the same grid
+    rayBounds_.compute(blockDistance_.data(), kSkipShift, config_.volumeResolution, config_.volumeSize,
+                       in.cameraToWorld, in.camera, w, h);
+    in.rayBounds = rayBounds_.bounds().data();
+    in.boundsColumns = rayBounds_.columns();
+  }
   in.nearPlane = config_.nearPlane;
   in.farPlane = config_.farPlane;
   in.largeStep = config_.raycastLargeStep * config_.mu;
@@ -321,9 +186,20 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   float* outV = referenceVertex_.data();
   float* outN = referenceNormal_.data();
   // Square tiles: neighbouring rays read neighbouring voxels.
+  std::atomic<long long> samples{0}, lookups{0};
   pool_.parallelFor(0, h, kTile, [&](int, int y0, int y1) {
-    for (int tx = 0; tx < w; tx += kTile) raycastRect(in, outV, outN, w, tx, std::min(w, tx + kTile), y0, y1);
+    RaycastWork chunk;
+    for (int tx = 0; tx < w; tx += kTile) {
+      const RaycastWork rect = raycastRect(in, outV, outN, w, tx, std::min(w, tx + kTile), y0, y1);
+      chunk.samples += rect.samples;
+      chunk.lookups += rect.lookups;
+    }
+    samples += chunk.samples;
+    lookups += chunk.lookups;
   });
+  times.work.raycastPixels = static_cast<long long>(w) * h;
+  times.work.raycastSamples = samples.load();
+  times.work.raycastLookups = lookups.load();
   if (placement_.moved()) {  // the maps in the world frame (a volume that never moved skips this)
     const Eigen::Vector3f c = placement_.cornerMetres();
     const float3 corner = sbMakeFloat3(c.x(), c.y(), c.z());

@@ -18,6 +18,8 @@
 #include "pipeline/config.h"
 #include "pipeline/cpu/cpu_track.h"
 #include "pipeline/cpu/integrate_cull.h"
+#include "pipeline/ray_bounds.h"
+#include "pipeline/surface_blocks.h"
 #include "pipeline/volume_placement.h"
 
 namespace sb {
@@ -53,11 +55,18 @@ class CpuBackend : public ComputeBackend {
   const Intrinsics& referenceIntrinsics() const { return referenceK_; }
   const std::vector<float>& referenceVertices() const { return referenceVertex_; }
   const std::vector<float>& referenceNormals() const { return referenceNormal_; }
-  const IntegrateCull& integrateCull() const { return cull_; }  // what the last integrate skipped
+  const IntegrateCull& integrateCull() const { return cull_; }  // what the last carving integrate skipped
+  const SurfaceBlocks& surfaceBlocks() const { return surface_; }  // what the last surface integrate visited
   // Empty-space skipping surface masks, one per logical block of (1 << kSkipShift)^3 voxels, x fastest.
   const std::vector<uint8_t>& blockSurfaceMasks() const { return blockSurfaceMask_; }
 
  private:
+  // integrate's two kinds (cpu_backend_integrate.cpp): every block in view, free space carved, or only the
+  // blocks the band crosses. Both leave the skipping masks of the blocks they visit; integrate then updates
+  // the block distances.
+  void integrateCarving(const Eigen::Isometry3f& cameraToWorld);
+  void integrateSurface(const Eigen::Isometry3f& cameraToWorld);
+
   struct Level {
     Intrinsics k;
     std::vector<float> depth, vertex, normal;
@@ -83,6 +92,9 @@ class CpuBackend : public ComputeBackend {
   std::vector<uint8_t> blockSurfaceMask_;  // per block: where its voxels below the small-step tsdf lie
   std::vector<uint8_t> blockDistance_;     // per block: Chebyshev distance to a block with surface
   IntegrateCull cull_;                     // integrate's blocks that the current frame cannot change
+  SurfaceBlocks surface_;                  // the blocks the current frame's band crosses
+  RayBounds rayBounds_;                    // the last raycast's ray bounds
+  long long integrations_ = 0;             // integrate calls so far (every integrate_carve_every-th carves)
   VolumePlacement placement_;              // the moving volume's corner and cyclic offset (fixed: 0)
 };
 

@@ -147,6 +147,8 @@ struct Ray {
   int previousSkipped;  // the sample before the current one was left out (fPrevious is not its value)
   int lookup;           // not in the small-step band: the sample at t asks the skipping grid
   int hit;              // the march ended below 0
+  int samples;          // interpolations so far (the work counters, StageWork)
+  int lookups;          // lookups of the skipping grid so far
 };
 
 // One iteration of sbRaycastPixel's march loop; returns false when the march has ended. kFirst: the sample
@@ -157,7 +159,10 @@ SB_HOT_INLINE bool advance(const RaycastInputs& in, const Volume& vol, Ray& r) {
   const F4 s = r.skip.sOrigin + r.sDirection * splat(r.t);
   float skipTo = -1.0f;
   // Inside the small-step band (the previous sample was taken and is below smallStepBelow) no lookup.
-  if (r.lookup && r.t >= r.lookupLo && r.t < r.lookupHi) skipTo = skipByDistance(vol, r.skip, s);
+  if (r.lookup && r.t >= r.lookupLo && r.t < r.lookupHi) {
+    skipTo = skipByDistance(vol, r.skip, s);
+    ++r.lookups;
+  }
   if (skipTo > r.t) {
     const float skipEnd = sbFmin(skipTo, r.tExit) - SB_SKIP_MARGIN * in.smallStep;
     // The kernel's next = (int)sbFloor(q) + 1 and n = max(next, n + 1) with the truncation instead of the
@@ -168,9 +173,12 @@ SB_HOT_INLINE bool advance(const RaycastInputs& in, const Volume& vol, Ray& r) {
     r.lookup = 1;
   } else {
     r.fCurrent = kFirst ? r.fPrevious : interpolate(vol, s);
+    if (!kFirst) ++r.samples;
     if (!kFirst && r.fCurrent < 0.0f) {
-      if (r.previousSkipped)
+      if (r.previousSkipped) {
         r.fPrevious = interpolate(vol, r.skip.sOrigin + r.sDirection * splat(r.tBase + (float)(r.n - 1) * r.step));
+        ++r.samples;
+      }
       r.hit = 1;
       return false;
     }
@@ -262,6 +270,15 @@ inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam,
       tExit = -1.0f;
     }
   }
+  // The ray bounds (pipeline/ray_bounds.h), as kernels/raycast.h's raycast reads them.
+  float tMin = -1e30f;
+  if (in.rayBounds != nullptr) {
+    const int tile = (y / SB_RAY_BOUNDS_TILE) * in.boundsColumns + x / SB_RAY_BOUNDS_TILE;
+    tMin = in.rayBounds[2 * tile];
+    tExit = sbFmin(tExit, in.rayBounds[2 * tile + 1]);
+  }
+  r.samples = 0;
+  r.lookups = 0;
   if (tEnter < tExit) {
     // The ray in voxel coordinates; sInverse is 0 where the direction is 0.
     const F4 sd4 = d4 * splat(cam.scale);
@@ -271,7 +288,12 @@ inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam,
     r.skip.sInverse = keepWhereNonZero(splat(1.0f) / sd4, sd4);
     r.skip.negative = notGreaterEqualZero(r.skip.sInverse);
     r.skip.negativeOne = r.skip.negative & splatInt(1);
-    r.fPrevious = interpolate(vol, cam.so + sd4 * splat(tEnter));
+    const bool bounded = tMin > tEnter;  // the march skips to tMin from the first sample, not interpolated
+    r.fPrevious = 1.0f;
+    if (!bounded) {
+      r.fPrevious = interpolate(vol, cam.so + sd4 * splat(tEnter));
+      r.samples = 1;
+    }
     if (r.fPrevious > 0.0f) {
       // Lookups only where s is inside [0, R - 1) (sbVoxelRange); none at all without a skipping structure.
       r.lookupLo = 1e30f;
@@ -303,6 +325,13 @@ inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam,
       r.previousSkipped = 0;
       r.lookup = 1;
       r.hit = 0;
+      if (bounded) {
+        const int next = (int)sbFloor((tMin - SB_SKIP_MARGIN * in.smallStep - r.tBase) / r.step) + 1;
+        r.n = next > 1 ? next : 1;
+        r.previousSkipped = 1;
+        r.t = r.tBase + (float)r.n * r.step;
+        return true;
+      }
       // The first iteration: its sample (at tEnter, above 0) is already interpolated.
       if (advance<true>(in, vol, r)) return true;
       finish(vol, r, cam.o, outVertex, outNormal);
@@ -321,8 +350,10 @@ constexpr int kTileColumns = 8;
 
 }  // namespace
 
-void raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0, int y1) {
-  if (x0 >= x1 || y0 >= y1) return;
+RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0,
+                        int y1) {
+  RaycastWork work;
+  if (x0 >= x1 || y0 >= y1) return work;
   const Volume vol(in);
   const Camera cam(in);
   // The next pixel: tiles of kTileColumns columns from the left, each row by row.
@@ -339,6 +370,8 @@ void raycastRect(const RaycastInputs& in, float* vertex, float* normal, int widt
         }
       }
       if (start(in, vol, cam, r, vertex, normal, width, px, py)) return true;
+      work.samples += r.samples;
+      work.lookups += r.lookups;
     }
     return false;
   };
@@ -350,10 +383,13 @@ void raycastRect(const RaycastInputs& in, float* vertex, float* normal, int widt
     for (int i = 0; i < kRaysInFlight; ++i) {
       if (active[i] && !advance<false>(in, vol, rays[i])) {
         finish(vol, rays[i], cam.o, vertex, normal);
+        work.samples += rays[i].samples;
+        work.lookups += rays[i].lookups;
         if (!(active[i] = launch(rays[i]))) --flying;
       }
     }
   }
+  return work;
 }
 
 }  // namespace sb

@@ -24,6 +24,10 @@ struct RaycastInputs {
   // pipeline/block_distance.h's distances for blocks of (1 << distanceShift)^3 voxels; nullptr: no skipping.
   const uint8_t* blockDistance = nullptr;
   int distanceShift = 0;
+  // pipeline/ray_bounds.h's tMin, tMax per tile of SB_RAY_BOUNDS_TILE^2 pixels (boundsColumns per row); nullptr:
+  // none (kernels/raycast.h's raycast).
+  const float* rayBounds = nullptr;
+  int boundsColumns = 0;
   SbMat34 cameraToWorld{};
   SbCamera camera{};                // intrinsics of the output maps
   float nearPlane = 0.0f;           // metres (depth along the camera's z axis)
@@ -35,7 +39,11 @@ struct RaycastInputs {
 
 // raycast of the pixels [x0, x1) x [y0, y1) into `vertex` and `normal` (3 floats per pixel, rows of `width`
 // pixels): the surface point and unit normal in the volume frame, or 0 and an invalid normal
-// (SB_INVALID_NORMAL), exactly as sbRaycastPixel writes them.
-void raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0, int y1);
+// (SB_INVALID_NORMAL), exactly as kernels/raycast.h's raycast writes them. Returns the steps the marches took.
+struct RaycastWork {
+  long long samples = 0;  // interpolations (the gradient's not counted)
+  long long lookups = 0;  // lookups of the skipping grid
+};
+RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0, int y1);
 
 }  // namespace sb

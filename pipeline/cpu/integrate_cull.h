@@ -42,6 +42,7 @@ class IntegrateCull {
   bool anyLive(int by, int bz) const { return rowLive_[static_cast<size_t>(bz) * blocks_ + by] != 0; }
   // Blocks culled by the last update (for tests and counters).
   size_t culledCount() const;
+  size_t liveCount() const { return live_.size() - culledCount(); }
 
  private:
   struct Corner {

@@ -38,6 +38,7 @@ Kernels::Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfSt
   reduceFinal = createKernel(p, "reduceFinalKernel");
   initVolume = createKernel(p, "initVolumeKernel");
   integrate = createKernel(p, "integrateKernel");
+  integrateBlocks = createKernel(p, "integrateBlocksKernel");
   clearSlab = createKernel(p, "clearSlabKernel");
   surfaceMask = createKernel(p, "surfaceMaskKernel");
   raycast = createKernel(p, "raycastKernel");
@@ -93,6 +94,13 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
   blockMasks = createBuffer(ctx, CL_MEM_READ_WRITE, blocks * blocks * blocks, "skipping block masks");
   blockDistance = createBuffer(ctx, CL_MEM_READ_ONLY, blocks * blocks * blocks, "skipping block distances");
   blockMasksHost.resize(blocks * blocks * blocks);
+  const size_t surfaceBlocksPerSide = res >> SurfaceBlocks::kShift;
+  surfaceBlocks = createBuffer(ctx, CL_MEM_READ_ONLY,
+                               surfaceBlocksPerSide * surfaceBlocksPerSide * surfaceBlocksPerSide * sizeof(int32_t),
+                               "surface block list");
+  const size_t tiles = size_t((full.width + RayBounds::kTile - 1) / RayBounds::kTile) *
+                       size_t((full.height + RayBounds::kTile - 1) / RayBounds::kTile);
+  rayBoundsBuffer = createBuffer(ctx, CL_MEM_READ_ONLY, 2 * tiles * f, "raycast ray bounds");
   image = createBuffer(ctx, CL_MEM_WRITE_ONLY, n, "render image");
   scratch = createBuffer(ctx, CL_MEM_READ_WRITE, 3 * n * f, "conversion scratch");
   volumeHost.resize(2 * voxels);

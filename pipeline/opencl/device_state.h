@@ -11,6 +11,8 @@
 #include "core/thread_pool.h"
 #include "pipeline/opencl/launcher.h"
 #include "pipeline/opencl/opencl_backend.h"
+#include "pipeline/ray_bounds.h"
+#include "pipeline/surface_blocks.h"
 #include "pipeline/volume_placement.h"
 
 namespace sb {
@@ -29,7 +31,7 @@ struct Kernels {
   Program program;
   Kernel mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal;
   Kernel track, block, reduce, reduceFinal;
-  Kernel initVolume, integrate, clearSlab, surfaceMask;
+  Kernel initVolume, integrate, integrateBlocks, clearSlab, surfaceMask;
   Kernel raycast, offsetVertex, render;
   Kernel halfToFloat, floatToHalf;
 };
@@ -85,6 +87,14 @@ struct OpenClBackend::State {
   opencl::Buffer blockMasks, blockDistance;
   std::vector<uint8_t> blockMasksHost, blockDistanceHost;
   ThreadPool skipPool{1};
+  // integrate's surface blocks (pipeline/surface_blocks.h, from the depth read back) and the raycast's bounds
+  // (pipeline/ray_bounds.h), both made on the host and written to the device.
+  SurfaceBlocks surface;
+  std::vector<float> depthHost;
+  opencl::Buffer surfaceBlocks;
+  long long integrations = 0;  // integrate calls so far (every integrate_carve_every-th carves)
+  RayBounds rayBounds;
+  opencl::Buffer rayBoundsBuffer;
   opencl::Buffer image;    // render output
   opencl::Buffer scratch;  // precision conversions, 3 floats per full-size pixel
 

@@ -108,9 +108,35 @@ void OpenClBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes
   const opencl::Kernels& k = s.kernels();
   const PipelineConfig& c = s.config;
   const size_t r = size_t(c.volumeResolution);
-  s.launcher.run(Stage::integrate, k.integrate, {r, r, r}, kVolumeGroup, s.volume, c.volumeResolution,
-                 s.placement.offset(), c.volumeSize, toMat34(s.placement.toVolumeFrame(cameraToWorld).inverse().matrix()),
-                 s.depth, s.computeK.width, s.computeK.height, toCamera(s.computeK), c.mu, c.maxWeight);
+  const Eigen::Isometry3f cameraToVolume = s.placement.toVolumeFrame(cameraToWorld);
+  const SbMat34 worldToCamera = toMat34(cameraToVolume.inverse().matrix());
+  // Free space carved every integrate_carve_every-th integration, else only the surface blocks (as the CPU backend).
+  const bool carve = c.integrateCarveEvery > 0 && s.integrations % c.integrateCarveEvery == 0;
+  ++s.integrations;
+  const int w = s.computeK.width, h = s.computeK.height;
+  if (carve) {
+    s.launcher.run(Stage::integrate, k.integrate, {r, r, r}, kVolumeGroup, s.volume, c.volumeResolution,
+                   s.placement.offset(), c.volumeSize, worldToCamera, s.depth, w, h, toCamera(s.computeK), c.mu,
+                   c.maxWeight);
+    times.work.carvingIntegrations += 1;
+    times.work.integrateBlocks += static_cast<long long>(r * r * r) >> (3 * SurfaceBlocks::kShift);
+  } else {
+    s.depthHost = s.readMap(s.depth, size_t(w) * size_t(h));
+    s.surface.build(s.depthHost.data(), w, h, toCamera(s.computeK), toMat34(cameraToVolume.matrix()),
+                    c.volumeResolution, c.voxelSize(), c.mu, std::max(1, 8 * w / s.full.width));
+    const std::vector<int32_t>& list = s.surface.blocks();
+    if (!list.empty()) {
+      opencl::check(clEnqueueWriteBuffer(s.launcher.queue(), s.surfaceBlocks.get(), CL_TRUE, 0,
+                                         list.size() * sizeof(int32_t), list.data(), 0, nullptr, nullptr),
+                    "writing the surface block list");
+      const size_t side = size_t(1) << SurfaceBlocks::kShift;
+      s.launcher.run(Stage::integrate, k.integrateBlocks, {side, side, side * list.size()}, {8, 8, 2}, s.volume,
+                     c.volumeResolution, s.placement.offset(), c.volumeSize, worldToCamera, s.depth, w, h,
+                     toCamera(s.computeK), c.mu, c.maxWeight, s.surfaceBlocks, static_cast<int>(list.size()),
+                     s.surface.perSide());
+    }
+    times.work.integrateBlocks += static_cast<long long>(list.size());
+  }
   // As the CPU backend, but only when the raycast uses it.
   if (c.emptySpaceSkipping) s.updateSkipping(Stage::integrate);
   s.volumeOnHost = false;
@@ -125,10 +151,21 @@ void OpenClBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, Sta
   s.hasTrack = false;
   const PipelineConfig& c = s.config;
   const opencl::Buffer* blockDistance = c.emptySpaceSkipping ? &s.blockDistance : nullptr;
+  const SbMat34 cameraToVolume = toMat34(s.placement.toVolumeFrame(cameraToWorld).matrix());
+  const opencl::Buffer* bounds = nullptr;  // the ray bounds come from the same grid (pipeline/ray_bounds.h)
+  if (c.emptySpaceSkipping) {
+    s.rayBounds.compute(s.blockDistanceHost.data(), SB_SKIP_SHIFT, c.volumeResolution, c.volumeSize, cameraToVolume,
+                        toCamera(s.referenceK), s.referenceK.width, s.referenceK.height);
+    opencl::check(clEnqueueWriteBuffer(s.launcher.queue(), s.rayBoundsBuffer.get(), CL_TRUE, 0,
+                                       s.rayBounds.bounds().size() * sizeof(float), s.rayBounds.bounds().data(), 0,
+                                       nullptr, nullptr),
+                  "writing the raycast's ray bounds");
+    bounds = &s.rayBoundsBuffer;
+  }
   s.launcher.run(Stage::raycast, s.kernels().raycast, imageSize(s.referenceK), kImageGroup, s.referenceVertex,
                  s.referenceNormal, s.referenceK.width, s.referenceK.height, s.volume, c.volumeResolution,
-                 s.placement.offset(), c.volumeSize, blockDistance,
-                 toMat34(s.placement.toVolumeFrame(cameraToWorld).matrix()), toCamera(s.referenceK), c.nearPlane,
+                 s.placement.offset(), c.volumeSize, blockDistance, bounds, s.rayBounds.columns(),
+                 cameraToVolume, toCamera(s.referenceK), c.nearPlane,
                  c.farPlane, c.raycastLargeStep * c.mu, c.raycastSmallStep * c.voxelSize(), c.raycastSmallStepBelow);
   if (s.placement.moved()) {  // the maps in the world frame (a volume that never moved skips this)
     cl_float4 corner{};

@@ -65,7 +65,7 @@ Maps kernelMaps(const sb::RaycastInputs& in, int w, int h) {
     for (int x = 0; x < w; ++x)
       sbRaycastPixel(m.vertex.data(), m.normal.data(), w, in.volume, in.resolution, in.offset, in.size, in.blockDistance,
                      in.distanceShift, in.cameraToWorld, in.camera, in.nearPlane, in.farPlane,
-                     in.largeStep, in.smallStep, in.smallStepBelow, x, y);
+                     in.largeStep, in.smallStep, in.smallStepBelow, -1e30f, 1e30f, x, y);
   return m;
 }
 
