@@ -2,7 +2,8 @@
 # The odometry issue's table (docs/odometry.md): corridor drives of docs/test-sequences.md at 320x240 (a wheeled
 # robot's camera driving 2 x 17 m with an in-place U-turn, `slambooster synth --scene corridor --stress drive`),
 # each with the odometry.txt synth writes (a cheap base: 3% scale, 2% yaw scale, 0.3 deg/s yaw bias, noise),
-# run by DEFAULT and adaptive in the default moving 5 m volume, four ways:
+# run by DEFAULT and adaptive in the moving 5 m volume (--volume-size 5: the drive's hint is a cube that holds the
+# whole path, 20.5 m, which `run` would otherwise take as one fixed volume), four ways:
 #   none    without odometry (--no-odometry): depth alone
 #   odo     with the drive's odometry
 #   slip    the same odometry with a wheel slip (0.4 m forward in one 20 ms step at 20 s)
@@ -60,7 +61,7 @@ for seed in "${seeds[@]}"; do
     esac
     for c in default adaptive; do
       run="$out/$variant-$seed-$c"
-      "$bin" run "$seq" --out "$run" --controller "$c" --threads 1 "${args[@]}" > "$run.log" 2>&1
+      "$bin" run "$seq" --out "$run" --controller "$c" --threads 1 --volume-size 5 "${args[@]}" > "$run.log" 2>&1
       read -r frames good weak odom reloc lost ate ms < <("$bin" summary "$run" --get frames \
         --get tracking_state.frames.good --get tracking_state.frames.weak --get tracking_state.frames.odometry \
         --get tracking_state.frames.relocalised --get tracking_state.frames.lost --get ate.rmse_m \
