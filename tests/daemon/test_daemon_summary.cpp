@@ -28,6 +28,9 @@ nlohmann::json comparable(const sb::RunSummary& s) {
   for (const char* key : {"front_end", "daemon", "computation_ms_per_frame", "controller_ms_per_frame",
                           "stage_ms_per_frame", "cpu_ms_per_frame"})
     j.erase(key);
+  // The daemon listens for odometry on its socket (source.odometry auto, no odometry.txt): nothing came.
+  if (j.contains("odometry") && j["odometry"].value("source", "") == "socket" && j["odometry"].value("samples", 1) == 0)
+    j.erase("odometry");
   return j;
 }
 
