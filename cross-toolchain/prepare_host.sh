@@ -59,7 +59,6 @@ armhf_packages=(
   libsystemd-dev:armhf                # daemon: sd_notify, socket activation
   libusb-1.0-0-dev:armhf              # SmartPower (v1) HID meter
   libopenni2-dev:armhf                # live depth cameras
-  liboctomap-dev:armhf                # navmap/: map.bt (optional in CMake)
   ocl-icd-opencl-dev:armhf            # OpenCL ICD loader (the board's Mali driver provides the device)
 )
 

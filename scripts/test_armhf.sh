@@ -31,10 +31,10 @@ build=${1:-"$root/build-armhf"}
 subset=(
   test_core test_drivers test_eval test_mesh
   test_pipeline test_default_config test_opencl_select test_opencl_noplatform
-  test_controller test_reloc test_runtime test_map_slabs
+  test_controller test_reloc test_runtime test_map_slabs test_odometry_track test_odometry_fusion test_navmap
   test_power_ledger test_power_meters test_power_io test_power_sampler
   test_report
-  test_daemon_config test_protocol test_protocol_golden test_socket_server
+  test_daemon_config test_protocol test_protocol_golden test_socket_server test_frame_report
   test_device_clock
 )
 # Known armhf failures: a test case that fails on armhf, reported to the owner of the code. Its test runs
@@ -62,12 +62,16 @@ declare -A not_armhf=(
   [test_adaptive_cli]=$spawns [test_matrix_cli]=$spawns [test_run_reliability]=$spawns [test_daemon_hostile]=$spawns
   [test_relocalisation_cli]=$spawns [test_sequences_cli]=$spawns [test_hostile_inputs]=$spawns
   [test_daemon_failures]=$spawns [test_moving_volume_cli]=$spawns [test_daemon_summary]=$spawns
+  [test_output_symlinks]=$spawns [test_daemon_odometry]=$spawns [test_push_source]=$spawns [test_daemon_symlinks]=$spawns
   [ros_component]="the ROS 1 component is not built in a cross build: Debian's armhf ROS dev packages do not
 cross-install (README, With ROS); this placeholder only says so"
   [test_ros_reports]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_bridge]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_depth_topic]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_bag]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_bag_odometry]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_map]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_master_restart]="ROS 1 component: native builds only (see ros_component)"
   [test_cluster_reference]=$spawns [test_cluster_parallel]=$spawns [test_cluster_kill]=$spawns
   [test_cluster_slurm]="starts a Slurm cluster of the host's (amd64) daemons that run the armhf tool: $spawns"
   [test_openni2_source]="asserts frame arrival times (the last frame stamped under 0.5 s ago) that emulation on a
