@@ -2,9 +2,13 @@
 
 #include <cmath>
 
+#include "drivers/stamp_gate.h"
+
 namespace sb::daemon {
 
 namespace {
+
+constexpr double kMaxOdomPositionM = 1e6;  // 1000 km: beyond it a pushed position is a unit error, not a drive
 
 // Reads `n` finite numbers of the array `key` of `sample`.
 template <size_t N>
@@ -33,12 +37,20 @@ bool readSample(const nlohmann::json& j, const std::string& where, OdomSample& s
     return false;
   }
   const auto t = j.find("t");
-  if (t == j.end() || !t->is_number() || !std::isfinite(t->get<double>())) {
-    error = "?ODOM: '" + where + "t' must be a finite number (seconds, the depth frames' clock)";
+  // The stamps every input door accepts (drivers/stamp_gate.h): one absurd stamp would otherwise stand as the
+  // newest and refuse every later sample (stamps must increase) for the rest of the run.
+  if (t == j.end() || !t->is_number() || !(t->get<double>() >= 0.0 && t->get<double>() <= kMaxStampSeconds)) {
+    error = "?ODOM: '" + where + "t' must be a number of seconds on the depth frames' clock, in [0, 1e10]";
     return false;
   }
   s.t = t->get<double>();
   if (!numbers(j, "position", where, s.position, error)) return false;
+  for (const double x : s.position)
+    if (!(std::abs(x) <= kMaxOdomPositionM)) {
+      error = "?ODOM: '" + where + "position' must lie within " + std::to_string(int(kMaxOdomPositionM)) +
+              " m of the odometry frame's origin";
+      return false;
+    }
   if (!numbers(j, "quaternion", where, s.quaternion, error)) return false;
   const auto& q = s.quaternion;
   const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
