@@ -35,7 +35,7 @@ void MasterWatch::loop() {
     if (!ros::master::check()) {
       if (!unreachable) ROS_WARN("the ROS master at %s does not answer; waiting for it", ros::master::getURI().c_str());
       unreachable = true;
-    } else if (!registered()) {
+    } else if (ros::ok() && !ros::isShuttingDown() && !registered()) {  // not our own unregistering at shutdown
       ROS_FATAL("the ROS master at %s was restarted: it does not know node %s, whose topics were registered with "
                 "the master before; exiting %d for the supervisor to start the bridge again (roslaunch "
                 "respawn=\"true\", systemd Restart=on-failure)",
