@@ -33,6 +33,7 @@ constexpr Key kKeys[] = {
     {"relocalise_tolerance_m", &OdometryConfig::relocaliseToleranceM, 0.0, 1000.0},
     {"max_extrapolation_s", &OdometryConfig::maxExtrapolationS, 0.0, 10.0},
     {"max_gap_s", &OdometryConfig::maxGapS, 0.001, 100.0},
+    {"calibration_window_m", &OdometryConfig::calibrationWindowM, 0.0, 1e6},
 };
 
 }  // namespace

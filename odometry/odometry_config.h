@@ -32,7 +32,7 @@ struct OdometryConfig {
   double noisePerM = 0.03;                // sigma per metre moved
   double noiseFloorM = 0.001;             // metres
   double noisePerRad = 0.03;              // sigma of the rotation per radian turned
-  double noiseFloorRad = 0.002;           // radians (0.11 deg)
+  double noiseFloorRad = 0.0005;          // radians (0.03 deg: a heading random walk of 0.16 deg/sqrt(s) at 30 Hz)
   // Fusion per eigen-motion of the view's structure (pipeline/tracking_quality.h): along an eigenvector with
   // conditioning c the tracked pose weighs c / (c + lambda), where lambda = (sigmaIcpM / sigma_odometry)^2 *
   // cFull: a view that constrains a motion like a fully furnished one (c = cFull) with a point noise of
@@ -58,6 +58,9 @@ struct OdometryConfig {
   // sample, and not across a gap longer than maxGapS.
   double maxExtrapolationS = 0.05;
   double maxGapS = 0.5;
+  // The wheels' systematic errors (distance scale, turn scale, yaw drift) are learnt online where the view fixes
+  // the motion (runtime/odometry_calibration.h), from the evidence of about this many metres driven; 0: off.
+  double calibrationWindowM = 20.0;       // metres
 
   void read(ConfigReader& r);
   nlohmann::json toJson() const;

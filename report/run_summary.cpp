@@ -133,6 +133,10 @@ void fieldsOf(OdometrySummary& o, Field field) {
   field("samples", o.samples);
   field("frames_with_pose", o.framesWithPose);
   field("path_m", o.pathM);
+  field("scale_error", o.scaleError);
+  field("yaw_scale_error", o.yawScaleError);
+  field("yaw_bias_deg_per_s", o.yawBiasDegPerS);
+  field("calibration_frames", o.calibrationFrames);
 }
 
 template <typename Field>

@@ -61,6 +61,11 @@ struct OdometrySummary {
   size_t samples = 0;         // samples the track held at the last frame
   size_t framesWithPose = 0;  // frames whose stamp the odometry covered (interpolated)
   double pathM = 0.0;         // the odometry camera's path over those frames, metres
+  // The wheels' errors as the run learnt them at its last frame (runtime/odometry_calibration.h).
+  double scaleError = 0.0;        // the distance read (1 + this) times the truth
+  double yawScaleError = 0.0;     // turns read (1 + this) times the truth ...
+  double yawBiasDegPerS = 0.0;    // ... plus this drift
+  size_t calibrationFrames = 0;   // frames that brought evidence
 };
 
 struct StoppedSummary {  // `run --stop-after-ms` stopped the run ("stopped")

@@ -40,6 +40,7 @@ std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, d
   OdometryStep s;
   s.delta = rigid(a->inverse() * *b);
   s.dt = t1 - t0;
+  s.up = a->linear().transpose() * Eigen::Vector3d::UnitZ();
   const double angle = angleOf(s.delta.linear());
   s.sigmaM = c.noiseFloorM + c.noisePerM * s.distanceM();
   s.sigmaRad = c.noiseFloorRad + c.noisePerRad * angle;
@@ -86,16 +87,26 @@ Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previ
   const Twist icp = transformToTwist(rigid(tracked * previous.inverse()));
   if (!odo.allFinite() || !icp.allFinite()) return f;
   const Twist change = eig.eigenvectors().transpose() * basis.solve(icp - odo);
-  // lambda: the conditioning at which the view's error along a motion equals the odometry's (see the config).
-  const double ratio = c.icpSigmaM / std::max(step.sigmaM, 1e-9);
-  const double lambda = ratio * ratio * c.fullConditioning;
-  Twist kept, fixedPart;
+  // Information in the motion basis (x_n: the camera centre's translation in metres, rotations times the
+  // view's lever 1/s, tracking_quality.h). The view's: along an eigen-motion with conditioning c, c / (sigma_icp^2
+  // * c_full) (a view as furnished as c_full fixes a motion to sigma_icp), none below min_conditioning. The
+  // odometry's: its translation and rotation noise, the rotation's at the same lever.
+  const double s = std::abs(q.basis(3, 3));
+  Twist viewInfo, fixedPart;
   for (int i = 0; i < 6; ++i) {
     const double ci = std::max(0.0, eig.eigenvalues()(i));
     const bool fixes = ci >= c.minConditioning;
-    kept(i) = fixes ? change(i) * ci / (ci + lambda) : 0.0;
+    viewInfo(i) = fixes ? ci / (c.icpSigmaM * c.icpSigmaM * c.fullConditioning) : 0.0;
     fixedPart(i) = fixes ? change(i) : 0.0;
   }
+  Twist odoInfo;
+  odoInfo.head<3>().setConstant(1.0 / std::pow(std::max(step.sigmaM, 1e-9), 2));
+  odoInfo.tail<3>().setConstant(s * s / std::pow(std::max(step.sigmaRad, 1e-9), 2));
+  const Matrix6& E = eig.eigenvectors();
+  const Matrix6 view = E * viewInfo.asDiagonal() * E.transpose();
+  const Matrix6 both = view + Matrix6(odoInfo.asDiagonal());
+  // The fused motion: the odometry's plus the share of the view's difference its information earns.
+  const Twist keptN = both.ldlt().solve(view * (E * change));
   // How far the view moves the prediction along the motions it fixes: a slip when beyond the odometry's noise.
   const Eigen::Isometry3d viewed = rigid(twistToTransform(odo + q.basis * (eig.eigenvectors() * fixedPart)) * previous);
   f.disagreementM = (viewed.translation() - predicted.translation()).norm();
@@ -108,7 +119,7 @@ Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previ
                    f.disagreementM, f.disagreementRad * kDegPerRad);
     return f;
   }
-  const Twist fused = odo + q.basis * (eig.eigenvectors() * kept);
+  const Twist fused = odo + q.basis * keptN;
   if (fused.allFinite()) f.pose = rigid(twistToTransform(fused) * previous);
   return f;
 }

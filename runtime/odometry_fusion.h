@@ -21,6 +21,7 @@ struct OdometryStep {
   double dt = 0.0;        // seconds
   double sigmaM = 0.0;    // its translation's noise (metres), from the samples' covariance or the config
   double sigmaRad = 0.0;  // its rotation's noise (radians)
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // the odometry frame's up axis (REP 103: z) in the earlier camera's frame
   double distanceM() const { return delta.translation().norm(); }
 };
 

@@ -77,4 +77,11 @@ void countOdometryFrame(const odometry::OdometryTrack& track, double timestamp, 
   last = pose;
 }
 
+void noteCalibration(const odometry::CalibrationEstimate& e, OdometrySummary& summary) {
+  summary.scaleError = e.scale;
+  summary.yawScaleError = e.yawScale;
+  summary.yawBiasDegPerS = e.yawBiasRadPerS * 180.0 / 3.14159265358979323846;
+  summary.calibrationFrames = static_cast<size_t>(e.frames);
+}
+
 }  // namespace sb

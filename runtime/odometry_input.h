@@ -12,6 +12,7 @@
 #include <string>
 
 #include "odometry/odometry_track.h"
+#include "runtime/odometry_calibration.h"
 #include "report/run_summary.h"
 
 namespace sb {
@@ -45,5 +46,8 @@ OdometryInput liveOdometry(const std::string& source);
 // odometry pose (updated).
 void countOdometryFrame(const odometry::OdometryTrack& track, double timestamp, OdometrySummary& summary,
                         std::optional<Eigen::Isometry3d>& last);
+
+// The wheels' errors learnt so far, into the summary.
+void noteCalibration(const odometry::CalibrationEstimate& estimate, OdometrySummary& summary);
 
 }  // namespace sb

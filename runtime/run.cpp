@@ -78,8 +78,10 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
 FrameRecord Run::step(const DepthFrame& frame) {
   // The odometry's counts in the summary, before the frame's sinks write it.
   RunSummary& header = outputs_.summary->header();
-  if (const odometry::OdometryTrack* track = runner_.odometry(); track && header.odometry)
+  if (const odometry::OdometryTrack* track = runner_.odometry(); track && header.odometry) {
     countOdometryFrame(*track, frame.timestamp, *header.odometry, lastOdometryPose_);
+    noteCalibration(runner_.monitor().calibration().estimate(), *header.odometry);
+  }
   try {
     FrameRecord rec = runner_.step(frame);
     if (mapSink_) mapSink_->onFrame(rec, frame, *pipeline_);

@@ -107,7 +107,8 @@ FrameMotion SlamRunner::motionOf(const DepthFrame& frame, FrameRecord& rec) cons
     rec.odometry.why = "the odometry's step " + slip + ": a wheel slip, not used";
     return motion;
   }
-  motion.step = step;
+  motion.raw = step;
+  motion.step = monitor_.calibration().correct(*step);
   return motion;
 }
 

@@ -24,7 +24,10 @@ const Eigen::Isometry3d& finalPose(const FrameRecord& rec) {
 }  // namespace
 
 TrackingMonitor::TrackingMonitor(const PipelineConfig& config)
-    : config_(config), encoder_(FernParams{}), relocaliser_(RelocaliserParams(config)) {}
+    : config_(config),
+      encoder_(FernParams{}),
+      relocaliser_(RelocaliserParams(config)),
+      calibration_(config.odometry) {}
 
 void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
                               const FrameMotion& motion) {
@@ -140,6 +143,7 @@ void TrackingMonitor::fuse(FrameRecord& rec, const FrameMotion& motion) {
     return;
   }
   rec.odometry.used = true;
+  if (motion.raw) calibration_.learn(rec.result.quality, motion.previousPose, tracked, *motion.raw);
   d.refinedPose = f.pose;
   d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
 }

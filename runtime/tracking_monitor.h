@@ -21,6 +21,7 @@
 #include "reloc/fern_encoder.h"
 #include "reloc/relocaliser.h"
 #include "runtime/frame_record.h"
+#include "runtime/odometry_calibration.h"
 #include "runtime/odometry_fusion.h"
 
 namespace sb {
@@ -30,7 +31,8 @@ struct FrameMotion {
   Eigen::Isometry3d previousPose = Eigen::Isometry3d::Identity();  // the previous frame's final pose
   double previousStamp = 0.0;                                       // and its stamp (seconds)
   bool hasPrevious = false;                                         // false on the first frame
-  std::optional<odometry::OdometryStep> step;  // the odometry's step since then (not rejected before ICP)
+  std::optional<odometry::OdometryStep> step;  // the odometry's step since then (not rejected before ICP), calibrated
+  std::optional<odometry::OdometryStep> raw;   // the same step as the wheels reported it
 };
 
 class TrackingMonitor {
@@ -49,6 +51,8 @@ class TrackingMonitor {
   void after(const DepthFrame& frame, double depthScale, FrameRecord& rec);
 
   const Relocaliser& relocaliser() const { return relocaliser_; }
+  // The wheels' errors learnt so far; the runner corrects each odometry step with it.
+  const odometry::OdometryCalibration& calibration() const { return calibration_; }
 
  private:
   // The tracked pose against the platform's physics: an impossible motion is discarded (tracked false).
@@ -64,6 +68,7 @@ class TrackingMonitor {
   PipelineConfig config_;
   FernEncoder encoder_;
   Relocaliser relocaliser_;
+  odometry::OdometryCalibration calibration_;
   int failedInARow_ = 0;
   bool recovering_ = false;
   TrackingState last_ = TrackingState::good;  // of the last frame with a tracking attempt
