@@ -385,4 +385,13 @@ RunSummary readRunSummary(const std::string& path) {
   return RunSummary::fromJson(readJsonConfig(path, "run summary"), where);
 }
 
+RunSummary readRunDirSummary(const std::string& run, const std::string& hint) {
+  const bool file = run.size() > 5 && run.compare(run.size() - 5, 5, ".json") == 0;
+  const std::string path = file ? run : run + "/summary.json";
+  const std::string problem = pathProblem(path);
+  if (!problem.empty())
+    throw Error("run summary " + quoteForMessage(path) + " " + problem + (hint.empty() ? "" : ": " + hint));
+  return readRunSummary(path);
+}
+
 }  // namespace sb

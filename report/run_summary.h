@@ -164,6 +164,9 @@ struct RunSummary {
 
 // Reads DIR/summary.json-style files: readJsonConfig (bounded nesting, line and column) + fromJson.
 RunSummary readRunSummary(const std::string& path);
+// The summary of the run in directory `run` (`run`/summary.json; a path ending in ".json" is the file itself).
+// A file that is missing or not a regular file throws sb::Error "run summary 'PATH' does not exist: HINT".
+RunSummary readRunDirSummary(const std::string& run, const std::string& hint = "");
 // Whether the summary file says "complete": true, read alone: a finished run with a damaged field is then
 // reported by whoever reads the field (bench leaves it out, naming file, key and value), not run again.
 // False when the file is missing or not JSON.

@@ -183,3 +183,13 @@ TEST_CASE("RunSummary: completion is read alone, so a damaged field does not hid
   CHECK_FALSE(sb::runSummaryComplete(dir + "/torn.json"));
   CHECK_FALSE(sb::runSummaryComplete(dir + "/absent.json"));
 }
+
+TEST_CASE("RunSummary: a run's directory or its summary file, a missing one named with the hint", "[report][summary]") {
+  const std::string dir = sb::test::scratchDir("run_summary_dir");
+  std::ofstream(dir + "/summary.json") << sample().toJson().dump();
+  CHECK(sb::readRunDirSummary(dir).frames == 30);
+  CHECK(sb::readRunDirSummary(dir + "/summary.json").frames == 30);
+  CHECK_THROWS_WITH(sb::readRunDirSummary(dir + "/none", "did the run finish?"),
+                    Contains("none/summary.json") && Contains("does not exist: did the run finish?"));
+  CHECK_THROWS_WITH(sb::readRunDirSummary(dir + "/none"), Contains("does not exist") && !Contains(": did"));
+}

@@ -93,13 +93,8 @@ const json* find(const json& j, const std::string& key) {
 std::string text(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
 void summary(const SummaryArgs& a) {
-  const std::string path = a.run.size() > 5 && a.run.compare(a.run.size() - 5, 5, ".json") == 0
-                               ? a.run
-                               : a.run + "/summary.json";
-  const std::string problem = pathProblem(path);
-  if (!problem.empty()) throw Error("run summary " + quoteForMessage(path) + " " + problem);
   // Typed first: a field of the wrong type fails here, naming the file and key; then printed as the type writes it.
-  const json file = readRunSummary(path).toJson();
+  const json file = readRunDirSummary(a.run).toJson();
   const std::set<std::string> schema = schemaPaths();
   std::string line;
   for (size_t i = 0; i < a.keys.size(); ++i) {
@@ -114,7 +109,7 @@ void summary(const SummaryArgs& a) {
     }
     const json* v = find(file, key);
     if (!v && !a.missing)
-      throw Error("summary: " + quoteForMessage(path) + " has no " + quoteForMessage(key) +
+      throw Error("summary: " + quoteForMessage(a.run) + " has no " + quoteForMessage(key) +
                   " (a field this run did not write; --missing TEXT prints TEXT instead)");
     line += (i ? "\t" : "") + (v ? text(*v) : *a.missing);
   }
