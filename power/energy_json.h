@@ -1,9 +1,9 @@
 #pragma once
-// JSON forms of per-frame energy and run totals, shared by `slambooster energy`, `slambooster run` (energy.jsonl,
-// summary.json) and the daemon. Unknown values (NaN) become null.
+// JSON forms of per-frame energy and run totals: energy.jsonl's lines, `slambooster energy --json` and the
+// daemon's STATUS. Unknown values (NaN) become null. (summary.json's "energy" is typed: report/run_summary.h
+// EnergySummary, filled by runtime/energy_account.h.)
 //
 //   out << sb::power::frameEnergyJson(e).dump() << "\n";      // one line of energy.jsonl
-//   summary["energy"] = sb::power::energyTotalsJson(totals, unknownReasons);
 
 #include <cstddef>
 #include <map>

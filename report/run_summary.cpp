@@ -43,6 +43,17 @@ class Fields {
   void optionalNumber(const char* key, std::optional<T>& out) const {
     if (find(key)) number(key, out.emplace());
   }
+  template <typename T, size_t N>
+  void numbers(const char* key, std::array<T, N>& out) const {
+    if (const json* v = find(key)) {
+      const std::string expected = "an array of " + std::to_string(N) + " numbers";
+      if (!v->is_array() || v->size() != N) fail(key, expected.c_str(), *v);
+      for (size_t i = 0; i < N; ++i) {
+        if (!(*v)[i].is_number()) fail(key, expected.c_str(), *v);
+        out[i] = (*v)[i].get<T>();
+      }
+    }
+  }
   void string(const char* key, std::string& out) const {
     if (const json* v = find(key)) {
       if (!v->is_string()) fail(key, "a string", *v);
@@ -140,6 +151,47 @@ void fieldsOf(OdometrySummary& o, Field field) {
 }
 
 template <typename Field>
+void fieldsOf(EnergySummary& e, Field field) {
+  field("meter", e.meter);
+  field("device", e.device);
+  field("frames", e.frames);
+  field("known_frames", e.knownFrames);
+  field("unknown_frames", e.unknownFrames);
+  field("joules", e.joules);
+  field("joules_per_frame", e.joulesPerFrame);
+  field("mean_watts", e.meanWatts);
+  field("seconds", e.seconds);
+  field("idle_watts", e.idleWatts);
+  field("joules_above_idle", e.joulesAboveIdle);
+  field("span_seconds", e.spanSeconds);
+  field("span_known_seconds", e.spanKnownSeconds);
+  field("span_joules", e.spanJoules);
+  field("span_mean_watts", e.spanMeanWatts);
+  field("unknown_reasons", e.unknownReasons);
+}
+
+template <typename Field>
+void fieldsOf(KnobsSummary& k, Field field) {
+  field("csr", k.csr);
+  field("icp", k.icp);
+  field("pd", k.pd);
+  field("tr", k.tr);
+  field("ir", k.ir);
+}
+
+template <typename Field>
+void fieldsOf(MovingVolumeSummary& m, Field field) {
+  field("shifts", m.shifts);
+  field("shift_ms", m.shiftMs);
+  field("slab_ms", m.slabMs);
+  field("corner_m", m.cornerM);
+  field("slab_worker_ms", m.slabWorkerMs);
+  field("slab_wait_ms", m.slabWaitMs);
+  field("slab_queue_peak_mib", m.slabQueuePeakMib);
+  field("slab_files_removed", m.slabFilesRemoved);
+}
+
+template <typename Field>
 void fieldsOf(StoppedSummary& x, Field field) {
   field("at_frame", x.atFrame);
   field("limit_ms", x.limitMs);
@@ -152,11 +204,26 @@ void fieldsOf(InterruptedSummary& x, Field field) {
   field("at_frame", x.atFrame);
 }
 
+template <typename T>
+struct IsOptional : std::false_type {};
+template <typename T>
+struct IsOptional<std::optional<T>> : std::true_type {};
+template <typename T>
+struct IsArray : std::false_type {};
+template <typename T, size_t N>
+struct IsArray<std::array<T, N>> : std::true_type {};
+
 struct Writer {
   json& j;
   template <typename T>
   void operator()(const char* key, const T& value) const {
-    j[key] = value;
+    if constexpr (IsOptional<T>::value) {
+      if (value) (*this)(key, *value);  // absent: no key
+    } else if constexpr (std::is_floating_point_v<T>) {
+      j[key] = std::isnan(value) ? json(nullptr) : json(value);  // unknown: null
+    } else {
+      j[key] = value;
+    }
   }
 };
 
@@ -164,7 +231,11 @@ struct Reader {
   Fields f;
   template <typename T>
   void operator()(const char* key, T& out) const {
-    if constexpr (std::is_same_v<T, std::string>)
+    if constexpr (IsOptional<T>::value) {
+      if (f.find(key)) (*this)(key, out.emplace());
+    } else if constexpr (IsArray<T>::value) {
+      f.numbers(key, out);
+    } else if constexpr (std::is_same_v<T, std::string>)
       f.string(key, out);
     else if constexpr (std::is_same_v<T, bool>)
       f.boolean(key, out);
@@ -192,23 +263,7 @@ void readSection(const Fields& f, const char* key, std::optional<Section>& out) 
 
 }  // namespace
 
-double RunSummary::energyNumber(const std::string& key) const {
-  if (!energy.is_object()) return NAN;
-  const auto it = energy.find(key);
-  return it != energy.end() && it->is_number() ? it->get<double>() : NAN;
-}
-
-std::optional<EnergyHeadline> RunSummary::energyHeadline() const {
-  if (!energy.is_object()) return std::nullopt;
-  const Fields f(energy, "summary", "energy");
-  EnergyHeadline h;
-  f.string("meter", h.meter);
-  f.count("frames", h.frames);
-  f.count("known_frames", h.knownFrames);
-  h.joulesPerFrame = joulesPerFrame();
-  h.meanWatts = meanWatts();
-  return h;
-}
+json KnobsSummary::toJson() const { return sectionJson(*this); }
 
 double RunSummary::constrainedMinConditioning() const {
   if (!config.is_object()) return NAN;
@@ -222,7 +277,7 @@ json RunSummary::toJson() const {
             {"sequence", sequence},
             {"controller", controller},
             {"controller_sections", controllerSections},
-            {"knobs", knobs},
+            {"knobs", knobs.toJson()},
             {"config", config},
             {"threads", threads},
             {"frames", frames},
@@ -251,9 +306,9 @@ json RunSummary::toJson() const {
   if (cpuMsPerFrame) j["cpu_ms_per_frame"] = *cpuMsPerFrame;
   if (stopped) j["stopped"] = sectionJson(*stopped);
   if (interrupted) j["interrupted"] = sectionJson(*interrupted);
-  if (!energy.is_null()) j["energy"] = energy;
+  if (energy) j["energy"] = sectionJson(*energy);
   if (!modelView.empty()) j["model_view"] = modelView;
-  if (!movingVolume.is_null()) j["moving_volume"] = movingVolume;
+  if (movingVolume) j["moving_volume"] = sectionJson(*movingVolume);
   if (!navmap.is_null()) j["navmap"] = navmap;
   if (meshTriangles) j["mesh_triangles"] = *meshTriangles;
   if (meshSlabs) j["mesh_slabs"] = *meshSlabs;
@@ -275,8 +330,12 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.string("sequence", s.sequence);
   f.string("controller", s.controller);
   f.object("controller_sections", s.controllerSections);
-  f.object("knobs", s.knobs);
+  if (f.find("knobs")) fieldsOf(s.knobs, Reader{f.nested("knobs")});
   f.object("config", s.config);
+  if (f.find("config")) {  // the one key code reads (constrainedMinConditioning): a number or absent
+    double conditioning = NAN;
+    f.nested("config").number("constrained_min_conditioning", conditioning);
+  }
   f.count("threads", s.threads);
   readSection(f, "machine", s.machine);
   readSection(f, "daemon", s.daemon);
@@ -304,9 +363,9 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.optionalNumber("cpu_ms_per_frame", s.cpuMsPerFrame);
   readSection(f, "stopped", s.stopped);
   readSection(f, "interrupted", s.interrupted);
-  f.object("energy", s.energy);
+  readSection(f, "energy", s.energy);
   f.string("model_view", s.modelView);
-  f.object("moving_volume", s.movingVolume);
+  readSection(f, "moving_volume", s.movingVolume);
   f.object("navmap", s.navmap);
   if (f.find("mesh_triangles")) f.count("mesh_triangles", s.meshTriangles.emplace());
   if (f.find("mesh_slabs")) f.count("mesh_slabs", s.meshSlabs.emplace());
@@ -328,6 +387,15 @@ bool runSummaryComplete(const std::string& path) {
 RunSummary readRunSummary(const std::string& path) {
   const std::string where = "run summary " + quoteForMessage(path);
   return RunSummary::fromJson(readJsonConfig(path, "run summary"), where);
+}
+
+RunSummary readRunDirSummary(const std::string& run, const std::string& hint) {
+  const bool file = run.size() > 5 && run.compare(run.size() - 5, 5, ".json") == 0;
+  const std::string path = file ? run : run + "/summary.json";
+  const std::string problem = pathProblem(path);
+  if (!problem.empty())
+    throw Error("run summary " + quoteForMessage(path) + " " + problem + (hint.empty() ? "" : ": " + hint));
+  return readRunSummary(path);
 }
 
 }  // namespace sb

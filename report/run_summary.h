@@ -8,12 +8,15 @@
 //   RunSummary s = readRunSummary(dir + "/summary.json");   // throws sb::Error naming the file and key
 //   s.frames; s.ate->rmseM; s.joulesPerFrame();
 //
-// Sub-objects that other modules own stay JSON objects here, written and read by their owners: the pipeline
-// config (pipeline/config.h configToJson), the knobs (runtime/frame_log_sink.h knobsToJson), the controller
-// sections (controller/registry.h), the energy totals (power/energy_json.h) and the moving volume
-// (runtime/map_slabs.h movingVolumeJson). A field added there needs nothing here.
+// Three sub-objects stay the JSON objects their owners write, shown whole by the report: the pipeline config
+// (pipeline/config.h configToJson, whose schema is the pipeline's; code reads one key of it, typed by
+// constrainedMinConditioning), the controller sections (controller/registry.h: each controller's settings, read
+// by no code) and the navigation map (navmap/nav_map_sink.h). The energy totals, the initial knobs and the
+// moving volume are typed below, written and read here.
 
 #include <cstddef>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -78,11 +81,35 @@ struct InterruptedSummary {  // a signal ended the run ("interrupted")
   size_t atFrame = 0;
 };
 
-// The energy totals' headline ("energy", written by power/energy_json.h and runtime/energy_account.cpp).
-struct EnergyHeadline {
-  std::string meter;                       // the meter's name
-  size_t frames = 0, knownFrames = 0;      // frames resolved; of them with joules known
-  double joulesPerFrame = 0, meanWatts = 0;  // NaN when unknown
+// The energy totals over the frames so far ("energy"; runtime/energy_account.h fills it from
+// power/energy_ledger.h EnergyTotals): absent without a meter. Unknown values are NaN (null in the file).
+struct EnergySummary {
+  std::string meter, device;                          // the meter's name and device
+  size_t frames = 0, knownFrames = 0, unknownFrames = 0;  // frames resolved; of them with joules known, unknown
+  double joules = 0, joulesAboveIdle = 0;             // J over the known frames (above the idle baseline)
+  double seconds = 0, idleWatts = 0;                  // s of the known frames; the idle baseline (W)
+  double joulesPerFrame = NAN, meanWatts = NAN;       // J per known frame; W over them
+  double spanSeconds = 0, spanKnownSeconds = 0, spanJoules = 0, spanMeanWatts = NAN;  // the run as a whole
+  std::map<std::string, size_t> unknownReasons;       // why a frame's joules are unknown -> frames
+};
+
+// The controller's initial knobs ("knobs"; the shape of frames.jsonl's "knobs", runtime/frame_log_sink.h).
+struct KnobsSummary {
+  int csr = 0;                  // compute size ratio
+  double icp = 0;               // ICP early-stop threshold
+  std::array<int, 3> pd{};      // max ICP iterations per level: finest, mid, coarsest
+  int tr = 0, ir = 0;           // tracking and integration rates (every n-th frame)
+  nlohmann::json toJson() const;
+};
+
+// The moving volume ("moving_volume"; runtime/map_slabs.h movingVolumeSummary): absent with a fixed volume.
+struct MovingVolumeSummary {
+  size_t shifts = 0;              // per axis
+  double shiftMs = 0, slabMs = 0;  // the backend's moves; reading slabs out, summed
+  std::array<double, 3> cornerM{};  // the volume's corner in the world frame, metres
+  // The slabs' worker (map_slabs/), present only when the run meshed slabs.
+  std::optional<double> slabWorkerMs, slabWaitMs, slabQueuePeakMib;
+  std::optional<size_t> slabFilesRemoved;
 };
 
 struct RunSummary {
@@ -91,9 +118,9 @@ struct RunSummary {
   std::string frontEnd;    // "run" (slambooster run) or "daemon" (a pass of slamboosterd)
   std::string sequence;    // the input's path
   std::string controller;  // the controller the run started with (a daemon may switch: controllerFrames)
-  nlohmann::json controllerSections = nlohmann::json::object();  // its settings sections
-  nlohmann::json knobs = nlohmann::json::object();               // the controller's initial knobs
-  nlohmann::json config = nlohmann::json::object();              // the pipeline config
+  nlohmann::json controllerSections = nlohmann::json::object();  // its settings sections (owner's JSON)
+  KnobsSummary knobs;                                            // the controller's initial knobs
+  nlohmann::json config = nlohmann::json::object();              // the pipeline config (owner's JSON)
   unsigned threads = 0;                                          // worker threads
   std::optional<MachineInfo> machine;
   std::optional<DaemonPass> daemon;
@@ -121,21 +148,18 @@ struct RunSummary {
   std::optional<double> cpuMsPerFrame;  // process CPU time per frame (slambooster run)
   std::optional<StoppedSummary> stopped;
   std::optional<InterruptedSummary> interrupted;
-  nlohmann::json energy;        // energy totals (power/energy_json.h); null without a meter
-  std::string modelView;        // model.png's viewpoint ("last", "overview"); "" = none written
-  nlohmann::json movingVolume;  // runtime/map_slabs.h movingVolumeJson; null with a fixed volume
+  std::optional<EnergySummary> energy;  // energy totals; absent without a meter
+  std::string modelView;                // model.png's viewpoint ("last", "overview"); "" = none written
+  std::optional<MovingVolumeSummary> movingVolume;  // absent with a fixed volume
   nlohmann::json navmap;        // the navigation map (navmap/nav_map_sink.h summaryJson); null without one
   std::optional<size_t> meshTriangles, meshSlabs;  // mesh.ply (and the slabs it merged)
   std::optional<bool> complete;                    // every output on disk; absent while the run goes on
   std::string error;                               // why the run ended early or an output failed
 
-  // The parts of the owned sub-objects that code reads, typed here so that no reader outside this file indexes
-  // summary.json by key (issue 42). NaN when absent or unknown.
-  double energyNumber(const std::string& key) const;
-  double joulesPerFrame() const { return energyNumber("joules_per_frame"); }
-  double meanWatts() const { return energyNumber("mean_watts"); }
-  std::optional<EnergyHeadline> energyHeadline() const;  // absent without a meter
-  double constrainedMinConditioning() const;             // config.constrained_min_conditioning
+  double joulesPerFrame() const { return energy ? energy->joulesPerFrame : NAN; }  // NaN without a meter
+  double meanWatts() const { return energy ? energy->meanWatts : NAN; }
+  // config.constrained_min_conditioning (its type checked by fromJson); NaN when absent.
+  double constrainedMinConditioning() const;
 
   nlohmann::json toJson() const;
   // Reads the keys present (absent ones keep their defaults) and checks their types. Throws sb::Error
@@ -145,6 +169,9 @@ struct RunSummary {
 
 // Reads DIR/summary.json-style files: readJsonConfig (bounded nesting, line and column) + fromJson.
 RunSummary readRunSummary(const std::string& path);
+// The summary of the run in directory `run` (`run`/summary.json; a path ending in ".json" is the file itself).
+// A file that is missing or not a regular file throws sb::Error "run summary 'PATH' does not exist: HINT".
+RunSummary readRunDirSummary(const std::string& run, const std::string& hint = "");
 // Whether the summary file says "complete": true, read alone: a finished run with a damaged field is then
 // reported by whoever reads the field (bench leaves it out, naming file, key and value), not run again.
 // False when the file is missing or not JSON.

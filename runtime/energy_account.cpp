@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "power/energy_json.h"
 #include "power/meter_registry.h"
 
 namespace sb {
@@ -26,11 +25,26 @@ std::vector<power::FrameEnergy> EnergyAccount::counted(std::vector<power::FrameE
   return results;
 }
 
-nlohmann::json EnergyAccount::totals() const {
-  nlohmann::json j = power::energyTotalsJson(sampler_.totals(), unknownReasons_);
-  j["meter"] = sampler_.meterInfo().name;
-  j["device"] = sampler_.meterInfo().device;
-  return j;
+EnergySummary EnergyAccount::totals() const {
+  const power::EnergyTotals t = sampler_.totals();
+  EnergySummary e;
+  e.meter = sampler_.meterInfo().name;
+  e.device = sampler_.meterInfo().device;
+  e.frames = t.frames;
+  e.knownFrames = t.knownFrames;
+  e.unknownFrames = t.unknownFrames;
+  e.joules = t.joules;
+  e.joulesAboveIdle = t.joulesAboveIdle;
+  e.seconds = t.seconds;
+  e.idleWatts = t.idleWatts;
+  e.joulesPerFrame = t.joulesPerFrame();
+  e.meanWatts = t.meanWatts();
+  e.spanSeconds = t.spanSeconds;
+  e.spanKnownSeconds = t.spanKnownSeconds;
+  e.spanJoules = t.spanJoules;
+  e.spanMeanWatts = t.spanMeanWatts();
+  e.unknownReasons = unknownReasons_;
+  return e;
 }
 
 std::unique_ptr<power::PowerSampler> openSampler(const power::PowerConfig& config, const std::string& dir,

@@ -17,6 +17,7 @@
 
 #include "power/power_config.h"
 #include "power/power_sampler.h"
+#include "report/run_summary.h"
 #include "runtime/frame_record.h"
 
 namespace sb {
@@ -30,8 +31,8 @@ class EnergyAccount {
   // End of the frames: waits up to the sampler's drain timeout for samples after the last frame and returns
   // the rest. Later calls return nothing.
   std::vector<power::FrameEnergy> drain();
-  // power::energyTotalsJson plus "meter" and "device", over every frame so far.
-  nlohmann::json totals() const;
+  // The totals over every frame so far, with the meter's name and device (summary.json's "energy").
+  EnergySummary totals() const;
 
  private:
   std::vector<power::FrameEnergy> counted(std::vector<power::FrameEnergy> results);

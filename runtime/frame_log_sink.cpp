@@ -4,12 +4,8 @@
 
 namespace sb {
 
-nlohmann::json knobsToJson(const Knobs& k) {
-  return {{"csr", k.csr},
-          {"icp", k.icpThreshold},
-          {"pd", {k.pyramidIterations[0], k.pyramidIterations[1], k.pyramidIterations[2]}},
-          {"tr", k.trackingRate},
-          {"ir", k.integrationRate}};
+KnobsSummary knobsSummary(const Knobs& k) {
+  return {k.csr, k.icpThreshold, k.pyramidIterations, k.trackingRate, k.integrationRate};
 }
 
 nlohmann::json frameRecordToJson(const FrameRecord& rec) {

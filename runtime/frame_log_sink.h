@@ -1,8 +1,8 @@
 #pragma once
 // The per-frame log, frames.jsonl: one JSON object per frame with the knobs it ran with, stage times (ms,
 // classic stage names), tracking result, final pose, velocity, the controller's triggers and next knobs.
-// frameRecordToJson is the one encoder of a frame: the daemon's POSE and KNOBS messages are projections of
-// the same object (daemon/protocol.cpp), so a new per-frame field is one line there. Each line is
+// frameRecordToJson is the one encoder of a frame: the daemon's POSE and KNOBS messages are typed projections
+// of the same record (daemon/frame_report.h), each field under its frames.jsonl name. Each line is
 // written as its frame ends (RotatingFile: a crash loses at most the frame in hand; a failed write throws).
 // With a segment store the log is rotated (frames-000001.jsonl, ...; core/rotating_file.h).
 
@@ -11,12 +11,15 @@
 #include <string>
 
 #include "core/rotating_file.h"
+#include "report/run_summary.h"
 #include "runtime/output_sink.h"
 
 namespace sb {
 
+// The knobs as frames.jsonl and summary.json write them (report/run_summary.h KnobsSummary, one key list):
 // {"csr": 1, "icp": 1e-5, "pd": [10, 5, 4], "tr": 1, "ir": 2}
-nlohmann::json knobsToJson(const Knobs& knobs);
+KnobsSummary knobsSummary(const Knobs& knobs);
+inline nlohmann::json knobsToJson(const Knobs& knobs) { return knobsSummary(knobs).toJson(); }
 // One frames.jsonl object (see the file comment); also what the daemon publishes (daemon/protocol.h).
 nlohmann::json frameRecordToJson(const FrameRecord& record);
 

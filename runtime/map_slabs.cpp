@@ -352,21 +352,22 @@ void writeRunMesh(const std::string& path, Pipeline& pipeline, MapSlabs* slabs, 
   }
 }
 
-nlohmann::json movingVolumeJson(const VolumeWindow& window, const MapSlabs* slabs) {
+MovingVolumeSummary movingVolumeSummary(const VolumeWindow& window, const MapSlabs* slabs) {
   const VolumeWindowStats& s = window.stats();
   const Eigen::Vector3d corner = window.cornerMetres();
-  nlohmann::json j = {{"shifts", s.shifts},
-                      {"shift_ms", s.shiftMs},
-                      {"slab_ms", s.slabMs},
-                      {"corner_m", {corner.x(), corner.y(), corner.z()}}};
+  MovingVolumeSummary v;
+  v.shifts = s.shifts;
+  v.shiftMs = s.shiftMs;
+  v.slabMs = s.slabMs;
+  v.cornerM = {corner.x(), corner.y(), corner.z()};
   if (slabs) {
     const MapSlabsStats m = slabs->stats();
-    j["slab_worker_ms"] = m.workerMs;
-    j["slab_wait_ms"] = m.waitMs;
-    j["slab_queue_peak_mib"] = double(m.peakQueuedBytes) / double(1 << 20);
-    j["slab_files_removed"] = m.removedFiles;
+    v.slabWorkerMs = m.workerMs;
+    v.slabWaitMs = m.waitMs;
+    v.slabQueuePeakMib = double(m.peakQueuedBytes) / double(1 << 20);
+    v.slabFilesRemoved = m.removedFiles;
   }
-  return j;
+  return v;
 }
 
 Eigen::Isometry3d movingVolumeOverview(Pipeline& pipeline) {

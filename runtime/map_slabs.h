@@ -146,7 +146,7 @@ void writeRunMesh(const std::string& path, Pipeline& pipeline, MapSlabs* slabs, 
 
 // The summary's "moving_volume": shifts, their cost (ms), the final corner (world, metres); with `slabs`, the
 // worker's share (slab_worker_ms, slab_wait_ms, slab_queue_peak_mib, slab_files_removed).
-nlohmann::json movingVolumeJson(const VolumeWindow& window, const MapSlabs* slabs = nullptr);
+MovingVolumeSummary movingVolumeSummary(const VolumeWindow& window, const MapSlabs* slabs = nullptr);
 
 // overviewPose (run.h) of the volume where it is now (the world frame when it never moved).
 Eigen::Isometry3d movingVolumeOverview(Pipeline& pipeline);

@@ -157,7 +157,7 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
       summary.navmap = mapSink_->summaryJson();
     });
   if (const VolumeWindow* window = pipeline_->volumeWindow())
-    summary.movingVolume = movingVolumeJson(*window, mapSlabs_.get());
+    summary.movingVolume = movingVolumeSummary(*window, mapSlabs_.get());
   // "complete" last, once the trajectory and the frame log are on disk (on a shared file system: on the
   // server). `slambooster bench` / dse / profile count (and skip) only complete runs; an interrupted one runs
   // again.

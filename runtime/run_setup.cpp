@@ -58,7 +58,7 @@ RunSummary runSummaryHeader(const std::string& frontEnd, const std::string& sequ
   s.sequence = sequence;
   s.controller = settings.name;
   s.controllerSections = settings.sections;
-  s.knobs = knobsToJson(controller.initialKnobs());
+  s.knobs = knobsSummary(controller.initialKnobs());
   s.config = configToJson(config);
   s.threads = threads;
   if (dynamic_cast<CpuBackend*>(&pipeline.backend())) {

@@ -18,13 +18,19 @@ for i in $(seq 1 "$pairs"); do
   "$new/tools/slambooster/slambooster" run "$sequence" --out "$out/new$i" --controller "$controller" --fixed-volume \
     --threads 2 --quiet "$@" > "$out/new$i.log" 2>&1
 done
-python3 - "$out" "$pairs" <<'PY'
-import json, statistics, sys
-out, pairs = sys.argv[1], int(sys.argv[2])
-load = lambda p: json.load(open(p))
+# summary.json through its type (`slambooster summary` of NEW, which reads OLD's files too; null: no ground truth)
+python3 - "$out" "$pairs" "$new/tools/slambooster/slambooster" <<'PY'
+import json, statistics, subprocess, sys
+out, pairs, tool = sys.argv[1], int(sys.argv[2]), sys.argv[3]
+keys = ["computation_ms_per_frame", "stage_ms_per_frame", "ate.rmse_m", "tracked_percent", "integrated", "work"]
+def load(run):
+    args = [tool, "summary", run, "--missing", "null"]
+    for k in keys: args += ["--get", k]
+    values = subprocess.run(args, check=True, capture_output=True, text=True).stdout.rstrip("\n").split("\t")
+    return dict(zip(keys, map(json.loads, values)))
 rows = []
 for i in range(1, pairs + 1):
-    o, n = load(f"{out}/old{i}/summary.json"), load(f"{out}/new{i}/summary.json")
+    o, n = load(f"{out}/old{i}"), load(f"{out}/new{i}")
     rows.append((o, n))
 def med(f):
     return statistics.median(f(o, n) for o, n in rows)
@@ -38,8 +44,8 @@ for stage in o0["stage_ms_per_frame"]:
     print(f"  {stage:17s} old {med(lambda o, n: o['stage_ms_per_frame'][stage]):8.3f}  new "
           f"{med(lambda o, n: n['stage_ms_per_frame'][stage]):8.3f}  new/old "
           f"{med(lambda o, n: n['stage_ms_per_frame'][stage] / max(o['stage_ms_per_frame'][stage], 1e-9)):.3f}")
-ate = lambda s: s["ate"]["rmse_m"] * 100 if s.get("ate") else float("nan")
+ate = lambda s: s["ate.rmse_m"] * 100 if s["ate.rmse_m"] is not None else float("nan")
 print(f"ATE cm: old {ate(o0):.3f}, new {ate(n0):.3f}; tracked %: old {o0['tracked_percent']:.1f}, new {n0['tracked_percent']:.1f};"
       f" integrated: old {o0['integrated']}, new {n0['integrated']}")
-if "work" in n0: print("new work:", json.dumps(n0["work"]))
+if n0["work"]: print("new work:", json.dumps(n0["work"]))
 PY

@@ -232,11 +232,9 @@ class FakeAttached : public AttachedFiles {
   std::vector<int64_t> orders_;
 };
 
-}  // namespace
-
-TEST_CASE("attached files give way to a full disk and the free-space floor with the segments, oldest first",
-          "[core][rotation]") {
-  const std::string dir = test::scratchDir("rotation_attached");
+// A store over an emptied `dir` holding two closed segments of one byte, dir/seg-10 and dir/seg-30 (orders 10
+// and 30), for the attached files' tests to interleave with.
+std::shared_ptr<SegmentStore> storeOfTwoSegments(const std::string& dir) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   auto store = std::make_shared<SegmentStore>(dir, smallLimits());
@@ -245,6 +243,15 @@ TEST_CASE("attached files give way to a full disk and the free-space floor with 
     std::ofstream(path) << "x";
     store->addClosed(path, 1, order);
   }
+  return store;
+}
+
+}  // namespace
+
+TEST_CASE("attached files give way to a full disk and the free-space floor with the segments, oldest first",
+          "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_attached");
+  auto store = storeOfTwoSegments(dir);
   FakeAttached slabs({20, 40, 50});  // 50: the newest, stays
   store->attach(&slabs);
   // Three writes find the disk full: the segment of 10, the slab of 20, the segment of 30 go, in that order.
@@ -285,14 +292,7 @@ TEST_CASE("makeRoom frees room before a write: the oldest go while the free spac
   // Issue 44 M3: a map slab needs about twice its file's size while it is written; the store makes that room
   // first instead of letting the write fail.
   const std::string dir = test::scratchDir("rotation_make_room");
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  auto store = std::make_shared<SegmentStore>(dir, smallLimits());
-  for (const int64_t order : {10, 30}) {
-    const std::string path = dir + "/seg-" + std::to_string(order);
-    std::ofstream(path) << "x";
-    store->addClosed(path, 1, order);
-  }
+  auto store = storeOfTwoSegments(dir);
   FakeAttached slabs({20, 40});  // 40: the newest slab, stays
   store->attach(&slabs);
   store->makeRoom(1024);  // any file system has a KiB free: nothing goes

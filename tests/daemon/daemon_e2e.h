@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
 
@@ -77,13 +78,7 @@ inline std::vector<std::string> daemonArgs(const std::string& socket, const std:
           "fixed"};
 }
 
-inline size_t dataLines(const std::string& path) {
-  std::ifstream in(path);
-  size_t n = 0;
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty() && line[0] != '#') ++n;
-  return n;
-}
+using sb::test::dataLines;
 
 inline std::set<std::string> trajectoryTimestamps(const std::string& path) {
   std::ifstream in(path);

@@ -5,11 +5,10 @@
 
 #include <unistd.h>
 
-#include <map>
-
 #include "tests/daemon/daemon_e2e.h"
 #include "tests/daemon/process.h"
 #include "tests/support/files.h"
+#include "tests/support/planted_links.h"
 
 using namespace sb::test::e2e;
 namespace fs = std::filesystem;
@@ -30,19 +29,7 @@ TEST_CASE("slamboosterd: no link planted in the output directory is written thro
       std::snprintf(name, sizeof name, stream, n);
       names.push_back(name);
     }
-  std::map<std::string, std::string> before;
-  std::vector<std::string> dangling;
-  int n = 0;
-  for (const std::string& name : names) {
-    const std::string victim = victims + "/v" + std::to_string(++n);
-    if (n % 4 == 0) {
-      dangling.push_back(victim);
-    } else {
-      std::ofstream(victim) << "victim " << n << " (" << name << ")\n";
-      before[victim] = sb::test::readText(victim);
-    }
-    fs::create_symlink(victim, out + "/" + name);
-  }
+  const sb::test::PlantedLinks planted = sb::test::plantLinks(out, victims, names);
   auto args = daemonArgs(tmp.path + "/s.sock", out, "fast", "exit");
   for (const char* set : {"output.mesh=true", "output.model_png=true", "output.report=true",
                           "output.rotation.mode=always"})
@@ -51,14 +38,9 @@ TEST_CASE("slamboosterd: no link planted in the output directory is written thro
   const int status = d.wait(120);
   INFO(d.log());
   CHECK(status == 0);
-  for (const auto& [victim, bytes] : before) {
-    INFO(victim);
-    CHECK(sb::test::readText(victim) == bytes);
-  }
-  for (const std::string& victim : dangling) {
-    INFO(victim);
-    CHECK(!fs::exists(victim));
-  }
+  const std::vector<std::string> touched = sb::test::touchedVictims(planted);
+  CAPTURE(touched);
+  CHECK(touched.empty());
   CHECK(fs::is_regular_file(fs::symlink_status(out + "/summary.json")));
   CHECK(sb::test::readJson(out + "/summary.json")["complete"] == true);
 }

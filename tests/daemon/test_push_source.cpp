@@ -105,6 +105,14 @@ struct PushDaemon {
     return dataLines(out + "/trajectory.tum") >= lines;
   }
   size_t framesDone() const { return status()["source"].value("frames", size_t(0)); }
+  // Waits for the control socket (the daemon makes it at the first frame), then up to 10 s until the source
+  // took `frames` frames; STATUS's "source" object.
+  nlohmann::json sourceAfter(size_t frames) const {
+    REQUIRE(sb::test::waitForPath(socket, 20));
+    const auto deadline = Clock::now() + std::chrono::seconds(10);
+    while (Clock::now() < deadline && framesDone() < frames) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    return status()["source"];
+  }
 };
 
 void writeAll(int fd, const void* data, size_t bytes) { REQUIRE(::send(fd, data, bytes, MSG_NOSIGNAL) == ssize_t(bytes)); }
@@ -169,9 +177,7 @@ TEST_CASE("push source: a silent pusher is named and gives way to a waiting one;
     CHECK(d.logSays("had already closed its connection when it was accepted"));
     push(waiting, 4, 2.0);
     push(waiting, 5, 2.033);
-    const auto deadline = Clock::now() + std::chrono::seconds(10);
-    while (Clock::now() < deadline && d.framesDone() < 5) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    CHECK(d.framesDone() == 5);  // 3 of `first`, 2 of `waiting`; none of `gone`
+    CHECK(d.sourceAfter(5)["frames"] == 5);  // 3 of `first`, 2 of `waiting`; none of `gone`
   }
   int status = 0;
   d.terminate(status);
@@ -207,10 +213,7 @@ TEST_CASE("push source: tiny, absurd and huge first frames are refused, the daem
   }
   // The daemon still waits for a first frame, and takes a good one.
   for (size_t i = 0; i < 3; ++i) push(pusher, i, 2.0 + i * 0.033);
-  REQUIRE(sb::test::waitForPath(d.socket, 20));
-  const auto deadline = Clock::now() + std::chrono::seconds(10);
-  while (Clock::now() < deadline && d.framesDone() < 3) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  const nlohmann::json s = d.status()["source"];
+  const nlohmann::json s = d.sourceAfter(3);
   CHECK(s["frames"] == 3);
   CHECK(s["rejected"] == 7);
   CHECK(d.waitTracked(3, 20));
@@ -227,10 +230,7 @@ TEST_CASE("push source: stamps trajectory.tum could not keep are refused; the TU
     sb::client::FramePusher pusher(d.pushPath);
     const double stamps[] = {1.0, 1.033, 1.033, 1.0330004, 0.5, 1e300, -1e300, 1.066, 1.1};
     for (size_t i = 0; i < std::size(stamps); ++i) push(pusher, i, stamps[i]);
-    REQUIRE(sb::test::waitForPath(d.socket, 20));
-    const auto deadline = Clock::now() + std::chrono::seconds(10);
-    while (Clock::now() < deadline && d.framesDone() < 4) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    const nlohmann::json s = d.status()["source"];
+    const nlohmann::json s = d.sourceAfter(4);
     CHECK(s["frames"] == 4);
     CHECK(s["rejected"] == 5);
     CHECK(d.waitTracked(4, 20));

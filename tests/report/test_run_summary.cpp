@@ -1,6 +1,7 @@
 // report/run_summary.h: summary.json's type round-trips, refuses wrong types and newer schemas by key, and
 // reads a summary from before the type.
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <fstream>
@@ -22,8 +23,8 @@ RunSummary sample() {
   s.sequence = "/data/seq";
   s.controller = "adaptive";
   s.controllerSections = {{"adaptive", {{"confirm_translation_m", 0.01}}}};
-  s.knobs = {{"csr", 2}};
-  s.config = {{"volume_resolution", 64}};
+  s.knobs = sb::KnobsSummary{2, 1e-5, {8, 5, 4}, 1, 2};
+  s.config = {{"volume_resolution", 64}, {"constrained_min_conditioning", 0.0003}};
   s.threads = 4;
   s.machine = sb::MachineInfo{"host", "cpu", 8, 4, "cpu", "cpu"};
   s.daemon = sb::DaemonPass{2, "4-7", 4};
@@ -42,9 +43,14 @@ RunSummary sample() {
   s.stopped = sb::StoppedSummary{30, 100.0, 101.0};
   s.interrupted = sb::InterruptedSummary{"SIGTERM", 30};
   s.odometry = sb::OdometrySummary{"seq/odometry.txt", 812, 30, 2.25};
-  s.energy = {{"joules_per_frame", 0.25}, {"mean_watts", 5.0}};
+  s.energy.emplace();
+  s.energy->meter = "file";
+  s.energy->frames = s.energy->knownFrames = 30;
+  s.energy->joulesPerFrame = 0.25;
+  s.energy->meanWatts = 5.0;
+  s.energy->unknownReasons = {{"gap", 2}};
   s.modelView = "overview";
-  s.movingVolume = {{"shifts", 3}};
+  s.movingVolume = sb::MovingVolumeSummary{3, 1.5, 20.0, {0.0, 0.0, 1.5625}, 170.0, 0.0, 20.25, 0};
   s.navmap = {{"grid", true}};
   s.meshTriangles = 1000;
   s.meshSlabs = 2;
@@ -66,12 +72,37 @@ TEST_CASE("RunSummary: every field survives toJson and fromJson", "[report][summ
   CHECK(back.odometry->framesWithPose == 30);
   CHECK(written["odometry"]["source"] == "seq/odometry.txt");
   CHECK(back.joulesPerFrame() == 0.25);
-  CHECK(back.energyNumber("mean_watts") == 5.0);
+  CHECK(back.meanWatts() == 5.0);
+  CHECK(back.energy->unknownReasons.at("gap") == 2);
+  CHECK(back.knobs.pd[0] == 8);
+  CHECK(back.movingVolume->cornerM[2] == 1.5625);
+  CHECK(back.movingVolume->slabFilesRemoved == size_t(0));
+  CHECK(back.constrainedMinConditioning() == 0.0003);
   CHECK(std::isnan(RunSummary{}.joulesPerFrame()));
+  CHECK(std::isnan(RunSummary{}.constrainedMinConditioning()));
   // The keys the scripts read stay where they were.
   CHECK(written["computation_ms_per_frame"].is_number());
   CHECK(written["ate"]["rmse_m"] == 0.01);
   CHECK(written["tracking_state"]["frames"]["lost"] == 1);
+  CHECK(written["knobs"] == json::parse(R"({"csr": 2, "icp": 1e-5, "pd": [8, 5, 4], "tr": 1, "ir": 2})"));
+  CHECK(written["moving_volume"]["slab_queue_peak_mib"] == 20.25);
+  CHECK(written["energy"]["known_frames"] == 30);
+}
+
+TEST_CASE("RunSummary: unknown energy is null, slab counts only with slabs", "[report][summary]") {
+  RunSummary s;
+  s.energy.emplace();  // a meter, no frame known yet
+  s.movingVolume = sb::MovingVolumeSummary{};
+  const json j = s.toJson();
+  for (const char* key : {"joules_per_frame", "mean_watts", "span_mean_watts"}) CHECK(j["energy"][key].is_null());
+  CHECK(j["energy"]["joules"] == 0.0);
+  CHECK(j["energy"].dump().find("NaN") == std::string::npos);
+  for (const char* key : {"slab_worker_ms", "slab_wait_ms", "slab_queue_peak_mib", "slab_files_removed"})
+    CHECK_FALSE(j["moving_volume"].contains(key));
+  const RunSummary back = RunSummary::fromJson(j, "s");
+  CHECK(std::isnan(back.joulesPerFrame()));
+  CHECK_FALSE(back.movingVolume->slabWorkerMs);
+  CHECK(back.toJson() == j);
 }
 
 TEST_CASE("RunSummary: optional sections are absent until set", "[report][summary]") {
@@ -94,6 +125,23 @@ TEST_CASE("RunSummary: a wrong type is refused naming the file and the dotted ke
   j = sample().toJson();
   j["machine"] = "laptop";
   CHECK_THROWS_WITH(RunSummary::fromJson(j, "s"), Contains("\"machine\"") && Contains("an object"));
+  // The typed sub-objects: each key's type, named with its dotted path.
+  const std::vector<std::pair<json::json_pointer, json>> damaged = {
+      {json::json_pointer("/energy/joules_per_frame"), "many"},
+      {json::json_pointer("/energy/unknown_reasons"), json::array()},
+      {json::json_pointer("/knobs/pd"), json::array({10, 5})},
+      {json::json_pointer("/knobs/csr"), 1.5},
+      {json::json_pointer("/moving_volume/corner_m"), json::array({0, "x", 0})},
+      {json::json_pointer("/moving_volume/slab_files_removed"), -1},
+      {json::json_pointer("/config/constrained_min_conditioning"), "tiny"}};
+  for (const auto& [where, value] : damaged) {
+    j = sample().toJson();
+    j[where] = value;
+    std::string dotted = where.to_string().substr(1);
+    std::replace(dotted.begin(), dotted.end(), '/', '.');
+    CAPTURE(dotted);
+    CHECK_THROWS_WITH(RunSummary::fromJson(j, "s"), Contains("\"" + dotted + "\""));
+  }
   CHECK_THROWS_AS(RunSummary::fromJson(json::array(), "s"), sb::Error);
 }
 
@@ -134,4 +182,14 @@ TEST_CASE("RunSummary: completion is read alone, so a damaged field does not hid
   std::ofstream(dir + "/torn.json") << R"({"complete": tr)";
   CHECK_FALSE(sb::runSummaryComplete(dir + "/torn.json"));
   CHECK_FALSE(sb::runSummaryComplete(dir + "/absent.json"));
+}
+
+TEST_CASE("RunSummary: a run's directory or its summary file, a missing one named with the hint", "[report][summary]") {
+  const std::string dir = sb::test::scratchDir("run_summary_dir");
+  std::ofstream(dir + "/summary.json") << sample().toJson().dump();
+  CHECK(sb::readRunDirSummary(dir).frames == 30);
+  CHECK(sb::readRunDirSummary(dir + "/summary.json").frames == 30);
+  CHECK_THROWS_WITH(sb::readRunDirSummary(dir + "/none", "did the run finish?"),
+                    Contains("none/summary.json") && Contains("does not exist: did the run finish?"));
+  CHECK_THROWS_WITH(sb::readRunDirSummary(dir + "/none"), Contains("does not exist") && !Contains(": did"));
 }

@@ -35,17 +35,23 @@ OdometryStep stepOf(const Eigen::Isometry3d& delta, const OdometryConfig& c) {
   return s;
 }
 
+// fuseWithOdometry for a step from the origin: the view `q`, ICP's pose `tracked`, the odometry's `odometry`
+// (its noise from the config).
+Fusion fromOrigin(const TrackingQuality& q, const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& odometry,
+                  const OdometryConfig& c) {
+  return fuseWithOdometry(q, Eigen::Isometry3d::Identity(), tracked, odometry, stepOf(odometry, c), c);
+}
+
 }  // namespace
 
 TEST_CASE("along a motion the view leaves free the odometry wins; along one it fixes, the view",
           "[odometry][fusion]") {
   const OdometryConfig c;
-  const Eigen::Isometry3d previous = Eigen::Isometry3d::Identity();
   // A corridor seen lengthwise: forward (tz) is free. The wheels moved 3.5 cm forward; ICP stuck at 0 along z
   // and found 4 mm sideways, which the walls fix.
   const Eigen::Isometry3d predicted = moved(0.0, 0.0, 0.035);
   const Eigen::Isometry3d tracked = moved(0.004, 0.0, 0.0);
-  const Fusion f = fuseWithOdometry(view(0.2, {2}), previous, tracked, predicted, stepOf(predicted, c), c);
+  const Fusion f = fromOrigin(view(0.2, {2}), tracked, predicted, c);
   REQUIRE_FALSE(f.rejected);
   CHECK(f.pose.translation().z() == Approx(0.035).margin(1e-6));  // free: the odometry alone
   // Fixed: the view weighs c / (c + lambda); lambda from the noises (config): ICP's weight well over a half.
@@ -55,44 +61,39 @@ TEST_CASE("along a motion the view leaves free the odometry wins; along one it f
   CHECK(0.2 / (0.2 + lambda) > 0.7);
 
   // The same motion in a furnished view (every motion fixed): the tracked pose, nearly.
-  const Fusion corner = fuseWithOdometry(view(0.2), previous, moved(0.0, 0.0, 0.033), predicted,
-                                         stepOf(predicted, c), c);
+  const Fusion corner = fromOrigin(view(0.2), moved(0.0, 0.0, 0.033), predicted, c);
   REQUIRE_FALSE(corner.rejected);
   CHECK(corner.pose.translation().z() == Approx(0.033 + 0.002 * lambda / (0.2 + lambda)).margin(1e-6));
 
   // A blank wall ahead (the view fixes only tz, rx, ry): sliding sideways and turning about z are the wheels'.
   const Eigen::Isometry3d slide = moved(0.02, 0.0, 0.0);
-  const Fusion wall =
-      fuseWithOdometry(view(0.2, {0, 1, 5}), previous, Eigen::Isometry3d::Identity(), slide, stepOf(slide, c), c);
+  const Fusion wall = fromOrigin(view(0.2, {0, 1, 5}), Eigen::Isometry3d::Identity(), slide, c);
   CHECK(wall.pose.translation().x() == Approx(0.02).margin(1e-6));
 }
 
 TEST_CASE("a wheel slip the view contradicts along the motions it fixes is rejected, not fused",
           "[odometry][fusion]") {
   const OdometryConfig c;
-  const Eigen::Isometry3d previous = Eigen::Isometry3d::Identity();
   // The wheels spun: the odometry says 0.4 m forward, the view (which fixes forward here) says 2 cm.
   const Eigen::Isometry3d slipped = moved(0.0, 0.0, 0.4);
   const Eigen::Isometry3d tracked = moved(0.0, 0.0, 0.02);
-  const Fusion f = fuseWithOdometry(view(0.2), previous, tracked, slipped, stepOf(slipped, c), c);
+  const Fusion f = fromOrigin(view(0.2), tracked, slipped, c);
   CHECK(f.rejected);
   CHECK(f.disagreementM == Approx(0.38).margin(1e-6));
   CHECK(f.pose.isApprox(tracked));
   CHECK_THAT(f.why, Catch::Contains("0.380 m"));
   // Along a motion the view leaves free, the view cannot contradict it: fused (the wheels' word is all there is).
-  const Fusion corridor = fuseWithOdometry(view(0.2, {2}), previous, tracked, slipped, stepOf(slipped, c), c);
+  const Fusion corridor = fromOrigin(view(0.2, {2}), tracked, slipped, c);
   CHECK_FALSE(corridor.rejected);
   // A rotation slip: the wheels say 10 degrees, the view (fixing every rotation) says none.
   const Eigen::Isometry3d turned(Eigen::AngleAxisd(10 * M_PI / 180, Eigen::Vector3d::UnitY()));
-  const Fusion turn =
-      fuseWithOdometry(view(0.2), previous, Eigen::Isometry3d::Identity(), turned, stepOf(turned, c), c);
+  const Fusion turn = fromOrigin(view(0.2), Eigen::Isometry3d::Identity(), turned, c);
   CHECK(turn.rejected);
   // Within the noise: fused.
-  const Fusion small = fuseWithOdometry(view(0.2), previous, moved(0.0, 0.0, 0.036), moved(0.0, 0.0, 0.035),
-                                        stepOf(moved(0.0, 0.0, 0.035), c), c);
+  const Fusion small = fromOrigin(view(0.2), moved(0.0, 0.0, 0.036), moved(0.0, 0.0, 0.035), c);
   CHECK_FALSE(small.rejected);
   // No structure known: the tracked pose, not judged.
-  CHECK(fuseWithOdometry(TrackingQuality{}, previous, tracked, slipped, stepOf(slipped, c), c).pose.isApprox(tracked));
+  CHECK(fromOrigin(TrackingQuality{}, tracked, slipped, c).pose.isApprox(tracked));
 }
 
 TEST_CASE("a motion the platform cannot make is named; one it can is not", "[odometry][physics]") {

@@ -51,14 +51,6 @@ sb::Decision decision(const std::string& knobs) {
   return d;
 }
 
-size_t countLines(const std::string& path) {
-  std::ifstream in(path);
-  size_t n = 0;
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty() && line[0] != '#') ++n;
-  return n;
-}
-
 struct Fixture {
   sb::test::Room room;
   sb::Intrinsics k = sb::test::roomIntrinsics(160, 120);
@@ -120,8 +112,8 @@ TEST_CASE("the runner applies the controller's knobs and corrected pose and writ
 
   // Flush mid-run: the files hold every frame so far.
   runner.flush();
-  CHECK(countLines(dir + "/trajectory.tum") == 3);
-  CHECK(countLines(dir + "/frames.jsonl") == 3);
+  CHECK(sb::test::dataLines(dir + "/trajectory.tum") == 3);
+  CHECK(sb::test::dataLines(dir + "/frames.jsonl") == 3);
   const sb::Trajectory written = sb::readTumTrajectory(dir + "/trajectory.tum");
   CHECK(written[2].T_camera_to_world.translation().isApprox(jump.translation(), 1e-6));
   std::ifstream log(dir + "/frames.jsonl");

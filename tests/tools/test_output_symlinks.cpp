@@ -11,11 +11,11 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <string>
 #include <vector>
 
 #include "tests/support/files.h"
+#include "tests/support/planted_links.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
 
@@ -63,35 +63,18 @@ TEST_CASE("run --mesh: no symlink or hard link planted in the output directory i
   const std::string out = dir + "/out", victims = dir + "/victims";
   fs::create_directories(out + "/map_slabs");
   fs::create_directories(victims);
-  std::map<std::string, std::string> before;  // victim -> its bytes
-  std::vector<std::string> dangling;          // targets that must not come to exist
-  int n = 0;
-  for (const std::string& name : plantedNames()) {
-    const std::string victim = victims + "/v" + std::to_string(++n);
-    if (n % 4 == 0) {  // every fourth: a dangling link, whose target O_CREAT would make
-      dangling.push_back(victim);
-    } else {
-      std::ofstream(victim) << "victim " << n << " (" << name << ")\n";
-      before[victim] = sb::test::readText(victim);
-    }
-    fs::create_symlink(victim, out + "/" + name);
-  }
+  sb::test::PlantedLinks planted = sb::test::plantLinks(out, victims, plantedNames());
   const std::string linked = victims + "/hard";
   std::ofstream(linked) << "hard-linked victim\n";
-  before[linked] = sb::test::readText(linked);
+  planted.before[linked] = sb::test::readText(linked);
   REQUIRE(::link(linked.c_str(), (out + "/frames.jsonl").c_str()) == 0);
 
   const auto r = runCommand("timeout 300 " + kTool + " run " + drive() + " --controller default --volume-size 5 --threads 2 --mesh --quiet --out " + out);
   INFO(r.output);
   REQUIRE(r.exitCode == 0);
-  for (const auto& [victim, bytes] : before) {
-    INFO(victim);
-    CHECK(sb::test::readText(victim) == bytes);
-  }
-  for (const std::string& victim : dangling) {
-    INFO(victim);
-    CHECK(!fs::exists(victim));
-  }
+  const std::vector<std::string> touched = sb::test::touchedVictims(planted);
+  CAPTURE(touched);
+  CHECK(touched.empty());
   // The outputs are files of their own, and there were slabs to write.
   for (const char* name : {"summary.json", "trajectory.tum", "frames.jsonl", "mesh.ply"}) {
     INFO(name);

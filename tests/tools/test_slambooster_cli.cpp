@@ -26,14 +26,6 @@ namespace {
 
 const std::string kTool = SB_SLAMBOOSTER_BIN;
 
-size_t countLines(const std::string& path) {
-  std::ifstream in(path);
-  size_t n = 0;
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty() && line[0] != '#') ++n;
-  return n;
-}
-
 
 // results.csv of bench: (sequence, controller) -> column -> value.
 std::map<std::pair<std::string, std::string>, std::map<std::string, double>> readResults(
@@ -150,8 +142,8 @@ TEST_CASE("synth, run and eval agree end to end on a short synthetic sequence", 
                                 std::to_string(kFrames) + " --no-noise");
   INFO(synth.output);
   REQUIRE(synth.exitCode == 0);
-  REQUIRE(countLines(seq + "/depth.txt") == kFrames);
-  REQUIRE(countLines(seq + "/groundtruth.txt") == kFrames);
+  REQUIRE(sb::test::dataLines(seq + "/depth.txt") == kFrames);
+  REQUIRE(sb::test::dataLines(seq + "/groundtruth.txt") == kFrames);
 
   const auto run = runCommand(kTool + " run " + seq + " --out " + out + " --preset default --mesh --quiet");
   INFO(run.output);
@@ -161,8 +153,8 @@ TEST_CASE("synth, run and eval agree end to end on a short synthetic sequence", 
     CHECK(fs::file_size(fs::path(out) / f) > 0);
   }
   CHECK_THAT(run.output, Catch::Contains("report " + out + "/report.html"));
-  CHECK(countLines(out + "/trajectory.tum") == kFrames);
-  CHECK(countLines(out + "/frames.jsonl") == kFrames);
+  CHECK(sb::test::dataLines(out + "/trajectory.tum") == kFrames);
+  CHECK(sb::test::dataLines(out + "/frames.jsonl") == kFrames);
 
   const auto summary = readJson(out + "/summary.json");
   CHECK(summary.at("frames").get<int>() == kFrames);
@@ -291,7 +283,7 @@ TEST_CASE("bench and dse run their matrix once, resume, and write their tables",
   INFO(first.output);
   REQUIRE(first.exitCode == 0);
   CHECK_THAT(first.output, Catch::Contains("DEFAULT vs SLAMBooster") && Catch::Contains("geomean"));
-  CHECK(countLines(dir + "/bench/results.csv") == 4);  // header + default, slambooster, accurate
+  CHECK(sb::test::dataLines(dir + "/bench/results.csv") == 4);  // header + default, slambooster, accurate
   for (const char* f : {"report.md", "time.svg", "ate.svg", "trace.svg"}) {
     INFO(f);
     CHECK(fs::file_size(fs::path(dir) / "bench" / f) > 0);
@@ -310,7 +302,7 @@ TEST_CASE("bench and dse run their matrix once, resume, and write their tables",
   const auto best = readJson(dir + "/dse/best.json");
   CHECK(best.at("settings") == 2);
   REQUIRE(best.at("best").is_object());
-  CHECK(countLines(dir + "/dse/results.csv") == 3);
+  CHECK(sb::test::dataLines(dir + "/dse/results.csv") == 3);
   // The offline controller replays it.
   std::ofstream(dir + "/offline.json") << R"({"volume_resolution": 64, "controller": {"name": "offline", "offline": {"result": ")"
                                        << dir << R"(/dse/best.json"}}})";

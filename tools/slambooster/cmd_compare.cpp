@@ -22,12 +22,7 @@ struct CompareArgs {
 };
 
 RunSummary readSummary(const std::string& dir) {
-  const std::string path = dir + "/summary.json";
-  const std::string problem = pathProblem(path);
-  if (!problem.empty())
-    throw Error("run summary " + quoteForMessage(path) + " " + problem + ": is " + quoteForMessage(dir) +
-                " a finished run's output directory?");
-  return readRunSummary(path);  // bounded nesting, line and column, typed fields
+  return readRunDirSummary(dir, "is " + quoteForMessage(dir) + " a finished run's output directory?");
 }
 
 // "ATE 4.17 cm" or "no ground truth".

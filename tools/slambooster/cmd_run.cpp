@@ -211,7 +211,7 @@ void printRun(const RunOptions& o, const SummarySink& summary, const LoopEnd& lo
               << " cm, unaligned mean " << ate->unalignedMean * 100 << " cm (" << ate->matches << " matches)\n";
   else if (!written.ateError.empty())
     std::cout << "ATE not computed: " << written.ateError << "\n";
-  if (const std::optional<EnergyHeadline> e = written.energyHeadline()) {
+  if (const std::optional<EnergySummary>& e = written.energy) {
     std::cout << "energy (" << e->meter << "): " << e->knownFrames << "/" << e->frames << " frames known";
     if (std::isfinite(e->joulesPerFrame))
       std::cout << ", " << e->joulesPerFrame << " J/frame, " << e->meanWatts << " W mean";

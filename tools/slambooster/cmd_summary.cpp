@@ -20,11 +20,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "pipeline/config.h"
-#include "pipeline/volume_window.h"
-#include "power/energy_json.h"
 #include "report/run_summary.h"
-#include "runtime/frame_log_sink.h"
-#include "runtime/map_slabs.h"
 #include "tools/slambooster/commands.h"
 
 namespace sb::cli {
@@ -50,7 +46,7 @@ void addPaths(const json& j, const std::string& prefix, std::set<std::string>& o
 }
 
 // Every field of the schema: a summary with every optional part present, its owned sub-objects as their owners
-// write them at their defaults (the moving volume's slab counts appear only in files written with slabs).
+// write them at their defaults.
 std::set<std::string> schemaPaths() {
   RunSummary s;
   s.machine.emplace();
@@ -63,25 +59,20 @@ std::set<std::string> schemaPaths() {
   s.meshSlabs = 0;
   s.complete = true;
   s.ateError = s.error = s.modelView = "x";
-  const PipelineConfig config;
-  s.config = configToJson(config);
-  s.knobs = knobsToJson(Knobs{});
-  s.energy = power::energyTotalsJson(power::EnergyTotals{}, {});
-  s.energy["meter"] = "";
-  s.movingVolume = movingVolumeJson(VolumeWindow(config));
+  s.config = configToJson(PipelineConfig{});
+  s.energy.emplace();
+  s.movingVolume = MovingVolumeSummary{0, 0.0, 0.0, {}, 0.0, 0.0, 0.0, 0};  // the slab counts included
   std::set<std::string> paths;
   addPaths(s.toJson(), "", paths);
   for (const auto& open : kOpenObjects) paths.insert(open);
   return paths;
 }
 
-bool known(const std::string& key, const std::set<std::string>& schema, const json& file) {
+bool known(const std::string& key, const std::set<std::string>& schema) {
   if (schema.count(key)) return true;
   for (const auto& open : kOpenObjects)
     if (key.rfind(open + ".", 0) == 0) return true;
-  // The moving volume's slab counts: known where the file holds them.
-  return key.rfind("moving_volume.", 0) == 0 && file.contains("moving_volume") &&
-         file["moving_volume"].is_object() && file["moving_volume"].contains(key.substr(14));
+  return false;
 }
 
 const json* find(const json& j, const std::string& key) {
@@ -102,18 +93,13 @@ const json* find(const json& j, const std::string& key) {
 std::string text(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
 void summary(const SummaryArgs& a) {
-  const std::string path = a.run.size() > 5 && a.run.compare(a.run.size() - 5, 5, ".json") == 0
-                               ? a.run
-                               : a.run + "/summary.json";
-  const std::string problem = pathProblem(path);
-  if (!problem.empty()) throw Error("run summary " + quoteForMessage(path) + " " + problem);
   // Typed first: a field of the wrong type fails here, naming the file and key; then printed as the type writes it.
-  const json file = readRunSummary(path).toJson();
+  const json file = readRunDirSummary(a.run).toJson();
   const std::set<std::string> schema = schemaPaths();
   std::string line;
   for (size_t i = 0; i < a.keys.size(); ++i) {
     const std::string& key = a.keys[i];
-    if (!known(key, schema, file)) {
+    if (!known(key, schema)) {
       std::string near;
       const std::string head = key.substr(0, key.find('.'));
       for (const auto& p : schema)
@@ -123,7 +109,7 @@ void summary(const SummaryArgs& a) {
     }
     const json* v = find(file, key);
     if (!v && !a.missing)
-      throw Error("summary: " + quoteForMessage(path) + " has no " + quoteForMessage(key) +
+      throw Error("summary: " + quoteForMessage(a.run) + " has no " + quoteForMessage(key) +
                   " (a field this run did not write; --missing TEXT prints TEXT instead)");
     line += (i ? "\t" : "") + (v ? text(*v) : *a.missing);
   }

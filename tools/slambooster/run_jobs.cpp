@@ -76,12 +76,7 @@ bool jobDone(const std::string& outDir) {
 }
 
 RunSummary readSummary(const std::string& outDir) {
-  const std::string path = outDir + "/summary.json";
-  const std::string problem = pathProblem(path);
-  if (problem == "does not exist")
-    throw Error("missing " + quoteForMessage(path) + " (the run did not finish; see run.log there)");
-  if (!problem.empty()) throw Error("run summary " + quoteForMessage(path) + " " + problem);
-  return readRunSummary(path);  // bounded nesting, line and column, typed fields
+  return readRunDirSummary(outDir, "did the run finish? (see run.log there)");
 }
 
 void runJobs(const std::vector<Job>& jobs, int parallel, bool quiet) {
