@@ -232,6 +232,27 @@ TEST_CASE("push source: a pusher silent between frames is closed after source.pu
   silentAlone({"--set", "source.push_timeout_s=1"}, 1.0);
 }
 
+TEST_CASE("push source: a pusher that pauses past source.push_timeout_s goes on with the next frame",
+          "[daemon][push][system]") {
+  // The daemon closes the paused pusher; the client library connects again before its next frame, so no
+  // frame is lost to the closed connection (client/frame_pusher.h).
+  PushDaemon d("pause", {"--set", "source.push_timeout_s=1"});
+  sb::client::FramePusher pusher(d.pushPath);
+  for (size_t i = 0; i < 3; ++i) push(pusher, i, 1.0 + i * 0.033);
+  REQUIRE(sb::test::waitForPath(d.socket, 20));
+  REQUIRE(d.waitLog("(silent); waiting for another", 10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the close has reached the client's end
+  CHECK_NOTHROW(push(pusher, 3, 2.0));
+  CHECK_NOTHROW(push(pusher, 4, 2.033));
+  const auto deadline = Clock::now() + std::chrono::seconds(10);
+  while (Clock::now() < deadline && d.framesDone() < 5) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  CHECK(d.framesDone() == 5);
+  CHECK(d.status()["source"]["connections"] == 2);
+  int status = 0;
+  d.terminate(status);
+  CHECK(status == 0);
+}
+
 TEST_CASE("push source: tiny, absurd and huge first frames are refused, the daemon keeps serving",
           "[daemon][push][system]") {
   // With the default source.max_frame_pixels (1280x1024); the next case sets it.
