@@ -1,8 +1,8 @@
 // slamboosterd with the moving volume's map (output.mesh) on a 20 MiB disk (issue 44 M3): a tmpfs, so root
-// only (a failure under CI, a warning elsewhere). The corridor drive at 160x120 in a 5 m volume of 256^3 makes
-// slabs of 0.26, 4.2 and 9.5 MB; a slab's write needs about twice its file's size at its peak (the vertices
-// and faces aside, then the file), so the third slab cannot be written on 20 MiB even with every older slab
-// removed but the newest (which always stays): the pass ends with exit 1 and summary.json says why
+// only (a failure under CI, a warning elsewhere). The corridor drive at 160x120 in a 5 m volume of 256^3
+// makes slabs of 0.26, 4.2 and 9.5 MB; a slab's write needs about twice its file's size at its peak (the
+// vertices and faces aside, then the file), so the third slab cannot be written on 20 MiB even with every
+// older slab removed but the newest (which always stays): the pass ends with exit 1 and summary.json says why
 // ("complete": false, "error" naming the slab and the full disk; before, summary.json had no error), and no
 // temporary is left in map_slabs. The same drive at 128^3 (slabs up to 2 MB, mesh.ply 12 MB) fits the same
 // disk: exit 0, complete. The peak use of the disk is measured (statvfs every 10 ms) and printed.
@@ -58,11 +58,11 @@ Pass runOn(const std::string& disk, const std::string& drive, const std::string&
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   });
-  sb::test::ChildProcess d({kDaemon, "--input", drive, "--out", disk + "/out", "--socket", tmp.path + "/s.sock",
-                            "--pacing", "fast", "--at-end", "exit", "--controller", "default", "--set",
-                            "slam.pipeline_config=" + pipeline, "--set", "slam.threads=2", "--set",
-                            "output.mesh=true"},
-                           {}, disk + "-log.txt");
+  sb::test::ChildProcess d(
+      {kDaemon, "--input", drive, "--out", disk + "/out", "--socket", tmp.path + "/s.sock", "--pacing",
+       "fast", "--at-end", "exit", "--controller", "default", "--set", "slam.pipeline_config=" + pipeline,
+       "--set", "slam.threads=2", "--set", "output.mesh=true"},
+      {}, disk + "-log.txt");
   pass.code = d.wait(240);
   done = true;
   poll.join();
@@ -72,15 +72,17 @@ Pass runOn(const std::string& disk, const std::string& drive, const std::string&
 
 }  // namespace
 
-TEST_CASE("slamboosterd on a 20 MiB disk: a slab that cannot fit ends the pass with the error in summary.json",
-          "[daemon][system][disk]") {
+TEST_CASE(
+    "slamboosterd on a 20 MiB disk: a slab that cannot fit ends the pass with the error in summary.json",
+    "[daemon][system][disk]") {
   if (::geteuid() != 0) {
     if (std::getenv("CI")) FAIL("not root: this test needs a tmpfs (mount)");
     WARN("skipped: not root, no tmpfs for a 20 MiB disk");
     return;
   }
   const std::string dir = sb::test::scratchDir("daemon_full_disk");
-  const auto synth = sb::test::runCommand(kTool + " synth --out " + dir + "/drive --scene corridor "
+  const auto synth = sb::test::runCommand(kTool + " synth --out " + dir +
+                                          "/drive --scene corridor "
                                           "--corridor-length 12 --stress drive --frames 220 --width 160 "
                                           "--height 120 --fx 120.3 --fy 120 --threads 2 --overwrite");
   INFO(synth.output);

@@ -72,7 +72,8 @@ TEST_CASE("slamboosterd: a map_slabs that is a symlink to a foreign directory is
   const std::string out = dir + "/out", foreign = dir + "/foreign";
   // The corridor drive at 160x120 in a 5 m volume: slabs of about 0.3, 4 and 9 MB within 220 frames, more
   // than keep_slabs_mib's least (16 MiB) together, so the retention removes the oldest.
-  const auto synth = sb::test::runCommand(kTool + " synth --out " + dir + "/drive --scene corridor "
+  const auto synth = sb::test::runCommand(kTool + " synth --out " + dir +
+                                          "/drive --scene corridor "
                                           "--corridor-length 12 --stress drive --frames 220 --width 160 "
                                           "--height 120 --fx 120.3 --fy 120 --threads 2 --overwrite");
   INFO(synth.output);
@@ -83,10 +84,27 @@ TEST_CASE("slamboosterd: a map_slabs that is a symlink to a foreign directory is
   std::ofstream(foreign + "/slab-000001.ply") << "foreign slab\n";
   std::ofstream(foreign + "/slab-000002.ply") << "foreign slab\n";
   fs::create_directory_symlink(foreign, out + "/map_slabs");
-  sb::test::ChildProcess d({kDaemon, "--input", dir + "/drive", "--out", out, "--socket", tmp.path + "/s.sock",
-                            "--pacing", "fast", "--at-end", "exit", "--controller", "default", "--set",
-                            "slam.pipeline_config=" + dir + "/pipeline.json", "--set", "slam.threads=2", "--set",
-                            "output.mesh=true", "--set", "output.rotation.keep_slabs_mib=16"},
+  sb::test::ChildProcess d({kDaemon,
+                            "--input",
+                            dir + "/drive",
+                            "--out",
+                            out,
+                            "--socket",
+                            tmp.path + "/s.sock",
+                            "--pacing",
+                            "fast",
+                            "--at-end",
+                            "exit",
+                            "--controller",
+                            "default",
+                            "--set",
+                            "slam.pipeline_config=" + dir + "/pipeline.json",
+                            "--set",
+                            "slam.threads=2",
+                            "--set",
+                            "output.mesh=true",
+                            "--set",
+                            "output.rotation.keep_slabs_mib=16"},
                            {}, dir + "/log.txt");
   const int status = d.wait(240);
   INFO(d.log());

@@ -77,10 +77,21 @@ struct PushDaemon {
     socket = tmp.path + "/s.sock";
     pushPath = tmp.path + "/push.sock";
     out = sb::test::scratchDir("push_source_" + name) + "/out";
-    std::vector<std::string> args = {kDaemon, "--input", pushPath, "--out", out, "--socket", socket,
-                                     "--set", "source.type=push", "--set", "output.rotation.mode=never",
-                                     "--set", "slam.pipeline_config=" + fixture().pipelineConfig,
-                                     "--controller", "fixed"};
+    std::vector<std::string> args = {kDaemon,
+                                     "--input",
+                                     pushPath,
+                                     "--out",
+                                     out,
+                                     "--socket",
+                                     socket,
+                                     "--set",
+                                     "source.type=push",
+                                     "--set",
+                                     "output.rotation.mode=never",
+                                     "--set",
+                                     "slam.pipeline_config=" + fixture().pipelineConfig,
+                                     "--controller",
+                                     "fixed"};
     args.insert(args.end(), extra.begin(), extra.end());
     process = std::make_unique<ChildProcess>(args, std::vector<std::string>{}, out + "-log.txt");
     REQUIRE(sb::test::waitForPath(pushPath, 20));
@@ -212,7 +223,7 @@ TEST_CASE("push source: a pusher silent between frames is closed after source.pu
     INFO("timeout " << timeout << " s, closed after " << after << " s\n" << d.process->log());
     CHECK(closed);
     CHECK(after >= timeout - 0.1);  // not before source.push_timeout_s
-    CHECK(after < timeout + 5);     // the timeout and a loaded machine's slack, not "until another pusher waits"
+    CHECK(after < timeout + 5);  // the timeout and a loaded machine's slack, not "until another pusher waits"
     CHECK(d.logSays("between frames (source.push_timeout_s): closing it"));
     CHECK(d.logSays("uid"));  // named: pid, program, uid
     CHECK(d.status()["source"]["state"] == "waiting");
@@ -221,7 +232,8 @@ TEST_CASE("push source: a pusher silent between frames is closed after source.pu
       push(next, 3, 2.0);
       push(next, 4, 2.033);
       const auto deadline = Clock::now() + std::chrono::seconds(10);
-      while (Clock::now() < deadline && d.framesDone() < 5) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      while (Clock::now() < deadline && d.framesDone() < 5)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
       CHECK(d.framesDone() == 5);
     }
     int status = 0;
@@ -245,7 +257,8 @@ TEST_CASE("push source: a pusher that pauses past source.push_timeout_s goes on 
   CHECK_NOTHROW(push(pusher, 3, 2.0));
   CHECK_NOTHROW(push(pusher, 4, 2.033));
   const auto deadline = Clock::now() + std::chrono::seconds(10);
-  while (Clock::now() < deadline && d.framesDone() < 5) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  while (Clock::now() < deadline && d.framesDone() < 5)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   CHECK(d.framesDone() == 5);
   CHECK(d.status()["source"]["connections"] == 2);
   int status = 0;
@@ -273,10 +286,10 @@ TEST_CASE("push source: tiny, absurd and huge first frames are refused, the daem
   pushWith([](sb::PushedFrameHeader& h) { h.depthScale = 1e-300; }, 320, 240);  // P7
   pushWith([](sb::PushedFrameHeader&) {}, 1600, 1200);  // P7: over source.max_frame_pixels
   REQUIRE(d.waitLog("width x height = 1.92e+06 pixels is not plausible", 10));
-  for (const char* said : {"width = 1 pixels is not plausible", "width = 2 pixels is not plausible",
-                           "fx = inf pixels is not plausible", "fy = 1e-30 pixels is not plausible",
-                           "cx = 1e+30 pixels is not plausible",
-                           "depth_scale = 1e-300 raw units per metre is not plausible"}) {
+  for (const char* said :
+       {"width = 1 pixels is not plausible", "width = 2 pixels is not plausible",
+        "fx = inf pixels is not plausible", "fy = 1e-30 pixels is not plausible",
+        "cx = 1e+30 pixels is not plausible", "depth_scale = 1e-300 raw units per metre is not plausible"}) {
     INFO(said);
     CHECK(d.logSays(said));
   }
@@ -307,7 +320,8 @@ TEST_CASE("push source: source.max_frame_pixels bounds the frame size", "[daemon
   for (size_t i = 0; i < 2; ++i) push(pusher, i, 2.0 + i * 0.033);  // 320x240 = 76800 pixels: taken
   REQUIRE(sb::test::waitForPath(d.socket, 20));
   const auto deadline = Clock::now() + std::chrono::seconds(10);
-  while (Clock::now() < deadline && d.framesDone() < 2) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  while (Clock::now() < deadline && d.framesDone() < 2)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   CHECK(d.status()["source"]["rejected"] == 1);
   int status = 0;
   d.terminate(status);

@@ -95,8 +95,8 @@ TEST_CASE("a bag's stamps that repeat or go back are dropped; eval reads the tra
     CHECK(trajectoryLines(trajectory).size() == stamps.size() - 3);
   };
   SECTION("slambooster run") {
-    const auto r = runCommand(kTool + " run " + bag + " --out " + dir + "/run --config " + config +
-                              " --threads 1 2>&1");
+    const auto r =
+        runCommand(kTool + " run " + bag + " --out " + dir + "/run --config " + config + " --threads 1 2>&1");
     INFO(r.output);
     CHECK(r.exitCode == 0);
     CHECK(r.output.find("frame 5 dropped: its stamp") != std::string::npos);
