@@ -1,5 +1,6 @@
 #include "client/frame_pusher.h"
 
+#include <poll.h>
 #include <sys/socket.h>
 
 #include <cerrno>
@@ -24,7 +25,15 @@ void FramePusher::writeAll(const uint8_t* data, size_t bytes) {
   }
 }
 
+bool FramePusher::closedByDaemon() const {
+  pollfd p{fd_.get(), POLLRDHUP, 0};
+  return ::poll(&p, 1, 0) == 1 && (p.revents & (POLLRDHUP | POLLHUP | POLLERR));
+}
+
 void FramePusher::push(PushedFrameHeader header, const DepthRaw& depth) {
+  // The daemon closes a pusher silent for source.push_timeout_s: a pusher that paused (a camera that stopped
+  // for a while) connects again before the frame instead of losing it to a closed connection.
+  if (closedByDaemon()) fd_ = connectUnix(path_);
   header.width = static_cast<uint32_t>(depth.width());
   header.height = static_cast<uint32_t>(depth.height());
   const auto head = encodePushedHeader(header);

@@ -16,11 +16,13 @@ class FramePusher {
   explicit FramePusher(const std::string& socketPath);
   // Writes one frame (header fields width/height are taken from `depth`). Blocks while the socket's buffer is
   // full (the daemon reads every frame as it arrives; the newest-frame-wins rule is applied after that).
-  // Throws sb::Error when the daemon has gone away.
+  // Throws sb::Error when the daemon has gone away. A connection the daemon closed since the last frame (a
+  // pusher silent for source.push_timeout_s is closed) is made again first.
   void push(PushedFrameHeader header, const DepthRaw& depth);
 
  private:
   void writeAll(const uint8_t* data, size_t bytes);
+  bool closedByDaemon() const;  // the daemon's end of the connection is closed
 
   std::string path_;
   UniqueFd fd_;

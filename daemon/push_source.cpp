@@ -111,7 +111,6 @@ bool PushSource::acceptClient(int timeoutMs) {
 PushSource::Fill PushSource::readExactly(uint8_t* data, size_t bytes, bool within) {
   size_t off = 0;
   auto lastByte = std::chrono::steady_clock::now();
-  bool named = false;
   while (off < bytes) {
     pollfd fds[2] = {{client_.get(), POLLIN, 0}, {wake_.get(), POLLIN, 0}};
     const int r = ::poll(fds, 2, kPollSliceMs);
@@ -120,15 +119,12 @@ PushSource::Fill PushSource::readExactly(uint8_t* data, size_t bytes, bool withi
     if (!(fds[0].revents & (POLLIN | POLLHUP | POLLERR))) {
       const double idle = std::chrono::duration<double>(std::chrono::steady_clock::now() - lastByte).count();
       if (idle < config_.pushTimeoutSeconds) continue;
-      if (!named)
-        spdlog::warn("push source {}: {} has sent nothing for {:.1f} s {} (source.push_timeout_s)", config_.path,
-                     peer_, idle, within || off > 0 ? "within a frame: closing it" : "between frames");
-      named = true;
+      // Silent for source.push_timeout_s, within a frame or between two: named and closed, whether or not
+      // another client waits (a pusher that holds the socket and sends nothing must not hold it for ever).
+      spdlog::warn("push source {}: {} has sent nothing for {:.1f} s {} (source.push_timeout_s): closing it",
+                   config_.path, peer_, idle, within || off > 0 ? "within a frame" : "between frames");
       silent_ = true;
-      // Within a frame a silent client is closed; between frames, when another client is waiting.
-      pollfd waiting{listener_.fd.get(), POLLIN, 0};
-      if (within || off > 0 || (::poll(&waiting, 1, 0) == 1 && (waiting.revents & POLLIN))) return Fill::silent;
-      continue;
+      return Fill::silent;
     }
     const ssize_t n = ::recv(client_.get(), data + off, bytes - off, 0);
     if (n < 0 && (errno == EINTR || errno == EAGAIN)) continue;

@@ -10,9 +10,9 @@
 // does. A frame outside the bounds every camera door shares (drivers/camera_bounds.h, with
 // source.max_frame_pixels), of another size, intrinsics or depth scale than the first, or whose stamp does
 // not increase (drivers/stamp_gate.h) is refused (counted, logged) and the stream goes on. A client silent
-// for source.push_timeout_s within a frame is closed; one silent between frames is named in the log and
-// closed when another client is waiting. A connection whose client had already closed before it was
-// accepted is dropped unread (its frames are stale).
+// for source.push_timeout_s, within a frame or between two, is named in the log and closed; the source waits
+// for the next. A connection whose client had already closed before it was accepted is dropped unread (its
+// frames are stale).
 
 #include <atomic>
 #include <mutex>
@@ -42,7 +42,8 @@ class PushSource : public CaptureSource {
   enum class Read { frame, refused, closed, stopped };
   // Reads one whole frame from the current client (accepting one first if there is none).
   Read readFrame(PushedFrameHeader& header, DepthRaw& depth);
-  // Fills `bytes` from the client (`within`: inside a frame, so a silent client times out); ok, or why not.
+  // Fills `bytes` from the client (`within`: inside a frame, as the log says); ok, or why not (silent:
+  // nothing came for source.push_timeout_s).
   enum class Fill { ok, closed, stopped, silent };
   Fill readExactly(uint8_t* data, size_t bytes, bool within);
   bool skip(size_t bytes);  // reads and drops a refused frame's payload
@@ -66,7 +67,7 @@ class PushSource : public CaptureSource {
   std::atomic<uint64_t> rejected_{0};
   std::atomic<uint64_t> connections_{0};
   std::atomic<bool> connected_{false};
-  std::atomic<bool> silent_{false};  // the client has sent nothing for source.push_timeout_s
+  std::atomic<bool> silent_{false};  // the client has sent nothing for source.push_timeout_s (being closed)
   std::atomic<double> lastAgeMs_{0.0};  // wall clock now - frame timestamp on arrival (see status())
 };
 

@@ -63,6 +63,7 @@ declare -A not_armhf=(
   [test_relocalisation_cli]=$spawns [test_sequences_cli]=$spawns [test_hostile_inputs]=$spawns
   [test_daemon_failures]=$spawns [test_moving_volume_cli]=$spawns [test_daemon_summary]=$spawns
   [test_output_symlinks]=$spawns [test_daemon_odometry]=$spawns [test_push_source]=$spawns [test_daemon_symlinks]=$spawns
+  [test_daemon_full_disk]=$spawns
   [ros_component]="the ROS 1 component is not built in a cross build: Debian's armhf ROS dev packages do not
 cross-install (README, With ROS); this placeholder only says so"
   [test_ros_reports]="ROS 1 component: native builds only (see ros_component)"
@@ -72,6 +73,7 @@ cross-install (README, With ROS); this placeholder only says so"
   [test_ros_bag_odometry]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_map]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_master_restart]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_bag_hostile]="ROS 1 component: native builds only (see ros_component)"
   [test_cluster_reference]=$spawns [test_cluster_parallel]=$spawns [test_cluster_kill]=$spawns
   [test_cluster_slurm]="starts a Slurm cluster of the host's (amd64) daemons that run the armhf tool: $spawns"
   [test_openni2_source]="asserts frame arrival times (the last frame stamped under 0.5 s ago) that emulation on a

@@ -22,9 +22,10 @@
 
 namespace sb::test::e2e {
 
-inline const std::string kDaemon = SB_SLAMBOOSTERD_BIN;
-inline const std::string kCtl = SB_SLAMBOOSTERCTL_BIN;
-inline const std::string kTool = SB_SLAMBOOSTER_BIN;
+// SB_TEST_SLAMBOOSTERD, SB_TEST_SLAMBOOSTERCTL, SB_TEST_SLAMBOOSTER name other builds' binaries (testBinary).
+inline const std::string kDaemon = sb::test::testBinary("SB_TEST_SLAMBOOSTERD", SB_SLAMBOOSTERD_BIN);
+inline const std::string kCtl = sb::test::testBinary("SB_TEST_SLAMBOOSTERCTL", SB_SLAMBOOSTERCTL_BIN);
+inline const std::string kTool = sb::test::testBinary("SB_TEST_SLAMBOOSTER", SB_SLAMBOOSTER_BIN);
 inline constexpr int kFrames = 30;
 
 // A short synthetic sequence (320x240, csr 2, 64^3 volume: a few tens of ms per frame), rendered once per

@@ -1,10 +1,12 @@
 // The daemon's push source attacked (issue 44): silent and half-sent clients never keep SIGTERM from ending
-// the daemon (P1), a silent pusher mid-run is named and gives way to a waiting one, a pusher that closed
-// before it was accepted is not processed (P5), tiny, absurd or huge frames are refused and the daemon keeps
-// serving (P6, P7), stamps that trajectory.tum could not keep are refused (P8), the push socket follows
-// socket.mode (P2), and the configuration checks of P9 and S5. Real processes and sockets; frames of the
-// fixture's sequence pushed with the client library (client/frame_pusher.h).
+// the daemon (P1), a silent pusher mid-run is named and closed after source.push_timeout_s, whether or not
+// another waits, a pusher that closed before it was accepted is not processed (P5), tiny, absurd or huge
+// frames are refused and the daemon keeps serving (P6, P7), stamps that trajectory.tum could not keep are
+// refused (P8), the push socket follows socket.mode (P2), and the configuration checks of P9 and S5. Real
+// processes and sockets; frames of the fixture's sequence pushed with the client library
+// (client/frame_pusher.h).
 
+#include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -75,10 +77,21 @@ struct PushDaemon {
     socket = tmp.path + "/s.sock";
     pushPath = tmp.path + "/push.sock";
     out = sb::test::scratchDir("push_source_" + name) + "/out";
-    std::vector<std::string> args = {kDaemon, "--input", pushPath, "--out", out, "--socket", socket,
-                                     "--set", "source.type=push", "--set", "output.rotation.mode=never",
-                                     "--set", "slam.pipeline_config=" + fixture().pipelineConfig,
-                                     "--controller", "fixed", "--set", "source.push_timeout_s=1"};
+    std::vector<std::string> args = {kDaemon,
+                                     "--input",
+                                     pushPath,
+                                     "--out",
+                                     out,
+                                     "--socket",
+                                     socket,
+                                     "--set",
+                                     "source.type=push",
+                                     "--set",
+                                     "output.rotation.mode=never",
+                                     "--set",
+                                     "slam.pipeline_config=" + fixture().pipelineConfig,
+                                     "--controller",
+                                     "fixed"};
     args.insert(args.end(), extra.begin(), extra.end());
     process = std::make_unique<ChildProcess>(args, std::vector<std::string>{}, out + "-log.txt");
     REQUIRE(sb::test::waitForPath(pushPath, 20));
@@ -186,9 +199,83 @@ TEST_CASE("push source: a silent pusher is named and gives way to a waiting one;
   CHECK(stamps.count("50.000000") == 0);
 }
 
+TEST_CASE("push source: a pusher silent between frames is closed after source.push_timeout_s on its own",
+          "[daemon][push][system]") {
+  // No other pusher waits: the silent one is named and closed by its own timeout, its end of the socket sees
+  // the close, and the next pusher is served (before, it held the source until another waited). With the
+  // default timeout (5 s) and a configured one (1 s).
+  const auto silentAlone = [](const std::vector<std::string>& extra, double timeout) {
+    PushDaemon d("silent_alone", extra);
+    sb::UniqueFd held = connectRaw(d.pushPath);
+    for (size_t i = 0; i < 3; ++i) {
+      sb::PushedFrameHeader h = frames().header;
+      h.width = uint32_t(frames().depth[i].width());
+      h.height = uint32_t(frames().depth[i].height());
+      h.timestamp = 1.0 + i * 0.033;
+      const auto head = sb::encodePushedHeader(h);
+      writeAll(held.get(), head.data(), head.size());
+      writeAll(held.get(), frames().depth[i].data(), frames().depth[i].size() * sizeof(uint16_t));
+    }
+    const auto sent = Clock::now();
+    REQUIRE(sb::test::waitForPath(d.socket, 20));
+    // The daemon's end closes: recv on the held socket returns 0 (end of stream).
+    bool closed = false;
+    while (!closed && Clock::now() < sent + std::chrono::duration<double>(timeout + 10)) {
+      pollfd p{held.get(), POLLIN, 0};
+      char byte;
+      if (::poll(&p, 1, 50) == 1) closed = ::recv(held.get(), &byte, 1, 0) == 0;
+    }
+    const double after = std::chrono::duration<double>(Clock::now() - sent).count();
+    INFO("timeout " << timeout << " s, closed after " << after << " s\n" << d.process->log());
+    CHECK(closed);
+    CHECK(after >= timeout - 0.1);  // not before source.push_timeout_s
+    CHECK(after < timeout + 5);  // the timeout and a loaded machine's slack, not "until another pusher waits"
+    CHECK(d.logSays("between frames (source.push_timeout_s): closing it"));
+    CHECK(d.logSays("uid"));  // named: pid, program, uid
+    CHECK(d.status()["source"]["state"] == "waiting");
+    if (closed) {  // else the next pusher's first frame would block behind the held socket
+      sb::client::FramePusher next(d.pushPath);
+      push(next, 3, 2.0);
+      push(next, 4, 2.033);
+      const auto deadline = Clock::now() + std::chrono::seconds(10);
+      while (Clock::now() < deadline && d.framesDone() < 5)
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      CHECK(d.framesDone() == 5);
+    }
+    int status = 0;
+    d.terminate(status);
+    CHECK(status == 0);
+  };
+  silentAlone({}, 5.0);
+  silentAlone({"--set", "source.push_timeout_s=1"}, 1.0);
+}
+
+TEST_CASE("push source: a pusher that pauses past source.push_timeout_s goes on with the next frame",
+          "[daemon][push][system]") {
+  // The daemon closes the paused pusher; the client library connects again before its next frame, so no
+  // frame is lost to the closed connection (client/frame_pusher.h).
+  PushDaemon d("pause", {"--set", "source.push_timeout_s=1"});
+  sb::client::FramePusher pusher(d.pushPath);
+  for (size_t i = 0; i < 3; ++i) push(pusher, i, 1.0 + i * 0.033);
+  REQUIRE(sb::test::waitForPath(d.socket, 20));
+  REQUIRE(d.waitLog("(silent); waiting for another", 10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the close has reached the client's end
+  CHECK_NOTHROW(push(pusher, 3, 2.0));
+  CHECK_NOTHROW(push(pusher, 4, 2.033));
+  const auto deadline = Clock::now() + std::chrono::seconds(10);
+  while (Clock::now() < deadline && d.framesDone() < 5)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  CHECK(d.framesDone() == 5);
+  CHECK(d.status()["source"]["connections"] == 2);
+  int status = 0;
+  d.terminate(status);
+  CHECK(status == 0);
+}
+
 TEST_CASE("push source: tiny, absurd and huge first frames are refused, the daemon keeps serving",
           "[daemon][push][system]") {
-  PushDaemon d("bounds", {"--set", "source.max_frame_pixels=100000"});
+  // With the default source.max_frame_pixels (1280x1024); the next case sets it.
+  PushDaemon d("bounds");
   sb::client::FramePusher pusher(d.pushPath);
   const auto pushWith = [&](const std::function<void(sb::PushedFrameHeader&)>& change, int w, int h) {
     sb::PushedFrameHeader header = frames().header;
@@ -203,11 +290,12 @@ TEST_CASE("push source: tiny, absurd and huge first frames are refused, the daem
   pushWith([](sb::PushedFrameHeader& h) { h.fy = 1e-30f; }, 320, 240);     // P7
   pushWith([](sb::PushedFrameHeader& h) { h.cx = 1e30f; }, 320, 240);      // P7
   pushWith([](sb::PushedFrameHeader& h) { h.depthScale = 1e-300; }, 320, 240);  // P7
-  pushWith([](sb::PushedFrameHeader& h) { h.fx = h.fy = 2000; }, 400, 300);  // over source.max_frame_pixels
-  REQUIRE(d.waitLog("width x height = 120000", 10));
-  for (const char* said : {"width = 1 pixels is not plausible", "width = 2 pixels is not plausible",
-                           "fx = inf pixels is not plausible", "fy = 1e-30 pixels is not plausible",
-                           "cx = 1e+30 pixels is not plausible", "depth_scale = 1e-300 raw units per metre is not plausible"}) {
+  pushWith([](sb::PushedFrameHeader&) {}, 1600, 1200);  // P7: over source.max_frame_pixels
+  REQUIRE(d.waitLog("width x height = 1.92e+06 pixels is not plausible", 10));
+  for (const char* said :
+       {"width = 1 pixels is not plausible", "width = 2 pixels is not plausible",
+        "fx = inf pixels is not plausible", "fy = 1e-30 pixels is not plausible",
+        "cx = 1e+30 pixels is not plausible", "depth_scale = 1e-300 raw units per metre is not plausible"}) {
     INFO(said);
     CHECK(d.logSays(said));
   }
@@ -221,6 +309,26 @@ TEST_CASE("push source: tiny, absurd and huge first frames are refused, the daem
   d.terminate(status);
   CHECK(status == 0);
   CHECK(sb::test::readJson(d.out + "/summary.json")["frames"] == 3);
+}
+
+TEST_CASE("push source: source.max_frame_pixels bounds the frame size", "[daemon][push][system]") {
+  PushDaemon d("max_pixels", {"--set", "source.max_frame_pixels=100000"});
+  sb::client::FramePusher pusher(d.pushPath);
+  sb::PushedFrameHeader header = frames().header;
+  header.timestamp = 1.0;
+  header.fx = header.fy = 2000;
+  pusher.push(header, sb::DepthRaw(400, 300, 1000));
+  REQUIRE(d.waitLog("width x height = 120000", 10));
+  CHECK(d.logSays("raise source.max_frame_pixels"));
+  for (size_t i = 0; i < 2; ++i) push(pusher, i, 2.0 + i * 0.033);  // 320x240 = 76800 pixels: taken
+  REQUIRE(sb::test::waitForPath(d.socket, 20));
+  const auto deadline = Clock::now() + std::chrono::seconds(10);
+  while (Clock::now() < deadline && d.framesDone() < 2)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  CHECK(d.status()["source"]["rejected"] == 1);
+  int status = 0;
+  d.terminate(status);
+  CHECK(status == 0);
 }
 
 TEST_CASE("push source: stamps trajectory.tum could not keep are refused; the TUM reader reads it back",

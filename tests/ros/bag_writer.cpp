@@ -94,9 +94,9 @@ size_t writeBag(const std::string& bagPath, const std::string& sequence, const B
   rosbag::Bag bag(bagPath, rosbag::bagmode::Write);
   size_t n = 0;
   while (auto f = source->next()) {
-    const ros::Time stamp(f->timestamp);
     // When the recorder received it: a little later, and after ros::TIME_MIN (a synthetic frame 0 is at 0 s).
-    const ros::Time recorded = stamp + ros::Duration(kRecordDelayS);
+    const ros::Time recorded = ros::Time(f->timestamp) + ros::Duration(kRecordDelayS);
+    const ros::Time stamp(n < spec.stamps.size() ? spec.stamps[n] : f->timestamp);
     sensor_msgs::Image image;
     image.header.stamp = stamp;
     image.header.seq = static_cast<uint32_t>(n);
@@ -124,6 +124,7 @@ size_t writeBag(const std::string& bagPath, const std::string& sequence, const B
       ci.width = image.width;
       ci.height = image.height;
       ci.K = {info.intrinsics.fx, 0, info.intrinsics.cx, 0, info.intrinsics.fy, info.intrinsics.cy, 0, 0, 1};
+      if (!std::isnan(spec.cameraInfoFx)) ci.K[0] = spec.cameraInfoFx;
       bag.write("/camera/depth/camera_info", recorded, ci);
     }
     if (spec.rgbTopic) {

@@ -3,7 +3,9 @@
 // reads): depth on /camera/depth/image, its CameraInfo on /camera/depth/camera_info, optionally a small RGB
 // image topic beside them (as in TUM RGB-D's bags, so that the depth topic must be chosen by encoding).
 
+#include <limits>
 #include <string>
+#include <vector>
 
 namespace sb::test::ros_e2e {
 
@@ -19,6 +21,10 @@ struct BagSpec {
   // /tf_static base_link -> the depth images' frame (kBagCameraMount) unless tfStatic is false.
   std::string odometryFile;
   bool tfStatic = true;
+  // Hostile bags (issue 44 G3, G4): the CameraInfo's K[0] (fx) when not NaN; the depth images' header
+  // stamps when not empty (one per frame; the record times stay the sequence's: the frames keep their order).
+  double cameraInfoFx = std::numeric_limits<double>::quiet_NaN();
+  std::vector<double> stamps;
 };
 
 // The camera mount the bags' /tf_static states ("x y z qx qy qz qw": 1.25 m up, optical axes; exact in binary).

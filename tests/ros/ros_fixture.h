@@ -14,10 +14,11 @@
 #include <vector>
 
 #include "tests/daemon/process.h"
+#include "tests/support/test_data.h"
 
 namespace sb::test::ros_e2e {
 
-inline const std::string kBridge = SB_SLAMBOOSTER_ROS_BIN;
+inline const std::string kBridge = sb::test::testBinary("SB_TEST_SLAMBOOSTER_ROS", SB_SLAMBOOSTER_ROS_BIN);
 
 // A free TCP port on the loopback interface (bound and released: a race with other programs is possible but
 // harmless here, the master would fail to start and the test says so).

@@ -74,7 +74,9 @@ TEST_CASE("a bag replays bit for bit like the TUM directory of the same frames",
     fs::remove_all(mm);
     writeMillimetreCopy(seq.sequence, mm);
     const std::string bag = dir + "/seq16.bag";
-    writeBag(bag, mm, BagSpec{"16UC1", true, true, "", true});
+    BagSpec millimetres;
+    millimetres.encoding = "16UC1";
+    writeBag(bag, mm, millimetres);
     const std::string fromDir = runTool(mm, dir + "/mmdir", config);
     REQUIRE(!fromDir.empty());
     CHECK(runTool(bag, dir + "/mmbag", config, std::string("--depth-topic ") + kBagDepthTopic) == fromDir);
@@ -100,7 +102,9 @@ TEST_CASE("bad bags get an error naming the topic or file, and nothing crashes",
   }
   SECTION("no camera_info") {
     const std::string noInfo = dir + "/noinfo.bag";
-    writeBag(noInfo, seq.sequence, BagSpec{"32FC1", false, true, "", true});
+    BagSpec withoutInfo;
+    withoutInfo.cameraInfo = false;
+    writeBag(noInfo, seq.sequence, withoutInfo);
     const auto out = failingRun(noInfo, dir);
     CHECK(out.find("/camera/depth/camera_info") != std::string::npos);
   }

@@ -17,6 +17,11 @@ bool hasSharedData(const std::string& sub) {
   return fs::is_directory(fs::path(sharedDataDir()) / sub, ec);
 }
 
+std::string testBinary(const char* env, const std::string& built) {
+  const char* value = std::getenv(env);
+  return value && *value ? std::string(value) : built;
+}
+
 std::string scratchDir(const std::string& name) {
   const fs::path dir = fs::path(SB_TEST_SCRATCH_DIR) / name;
   fs::remove_all(dir);

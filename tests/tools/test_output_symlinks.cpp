@@ -24,7 +24,7 @@ using sb::test::runCommand;
 
 namespace {
 
-const std::string kTool = SB_SLAMBOOSTER_BIN;
+const std::string kTool = sb::test::testBinary("SB_TEST_SLAMBOOSTER", SB_SLAMBOOSTER_BIN);
 
 // The first 150 frames of the corridor drive at 160x120 (shifts, so map slabs, within the first 100).
 const std::string& drive() {
