@@ -20,7 +20,7 @@ constexpr CommandName kCommands[] = {
     {"WATCH", Command::watch, true, false},      {"POLL", Command::poll, false, false},
     {"STATUS", Command::status, false, false},   {"CONTROL", Command::control, true, true},
     {"VERSION", Command::version, false, false}, {"ODOM", Command::odom, true, true},
-    {"MAP", Command::map, false, false},
+    {"MAP", Command::map, false, false},         {"CLOUD", Command::cloud, false, false},
 };
 
 std::string knownCommands() {
@@ -236,9 +236,20 @@ nlohmann::json mapMessage(const MapReport& m) {
     runs.push_back(j - i);
     i = j;
   }
-  return {{"class", "MAP"},           {"pass", m.pass},          {"frame", m.frame},
-          {"width", m.width},         {"height", m.height},      {"resolution", m.resolutionM},
-          {"origin", {m.originX, m.originY, 0.0}}, {"up", m.up}, {"runs", std::move(runs)}};
+  nlohmann::json j = {{"class", "MAP"},           {"pass", m.pass},          {"frame", m.frame},
+                      {"width", m.width},         {"height", m.height},      {"resolution", m.resolutionM},
+                      {"origin", {m.originX, m.originY, 0.0}}, {"up", m.up}, {"runs", std::move(runs)},
+                      {"frame_in_world", {{"position", m.framePosition}, {"quaternion", m.frameQuaternion}}}};
+  if (!m.octomap.empty()) j["octomap"] = m.octomap;
+  return j;
+}
+
+nlohmann::json cloudMessage(const MapReport& m) {
+  nlohmann::json cells = nlohmann::json::array();
+  for (const auto& c : m.cloud)
+    for (int32_t v : c) cells.push_back(v);
+  return {{"class", "CLOUD"}, {"pass", m.pass}, {"frame", m.frame}, {"resolution", m.cloudResolutionM},
+          {"cells", std::move(cells)}};
 }
 
 }  // namespace sb::daemon

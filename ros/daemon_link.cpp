@@ -17,8 +17,9 @@ constexpr int kProtoMajor = 1;  // the protocol major this bridge speaks (docs/p
 
 }  // namespace
 
-DaemonLink::DaemonLink(const BridgeConfig& config, OdometryPublisher& publisher, GridPublisher* grid)
-    : config_(config), publisher_(publisher), grid_(grid) {}
+DaemonLink::DaemonLink(const BridgeConfig& config, OdometryPublisher& publisher, GridPublisher* grid,
+                       CloudPublisher* cloud)
+    : config_(config), publisher_(publisher), grid_(grid), cloud_(cloud) {}
 
 std::string DaemonLink::serveOnce() {
   client::Connection connection(config_.socketPath, config_.connectTimeoutSeconds);
@@ -30,11 +31,15 @@ std::string DaemonLink::serveOnce() {
   announcedDown_ = false;
   ROS_INFO("connected to slamboosterd %s at %s", connection.version().value("release", "?").c_str(),
            config_.socketPath.c_str());
-  ros::WallTime nextMap = ros::WallTime::now();
+  ros::WallTime nextMap = ros::WallTime::now(), nextCloud = nextMap;
   while (ros::ok()) {
     if (grid_ && config_.mapPeriodSeconds > 0 && ros::WallTime::now() >= nextMap) {
       connection.send("?MAP;");  // the daemon's grid (protocol minor 4); an older daemon answers ERROR
       nextMap = ros::WallTime::now() + ros::WallDuration(config_.mapPeriodSeconds);
+    }
+    if (cloud_ && config_.cloudPeriodSeconds > 0 && ros::WallTime::now() >= nextCloud) {
+      connection.send("?CLOUD;");  // the map's surface cells (protocol minor 7); an older daemon answers ERROR
+      nextCloud = ros::WallTime::now() + ros::WallDuration(config_.cloudPeriodSeconds);
     }
     bool timedOut = false;
     auto message = connection.next(kPollSeconds, timedOut);
@@ -49,6 +54,8 @@ std::string DaemonLink::serveOnce() {
       publisher_.onEnergy(parseEnergy(*message));
     else if (cls == "MAP" && grid_)
       grid_->onMap(*message);
+    else if (cls == "CLOUD" && cloud_)
+      cloud_->onCloud(*message);
     else if (cls == "ERROR")
       ROS_WARN("slamboosterd: %s", message->value("message", "").c_str());
     // Other classes (WATCH, future ones) are ignored, as the protocol asks.
