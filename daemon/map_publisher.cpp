@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <filesystem>
 
 #include "core/error.h"
@@ -10,23 +9,6 @@
 
 namespace sb::daemon {
 
-namespace {
-
-// Cells of `resolution` merged into cells twice as large until at most `maxCells` remain (a voxel filter:
-// one point per occupied coarse cell). Sorted out.
-std::vector<std::array<int32_t, 3>> coarsen(std::vector<std::array<int32_t, 3>> cells, double& resolution,
-                                            size_t maxCells) {
-  while (cells.size() > maxCells) {
-    for (auto& c : cells)
-      for (int32_t& v : c) v >>= 1;  // arithmetic shift: floor(v / 2), negative cells included
-    std::sort(cells.begin(), cells.end());  // halving keeps no lexicographic order
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-    resolution *= 2.0;
-  }
-  return cells;
-}
-
-}  // namespace
 
 MapPublisher::MapPublisher(const OutputConfig& output, const PipelineConfig& pipeline, const SequenceInfo& sequence)
     : settings_(navmap::loadNavMapConfig(output.navmap)),
@@ -77,7 +59,8 @@ void MapPublisher::afterFrame(Run& run, uint64_t frame) {
   if (settings_.octomapResolutionM > 0.0) {
     if (navmap::octomapAvailable()) report.octomap = std::filesystem::absolute(run.dir() + "/map.bt").string();
     report.cloudResolutionM = settings_.octomapResolutionM;
-    report.cloud = coarsen(sink_->map().surfaceCells(), report.cloudResolutionM, kMaxCloudCells);
+    report.cloud = sink_->map().surfaceCells();
+    boundCloud(report, kMaxCloudCells);
   }
   publish_(std::move(report));
 }

@@ -244,6 +244,17 @@ nlohmann::json mapMessage(const MapReport& m) {
   return j;
 }
 
+void boundCloud(MapReport& m, size_t maxCells) {
+  std::sort(m.cloud.begin(), m.cloud.end());
+  while (m.cloud.size() > std::max<size_t>(maxCells, 8)) {  // cells either side of 0 never merge
+    for (auto& c : m.cloud)
+      for (int32_t& v : c) v >>= 1;  // arithmetic shift: floor(v / 2), negative cells included
+    std::sort(m.cloud.begin(), m.cloud.end());  // halving keeps no lexicographic order
+    m.cloud.erase(std::unique(m.cloud.begin(), m.cloud.end()), m.cloud.end());
+    m.cloudResolutionM *= 2.0;
+  }
+}
+
 nlohmann::json cloudMessage(const MapReport& m) {
   nlohmann::json cells = nlohmann::json::array();
   for (const auto& c : m.cloud)

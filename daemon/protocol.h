@@ -131,6 +131,9 @@ nlohmann::json versionMessage(const std::string& release);
 // MAP: the grid's cells run-length encoded as "runs": [value, count, value, count, ...] (nav_msgs/OccupancyGrid
 // order and values).
 nlohmann::json mapMessage(const MapReport& m);
+// A voxel filter on the report's cloud: cells merged into cells twice as large (cloudResolutionM doubled) until
+// at most maxCells (at least 8: the octants around the origin never merge) remain; sorted.
+void boundCloud(MapReport& m, size_t maxCells);
 // CLOUD: the report's cloud cells flattened as "cells": [i, j, k, i, j, k, ...] with "resolution".
 nlohmann::json cloudMessage(const MapReport& m);
 nlohmann::json poseMessage(const FrameReport& r);

@@ -132,3 +132,27 @@ TEST_CASE("deeply nested arguments are refused without recursion", "[daemon][pro
   CHECK_THAT(errorOf("?CONTROL={\"controller\":\"" + std::string(100000, 'x') + "\"}"),
              Contains("1 to 64 bytes"));
 }
+
+TEST_CASE("CLOUD: a cloud over the bound is voxel-filtered, negative cells floored", "[daemon][protocol]") {
+  MapReport m;
+  m.cloudResolutionM = 0.1;
+  for (int32_t x = 6; x >= -2; --x) m.cloud.push_back({x, 0, 0});  // 9 cells in a row, unsorted
+  boundCloud(m, 9);  // within the bound: as it was, sorted
+  CHECK(m.cloud.size() == 9);
+  CHECK(m.cloudResolutionM == 0.1);
+  CHECK(std::is_sorted(m.cloud.begin(), m.cloud.end()));
+  boundCloud(m, 8);  // 0.2 m cells: -2 and -1 floor to -1, 0 and 1 to 0, ..., 6 to 3
+  CHECK(m.cloud == std::vector<std::array<int32_t, 3>>{{-1, 0, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}});
+  CHECK(m.cloudResolutionM == Approx(0.2));
+  // The octants around the origin never merge: a bound below 8 is 8, and the filter ends.
+  m.cloud.clear();
+  for (int32_t x : {-1, 0})
+    for (int32_t y : {-1, 0})
+      for (int32_t z : {-1, 0}) m.cloud.push_back({x, y, z});
+  m.cloud.push_back({1000, 1000, 1000});
+  m.cloudResolutionM = 0.1;
+  boundCloud(m, 1);
+  CHECK(m.cloud.size() == 8);  // the far cell halved 10 times into {0, 0, 0}
+  CHECK(m.cloudResolutionM == Approx(0.1 * 1024));
+  CHECK(cloudMessage(m).dump().find(R"("cells":[-1,-1,-1,-1,-1,0,)") != std::string::npos);
+}
