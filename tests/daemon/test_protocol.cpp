@@ -1,6 +1,9 @@
 // The request parser and the message encoders of the socket protocol (docs/protocol.md).
 
+#include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
+#include <vector>
 
 #include "daemon/protocol.h"
 
