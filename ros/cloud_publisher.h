@@ -1,8 +1,8 @@
 #pragma once
-// ~cloud of slambooster_ros (issue 45): the daemon's map surface (its CLOUD reply to ?CLOUD, docs/protocol.md:
-// the occupied cells of map.bt, coarsened by the daemon to a bounded count) as a latched
-// sensor_msgs/PointCloud2 of the cells' centres (x, y, z float32) in ~grid_frame, renewed every ~cloud_period_s.
-// A voxel-downsampled cloud for rviz; the bridge never rebuilds the map.
+// ~cloud of slambooster_ros (issue 45): the daemon's map surface (its CLOUD reply to ?CLOUD,
+// docs/protocol.md: the occupied cells of map.bt, coarsened by the daemon to a bounded count) as a latched
+// sensor_msgs/PointCloud2 of the cells' centres (x, y, z float32) in ~grid_frame, renewed every
+// ~cloud_period_s. A voxel-downsampled cloud for rviz; the bridge never rebuilds the map.
 
 #include <ros/ros.h>
 

@@ -14,6 +14,7 @@ namespace {
 // How long one wait for the daemon's next line lasts before ros::ok() is checked again, seconds.
 constexpr double kPollSeconds = 0.1;
 constexpr int kProtoMajor = 1;  // the protocol major this bridge speaks (docs/protocol.md)
+constexpr int kCloudMinor = 7;  // ?CLOUD since 1.7
 
 }  // namespace
 
@@ -28,6 +29,8 @@ std::string DaemonLink::serveOnce() {
     throw Error("slamboosterd at '" + config_.socketPath + "' speaks protocol " + std::to_string(major) +
                 ", this bridge speaks " + std::to_string(kProtoMajor) + ": install matching versions");
   connection.send(R"(?WATCH={"enable":true,"pose":true,"knobs":true,"energy":true})");
+  // An older daemon has no ?CLOUD.
+  const bool cloud = cloud_ && connection.version().value("proto_minor", 0) >= kCloudMinor;
   announcedDown_ = false;
   ROS_INFO("connected to slamboosterd %s at %s", connection.version().value("release", "?").c_str(),
            config_.socketPath.c_str());
@@ -37,8 +40,8 @@ std::string DaemonLink::serveOnce() {
       connection.send("?MAP;");  // the daemon's grid (protocol minor 4); an older daemon answers ERROR
       nextMap = ros::WallTime::now() + ros::WallDuration(config_.mapPeriodSeconds);
     }
-    if (cloud_ && config_.cloudPeriodSeconds > 0 && ros::WallTime::now() >= nextCloud) {
-      connection.send("?CLOUD;");  // the map's surface cells (protocol minor 7); an older daemon answers ERROR
+    if (cloud && config_.cloudPeriodSeconds > 0 && ros::WallTime::now() >= nextCloud) {
+      connection.send("?CLOUD;");  // the map's surface cells
       nextCloud = ros::WallTime::now() + ros::WallDuration(config_.cloudPeriodSeconds);
     }
     bool timedOut = false;

@@ -1,14 +1,15 @@
-// The robot's wheel odometry from a live ROS topic (issue 41's ROS door), against a real ROS master: a synthetic
-// corridor drive's depth goes over the bridge's depth topic path into the daemon's push source (as in
-// test_ros_depth_topic), its odometry.txt as the base's nav_msgs/Odometry on /odom with the camera mount on
-// /tf_static; slambooster_ros looks the mount up with tf2 and pushes each sample with ?ODOM. The daemon's
+// The robot's wheel odometry from a live ROS topic (issue 41's ROS door), against a real ROS master: a
+// synthetic corridor drive's depth goes over the bridge's depth topic path into the daemon's push source (as
+// in test_ros_depth_topic), its odometry.txt as the base's nav_msgs/Odometry on /odom with the camera mount
+// on /tf_static; slambooster_ros looks the mount up with tf2 and pushes each sample with ?ODOM. The daemon's
 // trajectory equals `slambooster run` on the drive's directory (which reads odometry.txt) line for line, and
 // frames.jsonl says the same frames had odometry. Without the odometry (nothing on the bridge's topic) the
-// same drive ends half a metre off (ATE 54 cm against 4.8 cm with it), so the comparison cannot pass by chance.
+// same drive ends half a metre off (ATE 54 cm against 4.8 cm with it), so the comparison cannot pass by
+// chance.
 //
-// Pacing: the odometry is all handed over (the bridge's `slambooster: odometry in` diagnostics count it) after
-// frame 0 (whose processing opens the daemon's socket; a first frame never uses odometry) and before frame 1,
-// then every frame waits for the one before it, so the daemon sees what `run` sees.
+// Pacing: the odometry is all handed over (the bridge's `slambooster: odometry in` diagnostics count it)
+// after frame 0 (whose processing opens the daemon's socket; a first frame never uses odometry) and before
+// frame 1, then every frame waits for the one before it, so the daemon sees what `run` sees.
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -35,7 +36,8 @@ using sb::test::e2e::kDaemon;
 using sb::test::e2e::kTool;
 
 constexpr int kDriveFrames = 120;
-constexpr size_t kOdometryChunk = 40;  // samples published before waiting for the bridge: within its queue of 100
+constexpr size_t kOdometryChunk =
+    40;  // samples published before waiting for the bridge: within its queue of 100
 constexpr const char* kCameraFrame = "camera_depth_optical_frame";
 
 sensor_msgs::Image toImage(const sb::DepthFrame& f, double depthScale) {
@@ -89,9 +91,9 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
           "[ros][e2e][odometry]") {
   const std::string dir = scratchDir("ros_odometry_topic");
   const std::string drive = dir + "/drive";
-  const auto synth = runCommand(kTool + " synth --scene corridor --stress drive --seed 0 --frames " +
-                                std::to_string(kDriveFrames) +
-                                " --width 160 --height 120 --fx 120.3 --fy 120 --threads 1 --overwrite --out " + drive);
+  const auto synth = runCommand(
+      kTool + " synth --scene corridor --stress drive --seed 0 --frames " + std::to_string(kDriveFrames) +
+      " --width 160 --height 120 --fx 120.3 --fy 120 --threads 1 --overwrite --out " + drive);
   INFO(synth.output);
   REQUIRE(synth.exitCode == 0);
   // 128^3 voxels of 5.9 cm at full size: depth tracks the drive, so the odometry is fused, not just followed.
@@ -105,7 +107,8 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
   const auto expected = trajectoryLines(dir + "/run/trajectory.tum");
   REQUIRE(expected.size() == static_cast<size_t>(kDriveFrames));
   const std::vector<int> expectedOdometry = framesWithOdometry(dir + "/run/frames.jsonl");
-  REQUIRE(expectedOdometry.size() >= static_cast<size_t>(kDriveFrames - 2));  // frame 0 and one before the first sample
+  REQUIRE(expectedOdometry.size() >=
+          static_cast<size_t>(kDriveFrames - 2));  // frame 0 and one before the first sample
 
   sb::SequenceOptions o;
   o.prefetch = false;
@@ -114,7 +117,8 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
   std::vector<sb::DepthFrame> frames;
   while (auto f = source->next()) frames.push_back(std::move(*f));
   REQUIRE(frames.size() == static_cast<size_t>(kDriveFrames));
-  const std::vector<nav_msgs::Odometry> odometry = odometryMessages(drive + "/odometry.txt", /*covariance=*/false);
+  const std::vector<nav_msgs::Odometry> odometry =
+      odometryMessages(drive + "/odometry.txt", /*covariance=*/false);
   REQUIRE(odometry.size() > frames.size());
 
   e2e::TempDir tmp;
@@ -123,7 +127,8 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
   joinMaster(master, "test_odometry_publisher");
   ros::NodeHandle node;
   ros::Publisher depthPub = node.advertise<sensor_msgs::Image>("/camera/depth/image", 2);
-  ros::Publisher infoPub = node.advertise<sensor_msgs::CameraInfo>("/camera/depth/camera_info", 1, /*latch=*/true);
+  ros::Publisher infoPub =
+      node.advertise<sensor_msgs::CameraInfo>("/camera/depth/camera_info", 1, /*latch=*/true);
   ros::Publisher odomPub = node.advertise<nav_msgs::Odometry>("/odom", 1000);
   ros::Publisher tfPub = node.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
   ForwarderCounts counts;
@@ -143,15 +148,35 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
                              "odom_topic:=/odom", std::string("odom_camera_frame:=") + kCameraFrame},
                             tmp.path + "/bridge.log");
   INFO(bridge->log());
-  REQUIRE(waitFor([&] {
-    return depthPub.getNumSubscribers() >= 1 && infoPub.getNumSubscribers() >= 1 && odomPub.getNumSubscribers() >= 1 &&
-           tfPub.getNumSubscribers() >= 1 && diagnostics.getNumPublishers() >= 1;
-  }, 20.0));
+  REQUIRE(waitFor(
+      [&] {
+        return depthPub.getNumSubscribers() >= 1 && infoPub.getNumSubscribers() >= 1 &&
+               odomPub.getNumSubscribers() >= 1 && tfPub.getNumSubscribers() >= 1 &&
+               diagnostics.getNumPublishers() >= 1;
+      },
+      20.0));
   std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched mount reaches the bridge's tf2 buffer
 
-  ChildProcess daemon({kDaemon, "--input", push, "--out", tmp.path + "/pushed", "--socket", socket, "--pacing",
-                       "recorded", "--at-end", "stop", "--controller", "fixed", "--set", "slam.threads=1", "--set",
-                       "slam.pipeline_config=" + config, "--set", "source.type=push", "--set",
+  ChildProcess daemon({kDaemon,
+                       "--input",
+                       push,
+                       "--out",
+                       tmp.path + "/pushed",
+                       "--socket",
+                       socket,
+                       "--pacing",
+                       "recorded",
+                       "--at-end",
+                       "stop",
+                       "--controller",
+                       "fixed",
+                       "--set",
+                       "slam.threads=1",
+                       "--set",
+                       "slam.pipeline_config=" + config,
+                       "--set",
+                       "source.type=push",
+                       "--set",
                        "output.rotation.mode=never"},
                       {}, tmp.path + "/daemon.log");
   INFO(daemon.log());
@@ -175,8 +200,11 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
       odomPub.publish(odometry[k]);
       if ((k + 1) % kOdometryChunk != 0 && k + 1 != odometry.size()) continue;
       INFO("odometry samples published: " << k + 1);
-      REQUIRE(waitFor([&] { return counts.get("pushed") + counts.get("skipped_no_mount") + counts.get("failed") >= k + 1; },
-                      20.0));
+      REQUIRE(waitFor(
+          [&] {
+            return counts.get("pushed") + counts.get("skipped_no_mount") + counts.get("failed") >= k + 1;
+          },
+          20.0));
     }
     CHECK(counts.get("skipped_no_mount") == 0);
     CHECK(counts.get("failed") == 0);
