@@ -9,7 +9,6 @@
 
 namespace sb::daemon {
 
-
 MapPublisher::MapPublisher(const OutputConfig& output, const PipelineConfig& pipeline, const SequenceInfo& sequence)
     : settings_(navmap::loadNavMapConfig(output.navmap)),
       period_(output.navmapPeriodS),
