@@ -2,7 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <filesystem>
+
 #include "core/error.h"
+#include "navmap/octomap_file.h"
 
 namespace sb::daemon {
 
@@ -47,6 +50,17 @@ void MapPublisher::afterFrame(Run& run, uint64_t frame) {
   report.originY = grid.originM.y();
   report.up = sink_->map().frame()->source;
   report.cells = grid.cells;
+  const Eigen::Isometry3d T_map_to_world = sink_->map().frame()->T_world_to_map.inverse();
+  const Eigen::Quaterniond q(T_map_to_world.rotation());
+  report.framePosition = {T_map_to_world.translation().x(), T_map_to_world.translation().y(),
+                          T_map_to_world.translation().z()};
+  report.frameQuaternion = {q.x(), q.y(), q.z(), q.w()};
+  if (settings_.octomapResolutionM > 0.0) {
+    if (navmap::octomapAvailable()) report.octomap = std::filesystem::absolute(run.dir() + "/map.bt").string();
+    report.cloudResolutionM = settings_.octomapResolutionM;
+    report.cloud = sink_->map().surfaceCells();
+    boundCloud(report, kMaxCloudCells);
+  }
   publish_(std::move(report));
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // The daemon's navigation map (issue 45; navmap/): a NavMapSink per pass from output.navmap's settings; every
 // output.navmap_period_s the SLAM thread writes the pass's map.pgm, map.yaml, map_frame.json and map.bt
-// (atomically) and publishes the grid, which ?MAP answers (daemon/protocol.h MapReport), so a bridge never
-// rebuilds it. SLAM thread only, but for the construction.
+// (atomically) and publishes the grid, which ?MAP answers (daemon/protocol.h MapReport; with the map frame's
+// pose and map.bt's path), and map.bt's occupied cells, which ?CLOUD answers, so a bridge never rebuilds them. SLAM thread only, but for the construction.
 
 #include <chrono>
 #include <functional>

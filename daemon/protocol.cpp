@@ -20,7 +20,7 @@ constexpr CommandName kCommands[] = {
     {"WATCH", Command::watch, true, false},      {"POLL", Command::poll, false, false},
     {"STATUS", Command::status, false, false},   {"CONTROL", Command::control, true, true},
     {"VERSION", Command::version, false, false}, {"ODOM", Command::odom, true, true},
-    {"MAP", Command::map, false, false},
+    {"MAP", Command::map, false, false},         {"CLOUD", Command::cloud, false, false},
 };
 
 std::string knownCommands() {
@@ -236,9 +236,31 @@ nlohmann::json mapMessage(const MapReport& m) {
     runs.push_back(j - i);
     i = j;
   }
-  return {{"class", "MAP"},           {"pass", m.pass},          {"frame", m.frame},
-          {"width", m.width},         {"height", m.height},      {"resolution", m.resolutionM},
-          {"origin", {m.originX, m.originY, 0.0}}, {"up", m.up}, {"runs", std::move(runs)}};
+  nlohmann::json j = {{"class", "MAP"},           {"pass", m.pass},          {"frame", m.frame},
+                      {"width", m.width},         {"height", m.height},      {"resolution", m.resolutionM},
+                      {"origin", {m.originX, m.originY, 0.0}}, {"up", m.up}, {"runs", std::move(runs)},
+                      {"frame_in_world", {{"position", m.framePosition}, {"quaternion", m.frameQuaternion}}}};
+  if (!m.octomap.empty()) j["octomap"] = m.octomap;
+  return j;
+}
+
+void boundCloud(MapReport& m, size_t maxCells) {
+  std::sort(m.cloud.begin(), m.cloud.end());
+  while (m.cloud.size() > std::max<size_t>(maxCells, 8)) {  // cells either side of 0 never merge
+    for (auto& c : m.cloud)
+      for (int32_t& v : c) v >>= 1;  // arithmetic shift: floor(v / 2), negative cells included
+    std::sort(m.cloud.begin(), m.cloud.end());  // halving keeps no lexicographic order
+    m.cloud.erase(std::unique(m.cloud.begin(), m.cloud.end()), m.cloud.end());
+    m.cloudResolutionM *= 2.0;
+  }
+}
+
+nlohmann::json cloudMessage(const MapReport& m) {
+  nlohmann::json cells = nlohmann::json::array();
+  for (const auto& c : m.cloud)
+    for (int32_t v : c) cells.push_back(v);
+  return {{"class", "CLOUD"}, {"pass", m.pass}, {"frame", m.frame}, {"resolution", m.cloudResolutionM},
+          {"cells", std::move(cells)}};
 }
 
 }  // namespace sb::daemon

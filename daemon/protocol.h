@@ -27,13 +27,15 @@ constexpr int kProtoMajor = 1;
 // odometry_drift_m (docs/odometry.md).
 // 5: ?ODOM (any local client pushes the robot's odometry: daemon/odom_request.h).
 // 6: ?MAP answers MAP, the navigation grid (issue 45; docs/navmap.md).
-constexpr int kProtoMinor = 6;
+// 7: MAP carries frame_in_world (the grid's frame in POSE's) and octomap (map.bt's path); ?CLOUD answers CLOUD,
+// the map's surface cells for a point cloud.
+constexpr int kProtoMinor = 7;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
 constexpr size_t kMaxNameBytes = 64;
 
-enum class Command { watch, poll, status, control, version, odom, map };
+enum class Command { watch, poll, status, control, version, odom, map, cloud };
 
 struct WatchRequest {  // fields absent from the request stay unset (the client's current choice is kept)
   std::optional<bool> enable, pose, knobs, energy;
@@ -112,12 +114,28 @@ struct MapReport {
   double originX = 0.0, originY = 0.0;  // map frame, metres: the lower-left corner of cell (0, 0)
   std::string up;              // where the map frame (z up) came from
   std::vector<int8_t> cells;   // row-major from cell (0, 0), row 0 the lowest y: -1 unknown, 0 free, 100 occupied
+  // Since 1.7: the map frame's pose in the world frame (POSE's), T_map_to_world.
+  std::array<double, 3> framePosition{};
+  std::array<double, 4> frameQuaternion{0.0, 0.0, 0.0, 1.0};  // qx qy qz qw
+  std::string octomap;         // map.bt's path as last written; "" when none is written
+  // The cloud (?CLOUD): occupied 3D cells of cloudResolutionM in the map frame, cell (i, j, k) centred at
+  // ((i, j, k) + 0.5) * cloudResolutionM; at most kMaxCloudCells. cloudResolutionM 0: no cloud.
+  double cloudResolutionM = 0.0;
+  std::vector<std::array<int32_t, 3>> cloud;
 };
+
+// The most cells a CLOUD carries (about 15 bytes each: well within socket.client_buffer_bytes' default 256 KiB).
+inline constexpr size_t kMaxCloudCells = 8000;
 
 nlohmann::json versionMessage(const std::string& release);
 // MAP: the grid's cells run-length encoded as "runs": [value, count, value, count, ...] (nav_msgs/OccupancyGrid
 // order and values).
 nlohmann::json mapMessage(const MapReport& m);
+// A voxel filter on the report's cloud: cells merged into cells twice as large (cloudResolutionM doubled) until
+// at most maxCells (at least 8: the octants around the origin never merge) remain; sorted.
+void boundCloud(MapReport& m, size_t maxCells);
+// CLOUD: the report's cloud cells flattened as "cells": [i, j, k, i, j, k, ...] with "resolution".
+nlohmann::json cloudMessage(const MapReport& m);
 nlohmann::json poseMessage(const FrameReport& r);
 nlohmann::json knobsMessage(const FrameReport& r);
 nlohmann::json energyMessage(const EnergyReport& e);

@@ -178,6 +178,11 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
         return reply(client, errorMessage("?MAP: no navigation grid yet (output.navmap: a settings file saying "
                                           "which way is up; the grid comes at the first output.navmap_period_s)"));
       return deliver(client, lastMap_);
+    case Command::cloud:
+      if (!lastCloud_)
+        return reply(client, errorMessage("?CLOUD: no map cloud yet (output.navmap with octomap_resolution_m above 0; "
+                                          "the cloud comes with the grid, at the first output.navmap_period_s)"));
+      return deliver(client, lastCloud_);
     case Command::status: {
       nlohmann::json s = state_.status();
       s["clients"] = clients_.size();
@@ -262,7 +267,10 @@ void SocketServer::publishEnergy(const EnergyReport& report) {
     if (client->watching && client->watchEnergy) deliver(*client, energy);
 }
 
-void SocketServer::publishMap(const MapReport& report) { lastMap_ = makeLine(mapMessage(report)); }
+void SocketServer::publishMap(const MapReport& report) {
+  lastMap_ = makeLine(mapMessage(report));
+  lastCloud_ = report.cloudResolutionM > 0.0 ? makeLine(cloudMessage(report)) : Line();
+}
 
 void SocketServer::pauseAccepting(int error) {
   if (acceptPaused_) return;

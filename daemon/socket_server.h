@@ -38,7 +38,8 @@ class SocketServer {
 
   void publishFrame(const FrameReport& report);
   void publishEnergy(const EnergyReport& report);
-  // The navigation grid the SLAM thread last wrote: ?MAP answers it (encoded once, shared by every reply).
+  // The navigation grid the SLAM thread last wrote: ?MAP answers it, ?CLOUD its cloud (encoded once, shared by
+  // every reply).
   void publishMap(const MapReport& report);
   // Disconnects clients stalled longer than the configured limit. Call periodically.
   void dropStalledClients();
@@ -79,6 +80,7 @@ class SocketServer {
   std::map<int, std::unique_ptr<Client>> clients_;
   std::optional<nlohmann::json> lastPose_, lastKnobs_, lastEnergy_;
   Line lastMap_;  // MAP, or null before the first grid
+  Line lastCloud_;  // CLOUD, or null before the first grid with a cloud
   uint64_t framesPublished_ = 0;
   uint64_t messagesDropped_ = 0;
   uint64_t clientsDisconnected_ = 0;

@@ -1,5 +1,6 @@
 #include "navmap/nav_map.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -11,6 +12,17 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double msSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+std::vector<std::array<int32_t, 3>> occupiedCells(const VolumeVotes& votes, const NavMapConfig& config,
+                                                  double voxelSizeM) {
+  const double expected = voxelsPerVolumeCell(config, voxelSizeM);
+  std::vector<std::array<int32_t, 3>> out;
+  votes.forEach([&](int32_t x, int32_t y, int32_t z, const CellVotes& v) {
+    if (classifyCell(v, config.minOccupiedVoxels, config.freeShare, expected) == CellState::occupied)
+      out.push_back({x, y, z});
+  });
+  std::sort(out.begin(), out.end());  // the hash's order is not the run's
+  return out;
 }
 }  // namespace
 
@@ -54,14 +66,16 @@ OccupancyImage NavMap::write(const std::string& dir, const VoxelBox* volume) {
   const auto start = Clock::now();
   OccupancyImage image = grid();
   writeGridFiles(dir, image, config_, *frame_);
-  if (config_.octomapResolutionM > 0.0 && octomapAvailable()) {
+  if (config_.octomapResolutionM > 0.0) {
     VolumeVotes cells = committedCells_;
     if (volume) {
       VoxelBox b = *volume;
       b.muM = muM_;
       voteVolume(b, frame_->T_world_to_map, config_, cells);
     }
-    writeOctomap((std::filesystem::path(dir) / "map.bt").string(), cells, config_, voxelSizeM_, &stats_.octomap);
+    surfaceCells_ = occupiedCells(cells, config_, voxelSizeM_);
+    if (octomapAvailable())
+      writeOctomap((std::filesystem::path(dir) / "map.bt").string(), cells, config_, voxelSizeM_, &stats_.octomap);
   }
   ++stats_.writes;
   stats_.writeMs += msSince(start);

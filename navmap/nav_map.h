@@ -12,8 +12,11 @@
 //
 // Not thread-safe: the SLAM thread adds, refreshes and writes.
 
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "navmap/grid_votes.h"
 #include "navmap/map_files.h"
@@ -53,6 +56,10 @@ class NavMap {
 
   const NavMapConfig& config() const { return config_; }
   NavMapStats stats() const;
+  // The occupied 3D cells of the last write (map.bt's occupied leaves; the daemon's ?CLOUD): indices of
+  // octomapResolutionM cells in the map frame, cell (i, j, k) centred at ((i, j, k) + 0.5) * resolution; sorted.
+  // Empty with octomapResolutionM 0.
+  const std::vector<std::array<int32_t, 3>>& surfaceCells() const { return surfaceCells_; }
 
  private:
   NavMapConfig config_;
@@ -61,6 +68,7 @@ class NavMap {
   GridVotes committed_, live_;
   VolumeVotes committedCells_;
   NavMapStats stats_;
+  std::vector<std::array<int32_t, 3>> surfaceCells_;
 };
 
 }  // namespace sb::navmap

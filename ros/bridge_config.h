@@ -36,6 +36,7 @@ struct BridgeConfig {
   // The navigation grid (issue 45): ?MAP every mapPeriodSeconds, published latched on ~map in gridFrame.
   std::string gridFrame = "slambooster_grid";  // the map frame of the grid: z up, z = 0 the floor
   double mapPeriodSeconds = 5.0;               // 0: no ~map
+  double cloudPeriodSeconds = 5.0;             // ?CLOUD every this many seconds onto ~cloud; 0: no ~cloud
   // Depth from ROS topics into the daemon (empty push_socket: off).
   std::string pushSocket;                      // the daemon's push source socket (source.type "push")
   std::string depthTopic = "camera/depth/image";  // sensor_msgs/Image, 16UC1 (mm) or 32FC1 (m)

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "ros/bridge_config.h"
+#include "ros/cloud_publisher.h"
 #include "ros/grid_publisher.h"
 #include "ros/odometry_publisher.h"
 
@@ -12,7 +13,8 @@ namespace sb::ros_bridge {
 
 class DaemonLink {
  public:
-  DaemonLink(const BridgeConfig& config, OdometryPublisher& publisher, GridPublisher* grid = nullptr);
+  DaemonLink(const BridgeConfig& config, OdometryPublisher& publisher, GridPublisher* grid = nullptr,
+             CloudPublisher* cloud = nullptr);
   // Runs until ros::ok() turns false.
   void run();
 
@@ -23,6 +25,7 @@ class DaemonLink {
   const BridgeConfig& config_;
   OdometryPublisher& publisher_;
   GridPublisher* grid_;  // ~map, or nullptr
+  CloudPublisher* cloud_;  // ~cloud, or nullptr
   bool announcedDown_ = false;  // "disconnected" was published since the last connection
 };
 

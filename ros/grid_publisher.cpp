@@ -8,7 +8,8 @@
 
 namespace sb::ros_bridge {
 
-GridPublisher::GridPublisher(ros::NodeHandle& privateNode, const BridgeConfig& config) : config_(config) {
+GridPublisher::GridPublisher(ros::NodeHandle& privateNode, const BridgeConfig& config)
+    : config_(config), privateNode_(privateNode) {
   grid_ = privateNode.advertise<nav_msgs::OccupancyGrid>("map", 1, /*latch=*/true);
 }
 
@@ -32,9 +33,35 @@ void GridPublisher::onMap(const nlohmann::json& j) {
       throw Error("MAP: its runs hold " + std::to_string(grid.data.size()) + " cells, not width x height");
     grid_.publish(grid);
     ++published_;
+    if (j.contains("frame_in_world") && config_.publishTf) onFrame(j.at("frame_in_world"));
+    if (j.contains("octomap") && j.at("octomap").get<std::string>() != lastOctomap_) {
+      lastOctomap_ = j.at("octomap").get<std::string>();
+      privateNode_.setParam("octomap", lastOctomap_);
+    }
   } catch (const nlohmann::json::exception& e) {
     throw Error(std::string("MAP: malformed: ") + e.what());
   }
+}
+
+void GridPublisher::onFrame(const nlohmann::json& f) {
+  std::vector<double> v = f.at("position").get<std::vector<double>>();
+  const std::vector<double> q = f.at("quaternion").get<std::vector<double>>();
+  if (v.size() != 3 || q.size() != 4) throw Error("MAP: frame_in_world needs 3 position and 4 quaternion numbers");
+  v.insert(v.end(), q.begin(), q.end());
+  if (v == lastFrame_) return;  // static: once per change
+  lastFrame_ = v;
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = ros::Time::now();
+  t.header.frame_id = config_.mapFrame;
+  t.child_frame_id = config_.gridFrame;
+  t.transform.translation.x = v[0];
+  t.transform.translation.y = v[1];
+  t.transform.translation.z = v[2];
+  t.transform.rotation.x = v[3];
+  t.transform.rotation.y = v[4];
+  t.transform.rotation.z = v[5];
+  t.transform.rotation.w = v[6];
+  staticTf_.sendTransform(t);
 }
 
 }  // namespace sb::ros_bridge

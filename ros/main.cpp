@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "core/error.h"
+#include "ros/cloud_publisher.h"
 #include "ros/daemon_link.h"
 #include "ros/depth_forwarder.h"
 #include "ros/grid_publisher.h"
@@ -36,8 +37,9 @@ int main(int argc, char** argv) {
   spinner.start();
   const sb::ros_bridge::MasterWatch watch;  // a restarted master ends the bridge with status 3
   sb::ros_bridge::OdometryPublisher publisher(node, privateNode, config);
-  sb::ros_bridge::GridPublisher grid(privateNode, config);  // ~map (issue 45)
-  sb::ros_bridge::DaemonLink(config, publisher, &grid).run();
+  sb::ros_bridge::GridPublisher grid(privateNode, config);    // ~map, its TF, ~octomap (issue 45)
+  sb::ros_bridge::CloudPublisher cloud(privateNode, config);  // ~cloud
+  sb::ros_bridge::DaemonLink(config, publisher, &grid, &cloud).run();
   spinner.stop();
   return 0;
 }

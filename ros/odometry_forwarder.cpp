@@ -1,6 +1,9 @@
 #include "ros/odometry_forwarder.h"
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <ros/console.h>
+
+#include <cstdio>
 
 #include "client/odometry_pusher.h"
 #include "core/error.h"
@@ -8,6 +11,16 @@
 namespace sb::ros_bridge {
 
 namespace {
+
+constexpr const char* kDiagnosticName = "slambooster: odometry in";
+constexpr double kDiagnosticsPeriodS = 1.0;  // diagnostics' usual rate
+
+diagnostic_msgs::KeyValue keyValue(const std::string& key, const std::string& value) {
+  diagnostic_msgs::KeyValue kv;
+  kv.key = key;
+  kv.value = value;
+  return kv;
+}
 
 Eigen::Isometry3d toIsometry(double x, double y, double z, const geometry_msgs::Quaternion& q) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -21,6 +34,9 @@ Eigen::Isometry3d toIsometry(double x, double y, double z, const geometry_msgs::
 OdometryForwarder::OdometryForwarder(ros::NodeHandle& node, const BridgeConfig& config)
     : config_(config), listener_(buffer_) {
   odometry_ = node.subscribe(config.odomTopic, 100, &OdometryForwarder::onOdometry, this);
+  diagnostics_ = node.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+  diagnosticsTimer_ = node.createWallTimer(ros::WallDuration(kDiagnosticsPeriodS),
+                                           [this](const ros::WallTimerEvent&) { publishDiagnostics(); });
   ROS_INFO("slambooster: odometry from %s (camera mount: tf2 %s), pushed to %s", odometry_.getTopic().c_str(),
            config.odomCameraFrame.c_str(), config.socketPath.c_str());
 }
@@ -33,6 +49,7 @@ void OdometryForwarder::onOdometry(const nav_msgs::Odometry::ConstPtr& m) {
       const auto& r = t.transform.translation;
       mount_ = toIsometry(r.x, r.y, r.z, t.transform.rotation);
     } catch (const std::exception& e) {
+      lastError_ = std::string("no camera mount yet: ") + e.what();
       if (++skipped_ == 1 || skipped_ % 100 == 0)
         ROS_WARN("slambooster: odometry skipped (%lu so far): no camera mount yet from '%s' to '%s': %s",
                  static_cast<unsigned long>(skipped_), m->child_frame_id.c_str(), config_.odomCameraFrame.c_str(),
@@ -52,10 +69,37 @@ void OdometryForwarder::onOdometry(const nav_msgs::Odometry::ConstPtr& m) {
     if (!connection_) connection_ = std::make_unique<client::Connection>(config_.socketPath, config_.connectTimeoutSeconds);
     client::pushOdometry(*connection_, {s}, config_.connectTimeoutSeconds);
     ++pushed_;
+    newestPushed_ = s.timestamp;
+    lastError_.clear();
   } catch (const Error& e) {
+    ++failed_;
+    lastError_ = e.what();
     connection_.reset();  // reconnect on the next sample
     ROS_WARN_THROTTLE(5.0, "slambooster: odometry at %.6f s not taken: %s", s.timestamp, e.what());
   }
+}
+
+void OdometryForwarder::publishDiagnostics() {
+  diagnostic_msgs::DiagnosticStatus st;
+  st.name = kDiagnosticName;
+  st.hardware_id = config_.socketPath;
+  {
+    std::lock_guard lock(mutex_);
+    const bool flowing = pushed_ > 0 && lastError_.empty();
+    st.level = flowing ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN;
+    st.message = flowing ? "odometry reaches slamboosterd"
+                         : pushed_ + skipped_ + failed_ == 0 ? "no odometry received on " + odometry_.getTopic()
+                                                             : lastError_;
+    char newest[32] = "";
+    if (newestPushed_) std::snprintf(newest, sizeof newest, "%.6f", *newestPushed_);
+    st.values = {keyValue("topic", odometry_.getTopic()), keyValue("camera_frame", config_.odomCameraFrame),
+                 keyValue("pushed", std::to_string(pushed_)), keyValue("skipped_no_mount", std::to_string(skipped_)),
+                 keyValue("failed", std::to_string(failed_)), keyValue("newest_pushed_s", newest)};
+  }
+  diagnostic_msgs::DiagnosticArray array;
+  array.header.stamp = ros::Time::now();
+  array.status.push_back(std::move(st));
+  diagnostics_.publish(array);
 }
 
 }  // namespace sb::ros_bridge

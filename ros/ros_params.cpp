@@ -33,6 +33,7 @@ BridgeConfig readBridgeConfig(const ros::NodeHandle& n) {
   n.param("connect_timeout_s", c.connectTimeoutSeconds, c.connectTimeoutSeconds);
   n.param("grid_frame", c.gridFrame, c.gridFrame);
   n.param("map_period_s", c.mapPeriodSeconds, c.mapPeriodSeconds);
+  n.param("cloud_period_s", c.cloudPeriodSeconds, c.cloudPeriodSeconds);
   readSigma(n, "good", c.covariance.good);
   readSigma(n, "relocalised", c.covariance.relocalised);
   readSigma(n, "weak", c.covariance.weak);
@@ -56,6 +57,8 @@ BridgeConfig readBridgeConfig(const ros::NodeHandle& n) {
   if (c.stamp != "frame" && c.stamp != "monotonic")
     throw Error("parameter ~stamp = '" + c.stamp + "' must be \"frame\" or \"monotonic\"");
   positive("reconnect_s", c.reconnectSeconds, "seconds");
+  if (c.mapPeriodSeconds != 0) positive("map_period_s", c.mapPeriodSeconds, "seconds (or 0: no ~map)");
+  if (c.cloudPeriodSeconds != 0) positive("cloud_period_s", c.cloudPeriodSeconds, "seconds (or 0: no ~cloud)");
   positive("connect_timeout_s", c.connectTimeoutSeconds, "seconds");
   if (c.pushDepthScale != 0) positive("push_depth_scale", c.pushDepthScale, "raw units per metre (or 0)");
   if (!c.pushSocket.empty() && c.depthTopic.empty())

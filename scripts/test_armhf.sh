@@ -74,6 +74,7 @@ cross-install (README, With ROS); this placeholder only says so"
   [test_ros_map]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_master_restart]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_bag_hostile]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_odometry_topic]="ROS 1 component: native builds only (see ros_component)"
   [test_cluster_reference]=$spawns [test_cluster_parallel]=$spawns [test_cluster_kill]=$spawns
   [test_cluster_slurm]="starts a Slurm cluster of the host's (amd64) daemons that run the armhf tool: $spawns"
   [test_openni2_source]="asserts frame arrival times (the last frame stamped under 0.5 s ago) that emulation on a

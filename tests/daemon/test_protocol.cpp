@@ -1,6 +1,9 @@
 // The request parser and the message encoders of the socket protocol (docs/protocol.md).
 
+#include <algorithm>
+#include <array>
 #include <catch2/catch.hpp>
+#include <vector>
 
 #include "daemon/protocol.h"
 
@@ -96,7 +99,7 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   // Protocol 1.3: the frame log's name of the velocity beside the old one.
   CHECK(pose.at("velocity") == pose.at("velocity_m_per_frame"));
   // Protocol 1.4: the odometry state, whether the frame had odometry, the distance driven on it alone.
-  CHECK(versionMessage("x").at("proto_minor") == 6);
+  CHECK(versionMessage("x").at("proto_minor") == 7);
   FrameReport wheels = r;
   wheels.pose.state = sb::TrackingState::odometry;
   wheels.pose.odometry = true;
@@ -131,4 +134,28 @@ TEST_CASE("deeply nested arguments are refused without recursion", "[daemon][pro
   // A reply quoting a 1 MiB controller name overflowed the client's buffer: the client got no answer.
   CHECK_THAT(errorOf("?CONTROL={\"controller\":\"" + std::string(100000, 'x') + "\"}"),
              Contains("1 to 64 bytes"));
+}
+
+TEST_CASE("CLOUD: a cloud over the bound is voxel-filtered, negative cells floored", "[daemon][protocol]") {
+  MapReport m;
+  m.cloudResolutionM = 0.1;
+  for (int32_t x = 6; x >= -2; --x) m.cloud.push_back({x, 0, 0});  // 9 cells in a row, unsorted
+  boundCloud(m, 9);  // within the bound: as it was, sorted
+  CHECK(m.cloud.size() == 9);
+  CHECK(m.cloudResolutionM == 0.1);
+  CHECK(std::is_sorted(m.cloud.begin(), m.cloud.end()));
+  boundCloud(m, 8);  // 0.2 m cells: -2 and -1 floor to -1, 0 and 1 to 0, ..., 6 to 3
+  CHECK(m.cloud == std::vector<std::array<int32_t, 3>>{{-1, 0, 0}, {0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}});
+  CHECK(m.cloudResolutionM == Approx(0.2));
+  // The octants around the origin never merge: a bound below 8 is 8, and the filter ends.
+  m.cloud.clear();
+  for (int32_t x : {-1, 0})
+    for (int32_t y : {-1, 0})
+      for (int32_t z : {-1, 0}) m.cloud.push_back({x, y, z});
+  m.cloud.push_back({1000, 1000, 1000});
+  m.cloudResolutionM = 0.1;
+  boundCloud(m, 1);
+  CHECK(m.cloud.size() == 8);  // the far cell halved 10 times into {0, 0, 0}
+  CHECK(m.cloudResolutionM == Approx(0.1 * 1024));
+  CHECK(cloudMessage(m).dump().find(R"("cells":[-1,-1,-1,-1,-1,0,)") != std::string::npos);
 }

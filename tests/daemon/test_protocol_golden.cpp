@@ -18,6 +18,20 @@ using sb::test::ServerHarness;
 
 namespace {
 
+sb::daemon::MapReport handMadeGrid(uint64_t frame) {
+  sb::daemon::MapReport m;
+  m.pass = 1;
+  m.frame = frame;
+  m.width = 3;
+  m.height = 2;
+  m.resolutionM = 0.05;
+  m.originX = -1.25;
+  m.originY = 0.5;
+  m.up = "mount: test";
+  m.cells = {100, 0, -1, 0, -1, 100};
+  return m;
+}
+
 // Expands \n \r \\ \xNN; a trailing \c means "no newline".
 std::string unescape(const std::string& text, bool& newline) {
   std::string out;
@@ -74,7 +88,15 @@ void runScript(const fs::path& script) {
       const uint64_t n = std::stoull(line.substr(9));
       server.publishEnergy({n, 0.5 * static_cast<double>(n), 4.0, "scripted"});
     } else if (line == "! map") {  // a hand-made 3 x 2 grid (docs/protocol.md's example)
-      server.publishMap({1, 300, 3, 2, 0.05, -1.25, 0.5, "mount: test", {100, 0, -1, 0, -1, 100}});
+      server.publishMap(handMadeGrid(300));
+    } else if (line == "! map with cloud") {  // the same grid, its frame 1.5 m up, map.bt and three cells
+      sb::daemon::MapReport m = handMadeGrid(400);
+      m.framePosition = {0.0, 1.5, 0.0};
+      m.frameQuaternion = {0.5, -0.5, 0.5, 0.5};
+      m.octomap = "/var/lib/slambooster/pass-0001/map.bt";
+      m.cloudResolutionM = 0.1;
+      m.cloud = {{-3, 0, 2}, {0, 1, 5}, {4, -2, 0}};
+      server.publishMap(m);
     } else {
       FAIL("bad script line");
     }
@@ -82,7 +104,7 @@ void runScript(const fs::path& script) {
   // Nothing unexpected may come before the reply to this sentinel.
   client.send("?VERSION;\n");
   CHECK(client.readLine() ==
-        R"({"class":"VERSION","proto_major":1,"proto_minor":6,"release":"test-release"})");
+        R"({"class":"VERSION","proto_major":1,"proto_minor":7,"release":"test-release"})");
 }
 
 }  // namespace

@@ -1,5 +1,8 @@
 // map_server's files against a hand-made grid, and map.bt read back by liboctomap.
 #include <catch2/catch.hpp>
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -78,4 +81,35 @@ TEST_CASE("map.bt loads with liboctomap: the wall occupied, the room free", "[na
   REQUIRE(room);
   CHECK(!tree.isNodeOccupied(room));
 #endif
+}
+
+TEST_CASE("the surface cells (the daemon's cloud) are map.bt's occupied cells, with or without liboctomap",
+          "[navmap]") {
+  const sb::navmap::test::TsdfScene scene(
+      [](const Eigen::Vector3d& w) { return std::min(2.2 - w.y(), 3.0 - w.z()); }, 100, 0.04);
+  NavMapConfig config;
+  config.octomapResolutionM = 0.08;
+  NavMap map(config, scene.voxel, scene.mu);
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+  camera.translation() = Eigen::Vector3d(2.0, 1.0, 0.5);
+  map.setFrame(mapFrameFromMount(camera, CameraMount{1.2, 0.0, 0.0}));
+  CHECK(map.surfaceCells().empty());  // nothing before the first write
+  const VoxelBox volume = scene.box();
+  map.write(sb::test::scratchDir("navmap_surface"), &volume);
+  const auto& cells = map.surfaceCells();
+  REQUIRE(!cells.empty());
+  CHECK(std::is_sorted(cells.begin(), cells.end()));
+  const auto has = [&](double x, double y, double z) {  // the cell holding map point (x, y, z)
+    const std::array<int32_t, 3> c{int32_t(std::floor(x / 0.08)), int32_t(std::floor(y / 0.08)),
+                                   int32_t(std::floor(z / 0.08))};
+    return std::binary_search(cells.begin(), cells.end(), c);
+  };
+  CHECK(has(2.52, 0.0, 0.8));   // the wall
+  CHECK(!has(1.0, 0.0, 0.8));   // the room
+  if (octomapAvailable()) CHECK(cells.size() == map.stats().octomap.occupiedLeaves);
+  config.octomapResolutionM = 0.0;  // no map.bt: no cloud either
+  NavMap none(config, scene.voxel, scene.mu);
+  none.setFrame(*map.frame());
+  none.write(sb::test::scratchDir("navmap_surface_none"), &volume);
+  CHECK(none.surfaceCells().empty());
 }

@@ -42,31 +42,41 @@ Eigen::Isometry3d mount() {
 
 // The base's odometry (the camera's poses less the mount) on /odom, and the mount on /tf_static.
 void writeOdometry(rosbag::Bag& bag, const BagSpec& spec) {
-  const Eigen::Isometry3d M = mount();
   const ros::Time start(kRecordDelayS);
-  if (spec.tfStatic) {
-    tf2_msgs::TFMessage tf;
-    geometry_msgs::TransformStamped t;
-    t.header.stamp = start;
-    t.header.frame_id = "base_link";
-    t.child_frame_id = "openni_depth_optical_frame";
-    const Eigen::Quaterniond q(M.rotation());
-    t.transform.translation.x = M.translation().x();
-    t.transform.translation.y = M.translation().y();
-    t.transform.translation.z = M.translation().z();
-    t.transform.rotation.x = q.x();
-    t.transform.rotation.y = q.y();
-    t.transform.rotation.z = q.z();
-    t.transform.rotation.w = q.w();
-    tf.transforms.push_back(t);
-    bag.write("/tf_static", start, tf);
-  }
-  uint32_t seq = 0;
-  for (const TimedPose& p : readTumTrajectory(spec.odometryFile)) {
+  if (spec.tfStatic) bag.write("/tf_static", start, cameraMountMessage("openni_depth_optical_frame", start));
+  for (const nav_msgs::Odometry& o : odometryMessages(spec.odometryFile, /*covariance=*/true))
+    bag.write("/odom", o.header.stamp + ros::Duration(kRecordDelayS), o);
+}
+
+}  // namespace
+
+tf2_msgs::TFMessage cameraMountMessage(const std::string& cameraFrame, const ros::Time& stamp) {
+  const Eigen::Isometry3d M = mount();
+  geometry_msgs::TransformStamped t;
+  t.header.stamp = stamp;
+  t.header.frame_id = "base_link";
+  t.child_frame_id = cameraFrame;
+  const Eigen::Quaterniond q(M.rotation());
+  t.transform.translation.x = M.translation().x();
+  t.transform.translation.y = M.translation().y();
+  t.transform.translation.z = M.translation().z();
+  t.transform.rotation.x = q.x();
+  t.transform.rotation.y = q.y();
+  t.transform.rotation.z = q.z();
+  t.transform.rotation.w = q.w();
+  tf2_msgs::TFMessage tf;
+  tf.transforms.push_back(t);
+  return tf;
+}
+
+std::vector<nav_msgs::Odometry> odometryMessages(const std::string& odometryFile, bool covariance) {
+  const Eigen::Isometry3d M = mount();
+  std::vector<nav_msgs::Odometry> out;
+  for (const TimedPose& p : readTumTrajectory(odometryFile)) {
     const Eigen::Isometry3d base = p.T_camera_to_world * M.inverse();
     nav_msgs::Odometry o;
     o.header.stamp = ros::Time(p.timestamp);
-    o.header.seq = seq++;
+    o.header.seq = static_cast<uint32_t>(out.size());
     o.header.frame_id = "odom";
     o.child_frame_id = "base_link";
     const Eigen::Quaterniond q(base.rotation());
@@ -77,14 +87,15 @@ void writeOdometry(rosbag::Bag& bag, const BagSpec& spec) {
     o.pose.pose.orientation.y = q.y();
     o.pose.pose.orientation.z = q.z();
     o.pose.pose.orientation.w = q.w();
-    o.pose.covariance[0] = o.pose.covariance[7] = 1e-4;  // x, y; the rest unknown (large)
-    o.pose.covariance[14] = o.pose.covariance[21] = o.pose.covariance[28] = 1e6;
-    o.pose.covariance[35] = 1e-3;
-    bag.write("/odom", o.header.stamp + ros::Duration(kRecordDelayS), o);
+    if (covariance) {
+      o.pose.covariance[0] = o.pose.covariance[7] = 1e-4;  // x, y; the rest unknown (large)
+      o.pose.covariance[14] = o.pose.covariance[21] = o.pose.covariance[28] = 1e6;
+      o.pose.covariance[35] = 1e-3;
+    }
+    out.push_back(std::move(o));
   }
+  return out;
 }
-
-}  // namespace
 
 size_t writeBag(const std::string& bagPath, const std::string& sequence, const BagSpec& spec) {
   auto source = openPlain(sequence);

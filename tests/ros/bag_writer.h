@@ -3,6 +3,9 @@
 // reads): depth on /camera/depth/image, its CameraInfo on /camera/depth/camera_info, optionally a small RGB
 // image topic beside them (as in TUM RGB-D's bags, so that the depth topic must be chosen by encoding).
 
+#include <nav_msgs/Odometry.h>
+#include <tf2_msgs/TFMessage.h>
+
 #include <limits>
 #include <string>
 #include <vector>
@@ -29,6 +32,13 @@ struct BagSpec {
 
 // The camera mount the bags' /tf_static states ("x y z qx qy qz qw": 1.25 m up, optical axes; exact in binary).
 inline constexpr const char* kBagCameraMount = "0 0 1.25 -0.5 0.5 -0.5 0.5";
+
+// The mount as /tf_static states it: base_link -> `cameraFrame`, stamped `stamp`.
+tf2_msgs::TFMessage cameraMountMessage(const std::string& cameraFrame, const ros::Time& stamp);
+
+// An odometry.txt (T_camera_to_odom) as the base's nav_msgs/Odometry (frame odom, child base_link): each
+// camera pose less kBagCameraMount, stamped with its timestamp; with `covariance` a stated pose covariance.
+std::vector<nav_msgs::Odometry> odometryMessages(const std::string& odometryFile, bool covariance);
 
 // Returns the number of depth frames written. Throws std::runtime_error on a 16UC1 request for a sequence
 // whose depth scale is not 1000.

@@ -88,13 +88,14 @@ std::vector<std::string> trajectoryLines(const std::string& path) {
   return lines;
 }
 
-std::string pipelineConfigWithHints(const std::string& dir, const std::string& sequence) {
+std::string pipelineConfigWithHints(const std::string& dir, const std::string& sequence, int volumeResolution,
+                                    const std::string& knobs) {
   sb::SequenceOptions o;
   o.prefetch = false;
   const auto info = sb::openSequence(sequence, o)->info();
   if (!info.volumeSize || !info.volumeInitialPosition)
     throw std::runtime_error("the test sequence has no volume hints in calibration.json");
-  const nlohmann::json j = {{"volume_resolution", 64}, {"knobs", "csr=2,ir=1"}, {"volume_size_m", *info.volumeSize},
+  const nlohmann::json j = {{"volume_resolution", volumeResolution}, {"knobs", knobs}, {"volume_size_m", *info.volumeSize},
                             {"initial_position", *info.volumeInitialPosition}};
   const std::string path = dir + "/pipeline.json";
   std::ofstream(path) << j.dump();

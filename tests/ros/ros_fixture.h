@@ -57,7 +57,8 @@ std::vector<std::string> trajectoryLines(const std::string& path);
 // A pipeline config (the daemon tests' settings) that also carries `sequence`'s volume hints
 // (calibration.json): a bag or a pushed stream has none, the TUM directory does; with them in the config both
 // reconstruct in the same volume. Written to dir/pipeline.json; returns its path.
-std::string pipelineConfigWithHints(const std::string& dir, const std::string& sequence);
+std::string pipelineConfigWithHints(const std::string& dir, const std::string& sequence, int volumeResolution = 64,
+                                    const std::string& knobs = "csr=2,ir=1");
 
 // daemonArgs(...) with the pipeline config replaced by `config`.
 std::vector<std::string> withPipelineConfig(std::vector<std::string> args, const std::string& config);
