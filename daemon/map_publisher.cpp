@@ -10,7 +10,8 @@
 namespace sb::daemon {
 
 MapPublisher::MapPublisher(const OutputConfig& output, const PipelineConfig& pipeline, const SequenceInfo& sequence)
-    : settings_(navmap::loadNavMapConfig(output.navmap)),
+    : settings_(navmap::loadNavMapConfig(output.navmap).forVoxel(double(pipeline.volumeSize) /
+                                                                  pipeline.volumeResolution)),
       period_(output.navmapPeriodS),
       pipeline_(pipeline),
       sequence_(sequence) {

@@ -27,7 +27,7 @@ std::vector<std::array<int32_t, 3>> occupiedCells(const VolumeVotes& votes, cons
 }  // namespace
 
 NavMap::NavMap(const NavMapConfig& config, double voxelSizeM, double muM)
-    : config_(config), voxelSizeM_(voxelSizeM), muM_(muM) {
+    : config_(config.forVoxel(voxelSizeM)), voxelSizeM_(voxelSizeM), muM_(muM) {
   config_.validate(voxelSizeM);
 }
 

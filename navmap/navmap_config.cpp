@@ -27,6 +27,12 @@ void NavMapConfig::validate(double voxelSizeM) const {
   if (floorFitFrames < 1) fail("floor_fit_frames", ">= 1");
 }
 
+NavMapConfig NavMapConfig::forVoxel(double voxelSizeM) const {
+  NavMapConfig c = *this;
+  if (c.octomapResolutionM > 0.0 && c.octomapResolutionM < voxelSizeM) c.octomapResolutionM = voxelSizeM;
+  return c;
+}
+
 void NavMapConfig::read(ConfigReader& r) {
   r.string("up", up, {"none", "mount", "floor"});
   r.number("mount_height_m", mountHeightM, 0.0, 10.0);

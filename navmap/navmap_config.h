@@ -20,7 +20,7 @@ struct NavMapConfig {
   double freeShare = 0.3;       // of a cell's band voxels, observed in front of any surface: the cell is free
   double occupiedThresh = 0.65;  // map.yaml (map_server's meaning)
   double freeThresh = 0.196;     // map.yaml
-  double octomapResolutionM = 0.1;  // map.bt's leaf side, metres (at least the volume's voxel); 0: no map.bt
+  double octomapResolutionM = 0.1;  // map.bt's leaf side, metres (raised to the volume's voxel); 0: no map.bt
   // The live volume's share of the grid is re-read every this many frames; 0 (default): only when the grid is
   // written or published (the end of a run, the daemon's period): a read of the volume's band costs ~80 ms at
   // 256^3 and 2 cm voxels, 3 ms per frame at 30.
@@ -35,6 +35,10 @@ struct NavMapConfig {
 
   // Throws sb::Error naming the key for a value out of range.
   void validate(double voxelSizeM) const;
+  // The settings for a volume of this voxel: map.bt's leaves no finer than a voxel (the default 0.1 m on a
+  // coarse volume, e.g. 64^3 over 7.5 m, is raised to the voxel instead of failing a run that never asked for
+  // a map: with odometry the grid is made by itself).
+  NavMapConfig forVoxel(double voxelSizeM) const;
   // config/navmap.json's keys (config/README.md "navmap"); read throws sb::Error naming the file and key.
   void read(ConfigReader& r);
   nlohmann::json toJson() const;

@@ -113,3 +113,19 @@ TEST_CASE("the surface cells (the daemon's cloud) are map.bt's occupied cells, w
   none.write(sb::test::scratchDir("navmap_surface_none"), &volume);
   CHECK(none.surfaceCells().empty());
 }
+
+TEST_CASE("a coarse volume raises map.bt's leaf to its voxel instead of failing the run", "[navmap]") {
+  // 64^3 over 7.5 m (0.117 m voxels) with the default 0.1 m leaf: a run with odometry makes the map by itself,
+  // and used to stop here ("octomap_resolution_m out of range").
+  const NavMapConfig defaults;
+  const double voxel = 7.5 / 64;
+  REQUIRE_THROWS(defaults.validate(voxel));
+  const NavMapConfig fitted = defaults.forVoxel(voxel);
+  CHECK(fitted.octomapResolutionM == Approx(voxel));
+  CHECK_NOTHROW(fitted.validate(voxel));
+  CHECK_NOTHROW(NavMap(defaults, voxel, 0.1));
+  CHECK(defaults.forVoxel(0.02).octomapResolutionM == Approx(0.1));  // a fine volume keeps the setting
+  NavMapConfig none;
+  none.octomapResolutionM = 0.0;
+  CHECK(none.forVoxel(voxel).octomapResolutionM == 0.0);  // no map.bt stays none
+}
