@@ -50,14 +50,24 @@ OdometryCalibration::OdometryCalibration(const OdometryConfig& config)
   yawInfo_ << 1.0 / (kYawScalePrior * kYawScalePrior), 0.0, 0.0, 1.0 / (kYawBiasPrior * kYawBiasPrior);
 }
 
+OdometryCalibration::Excess OdometryCalibration::excess() const {
+  Excess x;
+  x.scale = std::clamp(scaleVec_ / scaleInfo_, -kBound * kScalePrior, kBound * kScalePrior);
+  const Eigen::Vector2d yaw = yawInfo_.inverse() * yawVec_;
+  x.yawScale = std::clamp(yaw(0), -kBound * kYawScalePrior, kBound * kYawScalePrior);
+  x.yawBiasRadPerS = std::clamp(yaw(1), -kBound * kYawBiasPrior, kBound * kYawBiasPrior);
+  return x;
+}
+
 CalibrationEstimate OdometryCalibration::estimate() const {
+  // The truth is the reading times (1 - excess): the reading is (1 + e) times the truth with e = x / (1 - x).
+  const Excess x = excess();
   CalibrationEstimate e;
-  e.scale = std::clamp(scaleVec_ / scaleInfo_, -kBound * kScalePrior, kBound * kScalePrior);
+  e.scale = x.scale / (1.0 - x.scale);
+  e.yawScale = x.yawScale / (1.0 - x.yawScale);
+  e.yawBiasRadPerS = x.yawBiasRadPerS / (1.0 - x.yawScale);
   e.scaleSigma = 1.0 / std::sqrt(scaleInfo_);
   const Eigen::Matrix2d cov = yawInfo_.inverse();
-  const Eigen::Vector2d yaw = cov * yawVec_;
-  e.yawScale = std::clamp(yaw(0), -kBound * kYawScalePrior, kBound * kYawScalePrior);
-  e.yawBiasRadPerS = std::clamp(yaw(1), -kBound * kYawBiasPrior, kBound * kYawBiasPrior);
   e.yawScaleSigma = std::sqrt(cov(0, 0));
   e.yawBiasSigmaRadPerS = std::sqrt(cov(1, 1));
   e.frames = frames_;
@@ -66,11 +76,11 @@ CalibrationEstimate OdometryCalibration::estimate() const {
 
 OdometryStep OdometryCalibration::correct(const OdometryStep& raw) const {
   if (!enabled() || frames_ == 0) return raw;
-  const CalibrationEstimate e = estimate();
+  const Excess x = excess();
   OdometryStep out = raw;
-  out.delta.translation() = raw.delta.translation() / (1.0 + e.scale);
+  out.delta.translation() = raw.delta.translation() * (1.0 - x.scale);
   const double measured = turnAbout(raw.delta.linear(), raw.up);
-  const double turn = (measured - e.yawBiasRadPerS * raw.dt) / (1.0 + e.yawScale);
+  const double turn = measured * (1.0 - x.yawScale) - x.yawBiasRadPerS * raw.dt;
   out.delta.linear() = Eigen::AngleAxisd(turn - measured, raw.up).toRotationMatrix() * raw.delta.linear();
   return out;
 }
@@ -88,7 +98,7 @@ void OdometryCalibration::learn(const TrackingQuality& q, const Eigen::Isometry3
   yawInfo_ = yawPrior + keep * (yawInfo_ - yawPrior);
   yawVec_ *= keep;
 
-  const CalibrationEstimate now = estimate();
+  const Excess now = excess();
   const Eigen::Isometry3d seen = previous.inverse() * tracked;  // ICP's step, in the earlier camera's frame
   const double cFull = config_.fullConditioning;
   bool used = false;
@@ -101,11 +111,13 @@ void OdometryCalibration::learn(const TrackingQuality& q, const Eigen::Isometry3
     const double c = conditioningAlong(q, twistOfLocal(previous, nudge) / 1e-3);
     const double icpM = seen.translation().dot(dir);
     const double var = config_.icpSigmaM * config_.icpSigmaM * cFull / std::max(c, 1e-12) + raw.sigmaM * raw.sigmaM;
-    const double residual = odoM - icpM - now.scale * icpM;
-    const bool plausible = icpM > 0 && std::abs(odoM / icpM - 1.0) <= kBound * kScalePrior;
+    // Regressed on the wheels' reading, whose noise is small, not on ICP's: with ICP's noise on both sides the
+    // slope would be pulled towards -1 (errors in variables), most where the motion is small.
+    const double residual = odoM - icpM - now.scale * odoM;
+    const bool plausible = std::abs(odoM - icpM) <= kBound * kScalePrior * odoM;
     if (c >= config_.minConditioning && plausible && std::abs(residual) <= kGateSigmas * std::sqrt(var)) {
-      scaleInfo_ += icpM * icpM / var;
-      scaleVec_ += icpM * (odoM - icpM) / var;
+      scaleInfo_ += odoM * odoM / var;
+      scaleVec_ += odoM * (odoM - icpM) / var;
       used = true;
     }
   }
@@ -116,7 +128,7 @@ void OdometryCalibration::learn(const TrackingQuality& q, const Eigen::Isometry3
   const double odoRad = turnAbout(raw.delta.linear(), raw.up);
   const double icpSigmaRad = config_.icpSigmaM / kLeverM;
   const double var = icpSigmaRad * icpSigmaRad * cFull / std::max(c, 1e-12) + raw.sigmaRad * raw.sigmaRad;
-  const Eigen::Vector2d x(icpRad, raw.dt);
+  const Eigen::Vector2d x(odoRad, raw.dt);  // the wheels' reading, as for the distance
   const double residual = odoRad - icpRad - x.dot(Eigen::Vector2d(now.yawScale, now.yawBiasRadPerS));
   if (c >= config_.minConditioning && std::abs(residual) <= kGateSigmas * std::sqrt(var)) {
     yawInfo_ += x * x.transpose() / var;

@@ -47,6 +47,13 @@ class OdometryCalibration {
   bool enabled() const { return config_.calibrationWindowM > 0.0; }
 
  private:
+  // Internally the wheels' reading exceeds the truth by a fraction of the reading: truth = reading * (1 - scale),
+  // turn = reading * (1 - yawScale) - yawBias * dt (linear in what is regressed on: the reading).
+  struct Excess {
+    double scale = 0.0, yawScale = 0.0, yawBiasRadPerS = 0.0;
+  };
+  Excess excess() const;  // bounded
+
   OdometryConfig config_;
   // Information (inverse covariance) and information vector of the scale (1-D) and of (yawScale, yawBias) (2-D),
   // the prior's included.
