@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "navmap/nav_map.h"
+#include "navmap/nav_map_sink.h"
 #include "tests/navmap/tsdf_scene.h"
 #include "tests/support/test_data.h"
 
@@ -156,4 +157,42 @@ TEST_CASE("slabs before the map frame is known are not queued", "[navmap]") {
   CHECK_FALSE(map.queueCommitted(box, copy, 0));
   CHECK(copy.use_count() == 1);
   CHECK(map.stats().slabs == 0);
+}
+
+TEST_CASE("the run's sink hands each slab's shared copy to the worker; its grid holds them all", "[navmap]") {
+  PipelineConfig pipeline;
+  pipeline.volumeResolution = kRes;
+  pipeline.volumeSize = float(kRes * kVoxel);
+  const double voxel = double(pipeline.volumeSize) / pipeline.volumeResolution;
+  NavMapSink sink(NavMapConfig{}, pipeline, Intrinsics{}, 1000.0);
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity(), toOdom = Eigen::Isometry3d::Identity();
+  camera.translation() = Eigen::Vector3d(1.2, 1.0, 0.1);
+  toOdom.linear() = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();  // camera y down
+  toOdom.translation() = Eigen::Vector3d(0, 0, 1.2);
+  sink.setFrameFromOdometry(camera, toOdom);
+  REQUIRE(sink.map().frame());
+  NavMap reference(NavMapConfig{}, voxel, double(pipeline.mu));
+  reference.setFrame(*sink.map().frame());
+  std::vector<std::weak_ptr<const VolumeSlab>> copies;
+  size_t shift = 0;
+  for (int z0 = 0; z0 < kRes; z0 += kPlanes) {
+    auto slab = std::make_shared<VolumeSlab>();
+    slab->voxels = *slabCopy(z0);
+    slab->resolution = kRes;
+    slab->first = {0, 0, z0};
+    slab->extent = {kRes, kRes, kPlanes};
+    slab->corner = Eigen::Vector3d(0, 0, z0 * kVoxel);
+    slab->voxelSize = float(kVoxel);
+    slab->axis = 2;
+    slab->shift = ++shift;
+    REQUIRE(reference.addCommitted(slabBox(*slab)));
+    copies.push_back(slab);
+    sink.onSlab(std::move(slab));  // the sink's is the only reference left
+  }
+  const OccupancyImage grid = sink.grid(), expected = reference.grid();
+  REQUIRE(expected.count(CellState::occupied) > 0);
+  CHECK(grid.cells == expected.cells);
+  CHECK(sink.map().stats().slabs == shift);
+  for (const auto& copy : copies) CHECK(copy.expired());
+  CHECK(sink.summaryJson()["slabs"] == shift);
 }
