@@ -32,13 +32,13 @@ namespace sb::navmap {
 constexpr size_t kCommittedQueueBytes = size_t(32) << 20;
 
 struct CommittedStats {
-  size_t boxes = 0;        // voted
-  double voteMs = 0.0;     // the worker's voting, summed (wall time)
-  double queueMs = 0.0;    // the SLAM thread's hand-over, waits for room included, summed
-  double waitMs = 0.0;     // of it, waiting for room
-  size_t waits = 0;        // hand-overs that waited for room
-  size_t cells = 0;        // 3D cells held
-  size_t gridBytes = 0;    // the grid's votes
+  size_t boxes = 0;      // voted
+  double voteMs = 0.0;   // the worker's voting, summed (wall time)
+  double queueMs = 0.0;  // the SLAM thread's hand-over, waits for room included, summed
+  double waitMs = 0.0;   // of it, waiting for room
+  size_t waits = 0;      // hand-overs that waited for room
+  size_t cells = 0;      // 3D cells held
+  size_t gridBytes = 0;  // the grid's votes
 };
 
 class CommittedVotes {

@@ -1,7 +1,7 @@
-// The slabs' votes on the worker thread (navmap/committed_votes.h): a grid or a map written right after a slab
-// is handed over holds it, byte for byte as when the SLAM thread voted; the slabs' copies are let go once
-// voted; a full queue makes the producer wait, never drops a slab; a map destroyed with slabs queued stops.
-// Also built with ThreadSanitizer (test_committed_votes_tsan).
+// The slabs' votes on the worker thread (navmap/committed_votes.h): a grid or a map written right after a
+// slab is handed over holds it, byte for byte as when the SLAM thread voted; the slabs' copies are let go
+// once voted; a full queue makes the producer wait, never drops a slab; a map destroyed with slabs queued
+// stops. Also built with ThreadSanitizer (test_committed_votes_tsan).
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -21,8 +21,8 @@ using sb::navmap::test::TsdfScene;
 
 namespace {
 
-constexpr int kRes = 120;       // a 2.4 m cube of 2 cm voxels
-constexpr int kPlanes = 12;     // per slab: 10 slabs along z
+constexpr int kRes = 120;    // a 2.4 m cube of 2 cm voxels
+constexpr int kPlanes = 12;  // per slab: 10 slabs along z
 constexpr double kVoxel = 0.02;
 
 MapFrame levelFrame() {
@@ -35,7 +35,8 @@ MapFrame levelFrame() {
 const TsdfScene& scene() {
   static const TsdfScene s(
       [](const Eigen::Vector3d& w) {
-        const Eigen::Vector3d q = (w - Eigen::Vector3d(0.8, 1.8, 1.2)).cwiseAbs() - Eigen::Vector3d(0.2, 0.3, 0.5);
+        const Eigen::Vector3d q =
+            (w - Eigen::Vector3d(0.8, 1.8, 1.2)).cwiseAbs() - Eigen::Vector3d(0.2, 0.3, 0.5);
         const double box = q.cwiseMax(0.0).norm() + std::min(q.maxCoeff(), 0.0);
         return std::min({2.2 - w.y(), 2.0 - w.x(), box});
       },
@@ -167,7 +168,8 @@ TEST_CASE("the run's sink hands each slab's shared copy to the worker; its grid 
   NavMapSink sink(NavMapConfig{}, pipeline, Intrinsics{}, 1000.0);
   Eigen::Isometry3d camera = Eigen::Isometry3d::Identity(), toOdom = Eigen::Isometry3d::Identity();
   camera.translation() = Eigen::Vector3d(1.2, 1.0, 0.1);
-  toOdom.linear() = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();  // camera y down
+  toOdom.linear() =
+      Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();  // camera y down
   toOdom.translation() = Eigen::Vector3d(0, 0, 1.2);
   sink.setFrameFromOdometry(camera, toOdom);
   REQUIRE(sink.map().frame());
