@@ -29,17 +29,18 @@ std::vector<std::array<int32_t, 3>> occupiedCells(const VolumeVotes& votes, cons
 NavMap::NavMap(const NavMapConfig& config, double voxelSizeM, double muM)
     : config_(config.forVoxel(voxelSizeM)), voxelSizeM_(voxelSizeM), muM_(muM) {
   config_.validate(voxelSizeM);
+  committed_ = std::make_unique<CommittedVotes>(config_, muM_);
 }
 
 bool NavMap::addCommitted(const VoxelBox& box) {
+  if (!queueCommitted(box, nullptr, 0)) return false;
+  committed_->drain();  // the caller's voxels are read before this returns
+  return true;
+}
+
+bool NavMap::queueCommitted(const VoxelBox& box, std::shared_ptr<const void> owner, size_t bytes) {
   if (!frame_) return false;
-  const auto start = Clock::now();
-  VoxelBox b = box;
-  b.muM = muM_;
-  voteGrid(b, frame_->T_world_to_map, config_, committed_);
-  voteVolume(b, frame_->T_world_to_map, config_, committedCells_);
-  ++stats_.slabs;
-  stats_.slabMs += msSince(start);
+  committed_->queue(box, frame_->T_world_to_map, std::move(owner), bytes);
   return true;
 }
 
@@ -55,19 +56,23 @@ void NavMap::refreshLive(const VoxelBox& volume) {
 }
 
 OccupancyImage NavMap::grid() const {
-  GridVotes all = committed_;
+  committed_->drain();
+  GridVotes all = committed_->grid();
   all.merge(live_);
   return gridImage(all, config_, voxelSizeM_);
 }
 
 OccupancyImage NavMap::write(const std::string& dir, const VoxelBox* volume) {
   if (!frame_) throw Error("navmap: no map frame (which way is up) to write '" + dir + "/map.pgm' in");
+  const auto drainStart = Clock::now();
+  committed_->drain();  // every slab handed over before is in the files
+  stats_.writeMs += msSince(drainStart);
   if (volume) refreshLive(*volume);
   const auto start = Clock::now();
   OccupancyImage image = grid();
   writeGridFiles(dir, image, config_, *frame_);
   if (config_.octomapResolutionM > 0.0) {
-    VolumeVotes cells = committedCells_;
+    VolumeVotes cells = committed_->cells();
     if (volume) {
       VoxelBox b = *volume;
       b.muM = muM_;
@@ -84,8 +89,14 @@ OccupancyImage NavMap::write(const std::string& dir, const VoxelBox* volume) {
 
 NavMapStats NavMap::stats() const {
   NavMapStats s = stats_;
-  s.gridBytes = committed_.bytes() + live_.bytes();
-  s.volumeCells = committedCells_.size();
+  const CommittedStats c = committed_->stats();
+  s.slabs = c.boxes;
+  s.slabMs = c.queueMs;
+  s.slabWorkerMs = c.voteMs;
+  s.slabWaitMs = c.waitMs;
+  s.slabWaits = c.waits;
+  s.gridBytes = c.gridBytes + live_.bytes();
+  s.volumeCells = c.cells;
   return s;
 }
 

@@ -110,8 +110,10 @@ VoxelBox slabBox(const VolumeSlab& slab) {
   return box;
 }
 
-void NavMapSink::onSlab(const VolumeSlab& slab) {
-  if (!map_.addCommitted(slabBox(slab))) ++slabsBeforeUp_;
+void NavMapSink::onSlab(std::shared_ptr<const VolumeSlab> slab) {
+  const VoxelBox box = slabBox(*slab);
+  const size_t bytes = slab->bytes();
+  if (!map_.queueCommitted(box, std::move(slab), bytes)) ++slabsBeforeUp_;
 }
 
 void NavMapSink::write(const std::string& dir, Pipeline& pipeline) {
@@ -136,7 +138,9 @@ nlohmann::json NavMapSink::summaryJson() const {
   j["slabs"] = s.slabs;
   j["slabs_before_up"] = slabsBeforeUp_;
   j["refreshes"] = s.refreshes;
-  j["slab_ms"] = s.slabMs;
+  j["slab_ms"] = s.slabMs;  // the SLAM thread's: handing the slabs over (waits for room included)
+  j["slab_wait_ms"] = s.slabWaitMs;
+  j["slab_worker_ms"] = s.slabWorkerMs;  // their votes, on the worker
   j["refresh_ms"] = s.refreshMs;
   j["upkeep_ms_per_frame"] = frames_ ? (s.slabMs + s.refreshMs) / double(frames_) : 0.0;
   j["write_ms"] = s.writeMs;

@@ -2,7 +2,8 @@
 // A run's navigation map (issue 45) behind the run's map seam (runtime/map_sink.h): finds which way is up
 // (the configured mount on the first frame, a floor fit on the first frames, or odometry through
 // setFrameFromOdometry), reads the volume into the grid every NavMapConfig::updatePeriodFrames frames and
-// each slab as it leaves, and writes map.pgm, map.yaml, map_frame.json and map.bt.
+// each slab as it leaves (on NavMap's worker thread: the frame only hands the slab's shared copy over), and
+// writes map.pgm, map.yaml, map_frame.json and map.bt (after the worker has voted every slab handed over).
 //
 //   auto map = std::make_shared<NavMapSink>(config, pipelineConfig, intrinsics, depthScale);
 //   RunOutputs outputs; outputs.mapSink = map;   // Run calls onFrame, onSlab and, at the end, write
@@ -29,7 +30,7 @@ class NavMapSink : public MapSink {
              double depthScale);
 
   void onFrame(const FrameRecord& record, const DepthFrame& frame, Pipeline& pipeline) override;
-  void onSlab(const VolumeSlab& slab) override;
+  void onSlab(std::shared_ptr<const VolumeSlab> slab) override;
   void write(const std::string& dir, Pipeline& pipeline) override;
   nlohmann::json summaryJson() const override;
 
@@ -40,7 +41,7 @@ class NavMapSink : public MapSink {
   // Why there is no grid ("" when there is one or may still be).
   const std::string& why() const { return why_; }
   const NavMap& map() const { return map_; }
-  // The grid now (the live volume as of the last refresh).
+  // The grid now (every slab handed over; the live volume as of the last refresh).
   OccupancyImage grid() const { return map_.grid(); }
 
  private:

@@ -105,10 +105,10 @@ void MapSlabs::rethrowLocked() {
   std::rethrow_exception(error);
 }
 
-void MapSlabs::add(VolumeSlab&& slab) {
+void MapSlabs::add(std::shared_ptr<const VolumeSlab> slab) {
   std::unique_lock lock(mutex_);
   rethrowLocked();
-  const size_t bytes = slab.bytes();
+  const size_t bytes = slab->bytes();
   const auto fits = [&] { return pending_ == 0 || queuedBytes_ + bytes <= options_.queueBytes; };
   if (!fits()) {  // back-pressure: the SLAM thread waits for the worker rather than dropping a slab
     const auto start = Clock::now();
@@ -142,18 +142,18 @@ void MapSlabs::workerLoop() {
   for (;;) {
     work_.wait(lock, [&] { return stop_ || !queue_.empty(); });
     if (queue_.empty()) return;  // stopped, and every slab written
-    VolumeSlab slab = std::move(queue_.front());
+    std::shared_ptr<const VolumeSlab> slab = std::move(queue_.front());
     queue_.pop_front();
-    const size_t bytes = slab.bytes();  // before write() releases the voxels
+    const size_t bytes = slab->bytes();
     lock.unlock();
     const auto start = Clock::now();
     std::exception_ptr failure;
     try {
-      write(slab, serial);
+      write(*slab, serial);
     } catch (...) {
       failure = std::current_exception();
     }
-    slab = VolumeSlab{};  // its memory goes back before the room is counted
+    slab.reset();  // its memory goes back (unless the navigation map still votes it) before the room is counted
     releaseFreedMemory();
     lock.lock();
     stats_.workerMs += msSince(start);
@@ -199,7 +199,7 @@ void MapSlabs::openFolder() {
   folder_ = openOwnSubdirectory(openDirectory(dir_).get(), dir_, kFolder);
 }
 
-void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
+void MapSlabs::write(const VolumeSlab& slab, ThreadPool& serial) {
   if (!folder_.valid()) openFolder();
   // The copy of the slab (no offset: VolumeView::boxOnly); the same mesh as the box read in place.
   VolumeView view;
@@ -234,7 +234,6 @@ void MapSlabs::write(VolumeSlab& slab, ThreadPool& serial) {
   } else {
     writeFile();
   }
-  std::vector<int16_t>().swap(slab.voxels);
   if (triangles == 0) return;  // nothing observed left (e.g. the space behind the first view)
   std::error_code ec;
   const uint64_t bytes = std::filesystem::file_size(path, ec);

@@ -78,8 +78,10 @@ class MapSlabs : private AttachedFiles {
   MapSlabs& operator=(const MapSlabs&) = delete;
 
   // Queues `slab` for the worker; waits while the queue is full. Throws the sb::Error of a slab the worker
-  // failed to write (naming the file) at the next add or drain.
-  void add(VolumeSlab&& slab);
+  // failed to write (naming the file) at the next add or drain. The shared copy may be held elsewhere too (the
+  // navigation map's votes, runtime/map_sink.h): its bytes count here until this worker is done with it.
+  void add(std::shared_ptr<const VolumeSlab> slab);
+  void add(VolumeSlab&& slab) { add(std::make_shared<const VolumeSlab>(std::move(slab))); }
   void add(const VolumeSlab& slab) { add(VolumeSlab(slab)); }
   // Waits until every slab added is written (or found empty: a slab without surface writes no file).
   void drain();
@@ -103,7 +105,7 @@ class MapSlabs : private AttachedFiles {
   uint64_t removeOldestAttached() override;
   void listEarlier();  // in the constructor
   void workerLoop();
-  void write(VolumeSlab& slab, ThreadPool& serial);        // on the worker; releases the slab's voxels
+  void write(const VolumeSlab& slab, ThreadPool& serial);  // on the worker
   void openFolder();                                       // on the worker, at the first slab
   void removeOldestLocked();
   int removeSlabFile(const std::string& path) const;  // 0, or errno
@@ -115,7 +117,7 @@ class MapSlabs : private AttachedFiles {
   std::thread worker_;  // started at the first slab
   mutable std::mutex mutex_;
   std::condition_variable work_, room_;
-  std::deque<VolumeSlab> queue_;
+  std::deque<std::shared_ptr<const VolumeSlab>> queue_;
   size_t pending_ = 0;      // slabs queued or being written
   size_t queuedBytes_ = 0;  // their bytes
   bool stop_ = false;

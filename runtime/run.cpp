@@ -69,8 +69,10 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
       mapSlabs_ = std::make_unique<MapSlabs>(dir_, options);
     }
     window->setSlabListener([this](VolumeSlab&& slab) {
-      if (mapSink_) mapSink_->onSlab(slab);  // the navigation map first: the slab then goes to the worker
-      if (mapSlabs_) mapSlabs_->add(std::move(slab));
+      // One copy (the window's), shared by the navigation map's worker and the mesh's: never copied again.
+      auto shared = std::make_shared<const VolumeSlab>(std::move(slab));
+      if (mapSink_) mapSink_->onSlab(shared);
+      if (mapSlabs_) mapSlabs_->add(std::move(shared));
     });
   }
 }
