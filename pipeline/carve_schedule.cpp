@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "core/error.h"
-#include "pipeline/cpu/integrate_cull.h"
+#include "pipeline/integrate_cull.h"
 #include "pipeline/surface_blocks.h"
 #include "pipeline/volume_placement.h"
 

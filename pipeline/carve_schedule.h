@@ -1,7 +1,7 @@
 #pragma once
 // Per-block carving (issue 43): which blocks of 8^3 voxels one integration visits when free space is carved
 // block by block instead of over the whole view. Every integration visits the surface blocks (the band,
-// pipeline/surface_blocks.h); a block in view (pipeline/cpu/integrate_cull.h: one whose voxels the
+// pipeline/surface_blocks.h); a block in view (pipeline/integrate_cull.h: one whose voxels the
 // integration may change) is visited whole, carving its free space, when it was never visited since it came
 // into the volume (the volume's start, or a move of the moving volume that brought it in) or when it was last
 // visited `every` or more integrations ago (this one counted). A visited block has all its voxels in view

@@ -15,11 +15,11 @@
 #include "core/thread_pool.h"
 #include "kernels/raycast.h"
 #include "pipeline/backend.h"
+#include "pipeline/carve_schedule.h"
 #include "pipeline/config.h"
 #include "pipeline/cpu/cpu_track.h"
-#include "pipeline/cpu/integrate_cull.h"
+#include "pipeline/integrate_cull.h"
 #include "pipeline/ray_bounds.h"
-#include "pipeline/carve_schedule.h"
 #include "pipeline/surface_blocks.h"
 #include "pipeline/volume_placement.h"
 

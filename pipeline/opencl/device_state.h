@@ -9,11 +9,11 @@
 #include <vector>
 
 #include "core/thread_pool.h"
+#include "pipeline/carve_schedule.h"
+#include "pipeline/integrate_cull.h"
 #include "pipeline/opencl/launcher.h"
 #include "pipeline/opencl/opencl_backend.h"
 #include "pipeline/ray_bounds.h"
-#include "pipeline/carve_schedule.h"
-#include "pipeline/cpu/integrate_cull.h"
 #include "pipeline/surface_blocks.h"
 #include "pipeline/volume_placement.h"
 

@@ -1,4 +1,4 @@
-#include "pipeline/cpu/integrate_cull.h"
+#include "pipeline/integrate_cull.h"
 
 #include <algorithm>
 #include <cmath>

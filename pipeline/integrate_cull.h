@@ -1,6 +1,6 @@
 #pragma once
-// Block culling for the CPU backend's integrate: which blocks of 8^3 voxels one integration cannot change,
-// decided from the block's corners and a max-depth pyramid of the depth image, so that integrate visits only
+// Block culling for the CPU backend's integrate (and, through pipeline/carve_schedule.h, both backends'
+// per-block carving): which blocks of 8^3 voxels one integration cannot change, decided from the block's corners and a max-depth pyramid of the depth image, so that integrate visits only
 // the others. Exact: a block is culled only when every voxel in it would leave integrateVoxel() without an
 // update, because
 //   - no voxel of it projects into the image, or
