@@ -5,10 +5,11 @@
 // integration may change) is visited whole, carving its free space, when it was never visited since it came
 // into the volume (the volume's start, or a move of the moving volume that brought it in) or when it was last
 // visited `every` or more integrations ago (this one counted). A visited block has all its voxels in view
-// carved or fused, so its age starts again at 0; but a block never carved whole stays due while only part of it
-// is in the image (integrate_cull.h's insideRow), so that the rest is carved as it comes into view (the cost:
-// the never-carved blocks along the frustum's sides are visited every integration). Both backends integrate
-// the list this makes (kernels/volume.h), so they carve the same voxels. every = 1 visits every block in view, every integration: KinectFusion's carving.
+// carved or fused, so its age starts again at 0; but a block never carved whole stays due while only part of
+// it is in the image (integrate_cull.h's insideRow), so that the rest is carved as it comes into view (the
+// cost: the never-carved blocks along the frustum's sides are visited every integration). Both backends
+// integrate the list this makes (kernels/volume.h), so they carve the same voxels. every = 1 visits every
+// block in view, every integration: KinectFusion's carving.
 //
 // The record is one byte per logical block (its age in integrations, saturating at kNever, which also means
 // never visited); it follows the moving volume as the skipping grid does (shiftGrid), the blocks that come in
@@ -34,16 +35,17 @@ class CarveSchedule {
   // The volume moved by `blocks` blocks along `axis` (0 x, 1 y, 2 z): block v now holds what block v + blocks
   // held, the blocks that came in were never visited.
   void shift(int axis, int blocks, ThreadPool& pool);
-  // The blocks this integration visits, ascending (index bx + n * (by + n * bz)): those of `surface` and those
-  // that `cull` keeps and that are due (never visited, or visited `every` or more integrations ago); records
-  // the visit and ages the others by one integration. `surface` and `cull` must cover this volume.
+  // The blocks this integration visits, ascending (index bx + n * (by + n * bz)): those of `surface` and
+  // those that `cull` keeps and that are due (never visited, or visited `every` or more integrations ago);
+  // records the visit and ages the others by one integration. `surface` and `cull` must cover this volume.
   const std::vector<int32_t>& plan(const SurfaceBlocks& surface, const IntegrateCull& cull, int every);
 
   const std::vector<int32_t>& blocks() const { return list_; }
   // The blocks of the last plan that were listed for carving only (in view and due, not surface blocks).
   size_t carvedOnly() const { return carvedOnly_; }
   uint8_t age(int bx, int by, int bz) const {
-    return age_[static_cast<size_t>(bx) + static_cast<size_t>(perSide_) * (by + static_cast<size_t>(perSide_) * bz)];
+    return age_[static_cast<size_t>(bx) +
+                static_cast<size_t>(perSide_) * (by + static_cast<size_t>(perSide_) * bz)];
   }
   int perSide() const { return perSide_; }
 

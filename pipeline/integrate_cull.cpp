@@ -136,9 +136,9 @@ void IntegrateCull::update(ThreadPool& pool, const float* depth, int width, int 
 }
 
 bool IntegrateCull::inPyramid(int bx, int by, int bz, int width, int height, SbCamera k) const {
-  // The voxels integrateVoxel may update lie in z >= SB_MIN_PROJECTION_DEPTH and, there, in the four half-spaces
-  // through the camera centre that bound the image's pixels (u >= -m: fx x + (cx + 0.5 + m) z >= 0, and so on).
-  // A block (convex) all of whose corners lie outside one of them holds no such voxel.
+  // The voxels integrateVoxel may update lie in z >= SB_MIN_PROJECTION_DEPTH and, there, in the four
+  // half-spaces through the camera centre that bound the image's pixels (u >= -m: fx x + (cx + 0.5 + m) z
+  // >= 0, and so on). A block (convex) all of whose corners lie outside one of them holds no such voxel.
   const int points = blocks_ + 1;
   const double m = kMarginPx;
   const double planes[5][3] = {{0.0, 0.0, 1.0},
@@ -150,8 +150,8 @@ bool IntegrateCull::inPyramid(int bx, int by, int bz, int width, int height, SbC
   for (int p = 0; p < 5; ++p) {
     bool allOutside = true;
     for (int corner = 0; corner < 8 && allOutside; ++corner) {
-      const Corner& c = corners_[(static_cast<size_t>(bz + (corner >> 2)) * points + by + ((corner >> 1) & 1)) * points +
-                                 bx + (corner & 1)];
+      const size_t row = static_cast<size_t>(bz + (corner >> 2)) * points + by + ((corner >> 1) & 1);
+      const Corner& c = corners_[row * points + bx + (corner & 1)];
       allOutside = planes[p][0] * c.x + planes[p][1] * c.y + planes[p][2] * c.z + offsets[p] < 0.0;
     }
     if (allOutside) return false;

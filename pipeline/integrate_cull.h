@@ -1,8 +1,8 @@
 #pragma once
 // Block culling for the CPU backend's integrate (and, through pipeline/carve_schedule.h, both backends'
-// per-block carving): which blocks of 8^3 voxels one integration cannot change, decided from the block's corners and a max-depth pyramid of the depth image, so that integrate visits only
-// the others. Exact: a block is culled only when every voxel in it would leave integrateVoxel() without an
-// update, because
+// per-block carving): which blocks of 8^3 voxels one integration cannot change, decided from the block's
+// corners and a max-depth pyramid of the depth image, so that integrate visits only the others. Exact: a
+// block is culled only when every voxel in it would leave integrateVoxel() without an update, because
 //   - no voxel of it projects into the image, or
 //   - every pixel its voxels can project to has no reading (depth 0), or
 //   - every voxel lies at least mu behind the farthest reading in that footprint (d - z <= -mu, the kernel's
@@ -46,9 +46,10 @@ class IntegrateCull {
   const uint8_t* insideRow(int by, int bz) const {
     return &inside_[(static_cast<size_t>(bz) * blocks_ + static_cast<size_t>(by)) * blocks_];
   }
-  // 1 where block (bx, by, bz) is live and not wholly outside the view's pyramid (behind the camera or beyond
-  // one of the image's sides, widened by kMarginPx): liveRow less the blocks that the near guard keeps although
-  // none of their voxels can be updated (those behind the camera, which the carving integrate clips per row).
+  // 1 where block (bx, by, bz) is live and not wholly outside the view's pyramid (behind the camera or
+  // beyond one of the image's sides, widened by kMarginPx): liveRow less the blocks that the near guard
+  // keeps although none of their voxels can be updated (those behind the camera, which the carving
+  // integrate clips per row).
   // Same layout as liveRow.
   const uint8_t* viewRow(int by, int bz) const {
     return &view_[(static_cast<size_t>(bz) * blocks_ + static_cast<size_t>(by)) * blocks_];

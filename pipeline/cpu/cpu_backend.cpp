@@ -245,7 +245,8 @@ void CpuBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
     // The skipping grid is kept in logical blocks: it moves with the volume, the blocks that came in are empty.
     const int moved = cornerVoxels[c.axis] - before[c.axis];
     shiftGrid(blockSurfaceMask_.data(), res >> kSkipShift, c.axis, moved / (1 << kSkipShift), 0, pool_);
-    carve_.shift(c.axis, moved / (1 << SurfaceBlocks::kShift), pool_);  // the blocks that came in: never carved
+    carve_.shift(c.axis, moved / (1 << SurfaceBlocks::kShift),
+                 pool_);  // the blocks that came in: never carved
   }
   computeBlockDistance(blockSurfaceMask_, res >> kSkipShift, blockDistance_, pool_);
 }

@@ -58,15 +58,15 @@ class CpuBackend : public ComputeBackend {
   const std::vector<float>& referenceNormals() const { return referenceNormal_; }
   const IntegrateCull& integrateCull() const { return cull_; }  // what the last carving integrate skipped
   const SurfaceBlocks& surfaceBlocks() const { return surface_; }  // what the last surface integrate visited
-  const CarveSchedule& carveSchedule() const { return carve_; }   // integrate_carve_blocks: the blocks' ages
+  const CarveSchedule& carveSchedule() const { return carve_; }    // integrate_carve_blocks: the blocks' ages
   // Empty-space skipping surface masks, one per logical block of (1 << kSkipShift)^3 voxels, x fastest.
   const std::vector<uint8_t>& blockSurfaceMasks() const { return blockSurfaceMask_; }
 
  private:
   // integrate's two kinds (cpu_backend_integrate.cpp): every block in view, free space carved, or only the
   // blocks the band crosses (and, with integrate_carve_blocks, the blocks in view due for carving:
-  // pipeline/carve_schedule.h); returns the blocks visited. Both leave the skipping masks of the blocks they visit; integrate then updates
-  // the block distances.
+  // pipeline/carve_schedule.h); returns the blocks visited. Both leave the skipping masks of the blocks
+  // they visit; integrate then updates the block distances.
   void integrateCarving(const Eigen::Isometry3f& cameraToWorld);
   const std::vector<int32_t>& integrateSurface(const Eigen::Isometry3f& cameraToWorld, bool carveBlocks);
 

@@ -1,9 +1,9 @@
 // CpuBackend's integrate (the rest of the backend: cpu_backend.cpp): every block of the view with free space
-// carved (integrateCarving, KinectFusion's integration, culled by integrate_cull.h), or only the blocks that the
-// depth's truncation band crosses (integrateSurface, pipeline/surface_blocks.h), with the blocks in view due
-// for carving when integrate_carve_blocks is set (pipeline/carve_schedule.h); config integrate_carve_every
-// says which. Both run kernels/volume.h's integrateVoxel through cpu_integrate.h's rows, so a voxel either visits
-// gets the same bits.
+// carved (integrateCarving, KinectFusion's integration, culled by integrate_cull.h), or only the blocks that
+// the depth's truncation band crosses (integrateSurface, pipeline/surface_blocks.h), with the blocks in view
+// due for carving when integrate_carve_blocks is set (pipeline/carve_schedule.h); config
+// integrate_carve_every says which. Both run kernels/volume.h's integrateVoxel through cpu_integrate.h's
+// rows, so a voxel either visits gets the same bits.
 #include <algorithm>
 #include <cmath>
 
@@ -56,7 +56,8 @@ void orRowSurfaceMask(const int16_t* row, int delta, int x0, int x1, int16_t bel
 void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) {
   StageTimer t(times, Stage::integrate);
   const int every = config_.integrateCarveEvery;
-  const bool carveBlocks = config_.integrateCarveBlocks && every > 0;  // per block (pipeline/carve_schedule.h)
+  const bool carveBlocks =
+      config_.integrateCarveBlocks && every > 0;  // per block (pipeline/carve_schedule.h)
   const bool carve = !carveBlocks && every > 0 && integrations_ % every == 0;
   ++integrations_;
   if (carve) {
@@ -69,7 +70,8 @@ void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& t
   computeBlockDistance(blockSurfaceMask_, config_.volumeResolution >> kSkipShift, blockDistance_, pool_);
 }
 
-const std::vector<int32_t>& CpuBackend::integrateSurface(const Eigen::Isometry3f& cameraToWorld, bool carveBlocks) {
+const std::vector<int32_t>& CpuBackend::integrateSurface(const Eigen::Isometry3f& cameraToWorld,
+                                                         bool carveBlocks) {
   const int res = config_.volumeResolution;
   const float voxel = config_.voxelSize();
   const Eigen::Isometry3f cameraToVolume = placement_.toVolumeFrame(cameraToWorld);

@@ -40,11 +40,13 @@ sb::DepthRaw constantDepth(const sb::Intrinsics& k, double metres) {
 Eigen::Isometry3f at(float x, float y, float z, float yawDeg = 0.0f) {
   Eigen::Isometry3f pose = Eigen::Isometry3f::Identity();
   pose.translation() = Eigen::Vector3f(x, y, z);
-  pose.linear() = Eigen::AngleAxisf(yawDeg * float(M_PI / 180.0), Eigen::Vector3f::UnitY()).toRotationMatrix();
+  pose.linear() =
+      Eigen::AngleAxisf(yawDeg * float(M_PI / 180.0), Eigen::Vector3f::UnitY()).toRotationMatrix();
   return pose;
 }
 
-void integrate(sb::CpuBackend& b, const sb::DepthRaw& raw, const Eigen::Isometry3f& pose, sb::StageTimes& times) {
+void integrate(sb::CpuBackend& b, const sb::DepthRaw& raw, const Eigen::Isometry3f& pose,
+               sb::StageTimes& times) {
   b.preprocess(raw, float(1.0 / kRoomDepthScale), 1, times);
   b.integrate(pose, times);
 }
@@ -71,10 +73,12 @@ TEST_CASE("carve schedule: the first view is carved as KinectFusion carves it, t
   // Every block in view visited whole: the same voxels, bit for bit, as the carving integration.
   CHECK(logical(blocks) == logical(carving));
   CHECK(blocks.carveSchedule().carvedOnly() > 0);
-  // ... from fewer blocks: the cull keeps the blocks behind the camera (its near guard), the schedule does not.
+  // ... from fewer blocks: the cull keeps the blocks behind the camera (its near guard), the schedule does
+  // not.
   CHECK(first.work.integrateBlocks < carvingTimes.work.integrateBlocks);
   // Then only the band and the blocks never seen whole (at the image's edges: carved every integration until
-  // seen whole), except at the 5th and 9th (4 integrations after the last carving), which visit the whole view.
+  // seen whole), except at the 5th and 9th (4 integrations after the last carving), which visit the whole
+  // view.
   const size_t whole = blocks.carveSchedule().carvedOnly();
   size_t edges = 0;
   for (int i = 2; i <= 9; ++i) {
@@ -115,7 +119,8 @@ TEST_CASE("carve schedule: the record moves with the volume, the blocks that com
   const sb::DepthRaw raw = constantDepth(k, 1.5);
   sb::StageTimes times;
   integrate(blocks, raw, at(1.6f, 1.6f, 0.8f), times);
-  integrate(blocks, raw, at(1.6f, 1.6f, 0.8f), times);  // ages 0 (seen whole), 1 (out of view), kNever (never)
+  integrate(blocks, raw, at(1.6f, 1.6f, 0.8f),
+            times);  // ages 0 (seen whole), 1 (out of view), kNever (never)
   const size_t edges = blocks.carveSchedule().carvedOnly();  // the blocks never seen whole, carved again
   std::vector<uint8_t> before;
   const sb::CarveSchedule& record = blocks.carveSchedule();
@@ -128,8 +133,8 @@ TEST_CASE("carve schedule: the record moves with the volume, the blocks that com
   for (int bz = 0; bz < kBlocks; ++bz)
     for (int by = 0; by < kBlocks; ++by)
       for (int bx = 0; bx < kBlocks; ++bx) {
-        const uint8_t expected =
-            bz + 1 < kBlocks ? before[size_t(bx + kBlocks * (by + kBlocks * (bz + 1)))] : sb::CarveSchedule::kNever;
+        const uint8_t expected = bz + 1 < kBlocks ? before[size_t(bx + kBlocks * (by + kBlocks * (bz + 1)))]
+                                                  : sb::CarveSchedule::kNever;
         kept += record.age(bx, by, bz) == expected;
       }
   CHECK(kept == size_t(kBlocks) * kBlocks * kBlocks);

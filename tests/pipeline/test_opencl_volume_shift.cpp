@@ -85,7 +85,8 @@ TEST_CASE("OpenCL moving volume: the shift is exact and the backends agree after
   config.volumeResolution = kRes;
   config.volumeSize = 4.0f;
   config.backend = sb::BackendKind::opencl;
-  // integrate_carve_blocks (pipeline/carve_schedule.h): both backends carve the same blocks, the record moves.
+  // integrate_carve_blocks (pipeline/carve_schedule.h): both backends carve the same blocks, the record
+  // moves.
   config.integrateCarveBlocks = GENERATE(false, true);
   config.integrateCarveEvery = config.integrateCarveBlocks ? 4 : 1;
   INFO("integrate_carve_blocks " << config.integrateCarveBlocks);
