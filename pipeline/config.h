@@ -89,6 +89,12 @@ struct PipelineConfig {
   // fails the corridor drive (test_moving_volume_cli, 97.2% tracked) and costs DEFAULT 0.16 cm on
   // stress-hard-bursts (docs/performance-history.md, issue 43).
   int integrateCarveEvery = 1;
+  // false: integrate_carve_every counts whole integrations (every Nth visits the whole view). true: it counts
+  // per block (pipeline/carve_schedule.h): a block in view is carved when it first comes into the volume's
+  // view and then once every N integrations, so a carving costs the blocks that are due, not the view. false
+  // by default: at N 8 DEFAULT loses 1.25% of the corridor drive's frames without odometry
+  // (docs/performance-history.md, "Carving per block").
+  bool integrateCarveBlocks = false;
 
   // --- raycast ---
   float nearPlane = 0.4f;               // metres (camera depth)

@@ -75,6 +75,7 @@ CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize,
   }
   const int blocks = config_.volumeResolution >> kSkipShift;
   blockSurfaceMask_.assign(static_cast<size_t>(blocks) * blocks * blocks, 0);
+  carve_.reset(config_.volumeResolution >> SurfaceBlocks::kShift);
   computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_, pool_);
 }
 
@@ -244,6 +245,8 @@ void CpuBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
     // The skipping grid is kept in logical blocks: it moves with the volume, the blocks that came in are empty.
     const int moved = cornerVoxels[c.axis] - before[c.axis];
     shiftGrid(blockSurfaceMask_.data(), res >> kSkipShift, c.axis, moved / (1 << kSkipShift), 0, pool_);
+    carve_.shift(c.axis, moved / (1 << SurfaceBlocks::kShift),
+                 pool_);  // the blocks that came in: never carved
   }
   computeBlockDistance(blockSurfaceMask_, res >> kSkipShift, blockDistance_, pool_);
 }

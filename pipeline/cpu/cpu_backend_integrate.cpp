@@ -1,8 +1,9 @@
 // CpuBackend's integrate (the rest of the backend: cpu_backend.cpp): every block of the view with free space
-// carved (integrateCarving, KinectFusion's integration, culled by integrate_cull.h), or only the blocks that the
-// depth's truncation band crosses (integrateSurface, pipeline/surface_blocks.h); config integrate_carve_every
-// says which. Both run kernels/volume.h's integrateVoxel through cpu_integrate.h's rows, so a voxel either visits
-// gets the same bits.
+// carved (integrateCarving, KinectFusion's integration, culled by integrate_cull.h), or only the blocks that
+// the depth's truncation band crosses (integrateSurface, pipeline/surface_blocks.h), with the blocks in view
+// due for carving when integrate_carve_blocks is set (pipeline/carve_schedule.h); config
+// integrate_carve_every says which. Both run kernels/volume.h's integrateVoxel through cpu_integrate.h's
+// rows, so a voxel either visits gets the same bits.
 #include <algorithm>
 #include <cmath>
 
@@ -55,20 +56,22 @@ void orRowSurfaceMask(const int16_t* row, int delta, int x0, int x1, int16_t bel
 void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) {
   StageTimer t(times, Stage::integrate);
   const int every = config_.integrateCarveEvery;
-  const bool carve = every > 0 && integrations_ % every == 0;
+  const bool carveBlocks =
+      config_.integrateCarveBlocks && every > 0;  // per block (pipeline/carve_schedule.h)
+  const bool carve = !carveBlocks && every > 0 && integrations_ % every == 0;
   ++integrations_;
   if (carve) {
     integrateCarving(cameraToWorld);
     times.work.carvingIntegrations += 1;
     times.work.integrateBlocks += static_cast<long long>(cull_.liveCount());
   } else {
-    integrateSurface(cameraToWorld);
-    times.work.integrateBlocks += static_cast<long long>(surface_.blocks().size());
+    times.work.integrateBlocks += static_cast<long long>(integrateSurface(cameraToWorld, carveBlocks).size());
   }
   computeBlockDistance(blockSurfaceMask_, config_.volumeResolution >> kSkipShift, blockDistance_, pool_);
 }
 
-void CpuBackend::integrateSurface(const Eigen::Isometry3f& cameraToWorld) {
+const std::vector<int32_t>& CpuBackend::integrateSurface(const Eigen::Isometry3f& cameraToWorld,
+                                                         bool carveBlocks) {
   const int res = config_.volumeResolution;
   const float voxel = config_.voxelSize();
   const Eigen::Isometry3f cameraToVolume = placement_.toVolumeFrame(cameraToWorld);
@@ -92,7 +95,9 @@ void CpuBackend::integrateSurface(const Eigen::Isometry3f& cameraToWorld) {
   for (int faces = 0; faces < 8; ++faces) maskBits[faces] = sbSurfaceMaskBits(faces);
   int16_t* vol = volume_.data();
   const float* depth = depth_.data();
-  const std::vector<int32_t>& list = surface_.blocks();
+  if (carveBlocks) cull_.update(pool_, depth, w, h, k, w2c, res, voxel, mu);
+  const std::vector<int32_t>& list =
+      carveBlocks ? carve_.plan(surface_, cull_, config_.integrateCarveEvery) : surface_.blocks();
   // Every voxel of a listed block is visited, so the skipping masks of its 2^3 skipping blocks are recomputed
   // whole (a block is written by the one chunk that holds it).
   pool_.parallelFor(0, static_cast<int>(list.size()), 16, [&](int, int i0, int i1) {
@@ -120,6 +125,7 @@ void CpuBackend::integrateSurface(const Eigen::Isometry3f& cameraToWorld) {
       }
     }
   });
+  return list;
 }
 
 void CpuBackend::integrateCarving(const Eigen::Isometry3f& cameraToWorld) {

@@ -95,6 +95,7 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
   blockDistance = createBuffer(ctx, CL_MEM_READ_ONLY, blocks * blocks * blocks, "skipping block distances");
   blockMasksHost.resize(blocks * blocks * blocks);
   const size_t surfaceBlocksPerSide = res >> SurfaceBlocks::kShift;
+  carve.reset(static_cast<int>(surfaceBlocksPerSide));
   surfaceBlocks = createBuffer(ctx, CL_MEM_READ_ONLY,
                                surfaceBlocksPerSide * surfaceBlocksPerSide * surfaceBlocksPerSide * sizeof(int32_t),
                                "surface block list");

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "core/thread_pool.h"
+#include "pipeline/carve_schedule.h"
+#include "pipeline/integrate_cull.h"
 #include "pipeline/opencl/launcher.h"
 #include "pipeline/opencl/opencl_backend.h"
 #include "pipeline/ray_bounds.h"
@@ -93,6 +95,10 @@ struct OpenClBackend::State {
   std::vector<float> depthHost;
   opencl::Buffer surfaceBlocks;
   long long integrations = 0;  // integrate calls so far (every integrate_carve_every-th carves)
+  // integrate_carve_blocks: the blocks in view (from the depth read back) and each block's age since it was
+  // last carved (pipeline/carve_schedule.h), as the CPU backend.
+  IntegrateCull cull;
+  CarveSchedule carve;
   RayBounds rayBounds;
   opencl::Buffer rayBoundsBuffer;
   opencl::Buffer image;    // render output

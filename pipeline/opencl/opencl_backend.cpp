@@ -110,8 +110,10 @@ void OpenClBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes
   const size_t r = size_t(c.volumeResolution);
   const Eigen::Isometry3f cameraToVolume = s.placement.toVolumeFrame(cameraToWorld);
   const SbMat34 worldToCamera = toMat34(cameraToVolume.inverse().matrix());
-  // Free space carved every integrate_carve_every-th integration, else only the surface blocks (as the CPU backend).
-  const bool carve = c.integrateCarveEvery > 0 && s.integrations % c.integrateCarveEvery == 0;
+  // Free space carved every integrate_carve_every-th integration, else only the surface blocks (as the CPU
+  // backend); with integrate_carve_blocks, the surface blocks and the blocks in view due for carving.
+  const bool carveBlocks = c.integrateCarveBlocks && c.integrateCarveEvery > 0;
+  const bool carve = !carveBlocks && c.integrateCarveEvery > 0 && s.integrations % c.integrateCarveEvery == 0;
   ++s.integrations;
   const int w = s.computeK.width, h = s.computeK.height;
   if (carve) {
@@ -124,7 +126,11 @@ void OpenClBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes
     s.depthHost = s.readMap(s.depth, size_t(w) * size_t(h));
     s.surface.build(s.depthHost.data(), w, h, toCamera(s.computeK), toMat34(cameraToVolume.matrix()),
                     c.volumeResolution, c.voxelSize(), c.mu, std::max(1, 8 * w / s.full.width));
-    const std::vector<int32_t>& list = s.surface.blocks();
+    if (carveBlocks)
+      s.cull.update(s.skipPool, s.depthHost.data(), w, h, toCamera(s.computeK), worldToCamera,
+                    c.volumeResolution, c.voxelSize(), c.mu);
+    const std::vector<int32_t>& list =
+        carveBlocks ? s.carve.plan(s.surface, s.cull, c.integrateCarveEvery) : s.surface.blocks();
     if (!list.empty()) {
       opencl::check(clEnqueueWriteBuffer(s.launcher.queue(), s.surfaceBlocks.get(), CL_TRUE, 0,
                                          list.size() * sizeof(int32_t), list.data(), 0, nullptr, nullptr),
@@ -229,7 +235,11 @@ void OpenClBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
   State& s = *s_;
   const int res = s.config.volumeResolution;
   bool cleared = false;
+  const Eigen::Vector3i before = s.placement.corner();
   for (const VolumePlacement::Clear& c : s.placement.moveTo(cornerVoxels)) {
+    // The carving record is kept in logical blocks: it moves with the volume, the blocks that came in are
+    // new.
+    s.carve.shift(c.axis, (cornerVoxels[c.axis] - before[c.axis]) / (1 << SurfaceBlocks::kShift), s.skipPool);
     s.launcher.run(Stage::integrate, s.kernels().clearSlab, {size_t(c.count), size_t(res), size_t(res)},
                    kVolumeGroup, s.volume, res, c.axis, c.first, c.count);
     cleared = true;

@@ -1,7 +1,7 @@
 // pipeline/cpu/cpu_integrate.h against kernels/volume.h's integrateVoxel(): every row of voxels must end
 // bit-identical, over rows that cross free space, the truncation band, the space behind the surface and the
 // outside of the view, from voxels in every state (unobserved, partly and fully weighted, negative tsdf).
-// And the CPU backend's whole integrate (rows, block culling of pipeline/cpu/integrate_cull.h) against
+// And the CPU backend's whole integrate (rows, block culling of pipeline/integrate_cull.h) against
 // integrateVoxel() on every voxel, and the empty-space skipping masks it or-s in row by row against
 // kernels/raycast.h's sbBlockSurfaceMask.
 
