@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 #include <cstdlib>
+#include <cstring>
+#include <limits>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -113,6 +115,23 @@ std::vector<double> lineValues(const std::string& line) {
   std::vector<double> v;
   for (double x; in >> x;) v.push_back(x);
   return v;
+}
+
+sensor_msgs::Image depthImage(const sb::DepthFrame& f, double depthScale, const ros::Time& stamp) {
+  sensor_msgs::Image m;
+  m.header.stamp = stamp;
+  m.header.frame_id = "camera_depth_optical_frame";
+  m.width = static_cast<uint32_t>(f.depth.width());
+  m.height = static_cast<uint32_t>(f.depth.height());
+  m.encoding = "32FC1";
+  m.step = m.width * sizeof(float);
+  m.data.resize(static_cast<size_t>(m.step) * m.height);
+  for (size_t i = 0; i < f.depth.size(); ++i) {
+    const uint16_t raw = f.depth.pixels()[i];
+    const float metres = raw ? static_cast<float>(raw / depthScale) : std::numeric_limits<float>::quiet_NaN();
+    std::memcpy(m.data.data() + i * sizeof(float), &metres, sizeof metres);
+  }
+  return m;
 }
 
 }  // namespace sb::test::ros_e2e

@@ -5,6 +5,7 @@
 // sequence, socket directories).
 
 #include <ros/ros.h>
+#include <sensor_msgs/Image.h>
 
 #include <chrono>
 #include <functional>
@@ -13,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "drivers/frame_source.h"
 #include "tests/daemon/process.h"
 #include "tests/support/test_data.h"
 
@@ -65,5 +67,8 @@ std::vector<std::string> withPipelineConfig(std::vector<std::string> args, const
 
 // Values of one TUM trajectory line.
 std::vector<double> lineValues(const std::string& line);
+
+// A depth frame as a camera driver publishes it: 32FC1 metres (NaN for no reading) in camera_depth_optical_frame.
+sensor_msgs::Image depthImage(const sb::DepthFrame& frame, double depthScale, const ros::Time& stamp);
 
 }  // namespace sb::test::ros_e2e

@@ -41,23 +41,6 @@ Frames readSequence(const std::string& path) {
   return f;
 }
 
-sensor_msgs::Image toImage(const sb::DepthFrame& f, double depthScale, const ros::Time& stamp) {
-  sensor_msgs::Image m;
-  m.header.stamp = stamp;
-  m.header.frame_id = "camera_depth_optical_frame";
-  m.width = static_cast<uint32_t>(f.depth.width());
-  m.height = static_cast<uint32_t>(f.depth.height());
-  m.encoding = "32FC1";
-  m.step = m.width * sizeof(float);
-  m.data.resize(static_cast<size_t>(m.step) * m.height);
-  for (size_t i = 0; i < f.depth.size(); ++i) {
-    const uint16_t raw = f.depth.pixels()[i];
-    const float metres = raw ? static_cast<float>(raw / depthScale) : std::numeric_limits<float>::quiet_NaN();
-    std::memcpy(m.data.data() + i * sizeof(float), &metres, sizeof metres);
-  }
-  return m;
-}
-
 nlohmann::json request(sb::client::Connection& c, const std::string& line, const std::string& cls) {
   c.send(line);
   return c.reply(cls, 10.0);
@@ -115,7 +98,7 @@ TEST_CASE("depth from a ROS topic reaches the daemon: same trajectory as the rep
   std::unique_ptr<sb::client::Connection> client;
   for (size_t i = 0; i < frames.frames.size(); ++i) {
     const auto& f = frames.frames[i];
-    depthPub.publish(toImage(f, frames.info.depthScale, ros::Time(f.timestamp)));
+    depthPub.publish(depthImage(f, frames.info.depthScale, ros::Time(f.timestamp)));
     if (!client) {
       REQUIRE(waitForPath(socket, 30.0));
       client = std::make_unique<sb::client::Connection>(socket, 10.0);
@@ -134,7 +117,7 @@ TEST_CASE("depth from a ROS topic reaches the daemon: same trajectory as the rep
   // source records, per frame, wall clock on arrival minus the stamp.
   std::vector<double> agesMs;
   for (size_t i = 0; i < frames.frames.size(); ++i) {
-    depthPub.publish(toImage(frames.frames[i], frames.info.depthScale, ros::Time::now()));
+    depthPub.publish(depthImage(frames.frames[i], frames.info.depthScale, ros::Time::now()));
     std::this_thread::sleep_for(std::chrono::duration<double>(kFramePeriodS));
     agesMs.push_back(request(*client, "?STATUS;", "STATUS")["source"].value("last_arrival_age_ms", -1.0));
   }

@@ -45,23 +45,6 @@ constexpr size_t kOdometryChunk =
     40;  // samples published before waiting for the bridge: within its queue of 100
 constexpr const char* kCameraFrame = "camera_depth_optical_frame";
 
-sensor_msgs::Image toImage(const sb::DepthFrame& f, double depthScale) {
-  sensor_msgs::Image m;
-  m.header.stamp = ros::Time(f.timestamp);
-  m.header.frame_id = kCameraFrame;
-  m.width = static_cast<uint32_t>(f.depth.width());
-  m.height = static_cast<uint32_t>(f.depth.height());
-  m.encoding = "32FC1";
-  m.step = m.width * sizeof(float);
-  m.data.resize(static_cast<size_t>(m.step) * m.height);
-  for (size_t i = 0; i < f.depth.size(); ++i) {
-    const uint16_t raw = f.depth.pixels()[i];
-    const float metres = raw ? static_cast<float>(raw / depthScale) : std::numeric_limits<float>::quiet_NaN();
-    std::memcpy(m.data.data() + i * sizeof(float), &metres, sizeof metres);
-  }
-  return m;
-}
-
 // frames.jsonl's frame numbers that had an odometry pose.
 std::vector<int> framesWithOdometry(const std::string& path) {
   std::ifstream in(path);
@@ -192,7 +175,7 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
     return client->reply("POLL", 10.0).value("frames", size_t{0}) >= n;
   };
   for (size_t i = 0; i < frames.size(); ++i) {
-    depthPub.publish(toImage(frames[i], info.depthScale));
+    depthPub.publish(depthImage(frames[i], info.depthScale, ros::Time(frames[i].timestamp)));
     if (!client) {
       REQUIRE(waitForPath(socket, 30.0));
       client = std::make_unique<sb::client::Connection>(socket, 10.0);

@@ -6,26 +6,16 @@
 
 #include "runtime/odometry_calibration.h"
 #include "runtime/odometry_fusion.h"
+#include "tests/runtime/odometry_views.h"
 
 using namespace sb;
 using namespace sb::odometry;
+using sb::test::view;
 
 namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
 constexpr double kDt = 1.0 / 30;
-
-// A view that fixes every motion with conditioning `c`, except those in `free` (0-5: tx ty tz rx ry rz).
-TrackingQuality view(double c, std::initializer_list<int> free = {}) {
-  TrackingQuality q;
-  q.known = true;
-  Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Constant(c);
-  for (int i : free) d(i) = 1e-5;
-  q.structure = d.asDiagonal();
-  q.basis = Matrix6::Identity();
-  q.conditioning = d.minCoeff();
-  return q;
-}
 
 // The wheels' errors of the test base.
 struct Wheels {
@@ -144,10 +134,10 @@ TEST_CASE("a turn is fused by the view's and the wheels' information, the rotati
   const Fusion f = fuseWithOdometry(q, previous, tracked, predicted, step, c);
   REQUIRE_FALSE(f.rejected);
   // Information: the view's c / (icp_sigma^2 c_full), the wheels' 1 / sigma_rad^2 (lever 1 m: basis identity).
-  const double view = 0.01 / (c.icpSigmaM * c.icpSigmaM * c.fullConditioning);
+  const double seen = 0.01 / (c.icpSigmaM * c.icpSigmaM * c.fullConditioning);
   const double wheels = 1.0 / (step.sigmaRad * step.sigmaRad);
   const double turn = Eigen::AngleAxisd(f.pose.linear()).angle() / kDeg;
-  CHECK(turn == Approx(1.0 + 0.2 * view / (view + wheels)).margin(1e-4));
+  CHECK(turn == Approx(1.0 + 0.2 * seen / (seen + wheels)).margin(1e-4));
   // A noisier base (ten times the rotation noise) leaves the turn to the view, nearly.
   step.sigmaRad *= 10;
   const Fusion noisy = fuseWithOdometry(q, previous, tracked, predicted, step, c);

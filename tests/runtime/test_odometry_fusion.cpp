@@ -4,23 +4,13 @@
 #include <cmath>
 
 #include "runtime/odometry_fusion.h"
+#include "tests/runtime/odometry_views.h"
 
 using namespace sb;
 using namespace sb::odometry;
+using sb::test::view;
 
 namespace {
-
-// A view that fixes every motion with conditioning `c`, except those in `free` (0-5: tx ty tz rx ry rz).
-TrackingQuality view(double c, std::initializer_list<int> free = {}) {
-  TrackingQuality q;
-  q.known = true;
-  Eigen::Matrix<double, 6, 1> d = Eigen::Matrix<double, 6, 1>::Constant(c);
-  for (int i : free) d(i) = 1e-5;
-  q.structure = d.asDiagonal();
-  q.basis = Matrix6::Identity();
-  q.conditioning = d.minCoeff();
-  return q;
-}
 
 Eigen::Isometry3d moved(double x, double y, double z) {
   return Eigen::Isometry3d(Eigen::Translation3d(x, y, z));
