@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include "navmap/map_files.h"
@@ -25,6 +26,23 @@ std::string slurp(const std::string& path) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// A wall facing the camera at world z = 3 (map x = 2.5) over a floor at world y = 2.2 (map z = 0), 4 cm voxels.
+sb::navmap::test::TsdfScene wallScene() {
+  return sb::navmap::test::TsdfScene(
+      [](const Eigen::Vector3d& w) { return std::min(2.2 - w.y(), 3.0 - w.z()); }, 100, 0.04);
+}
+
+// The scene's map with 8 cm map.bt cells, its frame from a level camera 1.2 m up at (2, 1, 0.5).
+std::unique_ptr<NavMap> wallMap(const sb::navmap::test::TsdfScene& scene) {
+  NavMapConfig config;
+  config.octomapResolutionM = 0.08;
+  auto map = std::make_unique<NavMap>(config, scene.voxel, scene.mu);
+  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
+  camera.translation() = Eigen::Vector3d(2.0, 1.0, 0.5);
+  map->setFrame(mapFrameFromMount(camera, CameraMount{1.2, 0.0, 0.0}));
+  return map;
 }
 
 }  // namespace
@@ -57,15 +75,9 @@ TEST_CASE("map.bt loads with liboctomap: the wall occupied, the room free", "[na
     WARN("built without liboctomap: no map.bt");
     return;
   }
-  // A wall facing the camera at world z = 3 (map x = 2.5) over a floor at world y = 2.2 (map z = 0).
-  const sb::navmap::test::TsdfScene scene(
-      [](const Eigen::Vector3d& w) { return std::min(2.2 - w.y(), 3.0 - w.z()); }, 100, 0.04);
-  NavMapConfig config;
-  config.octomapResolutionM = 0.08;
-  NavMap map(config, scene.voxel, scene.mu);
-  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
-  camera.translation() = Eigen::Vector3d(2.0, 1.0, 0.5);
-  map.setFrame(mapFrameFromMount(camera, CameraMount{1.2, 0.0, 0.0}));
+  const auto scene = wallScene();
+  const std::unique_ptr<NavMap> owned = wallMap(scene);
+  NavMap& map = *owned;
   const std::string dir = sb::test::scratchDir("navmap_octomap");
   const VoxelBox volume = scene.box();
   map.write(dir, &volume);
@@ -85,14 +97,9 @@ TEST_CASE("map.bt loads with liboctomap: the wall occupied, the room free", "[na
 
 TEST_CASE("the surface cells (the daemon's cloud) are map.bt's occupied cells, with or without liboctomap",
           "[navmap]") {
-  const sb::navmap::test::TsdfScene scene(
-      [](const Eigen::Vector3d& w) { return std::min(2.2 - w.y(), 3.0 - w.z()); }, 100, 0.04);
-  NavMapConfig config;
-  config.octomapResolutionM = 0.08;
-  NavMap map(config, scene.voxel, scene.mu);
-  Eigen::Isometry3d camera = Eigen::Isometry3d::Identity();
-  camera.translation() = Eigen::Vector3d(2.0, 1.0, 0.5);
-  map.setFrame(mapFrameFromMount(camera, CameraMount{1.2, 0.0, 0.0}));
+  const auto scene = wallScene();
+  const std::unique_ptr<NavMap> owned = wallMap(scene);
+  NavMap& map = *owned;
   CHECK(map.surfaceCells().empty());  // nothing before the first write
   const VoxelBox volume = scene.box();
   map.write(sb::test::scratchDir("navmap_surface"), &volume);
@@ -107,8 +114,9 @@ TEST_CASE("the surface cells (the daemon's cloud) are map.bt's occupied cells, w
   CHECK(has(2.52, 0.0, 0.8));   // the wall
   CHECK(!has(1.0, 0.0, 0.8));   // the room
   if (octomapAvailable()) CHECK(cells.size() == map.stats().octomap.occupiedLeaves);
-  config.octomapResolutionM = 0.0;  // no map.bt: no cloud either
-  NavMap none(config, scene.voxel, scene.mu);
+  NavMapConfig noTree;
+  noTree.octomapResolutionM = 0.0;  // no map.bt: no cloud either
+  NavMap none(noTree, scene.voxel, scene.mu);
   none.setFrame(*map.frame());
   none.write(sb::test::scratchDir("navmap_surface_none"), &volume);
   CHECK(none.surfaceCells().empty());
