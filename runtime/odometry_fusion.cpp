@@ -74,6 +74,18 @@ std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& 
   return {};
 }
 
+std::string viewBreaksInertia(const Eigen::Isometry3d& previous, const Eigen::Isometry3d& tracked,
+                              const Eigen::Isometry3d& predicted, double dt,
+                              const std::optional<Eigen::Vector3d>& lastVelocity, double floorM) {
+  if (!lastVelocity || !(dt > 0)) return {};
+  const Eigen::Vector3d& from = previous.translation();
+  const double departView = ((tracked.translation() - from) / dt - *lastVelocity).norm() * dt;
+  const double departWheels = ((predicted.translation() - from) / dt - *lastVelocity).norm() * dt;
+  if (departView <= departWheels || departView < floorM) return {};
+  return format("the view departs %.3f m from the last velocity in one frame, the odometry %.3f m: the view is wrong",
+                departView, departWheels);
+}
+
 Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previous, const Eigen::Isometry3d& tracked,
                         const Eigen::Isometry3d& predicted, const OdometryStep& step, const OdometryConfig& c) {
   Fusion f;

@@ -29,6 +29,16 @@ struct OdometryStep {
 std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, double t1, const OdometryConfig& c,
                                         std::string& why);
 
+// Of a view and wheels that disagree (the view's pose `tracked`, the wheels' `predicted`, both from `previous`
+// `dt` seconds ago), why the view is the wrong one, or "" when it is not shown to be: a body keeps its velocity
+// (`lastVelocity`, m/s, world frame), so of the two motions the one that departs further from it within the frame
+// is wrong. A wheel slip is the wheels' jump; a view that matched the model elsewhere (a runaway) is the view's.
+// A departure of the view below `floorM` (metres in one frame) is within what tracking shows anyway. No last
+// velocity or dt <= 0: "".
+std::string viewBreaksInertia(const Eigen::Isometry3d& previous, const Eigen::Isometry3d& tracked,
+                              const Eigen::Isometry3d& predicted, double dt,
+                              const std::optional<Eigen::Vector3d>& lastVelocity, double floorM);
+
 // Why a camera motion from `previous` to `pose` in `dt` seconds is one the platform cannot make (speed, turn
 // rate, or acceleration against `previousVelocity`, m/s in the world frame), or "" when it can. dt <= 0: "".
 std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& previous,

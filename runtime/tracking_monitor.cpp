@@ -48,11 +48,20 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
   }
   if (r.tracked && motion.step) {
     // With odometry the view and the wheels are weighed first; where they disagree along a motion the view
-    // fixes, physics says who is wrong: a tracked motion the platform cannot make is the view's error (the
-    // pose follows the odometry below), a plausible one says the wheels slipped (the tracked pose stands).
+    // fixes, physics says who is wrong: a tracked motion that departs further from the last velocity than the
+    // wheels' (inertia), or one the platform cannot make, is the view's error (the pose follows the odometry
+    // below); otherwise the wheels slipped (the tracked pose stands).
     fuse(rec, motion);
     if (rec.odometry.rejected && !d.correctedPose) {
-      checkPhysics(pipeline, rec, motion);
+      const double dt = r.timestamp - motion.previousStamp;
+      const std::string inertia =
+          odometry::viewBreaksInertia(motion.previousPose, d.refinedPose ? *d.refinedPose : r.T_camera_to_world,
+                                      motion.previousPose * motion.step->delta, dt, lastVelocity_,
+                                      config_.odometry.slipFloorM);
+      if (!inertia.empty())
+        discardTrack(pipeline, rec, motion, inertia);
+      else
+        checkPhysics(pipeline, rec, motion);
       if (!r.tracked) {
         rec.odometry.rejected = false;
         rec.odometry.why.clear();
@@ -114,9 +123,16 @@ void TrackingMonitor::checkPhysics(Pipeline& pipeline, FrameRecord& rec, const F
     std::nth_element(recent.begin(), recent.begin() + recent.size() / 2, recent.end());
     if (r.pairAgreement >= recent[recent.size() / 2] - c.jumpAgreementMargin) return;
   }
+  discardTrack(pipeline, rec, motion, why);
+}
+
+void TrackingMonitor::discardTrack(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion,
+                                   const std::string& why) {
   // Not a motion this platform makes: the view matched the model somewhere else (a runaway, a spliced frame).
   // Discarded like a failed track: the pose goes on at the last velocity (or follows the odometry), nothing
   // fused, and the next frame tracks from there; a run of them ends as failures (relocalisation).
+  FrameResult& r = rec.result;
+  const double dt = r.timestamp - motion.previousStamp;
   rec.implausible = why;
   pipeline.discardTrack(r);
   Decision& d = rec.decision;

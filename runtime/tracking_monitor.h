@@ -57,6 +57,8 @@ class TrackingMonitor {
  private:
   // The tracked pose against the platform's physics: an impossible motion is discarded (tracked false).
   void checkPhysics(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion);
+  // The track discarded as implausible (`why`): the pose goes on at the last velocity, nothing fused.
+  void discardTrack(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion, const std::string& why);
   // A tracked frame with odometry: fused, or the odometry rejected as a slip.
   void fuse(FrameRecord& rec, const FrameMotion& motion);
   // A frame depth did not track, with odometry left in the budget: the pose follows it. False when it cannot.

@@ -86,6 +86,28 @@ TEST_CASE("a wheel slip the view contradicts along the motions it fixes is rejec
   CHECK(fromOrigin(TrackingQuality{}, tracked, slipped, c).pose.isApprox(tracked));
 }
 
+TEST_CASE("of a view and wheels that disagree, the one that breaks inertia is wrong", "[odometry][physics]") {
+  const OdometryConfig c;
+  const Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+  const double dt = 1.0 / 30;
+  const Eigen::Vector3d creeping(0, 0, 0.2);  // m/s: the robot setting off
+  // The view ran away 0.12 m in one frame, the wheels went on at 7 mm: the view is wrong.
+  CHECK_THAT(viewBreaksInertia(start, moved(0, 0, 0.12), moved(0, 0, 0.007), dt, creeping, c.slipFloorM),
+             Catch::Contains("the view is wrong") && Catch::Contains("0.113 m"));
+  // A runaway within every limit of the platform (2.1 m/s, 57 m/s^2): still the view's, against the wheels.
+  CHECK_FALSE(viewBreaksInertia(start, moved(0, 0, 0.071), moved(0, 0, 0.008), dt, creeping, c.slipFloorM).empty());
+  // A wheel slip: the wheels jump 0.4 m, the view goes on at 7 mm: not the view's.
+  CHECK(viewBreaksInertia(start, moved(0, 0, 0.007), moved(0, 0, 0.4), dt, creeping, c.slipFloorM).empty());
+  // Sideways: the view slid 5 cm to the side while the wheels kept the heading.
+  CHECK_FALSE(
+      viewBreaksInertia(start, moved(0.05, 0, 0.007), moved(0, 0, 0.007), dt, creeping, c.slipFloorM).empty());
+  // Both near the last velocity (a rotation disagreement): within tracking's own noise, not judged here.
+  CHECK(viewBreaksInertia(start, moved(0, 0, 0.012), moved(0, 0, 0.005), dt, creeping, c.slipFloorM).empty());
+  // Without a last velocity or time, not judged.
+  CHECK(viewBreaksInertia(start, moved(0, 0, 0.3), moved(0, 0, 0.007), dt, std::nullopt, c.slipFloorM).empty());
+  CHECK(viewBreaksInertia(start, moved(0, 0, 0.3), moved(0, 0, 0.007), 0.0, creeping, c.slipFloorM).empty());
+}
+
 TEST_CASE("a motion the platform cannot make is named; one it can is not", "[odometry][physics]") {
   const OdometryConfig c;  // 3 m/s, 100 m/s^2, 400 deg/s
   const Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
