@@ -12,6 +12,7 @@ void AdaptiveConfig::read(ConfigReader& r) {
   r.integer("hold_frames", holdFrames, 0, 100000);
   r.integer("relax_frames", relaxFrames, 1, 100000);
   r.integer("correction_max_extrapolated_frames", maxExtrapolatedFrames, 0, 1000);
+  r.integer("max_level_with_odometry", maxLevelWithOdometry, 0, 16);
   r.boolean("predict_start", predictStart);
   r.boolean("integrate_unconstrained", integrateUnconstrained);
   r.number("icp_hold_conditioning", icpHoldConditioning, 0.0, 1.0);
@@ -31,6 +32,7 @@ nlohmann::json AdaptiveConfig::toJson() const {
                       {"hold_frames", holdFrames},
                       {"relax_frames", relaxFrames},
                       {"correction_max_extrapolated_frames", maxExtrapolatedFrames},
+                      {"max_level_with_odometry", maxLevelWithOdometry},
                       {"predict_start", predictStart},
                       {"integrate_unconstrained", integrateUnconstrained},
                       {"icp_hold_conditioning", icpHoldConditioning},
@@ -143,6 +145,9 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     return x.doubtful() && !(second && x.kind == Doubt::prediction);
   };
   const bool secondDoubted = counts(doubt, o.retracked);
+  // A robot driving (its odometry present) explores: no coarser than max_level_with_odometry.
+  const int ceiling =
+      o.odometry ? std::min(config_.maxLevelWithOdometry, config_.ladder.maxLevel) : config_.ladder.maxLevel;
   bool confirmed = false, doubted = false;
   if (!o.retracked) {
     doubted = counts(doubt, false);
@@ -162,7 +167,9 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     undoubted_ = 0;
   } else if (confirmed) {
     d.reason = "coarse pose confirmed (" + firstPass_.why + ")";
-  } else if (++undoubted_ >= config_.relaxFrames && o.frame > holdUntil_ && level_ < config_.ladder.maxLevel) {
+  } else if (level_ > ceiling) {
+    setLevel(ceiling, "the robot's odometry (max_level_with_odometry)", d);
+  } else if (++undoubted_ >= config_.relaxFrames && o.frame > holdUntil_ && level_ < ceiling) {
     setLevel(level_ + 1, "relax (" + std::to_string(config_.relaxFrames) + " frames without doubt)", d);
   }
 

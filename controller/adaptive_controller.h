@@ -2,7 +2,8 @@
 // `adaptive`: the product's controller (issue 21; architecture.md D4, beyond the paper). It decides from the
 // tracker's own evidence, not from speed:
 //   1. run at the coarsest level the evidence allows: from initial_level, after the bootstrap, one level coarser every
-//      `relax_frames` frames without doubt, up to the ladder's max_level;
+//      `relax_frames` frames without doubt, up to the ladder's max_level (max_level_with_odometry while the
+//      robot's odometry drives the frames: a robot explores, and the coarse levels' biases add up as drift);
 //   2. judge each tracking result (tracking_evidence.h: failed, unconstrained, not converged, lost overlap,
 //      far from the constant-velocity prediction); a doubted result at a coarse level is tracked again,
 //      `retrack_levels` finer, before anything is accepted. When the finer pass lands on the coarse pose
@@ -42,6 +43,9 @@ struct AdaptiveConfig {
   int holdFrames = 15;             // frames at the finer level after a doubt before relaxing
   int relaxFrames = 3;             // undoubted frames per level towards approximation
   int maxExtrapolatedFrames = 5;   // failed frames in a row extrapolated; later ones hold the previous pose
+  // The coarsest level while the robot's odometry drives the frames (a robot exploring: docs/odometry.md): the
+  // coarse levels' per-frame biases add up as drift along a drive where no mapped surface anchors the view.
+  int maxLevelWithOdometry = 1;
   // A re-track that lands within these of the coarse pose confirms it: the level stays. Farther, the coarse
   // level was wrong here and the level goes finer for hold_frames.
   double confirmTranslationM = 0.01;  // m

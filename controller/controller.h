@@ -44,6 +44,7 @@ struct Observation {
   std::optional<double> latestJoules;    // J per frame of the most recent frame whose energy is known
   const DepthRaw* depth = nullptr;       // the raw input frame (full size), borrowed for the call
   double depthScale = 1000.0;            // raw units per metre
+  bool odometry = false;                 // the robot's wheel odometry gave this frame's motion (a robot driving)
 };
 
 // Trigger flags (bits of Decision::triggers), for the per-frame log and the activity plots.

@@ -41,8 +41,9 @@ void SlamRunner::applyHalfPrecision(FrameRecord& rec) {
   rec.halfApplied = backend.halfPrecision();
 }
 
-Observation SlamRunner::observe(const FrameResult& r, const DepthFrame& frame) const {
+Observation SlamRunner::observe(const FrameResult& r, const DepthFrame& frame, const FrameMotion& motion) const {
   Observation obs;
+  obs.odometry = motion.step.has_value();
   obs.frame = r.frame;
   obs.timestamp = r.timestamp;
   obs.knobs = r.knobs;
@@ -123,14 +124,14 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs(), start);
   // Lost for a while: a plain track is not trusted (the relocaliser decides, in resolve()).
   if (monitor_.recovering()) pipeline_.discardTrack(rec.result);
-  Observation obs = observe(rec.result, frame);
+  Observation obs = observe(rec.result, frame, motion);
   rec.decision = decide(obs, rec);
   // A controller may have the frame tracked once more (at other knobs) before it is finished; pinned knobs
   // are never replaced.
   if (rec.decision.retrack && pins_.empty()) {
     pipeline_.retrackFrame(frame, depthScale_, *rec.decision.retrack, rec.result);
     if (monitor_.recovering()) pipeline_.discardTrack(rec.result);
-    obs = observe(rec.result, frame);
+    obs = observe(rec.result, frame, motion);
     const uint32_t firstTriggers = rec.decision.triggers;
     rec.decision = decide(obs, rec);
     rec.decision.retrack.reset();

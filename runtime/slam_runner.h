@@ -62,7 +62,7 @@ class SlamRunner {
  private:
   // Switches the backend's half precision to what the last decision wished (where the backend has it).
   void applyHalfPrecision(FrameRecord& rec);
-  Observation observe(const FrameResult& result, const DepthFrame& frame) const;
+  Observation observe(const FrameResult& result, const DepthFrame& frame, const FrameMotion& motion) const;
   // The previous frame's pose and stamp, and the odometry's step since then (rec.odometry says what it found).
   FrameMotion motionOf(const DepthFrame& frame, FrameRecord& rec) const;
   // Controller::decide, timed into rec.controllerMs, its knobs validated (throws sb::Error naming it).

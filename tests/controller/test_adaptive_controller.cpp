@@ -33,9 +33,12 @@ struct Driver {
   sb::test::ObservationScript script;
   sb::Knobs knobs;
 
+  bool odometry = false;  // the frames carry the robot's odometry
+
   Observation observe(const Eigen::Isometry3d& motion, bool tracked = true) {
     Observation o = script.next(motion, tracked);
     o.knobs = knobs;
+    o.odometry = odometry;
     o.icpLevelIterations = {1, 1, 1};
     o.inlierFraction = 0.6;
     if (o.trackingAttempted) o.quality = {true, 0.1, 0.1, sb::WeakDirection::tx, true};
@@ -79,6 +82,31 @@ TEST_CASE("adaptive relaxes one level per relax_frames after its bootstrap, up t
   // Observations 1-6 are the bootstrap; then one level per 2 undoubted frames, up to 3.
   CHECK(levels == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 3});
   CHECK(drive.knobs == sb::Knobs{8, 1e-4, {4, 5, 4}, 1, 1});
+}
+
+TEST_CASE("adaptive with the robot's odometry relaxes no coarser than max_level_with_odometry",
+          "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
+  Driver drive(c);
+  drive.odometry = true;
+  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
+  CHECK(c.level() == 1);  // the default ceiling: csr 2
+  CHECK(drive.knobs.csr == 2);
+  // The wheels gone (a handheld stretch, an odometry outage): the whole ladder again.
+  drive.odometry = false;
+  for (int i = 0; i < 6; ++i) drive.step(moveX(0.01));
+  CHECK(c.level() == 3);
+  // The wheels back: down to the ceiling at once, with the reason in the decision.
+  drive.odometry = true;
+  const Decision d = drive.step(moveX(0.01));
+  CHECK(d.level == 1);
+  CHECK_THAT(d.reason, Catch::Contains("max_level_with_odometry"));
+  // Configurable: 3 lets the robot use the whole ladder.
+  AdaptiveController free("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1,
+                                                 "max_level_with_odometry": 3})"));
+  Driver freeDrive(free);
+  freeDrive.odometry = true;
+  freeDrive.reachCoarsest();
 }
 
 TEST_CASE("adaptive never corrects fast motion that ICP tracks consistently", "[controller][adaptive]") {
