@@ -184,7 +184,7 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
                         (doubt.kind == Doubt::notConverged && finest) ||
                         (doubt.kind == Doubt::unconstrained && config_.integrateUnconstrained));
   const Eigen::Isometry3d finalPose = d.correctedPose ? *d.correctedPose : d.refinedPose ? *d.refinedPose : o.pose;
-  d.integrate = gate_.decide(finalPose, trusted);
+  d.integrate = gate_.decide(finalPose, trusted, o.odometry);
   if (!*d.integrate) {
     d.triggers |= kTriggerSkipIntegrate;
     d.keepReference = true;

@@ -13,11 +13,16 @@ namespace sb {
 
 struct IntegrationParams {
   double translationM = 0.04;  // m moved since the last fused frame that makes a frame worth fusing
+  // The same while the robot's odometry drives the frames: a robot drives 3-4 cm per frame, and a frame not fused
+  // is tracked against the last fused frame's reference maps, so up to ICP's pairing distance (0.1 m) of travel
+  // the reference still covers the view (docs/odometry.md: 0.04 to 0.2 m changed the drives' ATE only by chance).
+  double translationWithOdometryM = 0.1;
   double rotationDeg = 4.0;    // degrees turned since the last fused frame that makes a frame worth fusing
   static constexpr int kMaxGap = 1000;
   int maxGapFrames = 8;        // a tracked frame is fused at least every this many frames
 
-  // Keys: integrate_translation_m, integrate_rotation_deg, integrate_max_gap_frames.
+  // Keys: integrate_translation_m, integrate_translation_m_with_odometry, integrate_rotation_deg,
+  // integrate_max_gap_frames.
   void read(ConfigReader& reader);
   void toJson(nlohmann::json& section) const;  // adds the same keys with their values
 };
@@ -25,9 +30,9 @@ struct IntegrationParams {
 class IntegrationGate {
  public:
   explicit IntegrationGate(const IntegrationParams& params) : params_(params) {}
-  // Whether the frame with final pose `pose` should be fused; `eligible`: tracked and its pose kept.
-  // Remembers the pose of the fused frames.
-  bool decide(const Eigen::Isometry3d& pose, bool eligible);
+  // Whether the frame with final pose `pose` should be fused; `eligible`: tracked and its pose kept;
+  // `odometry`: the robot's odometry drives the frame. Remembers the pose of the fused frames.
+  bool decide(const Eigen::Isometry3d& pose, bool eligible, bool odometry = false);
   // The next decision fuses any eligible frame (after bootstrap, a level change, ...).
   void reset() { fusedAny_ = false; }
 

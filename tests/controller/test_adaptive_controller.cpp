@@ -203,6 +203,11 @@ TEST_CASE("adaptive fuses a frame when it brings something new, at least every m
   Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
   turn.linear() = Eigen::AngleAxisd(2.5 * 3.141592653589793 / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
   CHECK(*drive.step(turn).integrate);  // 2.5 degrees
+  // The robot's odometry drives the frames: fused every integrate_translation_m_with_odometry (default 0.1 m).
+  drive.odometry = true;
+  fused.clear();
+  for (int i = 0; i < 8; ++i) fused.push_back(*drive.step(moveX(0.035)).integrate);
+  CHECK(fused == std::vector<int>{0, 0, 1, 0, 0, 1, 0, 0});  // 3.5 cm/frame: every third frame passes 10 cm
 }
 
 TEST_CASE("adaptive re-tracks an unconstrained view and goes finer only when that finds structure", "[controller][adaptive]") {
