@@ -1,9 +1,9 @@
 // The moving volume end to end (docs/moving-volume.md), as a user runs it: a corridor drive longer than the
 // default 5 m volume (`slambooster synth --scene corridor --stress drive`, 160x120, the first 220 frames: the
 // acceleration and 6 m of the drive at about 1.2 m/s, the camera 0.1 m from the volume's near face), run with
-// DEFAULT in a 5 m volume. Fixed (`--fixed-volume`), the view leaves the cube and tracking is lost (measured:
-// 44% tracked); moving (the default of `run`), the drive tracks (measured: 99.1%, ATE 3.5 cm, 4 shifts at the
-// default volume_shift_threshold_m 1.5; 100%, 4.1 cm, 6 shifts at 1.0) and
+// DEFAULT in a 5 m volume, with the drive's odometry. Fixed (`--fixed-volume`), the view leaves the cube and
+// tracking is lost (measured: 45.8% tracked); moving (the default of `run`), the drive keeps a pose on every frame
+// (measured 2026-12-05: 93.5% tracked by ICP, 6.5% on the odometry, ATE 4.43 cm, 5 shifts) and
 // mesh.ply holds the slabs that left (map_slabs/) and the final volume, in the world frame.
 //
 // The daemon on the same drive with output.mesh (its slabs on the map's worker thread, runtime/map_slabs.h):
@@ -76,7 +76,14 @@ TEST_CASE("a corridor drive longer than the volume: lost in a fixed 5 m volume, 
                  << m["tracked_percent"] << "% tracked, ATE " << m["ate"]["rmse_m"] << " m, " << m["moving_volume"]);
   CHECK(f.value("tracked_percent", 100.0) < 80.0);
   CHECK(!f.contains("moving_volume"));
-  CHECK(m.value("tracked_percent", 0.0) >= 99.0);
+  // The drive has its odometry (synth writes it): a frame whose view slides off the wheels follows them (state
+  // odometry: posed, not tracked). Every frame keeps a pose, and ICP tracks the great majority (measured: 202 of
+  // 216, the 14 others on the odometry where the view ran 3-5 cm ahead of the wheels and the truth).
+  const nlohmann::json& states = m["tracking_state"]["frames"];
+  int frames = 0;
+  for (const auto& count : states) frames += count.get<int>();
+  CHECK(states["lost"].get<int>() <= frames / 100);
+  CHECK(m.value("tracked_percent", 0.0) >= 90.0);
   CHECK(m["ate"]["rmse_m"].get<double>() < 0.08);
   CHECK(m["moving_volume"]["shifts"].get<int>() >= 3);
   CHECK(m["config"]["volume_mode"] == "moving");
