@@ -145,6 +145,7 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
   std::vector<double> position(c.initialPosition.begin(), c.initialPosition.end());
   r.numbers("initial_position", position, 0.0, 1.0, 3, 3, "[x, y, z], fractions of the volume side");
   for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>(position[i]);
+  r.boolean("bilateral_sensor_footprint", c.bilateralSensorFootprint);
   r.boolean("empty_space_skipping", c.emptySpaceSkipping);
   r.boolean("integrate_carve_blocks", c.integrateCarveBlocks);
   r.boolean("relocalise", c.relocalise);
@@ -191,6 +192,7 @@ nlohmann::json configToJson(const PipelineConfig& c) {
   for (const auto& f : floatFields()) j[f.key] = c.*(f.member);
   for (const auto& f : intFields()) j[f.key] = c.*(f.member);
   j["initial_position"] = {c.initialPosition[0], c.initialPosition[1], c.initialPosition[2]};
+  j["bilateral_sensor_footprint"] = c.bilateralSensorFootprint;
   j["empty_space_skipping"] = c.emptySpaceSkipping;
   j["integrate_carve_blocks"] = c.integrateCarveBlocks;
   j["relocalise"] = c.relocalise;

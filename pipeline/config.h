@@ -28,6 +28,9 @@ struct PipelineConfig {
   int bilateralRadius = 2;              // pixels: the filter window is (2r+1)^2 = 5x5
   float bilateralSpatialSigma = 4.0f;   // pixels
   float bilateralRangeSigma = 0.1f;     // metres
+  // The filter's radius and sigma in sensor pixels at every compute size (pipeline/bilateral_taps.h), instead of
+  // in the compute size's own pixels. Off: on the real 7-Scenes sequence adaptive lost 0.5 cm with it.
+  bool bilateralSensorFootprint = false;
   float halfSampleMaxDifference = 0.3f; // metres: pyramid half-sampling keeps pixels this close to the centre
 
   // --- tracking (ICP) ---

@@ -63,10 +63,6 @@ SB_SIMD_CLONES void bilateralInteriorRow(float* out, const float* in, int w, int
 CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool)
     : config_(config), full_(fullSize), pool_(pool), placement_(config.volumeResolution, config.voxelSize()) {
   validateConfig(config_);
-  const int r = config_.bilateralRadius;
-  for (int i = -r; i <= r; ++i)
-    gaussian_.push_back(std::exp(-static_cast<float>(i * i) /
-                                 (2.0f * config_.bilateralSpatialSigma * config_.bilateralSpatialSigma)));
   const size_t voxels = static_cast<size_t>(config_.volumeResolution) * config_.volumeResolution * config_.volumeResolution;
   volume_.resize(2 * voxels);
   for (size_t i = 0; i < voxels; ++i) {
@@ -104,8 +100,12 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
     StageTimer t(times, Stage::bilateralFilter);
     const float* in = depth_.data();
     float* out = levels_[0].depth.data();
-    const float* g = gaussian_.data();
-    const int r = config_.bilateralRadius;
+    if (tapsCsr_ != csr) {
+      taps_ = bilateralTaps(config_, csr);
+      tapsCsr_ = csr;
+    }
+    const float* g = taps_.weights.data();
+    const int r = taps_.radius;
     const float sigma = config_.bilateralRangeSigma;
     const float rangeFactor = -1.0f / (2.0f * sigma * sigma);
     // Interior pixels of a row by bilateralInteriorRow (bit-identical to bilateralFilter()); the border

@@ -15,6 +15,7 @@
 #include "core/thread_pool.h"
 #include "kernels/raycast.h"
 #include "pipeline/backend.h"
+#include "pipeline/bilateral_taps.h"
 #include "pipeline/carve_schedule.h"
 #include "pipeline/config.h"
 #include "pipeline/cpu/cpu_track.h"
@@ -78,7 +79,8 @@ class CpuBackend : public ComputeBackend {
   PipelineConfig config_;
   Intrinsics full_;
   ThreadPool& pool_;
-  std::vector<float> gaussian_;  // bilateral spatial weights, 2r+1
+  BilateralTaps taps_;  // bilateral spatial taps at the compute size ratio tapsCsr_ (0: none yet)
+  int tapsCsr_ = 0;
 
   Intrinsics computeK_;          // of the last preprocessed frame
   std::vector<float> depth_;     // mm2meters output (compute size, metres), used by integrate

@@ -1,5 +1,7 @@
 #include "pipeline/opencl/device_state.h"
 
+#include "pipeline/bilateral_taps.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -66,12 +68,8 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
   const size_t n = size_t(full.width) * full.height;
   const size_t f = sizeof(float);
   raw = createBuffer(ctx, CL_MEM_READ_ONLY | CL_MEM_ALLOC_HOST_PTR, n * sizeof(uint16_t), "raw depth");
-  std::vector<float> weights;
-  const int r = config.bilateralRadius;
-  for (int i = -r; i <= r; ++i)
-    weights.push_back(std::exp(-static_cast<float>(i * i) /
-                               (2.0f * config.bilateralSpatialSigma * config.bilateralSpatialSigma)));
-  gaussian = createBuffer(ctx, CL_MEM_READ_ONLY, weights.size() * f, "bilateral weights");
+  // Sized for the full image's taps, the widest (pipeline/bilateral_taps.h); written per compute size.
+  gaussian = createBuffer(ctx, CL_MEM_READ_ONLY, (2 * size_t(config.bilateralRadius) + 1) * f, "bilateral weights");
   depth = createBuffer(ctx, CL_MEM_READ_WRITE, n * f, "depth");
   for (int l = 0; l < kPyramidLevels; ++l) {
     const Intrinsics k = full.scaled(1 << l);
@@ -106,10 +104,6 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
   scratch = createBuffer(ctx, CL_MEM_READ_WRITE, 3 * n * f, "conversion scratch");
   volumeHost.resize(2 * voxels);
 
-  const cl_command_queue q = launcher.queue();
-  opencl::check(clEnqueueWriteBuffer(q, gaussian.get(), CL_TRUE, 0, weights.size() * f, weights.data(), 0, nullptr,
-                                     nullptr),
-                "writing the bilateral weights");
   const opencl::Kernels& k = variant(false);
   if (launcher.maxGroupSize(k.reduce.get()) < opencl::kReduceGroup)
     throw Error("OpenCL device '" + device.deviceName + "' runs reduceKernel with fewer than " +
@@ -219,6 +213,16 @@ TrackSums OpenClBackend::State::reduceRows(const opencl::Buffer& rowsBuffer, int
                rowsBuffer, rows);
   launcher.run(Stage::reduce, k.reduceFinal, {SB_REDUCE_SIZE, 1, 1}, {SB_REDUCE_SIZE, 1, 1}, sums, partial, groups);
   return readSums();
+}
+
+void OpenClBackend::State::useBilateralTaps(int csr) {
+  if (tapsCsr == csr) return;
+  const BilateralTaps taps = bilateralTaps(config, csr);
+  opencl::check(clEnqueueWriteBuffer(launcher.queue(), gaussian.get(), CL_TRUE, 0, taps.weights.size() * sizeof(float),
+                                     taps.weights.data(), 0, nullptr, nullptr),
+                "writing the bilateral weights");
+  tapsRadius = taps.radius;
+  tapsCsr = csr;
 }
 
 }  // namespace sb

@@ -52,6 +52,7 @@ struct OpenClBackend::State {
   const opencl::Kernels& variant(bool halfStorage);  // built on first use
 
   void upload(const DepthRaw& raw);  // into `raw` through a mapping
+  void useBilateralTaps(int csr);    // `gaussian` and tapsRadius for compute size ratio csr (bilateral_taps.h)
   void read(const opencl::Buffer& buffer, void* out, size_t bytes);
   TrackSums readSums();
   // reduce + reduceFinal over `rows` track rows (kernels/track.h layout) of `rowsBuffer`; the sums read back.
@@ -74,7 +75,8 @@ struct OpenClBackend::State {
   bool half = false;
 
   opencl::Buffer raw;       // the sensor frame, CL_MEM_ALLOC_HOST_PTR
-  opencl::Buffer gaussian;  // bilateralFilter spatial weights
+  opencl::Buffer gaussian;  // bilateralFilter spatial weights at the compute size ratio tapsCsr
+  int tapsCsr = 0, tapsRadius = 0;
   opencl::Buffer depth;     // mm2meters output (compute size), read by integrate
   std::array<Level, kPyramidLevels> levels;
   opencl::Buffer trackOut, partial, sums;

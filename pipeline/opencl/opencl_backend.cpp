@@ -51,8 +51,9 @@ void OpenClBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr
   const int w = s.computeK.width, h = s.computeK.height;
   q.run(Stage::mm2meters, k.mm2meters, imageSize(s.computeK), kImageGroup, s.depth, w, h, s.raw, raw.width(), csr,
         metresPerUnit);
+  s.useBilateralTaps(csr);
   q.run(Stage::bilateralFilter, k.bilateralFilter, imageSize(s.computeK), kImageGroup, s.levels[0].depth, s.depth, w,
-        h, s.gaussian, c.bilateralRadius, c.bilateralRangeSigma);
+        h, s.gaussian, s.tapsRadius, c.bilateralRangeSigma);
   for (int l = 1; l < kPyramidLevels; ++l) {
     const State::Level& fine = s.levels[l - 1];
     const State::Level& coarse = s.levels[l];
