@@ -16,15 +16,16 @@ void RayBounds::compute(const unsigned char* blockDistance, int shift, int resol
     bounds_[2 * i + 1] = -INFINITY;
   }
   const int blocks = resolution >> shift;
-  const int groups = (blocks + kGroup - 1) / kGroup;
+  const int group = width * height >= kFinePixels ? kFineGroup : kGroup;
+  const int groups = (blocks + group - 1) / group;
   const size_t nb = static_cast<size_t>(blocks);
   groups_.assign(static_cast<size_t>(groups) * groups * groups, 0);
   for (int z = 0; z < blocks; ++z)
     for (int y = 0; y < blocks; ++y) {
       const unsigned char* row = blockDistance + nb * (static_cast<size_t>(y) + nb * static_cast<size_t>(z));
-      unsigned char* g = &groups_[static_cast<size_t>(groups) * (y / kGroup + static_cast<size_t>(groups) * (z / kGroup))];
+      unsigned char* g = &groups_[static_cast<size_t>(groups) * (y / group + static_cast<size_t>(groups) * (z / group))];
       for (int x = 0; x < blocks; ++x)
-        if (row[x] == 0) g[x / kGroup] = 1;
+        if (row[x] == 0) g[x / group] = 1;
     }
   // The volume frame to the camera's: the inverse of the rigid cameraToVolume (R^T (p - t)).
   const float* m = cameraToVolume.m;
@@ -34,7 +35,7 @@ void RayBounds::compute(const unsigned char* blockDistance, int shift, int resol
     t[a] = -(m[3] * double(m[a]) + m[7] * double(m[4 + a]) + m[11] * double(m[8 + a]));
   }
   const double voxel = double(size) / resolution, margin = kMarginVoxels * voxel;
-  const int side = kGroup << shift;  // voxels per group side
+  const int side = group << shift;  // voxels per group side
   bool everywhere = false;           // a box reaches behind the near guard: bounds every tile
   double allMin = INFINITY, allMax = -INFINITY;
   for (int gz = 0; gz < groups; ++gz)

@@ -248,9 +248,25 @@ struct Camera {
 // Sets up the ray of pixel (x, y); returns false (and has written the pixel) when it has nothing to march.
 // sbRaycastPixel's setup with the same operations per lane, its divisions three lanes at a time (lane 3 of
 // each divides by a non-zero number and is not used).
-inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam, Ray& r, float* outVertex,
-                  float* outNormal, int width, int x, int y) {
+SB_HOT_INLINE bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam, Ray& r, float* outVertex,
+                         float* outNormal, int width, int x, int y) {
   r.index = y * width + x;
+  r.samples = 0;
+  r.lookups = 0;
+  // The ray bounds (pipeline/ray_bounds.h), as kernels/raycast.h's raycast reads them (x, y >= 0). A tile that no
+  // surface box reaches holds tMin = +inf > tMax = -inf (any box gives tMin <= tMax): its rays march nothing.
+  float tMin = -1e30f, tMax = 1e30f;
+  if (in.rayBounds != nullptr) {
+    const unsigned tile =
+        (unsigned(y) / SB_RAY_BOUNDS_TILE) * unsigned(in.boundsColumns) + unsigned(x) / SB_RAY_BOUNDS_TILE;
+    tMin = in.rayBounds[2 * tile];
+    tMax = in.rayBounds[2 * tile + 1];
+    if (!(tMin <= tMax)) {
+      sbStore3(sbMakeFloat3(0.0f, 0.0f, 0.0f), outVertex, r.index);
+      sbStore3(sbMakeFloat3(SB_INVALID_NORMAL, 0.0f, 0.0f), outNormal, r.index);
+      return false;
+    }
+  }
   float q[4];
   store(q, make4((float)x - cam.k.cx, (float)y - cam.k.cy, 1.0f, 1.0f) / make4(cam.k.fx, cam.k.fy, 1.0f, 1.0f));
   // sbRotate(pose, (q0, q1, 1)): m0 * q0 + m1 * q1 + m2 * 1 per row (m2 * 1 is m2; lane 3 gets 1).
@@ -270,15 +286,7 @@ inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam,
       tExit = -1.0f;
     }
   }
-  // The ray bounds (pipeline/ray_bounds.h), as kernels/raycast.h's raycast reads them.
-  float tMin = -1e30f;
-  if (in.rayBounds != nullptr) {
-    const int tile = (y / SB_RAY_BOUNDS_TILE) * in.boundsColumns + x / SB_RAY_BOUNDS_TILE;
-    tMin = in.rayBounds[2 * tile];
-    tExit = sbFmin(tExit, in.rayBounds[2 * tile + 1]);
-  }
-  r.samples = 0;
-  r.lookups = 0;
+  tExit = sbFmin(tExit, tMax);
   if (tEnter < tExit) {
     // The ray in voxel coordinates; sInverse is 0 where the direction is 0.
     const F4 sd4 = d4 * splat(cam.scale);
