@@ -36,6 +36,21 @@ void RayBounds::compute(const unsigned char* blockDistance, int shift, int resol
   }
   const double voxel = double(size) / resolution, margin = kMarginVoxels * voxel;
   const int side = group << shift;  // voxels per group side
+  // The view's four side planes through the camera centre (camera frame, outward unit normals), a little
+  // outside the pixel centres 0 .. width - 1 and 0 .. height - 1: a box wholly outside one of them, or wholly
+  // behind kNearM, meets no ray of the image (with z > 0), so it is left out before its corners are projected
+  // (a sphere around the box, the test per box; the corners' test below would leave it out or, for a box
+  // reaching behind the near guard, bound every tile).
+  const double slackPixels = 0.01;
+  double planes[4][3];
+  const double sides[4] = {(-slackPixels - k.cx) / k.fx, (width - 1 + slackPixels - k.cx) / k.fx,
+                           (-slackPixels - k.cy) / k.fy, (height - 1 + slackPixels - k.cy) / k.fy};
+  for (int i = 0; i < 4; ++i) {  // x < sides[0] z, x > sides[1] z, y < sides[2] z, y > sides[3] z
+    const double sign = (i & 1) ? 1.0 : -1.0, norm = std::sqrt(1.0 + sides[i] * sides[i]);
+    planes[i][0] = i < 2 ? sign / norm : 0.0;
+    planes[i][1] = i < 2 ? 0.0 : sign / norm;
+    planes[i][2] = -sign * sides[i] / norm;
+  }
   bool everywhere = false;           // a box reaches behind the near guard: bounds every tile
   double allMin = INFINITY, allMax = -INFINITY;
   for (int gz = 0; gz < groups; ++gz)
@@ -52,6 +67,20 @@ void RayBounds::compute(const unsigned char* blockDistance, int shift, int resol
           lo[a] -= margin;
           hi[a] += margin;
         }
+        double centre[3], radius2 = 0.0;
+        for (int a = 0; a < 3; ++a) {
+          const double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]);
+          centre[a] = c;
+          radius2 += h * h;
+        }
+        const double radius = std::sqrt(radius2) * (1.0 + 1e-9);
+        double cq[3];
+        for (int a = 0; a < 3; ++a) cq[a] = r[a][0] * centre[0] + r[a][1] * centre[1] + r[a][2] * centre[2] + t[a];
+        if (cq[2] + radius < kNearM) continue;
+        bool outside = false;
+        for (int i = 0; i < 4 && !outside; ++i)
+          outside = planes[i][0] * cq[0] + planes[i][1] * cq[1] + planes[i][2] * cq[2] > radius;
+        if (outside) continue;
         double zMin = INFINITY, zMax = -INFINITY, uMin = INFINITY, uMax = -INFINITY, vMin = INFINITY, vMax = -INFINITY;
         for (int c = 0; c < 8; ++c) {
           const double p[3] = {(c & 1) ? hi[0] : lo[0], (c & 2) ? hi[1] : lo[1], (c & 4) ? hi[2] : lo[2]};
