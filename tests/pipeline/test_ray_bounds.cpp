@@ -1,7 +1,7 @@
 // The ray bounds (pipeline/ray_bounds.h) against their definition, by brute force: no ray of a tile meets a
 // block of distance 0 before the tile's tMin, nor after its tMax (the bit-identity of the raycast with and
-// without them is test_surface_blocks.cpp's). Here with a block beside the camera, outside the view and across
-// its plane, which once made every tile's bound 0.
+// without them is test_surface_blocks.cpp's). Here with a block beside the camera, outside the view and
+// across its plane, which once made every tile's bound 0.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -13,8 +13,8 @@
 
 namespace {
 
-constexpr int kRes = 64;         // voxels per side
-constexpr float kSize = 3.2f;    // metres: 5 cm voxels
+constexpr int kRes = 64;       // voxels per side
+constexpr float kSize = 3.2f;  // metres: 5 cm voxels
 constexpr int kShift = SB_SKIP_SHIFT;
 constexpr int kBlocks = kRes >> kShift;
 
@@ -55,10 +55,13 @@ TEST_CASE("ray bounds: no ray meets a surface block outside its tile's bounds", 
       const float tMin = bounds.bounds()[2 * size_t(tile)], tMax = bounds.bounds()[2 * size_t(tile) + 1];
       const float u = (float(x) - k.cx) / k.fx, v = (float(y) - k.cy) / k.fy;
       for (float t = 0.0f; t < 4.0f; t += dt) {
-        const float s[3] = {(cx + u * t) / voxel - 0.5f, (cy + v * t) / voxel - 0.5f, (cz + t) / voxel - 0.5f};
-        if (s[0] < 0 || s[1] < 0 || s[2] < 0 || s[0] >= kRes - 1 || s[1] >= kRes - 1 || s[2] >= kRes - 1) continue;
+        const float s[3] = {(cx + u * t) / voxel - 0.5f, (cy + v * t) / voxel - 0.5f,
+                            (cz + t) / voxel - 0.5f};
+        if (s[0] < 0 || s[1] < 0 || s[2] < 0 || s[0] >= kRes - 1 || s[1] >= kRes - 1 || s[2] >= kRes - 1)
+          continue;
         const int b[3] = {int(s[0]) >> kShift, int(s[1]) >> kShift, int(s[2]) >> kShift};
-        if (distance[size_t(b[0]) + size_t(kBlocks) * (size_t(b[1]) + size_t(kBlocks) * size_t(b[2]))] != 0) continue;
+        if (distance[size_t(b[0]) + size_t(kBlocks) * (size_t(b[1]) + size_t(kBlocks) * size_t(b[2]))] != 0)
+          continue;
         ++tested;
         if (t < tMin || t > tMax) {
           INFO("pixel " << x << ", " << y << " at t " << t << " outside [" << tMin << ", " << tMax << "]");
