@@ -49,6 +49,7 @@ class RayBounds {
  private:
   std::vector<float> bounds_;
   std::vector<unsigned char> groups_;  // per group: has surface
+  std::vector<int> surface_;           // the groups with surface (x + groups * (y + groups * z))
   int columns_ = 0, rows_ = 0;
 };
 
