@@ -1,5 +1,6 @@
 #include "pipeline/cpu/cpu_raycast.h"
 
+#include <cmath>
 #include <cstring>
 
 #include "kernels/raycast.h"
@@ -223,6 +224,7 @@ struct Camera {
   F4 o, so, zeroMinusO, sizeMinusO, marginMinusSo, topMinusSo;
   float origin[3], sOrigin[3];
   float scale, margin, top;
+  int outside, sOutside;  // bit a: the origin lies outside the volume's box (outside [margin, top] in voxels)
   explicit Camera(const RaycastInputs& in) : k(in.camera) {
     const SbMat34& m = in.cameraToWorld;
     for (int c = 0; c < 3; ++c) rotation[c] = make4(m.m[c], m.m[4 + c], m.m[8 + c], c == 2 ? 1.0f : 0.0f);
@@ -237,6 +239,11 @@ struct Camera {
     topMinusSo = splat(top) - so;
     store4Xyz(origin, o);
     store4Xyz(sOrigin, so);
+    outside = sOutside = 0;
+    for (int a = 0; a < 3; ++a) {
+      if (origin[a] < 0.0f || origin[a] > in.size) outside |= 1 << a;
+      if (!(sOrigin[a] >= margin && sOrigin[a] <= top)) sOutside |= 1 << a;
+    }
   }
   static void store4Xyz(float* out, F4 a) {
     float all[4];
@@ -248,37 +255,38 @@ struct Camera {
 // Sets up the ray of pixel (x, y); returns false (and has written the pixel) when it has nothing to march.
 // sbRaycastPixel's setup with the same operations per lane, its divisions three lanes at a time (lane 3 of
 // each divides by a non-zero number and is not used).
-inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam, Ray& r, float* outVertex,
-                  float* outNormal, int width, int x, int y) {
+SB_HOT_INLINE bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam, Ray& r, float* outVertex,
+                         float* outNormal, int width, int x, int y) {
   r.index = y * width + x;
+  r.samples = 0;
+  r.lookups = 0;
+  // The ray bounds (pipeline/ray_bounds.h), as kernels/raycast.h's raycast reads them (x, y >= 0). A tile that no
+  // surface box reaches holds tMin = +inf > tMax = -inf (any box gives tMin <= tMax): its rays march nothing.
+  float tMin = -1e30f, tMax = 1e30f;
+  if (in.rayBounds != nullptr) {
+    const unsigned tile =
+        (unsigned(y) / SB_RAY_BOUNDS_TILE) * unsigned(in.boundsColumns) + unsigned(x) / SB_RAY_BOUNDS_TILE;
+    tMin = in.rayBounds[2 * tile];
+    tMax = in.rayBounds[2 * tile + 1];
+    if (!(tMin <= tMax)) {
+      sbStore3(sbMakeFloat3(0.0f, 0.0f, 0.0f), outVertex, r.index);
+      sbStore3(sbMakeFloat3(SB_INVALID_NORMAL, 0.0f, 0.0f), outNormal, r.index);
+      return false;
+    }
+  }
   float q[4];
   store(q, make4((float)x - cam.k.cx, (float)y - cam.k.cy, 1.0f, 1.0f) / make4(cam.k.fx, cam.k.fy, 1.0f, 1.0f));
   // sbRotate(pose, (q0, q1, 1)): m0 * q0 + m1 * q1 + m2 * 1 per row (m2 * 1 is m2; lane 3 gets 1).
   const F4 d4 = cam.rotation[0] * splat(q[0]) + cam.rotation[1] * splat(q[1]) + cam.rotation[2];
-  float dir[4], t0[4], t1[4];
-  store(dir, d4);
-  store(t0, cam.zeroMinusO / d4);
-  store(t1, cam.sizeMinusO / d4);
-  // Entry and exit of the volume's box.
-  float tEnter = in.nearPlane;
-  float tExit = in.farPlane;
-  for (int a = 0; a < 3; ++a) {
-    if (dir[a] != 0.0f) {
-      tEnter = sbFmax(tEnter, sbFmin(t0[a], t1[a]));
-      tExit = sbFmin(tExit, sbFmax(t0[a], t1[a]));
-    } else if (cam.origin[a] < 0.0f || cam.origin[a] > in.size) {
-      tExit = -1.0f;
-    }
-  }
-  // The ray bounds (pipeline/ray_bounds.h), as kernels/raycast.h's raycast reads them.
-  float tMin = -1e30f;
-  if (in.rayBounds != nullptr) {
-    const int tile = (y / SB_RAY_BOUNDS_TILE) * in.boundsColumns + x / SB_RAY_BOUNDS_TILE;
-    tMin = in.rayBounds[2 * tile];
-    tExit = sbFmin(tExit, in.rayBounds[2 * tile + 1]);
-  }
-  r.samples = 0;
-  r.lookups = 0;
+  // Entry and exit of the volume's box: the kernel's loop over the axes whose direction is not 0, as lanes
+  // (sbFmax and sbFmin give the same value in any order; the other axes' lanes are left out by +-inf), and
+  // no exit (-1, or less in the kernel: either way no march) when an axis of direction 0 lies outside.
+  const F4 t0 = cam.zeroMinusO / d4, t1 = cam.sizeMinusO / d4;
+  const M4 moving = d4 != splat(0.0f);
+  const float tEnter = sbFmax(in.nearPlane, max012(select(moving, min(t0, t1), splat(-INFINITY))));
+  float tExit = sbFmin(in.farPlane, min012(select(moving, max(t0, t1), splat(INFINITY))));
+  if (~bits012(moving) & cam.outside) tExit = -1.0f;
+  tExit = sbFmin(tExit, tMax);
   if (tEnter < tExit) {
     // The ray in voxel coordinates; sInverse is 0 where the direction is 0.
     const F4 sd4 = d4 * splat(cam.scale);
@@ -298,22 +306,12 @@ inline bool start(const RaycastInputs& in, const Volume& vol, const Camera& cam,
       // Lookups only where s is inside [0, R - 1) (sbVoxelRange); none at all without a skipping structure.
       r.lookupLo = 1e30f;
       r.lookupHi = -1e30f;
-      if (vol.distance != nullptr) {
-        float ds[4], v0[4], v1[4];
-        store(ds, sd4);
-        store(v0, cam.marginMinusSo / sd4);
-        store(v1, cam.topMinusSo / sd4);
-        float lo = -1e30f, hi = 1e30f;
-        for (int a = 0; a < 3; ++a) {
-          if (ds[a] != 0.0f) {
-            lo = sbFmax(lo, sbFmin(v0[a], v1[a]));
-            hi = sbFmin(hi, sbFmax(v0[a], v1[a]));
-          } else if (!(cam.sOrigin[a] >= cam.margin && cam.sOrigin[a] <= cam.top)) {
-            hi = -1e30f;
-          }
-        }
-        r.lookupLo = lo;
-        r.lookupHi = hi;
+      if (vol.distance != nullptr) {  // as the box above (-1e30 where the kernel may go lower: no lookup)
+        const F4 v0 = cam.marginMinusSo / sd4, v1 = cam.topMinusSo / sd4;
+        const M4 sMoving = sd4 != splat(0.0f);
+        r.lookupLo = sbFmax(-1e30f, max012(select(sMoving, min(v0, v1), splat(-INFINITY))));
+        r.lookupHi = sbFmin(1e30f, min012(select(sMoving, max(v0, v1), splat(INFINITY))));
+        if (~bits012(sMoving) & cam.sOutside) r.lookupHi = -1e30f;
       }
       r.tExit = tExit;
       r.t = tEnter;

@@ -110,6 +110,14 @@ inline bool any(M4 m) {
   const uint32x2_t halves = vorr_u32(vget_low_u32(m.v), vget_high_u32(m.v));
   return (vget_lane_u32(halves, 0) | vget_lane_u32(halves, 1)) != 0;
 }
+// Per lane sbFmin(a, b) and sbFmax(a, b) by their definition (VMIN / VMAX order signed zeros their own way).
+inline F4 min(F4 a, F4 b) { return {vbslq_f32(vcltq_f32(a.v, b.v), a.v, b.v)}; }
+inline F4 max(F4 a, F4 b) { return {vbslq_f32(vcgtq_f32(a.v, b.v), a.v, b.v)}; }
+inline F4 select(M4 m, F4 a, F4 b) { return {vbslq_f32(m.v, a.v, b.v)}; }  // m ? a : b
+inline float max012(F4 a) { return sbFmax(lane<0>(a), sbFmax(lane<1>(a), lane<2>(a))); }
+inline int bits012(M4 m) {  // bit i: lane i is true (i < 3)
+  return int((vgetq_lane_u32(m.v, 0) & 1u) | (vgetq_lane_u32(m.v, 1) & 2u) | (vgetq_lane_u32(m.v, 2) & 4u));
+}
 inline I4 count(I4 c, M4 m) { return {vsubq_s32(c.v, vreinterpretq_s32_u32(m.v))}; }  // true lanes are -1
 
 }  // namespace simd4

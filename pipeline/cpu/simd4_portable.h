@@ -115,6 +115,23 @@ inline F4 keep(M4 m, F4 a) {  // the bits of a where m, +0 elsewhere
   return r;
 }
 inline bool any(M4 m) { return (m.v[0] | m.v[1] | m.v[2] | m.v[3]) != 0; }
+inline F4 min(F4 a, F4 b) {
+  F4 r;
+  for (int i = 0; i < 4; ++i) r.v[i] = sbFmin(a.v[i], b.v[i]);
+  return r;
+}
+inline F4 max(F4 a, F4 b) {
+  F4 r;
+  for (int i = 0; i < 4; ++i) r.v[i] = sbFmax(a.v[i], b.v[i]);
+  return r;
+}
+inline F4 select(M4 m, F4 a, F4 b) {  // m ? a : b
+  F4 r;
+  for (int i = 0; i < 4; ++i) r.v[i] = m.v[i] ? a.v[i] : b.v[i];
+  return r;
+}
+inline float max012(F4 a) { return sbFmax(a.v[0], sbFmax(a.v[1], a.v[2])); }
+inline int bits012(M4 m) { return (m.v[0] & 1) | (m.v[1] & 2) | (m.v[2] & 4); }  // bit i: lane i is true (i < 3)
 inline I4 count(I4 c, M4 m) { return {{c.v[0] - m.v[0], c.v[1] - m.v[1], c.v[2] - m.v[2], c.v[3] - m.v[3]}}; }
 
 }  // namespace simd4

@@ -101,6 +101,17 @@ inline M4 operator&(M4 a, M4 b) { return {_mm_and_ps(a.v, b.v)}; }
 inline M4 andNot(M4 a, M4 b) { return {_mm_andnot_ps(b.v, a.v)}; }  // a and not b
 inline F4 keep(M4 m, F4 a) { return {_mm_and_ps(a.v, m.v)}; }       // a where m, +0 elsewhere
 inline bool any(M4 m) { return _mm_movemask_ps(m.v) != 0; }
+// Per lane sbFmin(a, b) and sbFmax(a, b): MINPS / MAXPS are `a < b ? a : b` and `a > b ? a : b`.
+inline F4 min(F4 a, F4 b) { return {_mm_min_ps(a.v, b.v)}; }
+inline F4 max(F4 a, F4 b) { return {_mm_max_ps(a.v, b.v)}; }
+inline F4 select(M4 m, F4 a, F4 b) { return {_mm_or_ps(_mm_and_ps(m.v, a.v), _mm_andnot_ps(m.v, b.v))}; }  // m ? a : b
+// sbFmax(a0, sbFmax(a1, a2)).
+inline float max012(F4 a) {
+  const __m128 yz = _mm_max_ss(_mm_shuffle_ps(a.v, a.v, _MM_SHUFFLE(1, 1, 1, 1)),
+                               _mm_shuffle_ps(a.v, a.v, _MM_SHUFFLE(2, 2, 2, 2)));
+  return _mm_cvtss_f32(_mm_max_ss(a.v, yz));
+}
+inline int bits012(M4 m) { return _mm_movemask_ps(m.v) & 7; }  // bit i: lane i is true (i < 3)
 inline I4 count(I4 c, M4 m) { return {_mm_sub_epi32(c.v, _mm_castps_si128(m.v))}; }  // true lanes are -1
 
 }  // namespace simd4
