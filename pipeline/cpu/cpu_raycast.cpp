@@ -337,31 +337,31 @@ SB_HOT_INLINE F4 interpolate4(const Volume& vol, F4 sx, F4 sy, F4 sz) {
   const M4 inside = (sx >= vol.one) & (sx < vol.interiorEnd) & (sy >= vol.one) & (sy < vol.interiorEnd) &
                     (sz >= vol.one) & (sz < vol.interiorEnd);
   const I4 ix = truncate(sx), iy = truncate(sy), iz = truncate(sz);  // floor where inside
-  int32_t cx[4], cy[4], cz[4];
-  storeInt(cx, ix);
-  storeInt(cy, iy);
-  storeInt(cz, iz);
-  const int r = vol.resolution;
+  const I4 r = splatInt(vol.resolution);
   bool vector = bits(inside) == 15;
-  const int16_t* p[4];
-  for (int i = 0; i < 4; ++i) {
-    int x = cx[i], y = cy[i], z = cz[i];
-    if (vol.cyclic) {
-      x = sbWrapVoxel(x, vol.offset.x, r);
-      y = sbWrapVoxel(y, vol.offset.y, r);
-      z = sbWrapVoxel(z, vol.offset.z, r);
-      vector = vector && x + 1 < r && y + 1 < r && z + 1 < r;
-    }
-    p[i] = vol.data + 2 * (x + y * r + z * r * r);
+  I4 x = ix, y = iy, z = iz;
+  if (vol.cyclic) {  // sbWrapVoxel per lane; the cell's upper corner must not cross the wrap
+    const I4 last = splatInt(vol.resolution - 1), lastButOne = splatInt(vol.resolution - 2);
+    x = x + splatInt(vol.offset.x);
+    y = y + splatInt(vol.offset.y);
+    z = z + splatInt(vol.offset.z);
+    x = select(x > last, x - r, x);
+    y = select(y > last, y - r, y);
+    z = select(z > last, z - r, z);
+    vector = vector && bits((x > lastButOne) | (y > lastButOne) | (z > lastButOne)) == 0;
   }
   if (!vector) {
-    float x[4], y[4], z[4], out[4];
-    store(x, sx);
-    store(y, sy);
-    store(z, sz);
-    for (int i = 0; i < 4; ++i) out[i] = interpolate(vol, make4(x[i], y[i], z[i], 0.0f));
+    float lx[4], ly[4], lz[4], out[4];
+    store(lx, sx);
+    store(ly, sy);
+    store(lz, sz);
+    for (int i = 0; i < 4; ++i) out[i] = interpolate(vol, make4(lx[i], ly[i], lz[i], 0.0f));
     return load(out);
   }
+  int32_t index[4];
+  storeInt(index, x + mulLow(y + mulLow(z, r), r));
+  const int16_t* p[4] = {vol.data + 2 * index[0], vol.data + 2 * index[1], vol.data + 2 * index[2],
+                         vol.data + 2 * index[3]};
   F4 a0, a1, b0, b1, c0, c1, d0, d1;
   tsdfPairs4(p, 0, a0, a1);
   tsdfPairs4(p, vol.dy, b0, b1);
@@ -377,7 +377,8 @@ SB_HOT_INLINE F4 interpolate4(const Volume& vol, F4 sx, F4 sy, F4 sz) {
 // raycastRect's pixel order: columns of this many pixels (neighbouring rays read neighbouring voxels).
 constexpr int kTileColumns = 8;
 
-inline int laneCount(int bits) { return (bits & 1) + ((bits >> 1) & 1) + ((bits >> 2) & 1) + ((bits >> 3) & 1); }
+// The lanes set in 4 bits.
+constexpr int kLaneCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 
 // The packet march: 4 rays as the 4 lanes of one vector, each lane making the operations of sbRaycastPixel's
 // march loop in its order (as advanceFirst, with the sample interpolated and the hit) with its decisions as masks; a lane whose march ends is finished and takes the
@@ -489,18 +490,15 @@ RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, i
     F4 skipTo = splat(-1.0f);
     const int askBits = vol.distance != nullptr ? bits(asks) : 0;
     if (askBits != 0) {
-      work.lookups += laneCount(askBits);
+      work.lookups += kLaneCount[askBits];
       const I4 bx = shiftRight(truncate(sx), vol.shift), by = shiftRight(truncate(sy), vol.shift),
                bz = shiftRight(truncate(sz), vol.shift);
-      int32_t cx[4], cy[4], cz[4], d[4];
-      storeInt(cx, bx);
-      storeInt(cy, by);
-      storeInt(cz, bz);
-      for (int i = 0; i < 4; ++i)
-        d[i] = (askBits & (1 << i)) != 0
-                   ? vol.distance[cx[i] + cy[i] * vol.blocksPerSide + cz[i] * vol.blocksPerSide * vol.blocksPerSide]
-                   : 0;
-      const I4 di = loadInt(d);
+      // The lanes that do not ask read block 0 and take distance 0 (no skip).
+      const I4 side = splatInt(vol.blocksPerSide), zero = splatInt(0);
+      int32_t block[4], d[4];
+      storeInt(block, select(asks, bx + mulLow(by + mulLow(bz, side), side), zero));
+      for (int i = 0; i < 4; ++i) d[i] = vol.distance[block[i]];
+      const I4 di = select(asks, loadInt(d), zero);
       const I4 nx = loadInt(k.negx), ny = loadInt(k.negy), nz = loadInt(k.negz);
       const F4 voxels = splat(vol.blockVoxels);
       const F4 ex = (toFloat(bx + ((di ^ nx) - nx) + (nx & one)) * voxels - sox) * load(k.six);
@@ -523,7 +521,7 @@ RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, i
     M4 hits = andNot(live, live);
     const int sampleBits = bits(samples);
     if (sampleBits != 0) {
-      work.samples += laneCount(sampleBits);
+      work.samples += kLaneCount[sampleBits];
       const F4 o = vol.one;
       const F4 f = interpolate4(vol, select(samples, sx, o), select(samples, sy, o), select(samples, sz, o));
       const F4 zero = splat(0.0f);

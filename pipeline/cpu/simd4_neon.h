@@ -132,6 +132,7 @@ inline I4 loadInt(const int32_t* p) { return {vld1q_s32(p)}; }
 inline void storeInt(int32_t* p, I4 a) { vst1q_s32(p, a.v); }
 inline M4 loadMask(const int32_t* p) { return {vreinterpretq_u32_s32(vld1q_s32(p))}; }
 inline void storeMask(int32_t* p, M4 m) { vst1q_s32(p, vreinterpretq_s32_u32(m.v)); }
+inline I4 mulLow(I4 a, I4 b) { return {vmulq_s32(a.v, b.v)}; }  // the low 32 bits of a * b per lane
 // The tsdf of voxels p[i] (lo, lane i) and p[i] + 1 (hi, lane i).
 inline void tsdfPairs4(const int16_t* const p[4], int offset, F4& lo, F4& hi) {
   const int16x8x2_t even = vuzpq_s16(vcombine_s16(vld1_s16(p[0] + offset), vld1_s16(p[1] + offset)),

@@ -155,6 +155,11 @@ inline M4 loadMask(const int32_t* p) { return {{p[0], p[1], p[2], p[3]}}; }
 inline void storeMask(int32_t* p, M4 m) {
   for (int i = 0; i < 4; ++i) p[i] = m.v[i];
 }
+inline I4 mulLow(I4 a, I4 b) {  // the low 32 bits of a * b per lane (operands here are small and >= 0)
+  I4 r;
+  for (int i = 0; i < 4; ++i) r.v[i] = a.v[i] * b.v[i];
+  return r;
+}
 // The tsdf of voxels p[i] (lo, lane i) and p[i] + 1 (hi, lane i).
 inline void tsdfPairs4(const int16_t* const p[4], int offset, F4& lo, F4& hi) {
   for (int i = 0; i < 4; ++i) {

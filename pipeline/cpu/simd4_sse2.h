@@ -126,6 +126,12 @@ inline I4 loadInt(const int32_t* p) { return {_mm_loadu_si128(reinterpret_cast<c
 inline void storeInt(int32_t* p, I4 a) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), a.v); }
 inline M4 loadMask(const int32_t* p) { return {_mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)))}; }
 inline void storeMask(int32_t* p, M4 m) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm_castps_si128(m.v)); }
+inline I4 mulLow(I4 a, I4 b) {  // the low 32 bits of a * b per lane
+  const __m128i even = _mm_mul_epu32(a.v, b.v);
+  const __m128i odd = _mm_mul_epu32(_mm_srli_epi64(a.v, 32), _mm_srli_epi64(b.v, 32));
+  return {_mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
+                             _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)))};
+}
 // The tsdf of voxels p[i] (lo, lane i) and p[i] + 1 (hi, lane i).
 inline void tsdfPairs4(const int16_t* const p[4], int offset, F4& lo, F4& hi) {
   const __m128i a = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p[0] + offset)),
