@@ -414,7 +414,7 @@ struct Packet {
 
 }  // namespace
 
-RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0,
+SB_SIMD_CLONES RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0,
                         int y1) {
   RaycastWork work;
   if (x0 >= x1 || y0 >= y1) return work;
