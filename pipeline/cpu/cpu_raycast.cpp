@@ -377,6 +377,8 @@ SB_HOT_INLINE F4 interpolate4(const Volume& vol, F4 sx, F4 sy, F4 sz) {
 // raycastRect's pixel order: columns of this many pixels (neighbouring rays read neighbouring voxels).
 constexpr int kTileColumns = 8;
 
+// The packets in flight in raycastRect (their chains of dependent operations overlap).
+constexpr int kPackets = 2;
 // The lanes set in 4 bits.
 constexpr int kLaneCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 
@@ -414,7 +416,7 @@ struct Packet {
 
 }  // namespace
 
-SB_SIMD_CLONES RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0,
+RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, int width, int x0, int x1, int y0,
                         int y1) {
   RaycastWork work;
   if (x0 >= x1 || y0 >= y1) return work;
@@ -439,12 +441,13 @@ SB_SIMD_CLONES RaycastWork raycastRect(const RaycastInputs& in, float* vertex, f
     }
     return false;
   };
-  Ray rays[4];
-  Packet k{};
+  Ray rays[kPackets][4];
+  Packet packs[kPackets]{};
   // Lane i's march has ended (hit: below 0): finishes its pixel (the kernel's sample before a hit after a skip,
   // then finish) and starts the next.
-  const auto retire = [&](int i, bool hit) {
-    Ray& r = rays[i];
+  const auto retire = [&](int q, int i, bool hit) {
+    Ray& r = rays[q][i];
+    Packet& k = packs[q];
     k.get(i, r);
     r.hit = hit ? 1 : 0;
     if (hit && r.previousSkipped) {
@@ -460,27 +463,31 @@ SB_SIMD_CLONES RaycastWork raycastRect(const RaycastInputs& in, float* vertex, f
       k.live[i] = 0;
     }
   };
-  for (int i = 0; i < 4; ++i) {
-    if (launch(rays[i])) {
-      k.set(i, rays[i]);
-    } else {
-      k.live[i] = 0;
+  for (int q = 0; q < kPackets; ++q)
+    for (int i = 0; i < 4; ++i) {
+      if (launch(rays[q][i])) {
+        packs[q].set(i, rays[q][i]);
+      } else {
+        packs[q].live[i] = 0;
+      }
     }
-  }
   // Work: start's and retire's own samples and lookups are counted in the ray, the packet's in `work` directly.
   const F4 sox = splat(cam.sOrigin[0]), soy = splat(cam.sOrigin[1]), soz = splat(cam.sOrigin[2]);
   const F4 margin = splat(SB_SKIP_MARGIN * in.smallStep), below = splat(in.smallStepBelow);
   const I4 one = splatInt(1);
-  for (;;) {
+  // One iteration of packet q; false when none of its lanes is live. Two packets alternate: their chains of
+  // dependent operations overlap.
+  const auto marchPacket = [&](int q) -> bool {
+    Packet& k = packs[q];
     // advance's `if (!(t < tExit)) return false`, lane by lane (a new ray may end at once).
     for (;;) {
       const int ended = bits(andNot(loadMask(k.live), load(k.t) < load(k.tExit)));
       if (ended == 0) break;
       for (int i = 0; i < 4; ++i)
-        if (ended & (1 << i)) retire(i, false);
+        if (ended & (1 << i)) retire(q, i, false);
     }
     const M4 live = loadMask(k.live);
-    if (bits(live) == 0) break;
+    if (bits(live) == 0) return false;
     const F4 t = load(k.t);
     const F4 sdx = load(k.sdx), sdy = load(k.sdy), sdz = load(k.sdz);
     const F4 sx = sox + sdx * t, sy = soy + sdy * t, sz = soz + sdz * t;
@@ -548,7 +555,13 @@ SB_SIMD_CLONES RaycastWork raycastRect(const RaycastInputs& in, float* vertex, f
     const int hitBits = bits(hits);
     if (hitBits != 0)
       for (int i = 0; i < 4; ++i)
-        if (hitBits & (1 << i)) retire(i, true);
+        if (hitBits & (1 << i)) retire(q, i, true);
+    return true;
+  };
+  for (;;) {
+    bool live = false;
+    for (int q = 0; q < kPackets; ++q) live = marchPacket(q) || live;
+    if (!live) break;
   }
   return work;
 }
