@@ -186,13 +186,17 @@ void CpuBackend::raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageT
   in.smallStepBelow = config_.raycastSmallStepBelow;
   float* outV = referenceVertex_.data();
   float* outN = referenceNormal_.data();
-  // A band of rows per call: raycastRect walks it in columns of 8 pixels (neighbouring rays read neighbouring
-  // voxels), its 4-ray packet refilled across them (a call per 8 x 8 tile left lanes idle at each tile's end).
+  // Square tiles: neighbouring rays read neighbouring voxels.
   std::atomic<long long> samples{0}, lookups{0};
   pool_.parallelFor(0, h, kTile, [&](int, int y0, int y1) {
-    const RaycastWork band = raycastRect(in, outV, outN, w, 0, w, y0, y1);
-    samples += band.samples;
-    lookups += band.lookups;
+    RaycastWork chunk;
+    for (int tx = 0; tx < w; tx += kTile) {
+      const RaycastWork rect = raycastRect(in, outV, outN, w, tx, std::min(w, tx + kTile), y0, y1);
+      chunk.samples += rect.samples;
+      chunk.lookups += rect.lookups;
+    }
+    samples += chunk.samples;
+    lookups += chunk.lookups;
   });
   times.work.raycastPixels = static_cast<long long>(w) * h;
   times.work.raycastSamples = samples.load();

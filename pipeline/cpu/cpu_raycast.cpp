@@ -132,9 +132,10 @@ SB_HOT_INLINE float skipByDistance(const Volume& vol, const RaySkip& ray, F4 s) 
   return min012((toFloat(face) * splat(vol.blockVoxels) - ray.sOrigin) * ray.sInverse);
 }
 
-// One ray of sbRaycastPixel with blockDistance (or no skipping) as a state machine: start() sets it up and makes
-// the march loop's first iteration (advanceFirst), raycastRect's packet makes the others (4 rays as the lanes
-// of a vector), finish() writes the pixel.
+// One ray of sbRaycastPixel with blockDistance (or no skipping) as a state machine: start() sets it up,
+// advance() makes one iteration of the kernel's march loop, finish() writes the pixel. The raycast is bound by
+// the latency of each ray's chain of dependent operations (a skip's lookup decides the next sample), so
+// raycastRect keeps several rays in flight and advances them in turn: their chains overlap.
 struct Ray {
   F4 direction, sDirection;
   RaySkip skip;  // sOrigin, sInverse
@@ -151,9 +152,10 @@ struct Ray {
   int lookups;          // lookups of the skipping grid so far
 };
 
-// The first iteration of sbRaycastPixel's march loop, whose sample at t (above 0) is already interpolated
-// (fPrevious); returns false when the march has ended. raycastRect's packet makes the later ones lane by lane.
-SB_HOT_INLINE bool advanceFirst(const RaycastInputs& in, const Volume& vol, Ray& r) {
+// One iteration of sbRaycastPixel's march loop; returns false when the march has ended. kFirst: the sample
+// at t is the first one, already interpolated (fPrevious).
+template <bool kFirst>
+SB_HOT_INLINE bool advance(const RaycastInputs& in, const Volume& vol, Ray& r) {
   if (!(r.t < r.tExit)) return false;
   const F4 s = r.skip.sOrigin + r.sDirection * splat(r.t);
   float skipTo = -1.0f;
@@ -171,7 +173,16 @@ SB_HOT_INLINE bool advanceFirst(const RaycastInputs& in, const Volume& vol, Ray&
     r.previousSkipped = 1;
     r.lookup = 1;
   } else {
-    r.fCurrent = r.fPrevious;
+    r.fCurrent = kFirst ? r.fPrevious : interpolate(vol, s);
+    if (!kFirst) ++r.samples;
+    if (!kFirst && r.fCurrent < 0.0f) {
+      if (r.previousSkipped) {
+        r.fPrevious = interpolate(vol, r.skip.sOrigin + r.sDirection * splat(r.tBase + (float)(r.n - 1) * r.step));
+        ++r.samples;
+      }
+      r.hit = 1;
+      return false;
+    }
     if (r.fCurrent < in.smallStepBelow && !r.smallSteps) {
       r.smallSteps = 1;
       r.step = in.smallStep;
@@ -320,7 +331,7 @@ SB_HOT_INLINE bool start(const RaycastInputs& in, const Volume& vol, const Camer
         return true;
       }
       // The first iteration: its sample (at tEnter, above 0) is already interpolated.
-      if (advanceFirst(in, vol, r)) return true;
+      if (advance<true>(in, vol, r)) return true;
       finish(vol, r, cam.o, outVertex, outNormal);
       return false;
     }
@@ -330,89 +341,10 @@ SB_HOT_INLINE bool start(const RaycastInputs& in, const Volume& vol, const Camer
   return false;
 }
 
-// sbInterpolateTsdfVoxel of 4 samples, lane i at (sx, sy, sz) lane i: every lane makes the kernel's operations
-// in its order (`a * (1 - f) + b * f` along x, then y, then z). Where a lane's cell is not inside [1, R - 1) or
-// straddles the cyclic buffer's wrap, every lane takes interpolate (itself the kernel there).
-SB_HOT_INLINE F4 interpolate4(const Volume& vol, F4 sx, F4 sy, F4 sz) {
-  const M4 inside = (sx >= vol.one) & (sx < vol.interiorEnd) & (sy >= vol.one) & (sy < vol.interiorEnd) &
-                    (sz >= vol.one) & (sz < vol.interiorEnd);
-  const I4 ix = truncate(sx), iy = truncate(sy), iz = truncate(sz);  // floor where inside
-  const I4 r = splatInt(vol.resolution);
-  bool vector = bits(inside) == 15;
-  I4 x = ix, y = iy, z = iz;
-  if (vol.cyclic) {  // sbWrapVoxel per lane; the cell's upper corner must not cross the wrap
-    const I4 last = splatInt(vol.resolution - 1), lastButOne = splatInt(vol.resolution - 2);
-    x = x + splatInt(vol.offset.x);
-    y = y + splatInt(vol.offset.y);
-    z = z + splatInt(vol.offset.z);
-    x = select(x > last, x - r, x);
-    y = select(y > last, y - r, y);
-    z = select(z > last, z - r, z);
-    vector = vector && bits((x > lastButOne) | (y > lastButOne) | (z > lastButOne)) == 0;
-  }
-  if (!vector) {
-    float lx[4], ly[4], lz[4], out[4];
-    store(lx, sx);
-    store(ly, sy);
-    store(lz, sz);
-    for (int i = 0; i < 4; ++i) out[i] = interpolate(vol, make4(lx[i], ly[i], lz[i], 0.0f));
-    return load(out);
-  }
-  int32_t index[4];
-  storeInt(index, x + mulLow(y + mulLow(z, r), r));
-  const int16_t* p[4] = {vol.data + 2 * index[0], vol.data + 2 * index[1], vol.data + 2 * index[2],
-                         vol.data + 2 * index[3]};
-  F4 a0, a1, b0, b1, c0, c1, d0, d1;
-  tsdfPairs4(p, 0, a0, a1);
-  tsdfPairs4(p, vol.dy, b0, b1);
-  tsdfPairs4(p, vol.dz, c0, c1);
-  tsdfPairs4(p, vol.dz + vol.dy, d0, d1);
-  const F4 fx = sx - toFloat(ix), fy = sy - toFloat(iy), fz = sz - toFloat(iz);
-  const F4 gx = vol.one - fx, gy = vol.one - fy, gz = vol.one - fz;
-  const F4 c00 = a0 * gx + a1 * fx, c10 = b0 * gx + b1 * fx, c01 = c0 * gx + c1 * fx, c11 = d0 * gx + d1 * fx;
-  const F4 e0 = c00 * gy + c10 * fy, e1 = c01 * gy + c11 * fy;
-  return (e0 * gz + e1 * fz) * splat(1.0f / SB_TSDF_SCALE);
-}
-
+// The rays in flight in raycastRect.
+constexpr int kRaysInFlight = 4;
 // raycastRect's pixel order: columns of this many pixels (neighbouring rays read neighbouring voxels).
 constexpr int kTileColumns = 8;
-
-// The packets in flight in raycastRect (their chains of dependent operations overlap).
-constexpr int kPackets = 2;
-// The lanes set in 4 bits.
-constexpr int kLaneCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
-
-// The packet march: 4 rays as the 4 lanes of one vector, each lane making the operations of sbRaycastPixel's
-// march loop in its order (as advanceFirst, with the sample interpolated and the hit) with its decisions as masks; a lane whose march ends is finished and takes the
-// next pixel (start(), one ray, as before). The per-lane state lives in arrays between iterations.
-struct Packet {
-  // Set per ray (from Ray): the direction and inverse in voxels per axis, the inverse's sign masks, the bounds.
-  float sdx[4], sdy[4], sdz[4], six[4], siy[4], siz[4], tExit[4], lookupLo[4], lookupHi[4];
-  int32_t negx[4], negy[4], negz[4];
-  // The march (Ray's fields of the same names; flags as masks, -1 true).
-  float t[4], tBase[4], step[4], fPrevious[4], fCurrent[4];
-  int32_t n[4], smallSteps[4], previousSkipped[4], lookup[4], live[4];
-  void set(int i, const Ray& r) {
-    float a[4];
-    int32_t m[4];
-    store(a, r.sDirection);
-    sdx[i] = a[0], sdy[i] = a[1], sdz[i] = a[2];
-    store(a, r.skip.sInverse);
-    six[i] = a[0], siy[i] = a[1], siz[i] = a[2];
-    storeInt(m, r.skip.negative);
-    negx[i] = m[0], negy[i] = m[1], negz[i] = m[2];
-    tExit[i] = r.tExit, lookupLo[i] = r.lookupLo, lookupHi[i] = r.lookupHi;
-    t[i] = r.t, tBase[i] = r.tBase, step[i] = r.step, fPrevious[i] = r.fPrevious, fCurrent[i] = r.fCurrent;
-    n[i] = r.n;
-    smallSteps[i] = -r.smallSteps, previousSkipped[i] = -r.previousSkipped, lookup[i] = -r.lookup;
-    live[i] = -1;
-  }
-  void get(int i, Ray& r) const {
-    r.t = t[i], r.tBase = tBase[i], r.step = step[i], r.fPrevious = fPrevious[i], r.fCurrent = fCurrent[i];
-    r.n = n[i];
-    r.smallSteps = smallSteps[i] & 1, r.previousSkipped = previousSkipped[i] & 1, r.lookup = lookup[i] & 1;
-  }
-};
 
 }  // namespace
 
@@ -441,127 +373,19 @@ RaycastWork raycastRect(const RaycastInputs& in, float* vertex, float* normal, i
     }
     return false;
   };
-  Ray rays[kPackets][4];
-  Packet packs[kPackets]{};
-  // Lane i's march has ended (hit: below 0): finishes its pixel (the kernel's sample before a hit after a skip,
-  // then finish) and starts the next.
-  const auto retire = [&](int q, int i, bool hit) {
-    Ray& r = rays[q][i];
-    Packet& k = packs[q];
-    k.get(i, r);
-    r.hit = hit ? 1 : 0;
-    if (hit && r.previousSkipped) {
-      r.fPrevious = interpolate(vol, r.skip.sOrigin + r.sDirection * splat(r.tBase + (float)(r.n - 1) * r.step));
-      ++r.samples;
-    }
-    finish(vol, r, cam.o, vertex, normal);
-    work.samples += r.samples;
-    work.lookups += r.lookups;
-    if (launch(r)) {
-      k.set(i, r);
-    } else {
-      k.live[i] = 0;
-    }
-  };
-  for (int q = 0; q < kPackets; ++q)
-    for (int i = 0; i < 4; ++i) {
-      if (launch(rays[q][i])) {
-        packs[q].set(i, rays[q][i]);
-      } else {
-        packs[q].live[i] = 0;
+  Ray rays[kRaysInFlight];
+  bool active[kRaysInFlight];
+  int flying = 0;
+  for (int i = 0; i < kRaysInFlight; ++i) flying += (active[i] = launch(rays[i])) ? 1 : 0;
+  while (flying > 0) {
+    for (int i = 0; i < kRaysInFlight; ++i) {
+      if (active[i] && !advance<false>(in, vol, rays[i])) {
+        finish(vol, rays[i], cam.o, vertex, normal);
+        work.samples += rays[i].samples;
+        work.lookups += rays[i].lookups;
+        if (!(active[i] = launch(rays[i]))) --flying;
       }
     }
-  // Work: start's and retire's own samples and lookups are counted in the ray, the packet's in `work` directly.
-  const F4 sox = splat(cam.sOrigin[0]), soy = splat(cam.sOrigin[1]), soz = splat(cam.sOrigin[2]);
-  const F4 margin = splat(SB_SKIP_MARGIN * in.smallStep), below = splat(in.smallStepBelow);
-  const I4 one = splatInt(1);
-  // One iteration of packet q; false when none of its lanes is live. Two packets alternate: their chains of
-  // dependent operations overlap.
-  const auto marchPacket = [&](int q) -> bool {
-    Packet& k = packs[q];
-    // advance's `if (!(t < tExit)) return false`, lane by lane (a new ray may end at once).
-    for (;;) {
-      const int ended = bits(andNot(loadMask(k.live), load(k.t) < load(k.tExit)));
-      if (ended == 0) break;
-      for (int i = 0; i < 4; ++i)
-        if (ended & (1 << i)) retire(q, i, false);
-    }
-    const M4 live = loadMask(k.live);
-    if (bits(live) == 0) return false;
-    const F4 t = load(k.t);
-    const F4 sdx = load(k.sdx), sdy = load(k.sdy), sdz = load(k.sdz);
-    const F4 sx = sox + sdx * t, sy = soy + sdy * t, sz = soz + sdz * t;
-    M4 lookup = loadMask(k.lookup), previousSkipped = loadMask(k.previousSkipped);
-    // The lookups: lanes not in the band, s inside [0, R - 1).
-    const M4 asks = live & lookup & (t >= load(k.lookupLo)) & (t < load(k.lookupHi));
-    F4 skipTo = splat(-1.0f);
-    const int askBits = vol.distance != nullptr ? bits(asks) : 0;
-    if (askBits != 0) {
-      work.lookups += kLaneCount[askBits];
-      const I4 bx = shiftRight(truncate(sx), vol.shift), by = shiftRight(truncate(sy), vol.shift),
-               bz = shiftRight(truncate(sz), vol.shift);
-      // The lanes that do not ask read block 0 and take distance 0 (no skip).
-      const I4 side = splatInt(vol.blocksPerSide), zero = splatInt(0);
-      int32_t block[4], d[4];
-      storeInt(block, select(asks, bx + mulLow(by + mulLow(bz, side), side), zero));
-      for (int i = 0; i < 4; ++i) d[i] = vol.distance[block[i]];
-      const I4 di = select(asks, loadInt(d), zero);
-      const I4 nx = loadInt(k.negx), ny = loadInt(k.negy), nz = loadInt(k.negz);
-      const F4 voxels = splat(vol.blockVoxels);
-      const F4 ex = (toFloat(bx + ((di ^ nx) - nx) + (nx & one)) * voxels - sox) * load(k.six);
-      const F4 ey = (toFloat(by + ((di ^ ny) - ny) + (ny & one)) * voxels - soy) * load(k.siy);
-      const F4 ez = (toFloat(bz + ((di ^ nz) - nz) + (nz & one)) * voxels - soz) * load(k.siz);
-      skipTo = select(di > splatInt(0), min(ex, min(ey, ez)), skipTo);
-    }
-    const M4 skips = live & (skipTo > t);
-    const M4 samples = andNot(live, skips);
-    F4 tBase = load(k.tBase), step = load(k.step);
-    I4 n = loadInt(k.n);
-    if (bits(skips) != 0) {
-      const F4 skipEnd = min(skipTo, load(k.tExit)) - margin;
-      const I4 next = truncate((skipEnd - tBase) / step) + one;  // see advanceFirst: truncation for the floor
-      const I4 n1 = n + one;
-      n = select(skips, select(next > n1, next, n1), n);
-      previousSkipped = previousSkipped | skips;
-      lookup = lookup | skips;
-    }
-    M4 hits = andNot(live, live);
-    const int sampleBits = bits(samples);
-    if (sampleBits != 0) {
-      work.samples += kLaneCount[sampleBits];
-      const F4 o = vol.one;
-      const F4 f = interpolate4(vol, select(samples, sx, o), select(samples, sy, o), select(samples, sz, o));
-      const F4 zero = splat(0.0f);
-      hits = samples & (f < zero);
-      const M4 go = andNot(samples, hits);
-      store(k.fCurrent, select(samples, f, load(k.fCurrent)));
-      const M4 smallSteps = loadMask(k.smallSteps);
-      const M4 toSmall = andNot(go & (f < below), smallSteps);
-      storeMask(k.smallSteps, smallSteps | toSmall);
-      step = select(toSmall, splat(in.smallStep), step);
-      tBase = select(toSmall, t, tBase);
-      n = select(toSmall, splatInt(0), n);
-      store(k.fPrevious, select(go, f, load(k.fPrevious)));
-      previousSkipped = andNot(previousSkipped, go);
-      lookup = andNot(lookup, go) | andNot(go, f < below);
-      n = select(go, n + one, n);
-    }
-    store(k.tBase, tBase);
-    store(k.step, step);
-    storeInt(k.n, n);
-    storeMask(k.previousSkipped, previousSkipped);
-    storeMask(k.lookup, lookup);
-    store(k.t, select(hits, t, tBase + toFloat(n) * step));
-    const int hitBits = bits(hits);
-    if (hitBits != 0)
-      for (int i = 0; i < 4; ++i)
-        if (hitBits & (1 << i)) retire(q, i, true);
-    return true;
-  };
-  for (;;) {
-    bool live = false;
-    for (int q = 0; q < kPackets; ++q) live = marchPacket(q) || live;
-    if (!live) break;
   }
   return work;
 }

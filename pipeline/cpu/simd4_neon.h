@@ -120,27 +120,5 @@ inline int bits012(M4 m) {  // bit i: lane i is true (i < 3)
 }
 inline I4 count(I4 c, M4 m) { return {vsubq_s32(c.v, vreinterpretq_s32_u32(m.v))}; }  // true lanes are -1
 
-// The packet march (cpu_raycast.cpp): masks and integer lanes.
-inline M4 operator|(M4 a, M4 b) { return {vorrq_u32(a.v, b.v)}; }
-inline int bits(M4 m) {  // bit i: lane i is true
-  return int((vgetq_lane_u32(m.v, 0) & 1u) | (vgetq_lane_u32(m.v, 1) & 2u) | (vgetq_lane_u32(m.v, 2) & 4u) |
-             (vgetq_lane_u32(m.v, 3) & 8u));
-}
-inline M4 operator>(I4 a, I4 b) { return {vcgtq_s32(a.v, b.v)}; }
-inline I4 select(M4 m, I4 a, I4 b) { return {vbslq_s32(m.v, a.v, b.v)}; }  // m ? a : b
-inline I4 loadInt(const int32_t* p) { return {vld1q_s32(p)}; }
-inline void storeInt(int32_t* p, I4 a) { vst1q_s32(p, a.v); }
-inline M4 loadMask(const int32_t* p) { return {vreinterpretq_u32_s32(vld1q_s32(p))}; }
-inline void storeMask(int32_t* p, M4 m) { vst1q_s32(p, vreinterpretq_s32_u32(m.v)); }
-inline I4 mulLow(I4 a, I4 b) { return {vmulq_s32(a.v, b.v)}; }  // the low 32 bits of a * b per lane
-// The tsdf of voxels p[i] (lo, lane i) and p[i] + 1 (hi, lane i).
-inline void tsdfPairs4(const int16_t* const p[4], int offset, F4& lo, F4& hi) {
-  const int16x8x2_t even = vuzpq_s16(vcombine_s16(vld1_s16(p[0] + offset), vld1_s16(p[1] + offset)),
-                                     vcombine_s16(vld1_s16(p[2] + offset), vld1_s16(p[3] + offset)));
-  const int16x4x2_t t = vuzp_s16(vget_low_s16(even.val[0]), vget_high_s16(even.val[0]));
-  lo = {vcvtq_f32_s32(vmovl_s16(t.val[0]))};
-  hi = {vcvtq_f32_s32(vmovl_s16(t.val[1]))};
-}
-
 }  // namespace simd4
 }  // namespace sb

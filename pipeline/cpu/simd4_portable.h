@@ -134,39 +134,5 @@ inline float max012(F4 a) { return sbFmax(a.v[0], sbFmax(a.v[1], a.v[2])); }
 inline int bits012(M4 m) { return (m.v[0] & 1) | (m.v[1] & 2) | (m.v[2] & 4); }  // bit i: lane i is true (i < 3)
 inline I4 count(I4 c, M4 m) { return {{c.v[0] - m.v[0], c.v[1] - m.v[1], c.v[2] - m.v[2], c.v[3] - m.v[3]}}; }
 
-// The packet march (cpu_raycast.cpp): masks and integer lanes.
-inline M4 operator|(M4 a, M4 b) { return {{a.v[0] | b.v[0], a.v[1] | b.v[1], a.v[2] | b.v[2], a.v[3] | b.v[3]}}; }
-inline int bits(M4 m) { return (m.v[0] & 1) | (m.v[1] & 2) | (m.v[2] & 4) | (m.v[3] & 8); }  // bit i: lane i is true
-inline M4 operator>(I4 a, I4 b) {
-  M4 r;
-  for (int i = 0; i < 4; ++i) r.v[i] = a.v[i] > b.v[i] ? -1 : 0;
-  return r;
-}
-inline I4 select(M4 m, I4 a, I4 b) {  // m ? a : b
-  I4 r;
-  for (int i = 0; i < 4; ++i) r.v[i] = m.v[i] ? a.v[i] : b.v[i];
-  return r;
-}
-inline I4 loadInt(const int32_t* p) { return {{p[0], p[1], p[2], p[3]}}; }
-inline void storeInt(int32_t* p, I4 a) {
-  for (int i = 0; i < 4; ++i) p[i] = a.v[i];
-}
-inline M4 loadMask(const int32_t* p) { return {{p[0], p[1], p[2], p[3]}}; }
-inline void storeMask(int32_t* p, M4 m) {
-  for (int i = 0; i < 4; ++i) p[i] = m.v[i];
-}
-inline I4 mulLow(I4 a, I4 b) {  // the low 32 bits of a * b per lane (operands here are small and >= 0)
-  I4 r;
-  for (int i = 0; i < 4; ++i) r.v[i] = a.v[i] * b.v[i];
-  return r;
-}
-// The tsdf of voxels p[i] (lo, lane i) and p[i] + 1 (hi, lane i).
-inline void tsdfPairs4(const int16_t* const p[4], int offset, F4& lo, F4& hi) {
-  for (int i = 0; i < 4; ++i) {
-    lo.v[i] = float(p[i][offset]);
-    hi.v[i] = float(p[i][offset + 2]);
-  }
-}
-
 }  // namespace simd4
 }  // namespace sb

@@ -114,34 +114,5 @@ inline float max012(F4 a) {
 inline int bits012(M4 m) { return _mm_movemask_ps(m.v) & 7; }  // bit i: lane i is true (i < 3)
 inline I4 count(I4 c, M4 m) { return {_mm_sub_epi32(c.v, _mm_castps_si128(m.v))}; }  // true lanes are -1
 
-// The packet march (cpu_raycast.cpp): masks and integer lanes.
-inline M4 operator|(M4 a, M4 b) { return {_mm_or_ps(a.v, b.v)}; }
-inline int bits(M4 m) { return _mm_movemask_ps(m.v); }  // bit i: lane i is true
-inline M4 operator>(I4 a, I4 b) { return {_mm_castsi128_ps(_mm_cmpgt_epi32(a.v, b.v))}; }
-inline I4 select(M4 m, I4 a, I4 b) {  // m ? a : b
-  const __m128i k = _mm_castps_si128(m.v);
-  return {_mm_or_si128(_mm_and_si128(k, a.v), _mm_andnot_si128(k, b.v))};
-}
-inline I4 loadInt(const int32_t* p) { return {_mm_loadu_si128(reinterpret_cast<const __m128i*>(p))}; }
-inline void storeInt(int32_t* p, I4 a) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), a.v); }
-inline M4 loadMask(const int32_t* p) { return {_mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p)))}; }
-inline void storeMask(int32_t* p, M4 m) { _mm_storeu_si128(reinterpret_cast<__m128i*>(p), _mm_castps_si128(m.v)); }
-inline I4 mulLow(I4 a, I4 b) {  // the low 32 bits of a * b per lane
-  const __m128i even = _mm_mul_epu32(a.v, b.v);
-  const __m128i odd = _mm_mul_epu32(_mm_srli_epi64(a.v, 32), _mm_srli_epi64(b.v, 32));
-  return {_mm_unpacklo_epi32(_mm_shuffle_epi32(even, _MM_SHUFFLE(0, 0, 2, 0)),
-                             _mm_shuffle_epi32(odd, _MM_SHUFFLE(0, 0, 2, 0)))};
-}
-// The tsdf of voxels p[i] (lo, lane i) and p[i] + 1 (hi, lane i).
-inline void tsdfPairs4(const int16_t* const p[4], int offset, F4& lo, F4& hi) {
-  const __m128i a = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p[0] + offset)),
-                                       _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p[1] + offset)));
-  const __m128i b = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p[2] + offset)),
-                                       _mm_loadl_epi64(reinterpret_cast<const __m128i*>(p[3] + offset)));
-  const __m128 fa = tsdfOf(a).v, fb = tsdfOf(b).v;  // p0 p0+1 p1 p1+1, p2 p2+1 p3 p3+1
-  lo = {_mm_shuffle_ps(fa, fb, _MM_SHUFFLE(2, 0, 2, 0))};
-  hi = {_mm_shuffle_ps(fa, fb, _MM_SHUFFLE(3, 1, 3, 1))};
-}
-
 }  // namespace simd4
 }  // namespace sb

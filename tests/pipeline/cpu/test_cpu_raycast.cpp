@@ -227,8 +227,9 @@ TEST_CASE("CpuBackend::raycast is bit-identical for any thread count and to the 
   for (size_t i = 1; i < results.size(); ++i) CHECK(compare(results[0], results[i]).differing == 0);
 }
 
-// raycastRect marches 4 rays as the lanes of a vector, each lane taking the next pixel when its ray ends; the
-// samples of a moved volume read through the cyclic offset (a cell across the buffer's wrap takes the kernel).
+// raycastRect keeps several rays in flight, each taking the next pixel when its march ends (across rows and
+// 8-pixel columns of a large rectangle); the samples of a moved volume read through the cyclic offset (a cell
+// across the buffer's wrap takes the kernel).
 TEST_CASE("raycastRect on a moved (cyclic) volume and over a whole image is bit-identical to sbRaycastPixel",
           "[pipeline][raycast]") {
   sb::PipelineConfig config;
