@@ -226,3 +226,52 @@ TEST_CASE("CpuBackend::raycast is bit-identical for any thread count and to the 
   }
   for (size_t i = 1; i < results.size(); ++i) CHECK(compare(results[0], results[i]).differing == 0);
 }
+
+// raycastRect keeps several rays in flight, each taking the next pixel when its march ends (across rows and
+// 8-pixel columns of a large rectangle); the samples of a moved volume read through the cyclic offset (a cell
+// across the buffer's wrap takes the kernel).
+TEST_CASE("raycastRect on a moved (cyclic) volume and over a whole image is bit-identical to sbRaycastPixel",
+          "[pipeline][raycast]") {
+  sb::PipelineConfig config;
+  config.volumeSize = 3.0f;
+  config.volumeResolution = 64;
+  const int r = config.volumeResolution;
+  sb::ThreadPool pool(1);
+  sb::CpuBackend backend(config, sb::test::roomIntrinsics(160, 120), pool);
+  const sb::Intrinsics room = sb::test::roomIntrinsics(160, 120);
+  sb::StageTimes times;
+  for (const Eigen::Isometry3d& view : {pose({1.5, 1.5, 0.9}, 0), pose({1.9, 1.6, 2.6}, -126)}) {
+    backend.preprocess(sb::test::renderRoom(sb::test::Room{}, view, room).depth, float(1.0 / kRoomDepthScale), 1,
+                       times);
+    backend.integrate(view.cast<float>(), times);
+  }
+  const int16_t* logical = backend.volumeData();
+  // The logical grid of blocks does not move with the buffer.
+  const std::vector<uint8_t> grid = distanceGrid(logical, r, 2, config.raycastSmallStepBelow);
+  const sb::Intrinsics k = sb::test::roomIntrinsics(640, 480).scaled(4);
+  for (const SbVoxelOffset o : {SbVoxelOffset{0, 0, 0}, SbVoxelOffset{5, 17, 40}, SbVoxelOffset{63, 1, 32}}) {
+    std::vector<int16_t> moved(2 * size_t(r) * r * r);
+    for (int z = 0; z < r; ++z)
+      for (int y = 0; y < r; ++y)
+        for (int x = 0; x < r; ++x)
+          for (int c = 0; c < 2; ++c)
+            moved[2 * size_t(sbVoxelIndex(r, o, x, y, z)) + c] = logical[2 * (x + (y + size_t(z) * r) * r) + c];
+    for (const Eigen::Isometry3d& view : {pose({1.5, 1.5, 0.9}, 0), pose({1.65, 1.4, 1.1}, 25, 10)}) {
+      for (const uint8_t* distance : {static_cast<const uint8_t*>(grid.data()), static_cast<const uint8_t*>(nullptr)}) {
+        sb::RaycastInputs in = inputs(config, moved.data(), distance, 2, view, k);
+        in.offset = o;
+        // The whole image as one rectangle (lanes move on across rows and tiles), and in 8 x 8 tiles.
+        Maps whole(k.width, k.height);
+        sb::raycastRect(in, whole.vertex.data(), whole.normal.data(), k.width, 0, k.width, 0, k.height);
+        const Maps reference = kernelMaps(in, k.width, k.height);
+        const Comparison a = compare(reference, whole), b = compare(reference, cpuMaps(in, k.width, k.height));
+        INFO("offset " << o.x << " " << o.y << " " << o.z << (distance ? ", skipping" : ", no skipping") << ": "
+                       << a.differing << " (whole) and " << b.differing << " (tiles) of " << a.pixels
+                       << " differ, " << a.hits << " hits");
+        CHECK(a.hits > a.pixels / 10);
+        CHECK(a.differing == 0);
+        CHECK(b.differing == 0);
+      }
+    }
+  }
+}
