@@ -7,6 +7,7 @@
 
 #include "pipeline/carve_schedule.h"
 #include "pipeline/cpu/cpu_backend.h"
+#include "tests/pipeline/logical_volume.h"
 #include "tests/pipeline/synthetic_room.h"
 
 namespace {
@@ -25,11 +26,7 @@ sb::PipelineConfig config(int carveEvery, bool perBlock) {
   return c;
 }
 
-std::vector<int16_t> logical(sb::CpuBackend& b) {
-  std::vector<int16_t> out(2 * size_t(kRes) * kRes * kRes);
-  b.readVolumeBox({0, 0, 0}, {kRes, kRes, kRes}, out.data());
-  return out;
-}
+std::vector<int16_t> logical(sb::CpuBackend& b) { return sb::test::logicalVolume(b, kRes); }
 
 sb::DepthRaw constantDepth(const sb::Intrinsics& k, double metres) {
   sb::DepthRaw raw(k.width, k.height);

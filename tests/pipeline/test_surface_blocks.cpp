@@ -13,6 +13,7 @@
 #include "pipeline/kernel_args.h"
 #include "pipeline/ray_bounds.h"
 #include "pipeline/surface_blocks.h"
+#include "tests/pipeline/logical_volume.h"
 #include "tests/pipeline/synthetic_room.h"
 
 namespace {
@@ -30,12 +31,7 @@ sb::PipelineConfig config(int carveEvery) {
   return c;
 }
 
-// The whole volume read logically (through a moving volume's offset).
-std::vector<int16_t> logical(sb::CpuBackend& b) {
-  std::vector<int16_t> out(2 * size_t(kRes) * kRes * kRes);
-  b.readVolumeBox({0, 0, 0}, {kRes, kRes, kRes}, out.data());
-  return out;
-}
+std::vector<int16_t> logical(sb::CpuBackend& b) { return sb::test::logicalVolume(b, kRes); }
 
 struct Outcome {
   size_t band = 0;       // voxels below +1 after the integration
