@@ -1,78 +1,10 @@
 // adaptive on hand-made observation sequences: each decision rule (relax, re-track, confirm, correction only
 // on failure, integration gate, unconstrained frames) against exact expectations.
 
-#include <catch2/catch.hpp>
-#include <nlohmann/json.hpp>
-
-#include "controller/adaptive_controller.h"
-#include "controller/registry.h"
 #include "core/error.h"
-#include "tests/controller/observation_script.h"
+#include "tests/controller/adaptive_driver.h"
 
-namespace {
-
-using sb::AdaptiveController;
-using sb::Decision;
-using sb::Observation;
-
-sb::AdaptiveConfig config(const char* json = "{}") {
-  return sb::readControllerSettings<sb::AdaptiveConfig>(nlohmann::json::parse(json), "test");
-}
-
-Eigen::Isometry3d moveX(double metres) {
-  Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
-  m.translation().x() = metres;
-  return m;
-}
-
-// Drives a controller the way SlamRunner does: the observation carries the knobs the controller chose, a
-// re-track request is answered by `second` (the finer pass's observation of the same frame).
-struct Driver {
-  explicit Driver(AdaptiveController& controller) : c(controller), knobs(controller.initialKnobs()) {}
-  AdaptiveController& c;
-  sb::test::ObservationScript script;
-  sb::Knobs knobs;
-
-  bool odometry = false;  // the frames carry the robot's odometry
-
-  Observation observe(const Eigen::Isometry3d& motion, bool tracked = true) {
-    Observation o = script.next(motion, tracked);
-    o.knobs = knobs;
-    o.odometry = odometry;
-    o.icpLevelIterations = {1, 1, 1};
-    o.inlierFraction = 0.6;
-    if (o.trackingAttempted) o.quality = {true, 0.1, 0.1, sb::WeakDirection::tx, true};
-    return o;
-  }
-  Decision finish(const Observation& o, Decision d) {
-    script.finish(o, d);
-    knobs = d.next;
-    return d;
-  }
-  // One frame without re-track (REQUIREs that none is asked).
-  Decision step(const Eigen::Isometry3d& motion, bool tracked = true) {
-    const Observation o = observe(motion, tracked);
-    const Decision d = c.decide(o);
-    REQUIRE_FALSE(d.retrack);
-    return finish(o, d);
-  }
-  // 12 tracked frames at 0.01 m/frame: with bootstrap_frames 0 and relax_frames 1, the coarsest level.
-  void reachCoarsest() {
-    for (int i = 0; i < 12; ++i) step(moveX(0.01));
-    REQUIRE(c.level() == 3);
-  }
-  // The re-track that `d` asked for after `first`: the same frame at the finer knobs.
-  static Observation retrackOf(const Observation& first, const Decision& d) {
-    REQUIRE(d.retrack);
-    Observation second = first;
-    second.retracked = true;
-    second.firstKnobs = first.knobs;
-    second.knobs = *d.retrack;
-    return second;
-  }
-};
-
-}  // namespace
+using namespace sb::test::adaptive;
 
 TEST_CASE("adaptive relaxes one level per relax_frames after its bootstrap, up to max_level", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 6, "relax_frames": 2})"));
@@ -82,31 +14,6 @@ TEST_CASE("adaptive relaxes one level per relax_frames after its bootstrap, up t
   // Observations 1-6 are the bootstrap; then one level per 2 undoubted frames, up to 3.
   CHECK(levels == std::vector<int>{0, 0, 0, 0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 3});
   CHECK(drive.knobs == sb::Knobs{8, 1e-4, {4, 5, 4}, 1, 1});
-}
-
-TEST_CASE("adaptive with the robot's odometry relaxes no coarser than max_level_with_odometry",
-          "[controller][adaptive]") {
-  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
-  Driver drive(c);
-  drive.odometry = true;
-  for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
-  CHECK(c.level() == 1);  // the default ceiling: csr 2
-  CHECK(drive.knobs.csr == 2);
-  // The wheels gone (a handheld stretch, an odometry outage): the whole ladder again.
-  drive.odometry = false;
-  for (int i = 0; i < 6; ++i) drive.step(moveX(0.01));
-  CHECK(c.level() == 3);
-  // The wheels back: down to the ceiling at once, with the reason in the decision.
-  drive.odometry = true;
-  const Decision d = drive.step(moveX(0.01));
-  CHECK(d.level == 1);
-  CHECK_THAT(d.reason, Catch::Contains("max_level_with_odometry"));
-  // Configurable: 3 lets the robot use the whole ladder.
-  AdaptiveController free("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1,
-                                                 "max_level_with_odometry": 3})"));
-  Driver freeDrive(free);
-  freeDrive.odometry = true;
-  freeDrive.reachCoarsest();
 }
 
 TEST_CASE("adaptive never corrects fast motion that ICP tracks consistently", "[controller][adaptive]") {
