@@ -13,6 +13,14 @@ void AdaptiveConfig::read(ConfigReader& r) {
   r.integer("relax_frames", relaxFrames, 1, 100000);
   r.integer("correction_max_extrapolated_frames", maxExtrapolatedFrames, 0, 1000);
   r.integer("max_level_with_odometry", maxLevelWithOdometry, 0, 16);
+  r.integer("tracking_rate_with_odometry", trackingRateWithOdometry, 1, kMaxRate);
+  std::vector<int> iterations(icpIterationsWithOdometry.begin(), icpIterationsWithOdometry.end());
+  r.integers("icp_iterations_with_odometry", iterations, 0, kMaxIterations, 3, 3);
+  if (iterations[0] < 1) r.fail("icp_iterations_with_odometry", "at least 1 iteration at the finest level");
+  std::copy(iterations.begin(), iterations.end(), icpIterationsWithOdometry.begin());
+  r.integer("reference_csr_with_odometry", referenceCsrWithOdometry, 0, 8);
+  if (referenceCsrWithOdometry == 3 || (referenceCsrWithOdometry > 4 && referenceCsrWithOdometry < 8))
+    r.fail("reference_csr_with_odometry", "0 (the frame's own compute size), 1, 2, 4 or 8");
   r.boolean("predict_start", predictStart);
   r.boolean("integrate_unconstrained", integrateUnconstrained);
   r.number("icp_hold_conditioning", icpHoldConditioning, 0.0, 1.0);
@@ -33,6 +41,9 @@ nlohmann::json AdaptiveConfig::toJson() const {
                       {"relax_frames", relaxFrames},
                       {"correction_max_extrapolated_frames", maxExtrapolatedFrames},
                       {"max_level_with_odometry", maxLevelWithOdometry},
+                      {"tracking_rate_with_odometry", trackingRateWithOdometry},
+                      {"icp_iterations_with_odometry", icpIterationsWithOdometry},
+                      {"reference_csr_with_odometry", referenceCsrWithOdometry},
                       {"predict_start", predictStart},
                       {"integrate_unconstrained", integrateUnconstrained},
                       {"icp_hold_conditioning", icpHoldConditioning},
@@ -62,28 +73,45 @@ void AdaptiveController::setLevel(int level, const std::string& reason, Decision
   undoubted_ = 0;
 }
 
+Knobs AdaptiveController::nextKnobs(int level, bool odometry, size_t frame) const {
+  Knobs k = config_.ladder.coupled(level);
+  if (odometry && frame >= holdUntil_) {
+    k.trackingRate = config_.trackingRateWithOdometry;
+    k.pyramidIterations = config_.icpIterationsWithOdometry;
+  }
+  return k;
+}
+
+bool AdaptiveController::atLevel(const Knobs& knobs, int level) const {
+  const Knobs k = config_.ladder.coupled(level);
+  return knobs.csr == k.csr && knobs.icpThreshold == k.icpThreshold;
+}
+
+void AdaptiveController::conclude(const Observation& o, Decision& d) const {
+  d.level = level_;
+  d.next = nextKnobs(level_, o.odometry, o.frame);
+  if (o.odometry && config_.referenceCsrWithOdometry > 0) d.referenceCsr = config_.referenceCsrWithOdometry;
+}
+
 Decision AdaptiveController::decide(const Observation& o) {
   Decision d;
   d.nextHoldBelowConditioning = config_.icpHoldConditioning;
   if (!o.retracked) ++seen_;
   if (!o.trackingAttempted) {  // the pipeline's bootstrap (always fused) or a frame skipped by tr
     d.triggers |= kTriggerBootstrap;
-    d.level = level_;
-    d.next = config_.ladder.coupled(level_);
+    conclude(o, d);
     return d;
   }
   const Eigen::Isometry3d predicted = motion_.predict(o.previousPose);
   const Doubt doubt = evidence_.judge(o, predicted, motion_.known());
   // A doubted coarse result is tracked again finer before anything is accepted.
   const int finer = std::max(0, level_ - config_.retrackLevels);
-  if (doubt.doubtful() && !o.retracked && config_.retrackLevels > 0 && finer < level_ &&
-      o.knobs == config_.ladder.coupled(level_)) {
+  if (doubt.doubtful() && !o.retracked && config_.retrackLevels > 0 && finer < level_ && atLevel(o.knobs, level_)) {
     firstPass_ = doubt;
     firstPassPose_ = o.pose;
     d.retrack = config_.ladder.coupled(finer);
     d.triggers |= kTriggerDoubt;
-    d.level = level_;
-    d.next = config_.ladder.coupled(level_);
+    conclude(o, d);
     d.reason = "retrack: " + doubt.why;
     return d;
   }
@@ -178,7 +206,7 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
   // following the camera (a sparse corridor seen lengthwise: lost from frame 204 of 300, all tracked by DEFAULT).
   // An unconstrained frame is fused too: its pose can be off only along motions that leave the visible
   // geometry unchanged (sliding along the wall in view), so fusing it does not bend the model.
-  const bool finest = o.knobs == config_.ladder.coupled(0);
+  const bool finest = atLevel(o.knobs, 0);
   const bool trusted = o.tracked && !corrected &&
                        (doubt.kind == Doubt::none || doubt.kind == Doubt::prediction ||
                         (doubt.kind == Doubt::notConverged && finest) ||
@@ -191,8 +219,7 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
   }
   if (config_.predictStart && motion_.known())
     d.nextStartPose = motion_.predict(finalPose);
-  d.level = level_;
-  d.next = config_.ladder.coupled(level_);
+  conclude(o, d);
   return d;
 }
 

@@ -26,6 +26,7 @@
 // Every decision is visible per frame: triggers (retrack, doubt, unconstrained, correction, skip_integrate)
 // and a reason whenever the level changes.
 
+#include <array>
 #include <nlohmann/json_fwd.hpp>
 #include <string>
 
@@ -45,7 +46,16 @@ struct AdaptiveConfig {
   int maxExtrapolatedFrames = 5;   // failed frames in a row extrapolated; later ones hold the previous pose
   // The coarsest level while the robot's odometry drives the frames (a robot exploring: docs/odometry.md): the
   // coarse levels' per-frame biases add up as drift along a drive where no mapped surface anchors the view.
-  int maxLevelWithOdometry = 1;
+  int maxLevelWithOdometry = 0;
+  // While the odometry drives the frames (docs/odometry.md, "adaptive on a robot"): the wheels carry the pose
+  // between tracked frames, so only every tracking_rate_with_odometry-th frame is tracked (the others take the
+  // last pose moved by the wheels' step: millimetres off over one frame); ICP starts from the wheels' prediction,
+  // so icp_iterations_with_odometry (finest, mid, coarsest) converge; the reference maps are raycast at
+  // reference_csr_with_odometry (0: the frame's own; the input's resolution carries the accuracy). After a doubt,
+  // for hold_frames, every frame is tracked with the ladder's iterations.
+  int trackingRateWithOdometry = 3;
+  std::array<int, 3> icpIterationsWithOdometry{5, 3, 2};
+  int referenceCsrWithOdometry = 2;
   // A re-track that lands within these of the coarse pose confirms it: the level stays. Farther, the coarse
   // level was wrong here and the level goes finer for hold_frames.
   double confirmTranslationM = 0.01;  // m
@@ -89,6 +99,13 @@ class AdaptiveController final : public Controller {
  private:
   Decision finish(const Observation& o, const Doubt& doubt, Decision d);
   void setLevel(int level, const std::string& reason, Decision& d);
+  // The knobs of `level` for the next frame: the ladder's, with the odometry's tracking rate and iterations
+  // while the odometry drives the frames and no doubt is held (`frame`: the frame deciding).
+  Knobs nextKnobs(int level, bool odometry, size_t frame) const;
+  // Whether `knobs` are those of `level` (compute size and ICP threshold: the rates and iterations may differ).
+  bool atLevel(const Knobs& knobs, int level) const;
+  // Fills the decision's next knobs, level and reference size.
+  void conclude(const Observation& o, Decision& d) const;
   // The re-tracked pose `o.pose` lands within confirm_translation_m / confirm_rotation_deg of the first pass.
   bool passesAgree(const Observation& o) const;
 

@@ -79,6 +79,7 @@ struct Decision {
   std::optional<Knobs> retrack;
   std::optional<bool> integrate;  // integrate this frame (if tracked) or not, instead of the knobs' rate
   bool keepReference = false;     // a frame not integrated keeps the reference maps (pipeline FrameOverrides)
+  std::optional<int> referenceCsr;  // raycast the reference maps at this compute size ratio (FrameOverrides)
   // Where ICP starts on the next frame (e.g. a motion model's prediction); unset: the final pose of this one.
   std::optional<Eigen::Isometry3d> nextStartPose;
   // The next frame's ICP keeps the start pose along motions whose conditioning is below this (0: off).

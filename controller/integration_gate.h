@@ -14,9 +14,10 @@ namespace sb {
 struct IntegrationParams {
   double translationM = 0.04;  // m moved since the last fused frame that makes a frame worth fusing
   // The same while the robot's odometry drives the frames: a robot drives 3-4 cm per frame, and a frame not fused
-  // is tracked against the last fused frame's reference maps, so up to ICP's pairing distance (0.1 m) of travel
-  // the reference still covers the view (docs/odometry.md: 0.04 to 0.2 m changed the drives' ATE only by chance).
-  double translationWithOdometryM = 0.1;
+  // is tracked against the last fused frame's reference maps, which projective ICP pairs with from any nearby
+  // pose (a camera driving forward sees less than the reference 0.2 m behind it did). docs/odometry.md: at csr 1,
+  // 0.2 m tracked five drives as well as DEFAULT, 0.3 m worse on 6 of 7.
+  double translationWithOdometryM = 0.2;
   double rotationDeg = 4.0;    // degrees turned since the last fused frame that makes a frame worth fusing
   static constexpr int kMaxGap = 1000;
   int maxGapFrames = 8;        // a tracked frame is fused at least every this many frames

@@ -78,14 +78,22 @@ void Pipeline::retrackFrame(const DepthFrame& frame, double depthScale, const Kn
 void Pipeline::track(const DepthFrame& frame, double depthScale, FrameResult& r) {
   const Knobs& knobs = r.knobs;
   pose_ = lastFinalPose_;  // until ICP accepts a pose
+  const bool bootstrap = frameCount_ < static_cast<size_t>(config_.bootstrapFrames);
+  if (!bootstrap && frameCount_ % knobs.trackingRate != 0) {
+    // Skipped by the tracking rate: nothing to preprocess (an untracked frame is not fused; a later trackFrom
+    // or retrack preprocesses it then).
+    preprocessedCsr_ = 0;
+    r.T_camera_to_world = pose_;
+    return;
+  }
   backend_->preprocess(frame.depth, static_cast<float>(1.0 / depthScale), knobs.csr, r.times);
   preprocessedCsr_ = knobs.csr;
-  const bool bootstrap = frameCount_ < static_cast<size_t>(config_.bootstrapFrames);
-  if (!bootstrap && frameCount_ % knobs.trackingRate == 0 && referenceCsr_ != 0) {
-    if (referenceCsr_ != knobs.csr || referenceStale_) {
-      // The reference maps must have the compute size: raycast them again from the same pose.
-      backend_->raycast(referencePose_.cast<float>(), knobs.csr, r.times);
-      referenceCsr_ = knobs.csr;
+  if (!bootstrap && referenceCsr_ != 0) {
+    const int wanted = referenceChosen_ ? referenceCsr_ : knobs.csr;
+    if (referenceCsr_ != wanted || referenceStale_) {
+      // The reference maps have the compute size unless one was chosen: raycast them again from the same pose.
+      backend_->raycast(referencePose_.cast<float>(), wanted, r.times);
+      referenceCsr_ = wanted;
       referenceStale_ = false;
     }
     r.trackingAttempted = true;
@@ -186,6 +194,10 @@ void Pipeline::discardTrack(FrameResult& r) {
 void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d>& correctedPose,
                            const FrameOverrides& overrides) {
   if (!awaitingFinish_) throw Error("Pipeline::finishFrame called without a preceding trackFrame");
+  const auto validCsr = [](int c) { return c == 1 || c == 2 || c == 4 || c == 8; };
+  if (overrides.referenceCsr && !validCsr(*overrides.referenceCsr))
+    throw Error("Pipeline::finishFrame: reference compute size ratio " + std::to_string(*overrides.referenceCsr) +
+                " is not 1, 2, 4 or 8");
   awaitingFinish_ = false;
   const Eigen::Isometry3d previous = lastFinalPose_;
   if (correctedPose) {
@@ -203,11 +215,13 @@ void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d
     referenceStale_ = true;
   }
   const bool poseMoved = pose_.matrix() != referencePose_.matrix();
-  const bool keep = overrides.keepReference && !referenceStale_ && referenceCsr_ == r.knobs.csr;
-  if (!keep && (referenceStale_ || poseMoved || referenceCsr_ != r.knobs.csr)) {
-    backend_->raycast(pose_.cast<float>(), r.knobs.csr, r.times);
+  const int referenceCsr = overrides.referenceCsr.value_or(r.knobs.csr);
+  referenceChosen_ = overrides.referenceCsr.has_value();
+  const bool keep = overrides.keepReference && !referenceStale_ && referenceCsr_ == referenceCsr;
+  if (!keep && (referenceStale_ || poseMoved || referenceCsr_ != referenceCsr)) {
+    backend_->raycast(pose_.cast<float>(), referenceCsr, r.times);
     referencePose_ = pose_;
-    referenceCsr_ = r.knobs.csr;
+    referenceCsr_ = referenceCsr;
     referenceStale_ = false;
   }
   r.velocity = (pose_.translation() - previous.translation()).norm();

@@ -83,6 +83,12 @@ struct FrameOverrides {
   std::optional<Eigen::Isometry3d> refinedPose;
   // Integrate (when due) although the frame was not tracked: its pose came from elsewhere (the odometry's).
   bool integrateUntracked = false;
+  // Raycast the reference maps at this compute size ratio instead of the frame's (1, 2, 4 or 8), and track the
+  // next frames against them whatever their compute size until a frame is finished without it. Projective ICP
+  // pairs each input pixel with the reference pixel it projects to at any size: the input's resolution carries
+  // the registration's accuracy, the reference's hardly (docs/odometry.md: a csr-1 input against csr-2 reference
+  // maps tracked the drives as well as against csr-1 maps, at a quarter of the raycast).
+  std::optional<int> referenceCsr;
 };
 
 class Pipeline {
@@ -157,6 +163,7 @@ class Pipeline {
   Eigen::Isometry3d startPose_;      // where ICP starts for the frame in hand (trackFrame and retrackFrame)
   double holdBelowConditioning_ = 0.0;  // IcpStart's, for the frame in hand
   int referenceCsr_ = 0;            // csr of the last raycast (0 = none yet)
+  bool referenceChosen_ = false;    // that csr was FrameOverrides::referenceCsr: frames of any csr track against it
   int preprocessedCsr_ = 0;         // csr of the last preprocess
   bool referenceStale_ = false;     // the volume changed since the last raycast
   size_t frameCount_ = 0;

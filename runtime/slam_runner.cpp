@@ -143,7 +143,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   const FrameResult& r = rec.result;
   pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
                         FrameOverrides{rec.decision.integrate, rec.decision.keepReference, rec.decision.refinedPose,
-                                       rec.odometry.fused});
+                                       rec.odometry.fused, rec.decision.referenceCsr});
   monitor_.after(frame, depthScale_, rec);
   next_ = rec.decision.next;
   nextStart_ = IcpStart{rec.decision.nextStartPose, rec.decision.nextHoldBelowConditioning};

@@ -35,6 +35,7 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
   Decision& d = rec.decision;
   if (!r.trackingAttempted && !recovering_) {  // bootstrap, or a frame skipped by the tracking rate
     rec.state = last_ == TrackingState::relocalised ? TrackingState::good : last_;
+    if (motion.step && r.frame >= static_cast<size_t>(config_.bootstrapFrames)) followWheels(rec, motion);
     return;
   }
   if (recovering_) {
@@ -162,6 +163,21 @@ void TrackingMonitor::fuse(FrameRecord& rec, const FrameMotion& motion) {
   if (motion.raw) calibration_.learn(rec.result.quality, motion.previousPose, tracked, *motion.raw);
   d.refinedPose = f.pose;
   d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
+}
+
+void TrackingMonitor::followWheels(FrameRecord& rec, const FrameMotion& motion) {
+  if (last_ == TrackingState::odometry) {  // depth could not track: the dead reckoning and its budget go on
+    followOdometry(rec, motion);
+    return;
+  }
+  // Between two tracked frames the wheels carry the pose: one frame of a calibrated step is millimetres off.
+  Decision& d = rec.decision;
+  d.correctedPose = motion.previousPose * motion.step->delta;
+  d.refinedPose.reset();
+  d.integrate = false;
+  d.keepReference = true;  // the next tracked frame pairs with the last raycast, as after any unfused frame
+  d.nextStartPose.reset();
+  rec.odometry.used = true;
 }
 
 bool TrackingMonitor::followOdometry(FrameRecord& rec, const FrameMotion& motion) {

@@ -61,6 +61,9 @@ class TrackingMonitor {
   void discardTrack(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion, const std::string& why);
   // A tracked frame with odometry: fused, or the odometry rejected as a slip.
   void fuse(FrameRecord& rec, const FrameMotion& motion);
+  // A frame skipped by the tracking rate, with odometry: its pose is the last one moved by the wheels' step (in
+  // state odometry, the dead reckoning goes on within its budget). Nothing fused.
+  void followWheels(FrameRecord& rec, const FrameMotion& motion);
   // A frame depth did not track, with odometry left in the budget: the pose follows it. False when it cannot.
   bool followOdometry(FrameRecord& rec, const FrameMotion& motion);
   // The relocaliser's try, refused when the odometry contradicts the candidate.

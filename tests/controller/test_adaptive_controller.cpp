@@ -90,7 +90,7 @@ TEST_CASE("adaptive keeps its level when the re-track confirms the coarse pose",
 
 TEST_CASE("adaptive fuses a frame when it brings something new, at least every max gap", "[controller][adaptive]") {
   AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "retrack_levels": 0, "integrate_translation_m": 0.02,
-      "integrate_rotation_deg": 2, "integrate_max_gap_frames": 4})"));
+      "integrate_translation_m_with_odometry": 0.1, "integrate_rotation_deg": 2, "integrate_max_gap_frames": 4})"));
   Driver drive(c);
   for (int i = 0; i < 4; ++i) drive.step(moveX(0.0));  // pipeline bootstrap: no override
   std::vector<int> fused;
@@ -110,7 +110,7 @@ TEST_CASE("adaptive fuses a frame when it brings something new, at least every m
   Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
   turn.linear() = Eigen::AngleAxisd(2.5 * 3.141592653589793 / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
   CHECK(*drive.step(turn).integrate);  // 2.5 degrees
-  // The robot's odometry drives the frames: fused every integrate_translation_m_with_odometry (default 0.1 m).
+  // The robot's odometry drives the frames: fused every integrate_translation_m_with_odometry (0.1 m here).
   drive.odometry = true;
   fused.clear();
   for (int i = 0; i < 8; ++i) fused.push_back(*drive.step(moveX(0.035)).integrate);

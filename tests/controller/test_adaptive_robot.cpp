@@ -1,4 +1,5 @@
-// adaptive with the robot's odometry (docs/odometry.md): the level's ceiling on hand-made observations.
+// adaptive with the robot's odometry (docs/odometry.md): the level's ceiling, the tracking rate, iterations and
+// reference size it runs at, on hand-made observations.
 
 #include "tests/controller/adaptive_driver.h"
 
@@ -6,11 +7,13 @@ using namespace sb::test::adaptive;
 
 TEST_CASE("adaptive with the robot's odometry relaxes no coarser than max_level_with_odometry",
           "[controller][adaptive]") {
-  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1})"));
+  CHECK(config().maxLevelWithOdometry == 0);  // the default: a robot's frames at the finest compute size
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "relax_frames": 1,
+                                              "max_level_with_odometry": 1})"));
   Driver drive(c);
   drive.odometry = true;
   for (int i = 0; i < 12; ++i) drive.step(moveX(0.01));
-  CHECK(c.level() == 1);  // the default ceiling: csr 2
+  CHECK(c.level() == 1);
   CHECK(drive.knobs.csr == 2);
   // The wheels gone (a handheld stretch, an odometry outage): the whole ladder again.
   drive.odometry = false;
@@ -27,4 +30,43 @@ TEST_CASE("adaptive with the robot's odometry relaxes no coarser than max_level_
   Driver freeDrive(free);
   freeDrive.odometry = true;
   freeDrive.reachCoarsest();
+}
+
+TEST_CASE("with the robot's odometry adaptive tracks every third frame with fewer iterations, maps at csr 2",
+          "[controller][adaptive]") {
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0})"));
+  Driver drive(c);
+  drive.odometry = true;
+  Decision d;
+  for (int i = 0; i < 8; ++i) d = drive.step(moveX(0.035));
+  CHECK(d.next.csr == 1);
+  CHECK(d.next.trackingRate == 3);
+  CHECK(d.next.pyramidIterations == std::array<int, 3>{5, 3, 2});
+  REQUIRE(d.referenceCsr);
+  CHECK(*d.referenceCsr == 2);
+  // A doubt (the tracked motion 0.065 m off the prediction): every frame tracked with the ladder's iterations for
+  // hold_frames (15), then the wheels carry the skipped frames again.
+  d = drive.step(moveX(0.1));
+  CHECK((d.triggers & sb::kTriggerDoubt) == 0);  // no finer level to re-track at: the doubt holds the knobs
+  CHECK(d.next.trackingRate == 1);
+  CHECK(d.next.pyramidIterations == std::array<int, 3>{10, 5, 4});
+  for (int i = 0; i < 14; ++i) d = drive.step(moveX(0.035));
+  CHECK(d.next.trackingRate == 1);
+  for (int i = 0; i < 2; ++i) d = drive.step(moveX(0.035));
+  CHECK(d.next.trackingRate == 3);
+  // Without the wheels: the ladder's knobs, the maps at the frame's compute size.
+  drive.odometry = false;
+  d = drive.step(moveX(0.035));
+  CHECK(d.next == sb::KnobLadder().coupled(c.level()));
+  CHECK_FALSE(d.referenceCsr);
+  // Configurable, and checked by key.
+  const sb::AdaptiveConfig every = config(R"({"tracking_rate_with_odometry": 1, "icp_iterations_with_odometry": [10, 5, 4],
+                                              "reference_csr_with_odometry": 0})");
+  CHECK(every.trackingRateWithOdometry == 1);
+  CHECK(every.referenceCsrWithOdometry == 0);
+  CHECK_THROWS_WITH(config(R"({"tracking_rate_with_odometry": 0})"), Catch::Contains("tracking_rate_with_odometry"));
+  CHECK_THROWS_WITH(config(R"({"icp_iterations_with_odometry": [0, 3, 2]})"),
+                    Catch::Contains("icp_iterations_with_odometry"));
+  CHECK_THROWS_WITH(config(R"({"icp_iterations_with_odometry": [5, 3]})"), Catch::Contains("icp_iterations_with_odometry"));
+  CHECK_THROWS_WITH(config(R"({"reference_csr_with_odometry": 3})"), Catch::Contains("reference_csr_with_odometry"));
 }

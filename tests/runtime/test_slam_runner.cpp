@@ -308,7 +308,10 @@ TEST_CASE("a refined pose replaces a tracked frame's pose without counting as a 
   REQUIRE(r.tracked);
   Eigen::Isometry3d refined = r.T_camera_to_world;
   refined.translation().x() += 0.01;
-  f.pipeline->finishFrame(r, std::nullopt, sb::FrameOverrides{true, false, refined});
+  sb::FrameOverrides refine;
+  refine.integrate = true;
+  refine.refinedPose = refined;
+  f.pipeline->finishFrame(r, std::nullopt, refine);
   CHECK(r.T_camera_to_world.matrix() == refined.matrix());
   CHECK(f.pipeline->pose().matrix() == refined.matrix());
   CHECK_FALSE(r.poseOverridden);
@@ -319,7 +322,10 @@ TEST_CASE("a refined pose replaces a tracked frame's pose without counting as a 
       f.pipeline->trackFrame(f.frame(2), sb::test::kRoomDepthScale, k, sb::IcpStart{far});
   REQUIRE_FALSE(lost.tracked);
   Eigen::Isometry3d elsewhere = far;
-  f.pipeline->finishFrame(lost, std::nullopt, sb::FrameOverrides{false, false, elsewhere});
+  sb::FrameOverrides ignored;
+  ignored.integrate = false;
+  ignored.refinedPose = elsewhere;
+  f.pipeline->finishFrame(lost, std::nullopt, ignored);
   CHECK(lost.T_camera_to_world.matrix() == refined.matrix());
 }
 

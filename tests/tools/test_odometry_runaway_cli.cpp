@@ -16,6 +16,7 @@
 #include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
+#include "tests/support/tum_positions.h"
 
 using sb::test::readJson;
 using sb::test::runCommand;
@@ -23,20 +24,6 @@ using sb::test::runCommand;
 namespace {
 
 const std::string kTool = sb::test::testBinary("SB_TEST_SLAMBOOSTER", SB_SLAMBOOSTER_BIN);
-
-// groundtruth.txt's camera positions, in frame order.
-std::vector<std::vector<double>> truePositions(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<std::vector<double>> out;
-  for (std::string line; std::getline(in, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream fields(line);
-    double t = 0, x = 0, y = 0, z = 0;
-    fields >> t >> x >> y >> z;
-    out.push_back({x, y, z});
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -53,7 +40,7 @@ TEST_CASE("with odometry, a coarse view that runs away from the wheels is not go
   INFO(run.output);
   REQUIRE(run.exitCode == 0);
 
-  const auto truth = truePositions(dir + "/drive/groundtruth.txt");
+  const auto truth = sb::test::tumPositions(dir + "/drive/groundtruth.txt");
   REQUIRE(truth.size() == 60);
   std::ifstream frames(dir + "/run/frames.jsonl");
   int posed = 0, offGood = 0, followed = 0;
