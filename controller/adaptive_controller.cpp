@@ -98,6 +98,7 @@ Decision AdaptiveController::decide(const Observation& o) {
   d.nextHoldBelowConditioning = config_.icpHoldConditioning;
   if (!o.retracked) ++seen_;
   if (!o.trackingAttempted) {  // the pipeline's bootstrap (always fused) or a frame skipped by tr
+    gate_.skipped();  // the max gap counts frames, tracked or not
     d.triggers |= kTriggerBootstrap;
     conclude(o, d);
     return d;

@@ -34,6 +34,8 @@ class IntegrationGate {
   // Whether the frame with final pose `pose` should be fused; `eligible`: tracked and its pose kept;
   // `odometry`: the robot's odometry drives the frame. Remembers the pose of the fused frames.
   bool decide(const Eigen::Isometry3d& pose, bool eligible, bool odometry = false);
+  // A frame with no decision (skipped by the tracking rate): it counts towards the max gap all the same.
+  void skipped() { ++sinceFused_; }
   // The next decision fuses any eligible frame (after bootstrap, a level change, ...).
   void reset() { fusedAny_ = false; }
 

@@ -90,6 +90,7 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
   if (motion.step && followOdometry(rec, motion)) {
     failedInARow_ = 0;
     rec.state = last_ = TrackingState::odometry;
+    movedBy(rec, motion);
     return;
   }
   rec.state = last_ = TrackingState::lost;
@@ -167,7 +168,7 @@ void TrackingMonitor::fuse(FrameRecord& rec, const FrameMotion& motion) {
 
 void TrackingMonitor::followWheels(FrameRecord& rec, const FrameMotion& motion) {
   if (last_ == TrackingState::odometry) {  // depth could not track: the dead reckoning and its budget go on
-    followOdometry(rec, motion);
+    if (followOdometry(rec, motion)) movedBy(rec, motion);
     return;
   }
   // Between two tracked frames the wheels carry the pose: one frame of a calibrated step is millimetres off.
@@ -178,6 +179,13 @@ void TrackingMonitor::followWheels(FrameRecord& rec, const FrameMotion& motion) 
   d.keepReference = true;  // the next tracked frame pairs with the last raycast, as after any unfused frame
   d.nextStartPose.reset();
   rec.odometry.used = true;
+  movedBy(rec, motion);
+}
+
+void TrackingMonitor::movedBy(const FrameRecord& rec, const FrameMotion& motion) {
+  const double dt = rec.result.timestamp - motion.previousStamp;
+  if (rec.decision.correctedPose && dt > 0)
+    lastVelocity_ = (rec.decision.correctedPose->translation() - motion.previousPose.translation()) / dt;
 }
 
 bool TrackingMonitor::followOdometry(FrameRecord& rec, const FrameMotion& motion) {

@@ -70,3 +70,27 @@ TEST_CASE("with the robot's odometry adaptive tracks every third frame with fewe
   CHECK_THROWS_WITH(config(R"({"icp_iterations_with_odometry": [5, 3]})"), Catch::Contains("icp_iterations_with_odometry"));
   CHECK_THROWS_WITH(config(R"({"reference_csr_with_odometry": 3})"), Catch::Contains("reference_csr_with_odometry"));
 }
+
+TEST_CASE("frames skipped by the tracking rate count towards the integration's max gap", "[controller][adaptive]") {
+  // A robot creeping (nothing new by distance): fused at least every integrate_max_gap_frames (4) frames, skipped
+  // ones included. Before, only tracked frames counted: with tr 3 a fusion every 12 frames.
+  AdaptiveController c("adaptive", config(R"({"bootstrap_frames": 0, "integrate_max_gap_frames": 4,
+                                              "integrate_translation_m_with_odometry": 10})"));
+  Driver drive(c);
+  drive.odometry = true;
+  for (int i = 0; i < 6; ++i) drive.step(moveX(0.0));  // the pipeline's bootstrap, then the first fusion
+  std::vector<int> fusedAt;
+  for (int frame = 0; frame < 18; ++frame) {
+    Observation o = drive.observe(moveX(0.0));
+    if (frame % 3 != 0) {  // skipped by tr 3: no tracking attempted
+      o.trackingAttempted = o.tracked = false;
+      o.pose = o.previousPose;
+    }
+    const Decision d = c.decide(o);
+    drive.finish(o, d);
+    if (d.integrate && *d.integrate) fusedAt.push_back(frame);
+  }
+  REQUIRE(fusedAt.size() == 3);  // every second tracked frame: 6 frames apart, the gap of 4 passed
+  CHECK(fusedAt[1] - fusedAt[0] == 6);
+  CHECK(fusedAt[2] - fusedAt[1] == 6);
+}
