@@ -25,18 +25,6 @@ OdometryStep stepOf(const Eigen::Isometry3d& delta, const OdometryConfig& c) {
   return s;
 }
 
-// 0.2 s of a camera driving forward at 1 m/s, sampled at 50 Hz.
-OdometryTrack forwardTrack() {
-  OdometryTrack track;
-  for (int i = 0; i <= 10; ++i) {
-    OdometrySample s;
-    s.timestamp = i * 0.02;
-    s.T_camera_to_odom = moved(0.0, 0.0, i * 0.02);
-    REQUIRE(track.add(s));
-  }
-  return track;
-}
-
 // fuseWithOdometry for a step from the origin: the view `q`, ICP's pose `tracked`, the odometry's `odometry`
 // (its noise from the config).
 Fusion fromOrigin(const TrackingQuality& q, const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& odometry,
@@ -144,7 +132,13 @@ TEST_CASE("a motion the platform cannot make is named; one it can is not", "[odo
 
 TEST_CASE("the odometry's step between two frames, with its noise", "[odometry][fusion]") {
   OdometryConfig c;
-  const OdometryTrack track = forwardTrack();
+  OdometryTrack track;
+  for (int i = 0; i <= 10; ++i) {
+    OdometrySample s;
+    s.timestamp = i * 0.02;
+    s.T_camera_to_odom = moved(0.0, 0.0, i * 0.02);  // 1 m/s forward
+    REQUIRE(track.add(s));
+  }
   std::string why;
   const auto step = stepBetween(track, 0.03, 0.0633, c, why);
   REQUIRE(step);
@@ -156,7 +150,13 @@ TEST_CASE("the odometry's step between two frames, with its noise", "[odometry][
 
 TEST_CASE("after frames skipped on the wheels, the prediction carries the whole interval's noise", "[odometry][fusion]") {
   const OdometryConfig c;
-  const OdometryTrack track = forwardTrack();
+  OdometryTrack track;
+  for (int i = 0; i <= 10; ++i) {
+    OdometrySample s;
+    s.timestamp = i * 0.02;
+    s.T_camera_to_odom = moved(0.0, 0.0, i * 0.02);  // 1 m/s forward
+    REQUIRE(track.add(s));
+  }
   std::string why;
   // The tracked frame at 0.1 s; the view last fixed the pose at 0.0 s, two frames skipped between.
   auto step = stepBetween(track, 1.0 / 15, 0.1, c, why);
