@@ -110,13 +110,6 @@ FrameMotion SlamRunner::motionOf(const DepthFrame& frame, FrameRecord& rec) cons
   }
   motion.raw = step;
   motion.step = monitor_.calibration().correct(*step);
-  if (viewOpen_ && viewSkipped_) {
-    // Frames skipped by the tracking rate took the wheels' poses: the prediction is as uncertain as the wheels'
-    // whole interval since the view last fixed the pose, not one step of it.
-    std::string why;
-    if (const auto interval = odometry::stepBetween(*odometry_, viewStamp_, frame.timestamp, c, why))
-      odometry::widenNoise(*motion.step, *interval);
-  }
   return motion;
 }
 
@@ -158,16 +151,6 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   rec.decision.next = nextKnobs();  // the controller's choice with the pins in place
   previousPose_ = r.T_camera_to_world;
   previousStamp_ = r.timestamp;
-  const bool posed = rec.state == TrackingState::good || rec.state == TrackingState::weak;
-  if (r.tracked && posed) {
-    viewStamp_ = r.timestamp;
-    viewOpen_ = true;
-    viewSkipped_ = false;
-  } else if (viewOpen_ && posed && !r.trackingAttempted) {
-    viewSkipped_ = true;  // skipped by the tracking rate: the interval goes on
-  } else {
-    viewOpen_ = viewSkipped_ = false;  // lost, on odometry alone, a failed track: start again
-  }
   previousComputationMs_ = r.times.computationMs();
   ++frames_;
   rec.endMonoNs = power::monotonicClock().nowNs();

@@ -79,10 +79,6 @@ class SlamRunner {
   std::optional<double> latestJoules_;
   Eigen::Isometry3d previousPose_;
   double previousStamp_ = 0.0;
-  // The last frame whose pose the view fixed (tracked, good or weak), for the noise of the wheels' prediction.
-  double viewStamp_ = 0.0;
-  bool viewOpen_ = false;     // since it only frames skipped by the tracking rate
-  bool viewSkipped_ = false;  // and at least one
   double previousComputationMs_ = 0.0;
   size_t frames_ = 0;
   TrackingMonitor monitor_;
