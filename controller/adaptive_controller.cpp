@@ -19,7 +19,7 @@ void AdaptiveConfig::read(ConfigReader& r) {
   if (iterations[0] < 1) r.fail("icp_iterations_with_odometry", "at least 1 iteration at the finest level");
   std::copy(iterations.begin(), iterations.end(), icpIterationsWithOdometry.begin());
   r.integer("reference_csr_with_odometry", referenceCsrWithOdometry, 0, 8);
-  if (referenceCsrWithOdometry == 3 || (referenceCsrWithOdometry > 4 && referenceCsrWithOdometry < 8))
+  if (referenceCsrWithOdometry != 0 && !validCsr(referenceCsrWithOdometry))
     r.fail("reference_csr_with_odometry", "0 (the frame's own compute size), 1, 2, 4 or 8");
   r.boolean("predict_start", predictStart);
   r.boolean("integrate_unconstrained", integrateUnconstrained);

@@ -57,7 +57,7 @@ Knobs knobPreset(const std::string& name) {
 }
 
 void validateKnobs(const Knobs& k) {
-  if (k.csr != 1 && k.csr != 2 && k.csr != 4 && k.csr != 8)
+  if (!validCsr(k.csr))
     throw Error("knob csr=" + std::to_string(k.csr) + " is not allowed (use 1, 2, 4 or 8)");
   if (!(k.icpThreshold >= 0.0 && k.icpThreshold <= 1.0))
     throw Error("knob icp=" + std::to_string(k.icpThreshold) + " is out of range (use a value in [0, 1])");

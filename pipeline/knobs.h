@@ -26,6 +26,8 @@ struct Knobs {
 // pd1 and pd2 in [0, kMaxIterations]; tr and ir in [1, kMaxRate].
 constexpr int kMaxIterations = 100;
 constexpr int kMaxRate = 1000;
+// A compute size ratio the pipeline runs at: 1, 2, 4 or 8.
+constexpr bool validCsr(int csr) { return csr == 1 || csr == 2 || csr == 4 || csr == 8; }
 
 // "default" (SLAMBench's settings) or "accurate"; throws sb::Error naming the preset otherwise.
 Knobs knobPreset(const std::string& name);

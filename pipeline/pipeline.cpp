@@ -194,7 +194,6 @@ void Pipeline::discardTrack(FrameResult& r) {
 void Pipeline::finishFrame(FrameResult& r, const std::optional<Eigen::Isometry3d>& correctedPose,
                            const FrameOverrides& overrides) {
   if (!awaitingFinish_) throw Error("Pipeline::finishFrame called without a preceding trackFrame");
-  const auto validCsr = [](int c) { return c == 1 || c == 2 || c == 4 || c == 8; };
   if (overrides.referenceCsr && !validCsr(*overrides.referenceCsr))
     throw Error("Pipeline::finishFrame: reference compute size ratio " + std::to_string(*overrides.referenceCsr) +
                 " is not 1, 2, 4 or 8");
