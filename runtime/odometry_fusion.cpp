@@ -1,6 +1,7 @@
 #include "runtime/odometry_fusion.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -54,6 +55,11 @@ std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, d
     if (dRot > 0) s.sigmaRad = std::max(s.sigmaRad, std::sqrt(dRot));
   }
   return s;
+}
+
+void widenNoise(OdometryStep& step, const OdometryStep& since) {
+  step.sigmaM = std::max(step.sigmaM, since.sigmaM);
+  step.sigmaRad = std::max(step.sigmaRad, since.sigmaRad);
 }
 
 std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& previous,

@@ -29,6 +29,13 @@ struct OdometryStep {
 std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, double t1, const OdometryConfig& c,
                                         std::string& why);
 
+// `step`'s noise widened to that of the wheels' whole interval since the view last fixed the pose (`since`: the
+// step from that frame's stamp). The frames between took the wheels' poses (skipped by the tracking rate, or dead
+// reckoning in state `odometry`), so the prediction they lead to is as uncertain as all of it. Held to one step's
+// noise it outweighed the view: 2-3 frames of a base's scale and turn errors taken as certain, and after a covered
+// lens the view's correction of 2 s of drift was refused as a slip (docs/odometry.md).
+void widenNoise(OdometryStep& step, const OdometryStep& since);
+
 // Of a view and wheels that disagree (the view's pose `tracked`, the wheels' `predicted`, both from `previous`
 // `dt` seconds ago), why the view is the wrong one, or "" when it is not shown to be: a body keeps its velocity
 // (`lastVelocity`, m/s, world frame), so of the two motions the one that departs further from it within the frame

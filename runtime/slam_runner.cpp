@@ -110,6 +110,14 @@ FrameMotion SlamRunner::motionOf(const DepthFrame& frame, FrameRecord& rec) cons
   }
   motion.raw = step;
   motion.step = monitor_.calibration().correct(*step);
+  if (viewStamp_ && !previousViewFixed_) {
+    // The last frame's pose was not the view's (skipped by the tracking rate, dead reckoning in state odometry,
+    // a discarded track): the prediction is as uncertain as the wheels' whole interval since the view last fixed
+    // the pose, not one step of it.
+    std::string why;
+    if (const auto interval = odometry::stepBetween(*odometry_, *viewStamp_, frame.timestamp, c, why))
+      odometry::widenNoise(*motion.step, *interval);
+  }
   return motion;
 }
 
@@ -151,6 +159,9 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   rec.decision.next = nextKnobs();  // the controller's choice with the pins in place
   previousPose_ = r.T_camera_to_world;
   previousStamp_ = r.timestamp;
+  previousViewFixed_ = r.tracked && !r.poseOverridden && rec.state != TrackingState::odometry &&
+                       rec.state != TrackingState::lost;
+  if (previousViewFixed_) viewStamp_ = r.timestamp;
   previousComputationMs_ = r.times.computationMs();
   ++frames_;
   rec.endMonoNs = power::monotonicClock().nowNs();

@@ -79,6 +79,10 @@ class SlamRunner {
   std::optional<double> latestJoules_;
   Eigen::Isometry3d previousPose_;
   double previousStamp_ = 0.0;
+  // The last frame whose pose the view fixed, for the noise of the wheels' prediction, and whether it was the
+  // last frame.
+  std::optional<double> viewStamp_;
+  bool previousViewFixed_ = false;
   double previousComputationMs_ = 0.0;
   size_t frames_ = 0;
   TrackingMonitor monitor_;

@@ -147,3 +147,38 @@ TEST_CASE("the odometry's step between two frames, with its noise", "[odometry][
   CHECK_FALSE(stepBetween(track, 0.1, 0.5, c, why));  // past the newest sample by more than the bound
   CHECK_THAT(why, Catch::Contains("no odometry at 0.500"));
 }
+
+TEST_CASE("after frames skipped on the wheels, the prediction carries the whole interval's noise", "[odometry][fusion]") {
+  const OdometryConfig c;
+  OdometryTrack track;
+  for (int i = 0; i <= 10; ++i) {
+    OdometrySample s;
+    s.timestamp = i * 0.02;
+    s.T_camera_to_odom = moved(0.0, 0.0, i * 0.02);  // 1 m/s forward
+    REQUIRE(track.add(s));
+  }
+  std::string why;
+  // The tracked frame at 0.1 s; the view last fixed the pose at 0.0 s, two frames skipped between.
+  auto step = stepBetween(track, 1.0 / 15, 0.1, c, why);
+  const auto since = stepBetween(track, 0.0, 0.1, c, why);
+  REQUIRE(step);
+  REQUIRE(since);
+  const OdometryStep one = *step;
+  widenNoise(*step, *since);
+  CHECK(step->sigmaM == Approx(c.noiseFloorM + c.noisePerM * 0.1).margin(1e-9));
+  CHECK(step->sigmaRad == Approx(since->sigmaRad).margin(1e-12));
+  CHECK(step->delta.isApprox(one.delta));  // the motion is the step's: only its noise grows
+  // The consequence: along a motion the view fixes, a view 4 mm off the wheels' prediction now weighs more.
+  const Eigen::Isometry3d predicted = moved(0.0, 0.0, 0.0333), tracked = moved(0.004, 0.0, 0.0333);
+  const Fusion narrow = fuseWithOdometry(view(0.2, {2}), Eigen::Isometry3d::Identity(), tracked, predicted, one, c);
+  const Fusion wide = fuseWithOdometry(view(0.2, {2}), Eigen::Isometry3d::Identity(), tracked, predicted, *step, c);
+  REQUIRE_FALSE(narrow.rejected);
+  REQUIRE_FALSE(wide.rejected);
+  CHECK(wide.pose.translation().x() > narrow.pose.translation().x() + 0.0003);
+  CHECK(wide.pose.translation().x() < 0.004);
+  // A widened step never narrows: the interval's noise only counts when it is the larger.
+  OdometryStep big = one;
+  big.sigmaM = 1.0;
+  widenNoise(big, *since);
+  CHECK(big.sigmaM == 1.0);
+}
