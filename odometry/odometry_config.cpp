@@ -34,6 +34,7 @@ constexpr Key kKeys[] = {
     {"max_extrapolation_s", &OdometryConfig::maxExtrapolationS, 0.0, 10.0},
     {"max_gap_s", &OdometryConfig::maxGapS, 0.001, 100.0},
     {"calibration_window_m", &OdometryConfig::calibrationWindowM, 0.0, 1e6},
+    {"tilt_sigma_deg", &OdometryConfig::tiltSigmaDeg, 0.0, 90.0},
 };
 
 }  // namespace

@@ -61,6 +61,11 @@ struct OdometryConfig {
   // The wheels' systematic errors (distance scale, turn scale, yaw drift) are learnt online where the view fixes
   // the motion (runtime/odometry_calibration.h), from the evidence of about this many metres driven; 0: off.
   double calibrationWindowM = 20.0;       // metres
+  // The odometry's tilt is absolute: a base on a floor (or one whose odometry is fused with an IMU's gravity)
+  // does not drift in it as the view's chain of relative motions does. Every fused frame takes it as a measurement
+  // with this sigma (the floor's bumps and the suspension: not a drift), so the tilt error stays bounded instead of
+  // growing with the distance driven, and with it the height error a tilted heading drives. 0: off.
+  double tiltSigmaDeg = 0.5;              // degrees, about the axes square to up
 
   void read(ConfigReader& r);
   nlohmann::json toJson() const;

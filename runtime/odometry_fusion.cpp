@@ -62,6 +62,16 @@ void widenNoise(OdometryStep& step, const OdometryStep& since) {
   step.sigmaRad = std::max(step.sigmaRad, since.sigmaRad);
 }
 
+Eigen::Isometry3d levelled(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& odometry,
+                           const Eigen::Vector3d& up, double gain) {
+  const Eigen::Vector3d a = predicted.linear().transpose() * up;  // up in the camera frame, as predicted
+  const Eigen::Vector3d b = odometry.linear().transpose() * up;   // and as the odometry has it
+  const Eigen::AngleAxisd tilt(Eigen::Quaterniond::FromTwoVectors(a, b));
+  Eigen::Isometry3d out = predicted;
+  out.linear() = predicted.linear() * Eigen::AngleAxisd(gain * tilt.angle(), tilt.axis()).toRotationMatrix().transpose();
+  return rigid(out);
+}
+
 std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& previous,
                               const Eigen::Isometry3d& pose, double dt,
                               const std::optional<Eigen::Vector3d>& previousVelocity) {
@@ -93,7 +103,8 @@ std::string viewBreaksInertia(const Eigen::Isometry3d& previous, const Eigen::Is
 }
 
 Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previous, const Eigen::Isometry3d& tracked,
-                        const Eigen::Isometry3d& predicted, const OdometryStep& step, const OdometryConfig& c) {
+                        const Eigen::Isometry3d& predicted, const OdometryStep& step, const OdometryConfig& c,
+                        const std::optional<Level>& level) {
   Fusion f;
   f.pose = tracked;
   if (!q.known || q.structure.isZero()) return f;
@@ -122,9 +133,25 @@ Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previ
   odoInfo.tail<3>().setConstant(s * s / std::pow(std::max(step.sigmaRad, 1e-9), 2));
   const Matrix6& E = eig.eigenvectors();
   const Matrix6 view = E * viewInfo.asDiagonal() * E.transpose();
-  const Matrix6 both = view + Matrix6(odoInfo.asDiagonal());
-  // The fused motion: the odometry's plus the share of the view's difference its information earns.
-  const Twist keptN = both.ldlt().solve(view * (E * change));
+  Matrix6 all = view + Matrix6(odoInfo.asDiagonal());
+  Twist pull = view * (E * change);
+  if (level && c.tiltSigmaDeg > 0) {
+    // The odometry's tilt as measured (relative to the prediction): rotations about the axes square to up, in the
+    // motion basis (world axes; rotations about the camera centre at the view's lever).
+    const Eigen::Vector3d& u = level->up;
+    const Twist toLevel = basis.solve(transformToTwist(rigid(levelled(predicted, level->odometry, u, 1.0) *
+                                                             predicted.inverse())));
+    const double tiltRad = c.tiltSigmaDeg / kDegPerRad;
+    Matrix6 info = Matrix6::Zero();
+    info.bottomRightCorner<3, 3>() = (Eigen::Matrix3d::Identity() - u * u.transpose()) * s * s / (tiltRad * tiltRad);
+    if (toLevel.allFinite()) {
+      all += info;
+      pull += info * toLevel;
+    }
+  }
+  // The fused motion: the odometry's plus the shares of the view's (and the tilt's) differences their information
+  // earns.
+  const Twist keptN = all.ldlt().solve(pull);
   // How far the view moves the prediction along the motions it fixes: a slip when beyond the odometry's noise.
   const Eigen::Isometry3d viewed = rigid(twistToTransform(odo + q.basis * (eig.eigenvectors() * fixedPart)) * previous);
   f.disagreementM = (viewed.translation() - predicted.translation()).norm();

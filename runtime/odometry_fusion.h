@@ -36,6 +36,12 @@ std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, d
 // lens the view's correction of 2 s of drift was refused as a slip (docs/odometry.md).
 void widenNoise(OdometryStep& step, const OdometryStep& since);
 
+// `predicted` (a camera pose in the world frame) with its tilt moved by `gain` (0-1) toward that of `odometry`
+// (the odometry's own camera pose, in the world frame), `up` the odometry frame's up axis in the world frame: it
+// turns about the camera centre and about an axis square to up, so the position and the heading stay.
+Eigen::Isometry3d levelled(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& odometry,
+                           const Eigen::Vector3d& up, double gain);
+
 // Of a view and wheels that disagree (the view's pose `tracked`, the wheels' `predicted`, both from `previous`
 // `dt` seconds ago), why the view is the wrong one, or "" when it is not shown to be: a body keeps its velocity
 // (`lastVelocity`, m/s, world frame), so of the two motions the one that departs further from it within the frame
@@ -60,14 +66,23 @@ struct Fusion {
   std::string why;            // when rejected
 };
 
+// The odometry's absolute tilt (tilt_sigma_deg): its camera pose and its up axis, both in the world frame.
+struct Level {
+  Eigen::Isometry3d odometry = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+};
+
 // `previous`: the last frame's final pose; `tracked`: this frame's ICP result; `predicted` = previous *
 // step.delta; `quality`: the tracked frame's (its structure and basis). Without a known structure the view
 // cannot say which motions it fixes: the tracked pose, not rejected. ICP registers against the map, whose error
 // does not grow with the compute size as a frame-to-frame match's would: icp_sigma_m holds at every csr
 // (measured on the corridor drive, adaptive with odometry: 6.7 cm; icp_sigma_m scaled by csr 7.2, by sqrt(csr)
 // 7.7; a fixed 5 mm 5.7 but DEFAULT's 4.5 -> 9.3; 1 mm 8.4, 10 mm 16.4).
+// With `level` the odometry's tilt is a third measurement, with its own sigma (tilt_sigma_deg). Its height is not:
+// held to the odometry's height the fused pose pitched to meet the map's floor and ran away (docs/odometry.md).
 Fusion fuseWithOdometry(const TrackingQuality& quality, const Eigen::Isometry3d& previous,
                         const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted,
-                        const OdometryStep& step, const OdometryConfig& c);
+                        const OdometryStep& step, const OdometryConfig& c,
+                        const std::optional<Level>& level = std::nullopt);
 
 }  // namespace sb::odometry

@@ -110,6 +110,9 @@ FrameMotion SlamRunner::motionOf(const DepthFrame& frame, FrameRecord& rec) cons
   }
   motion.raw = step;
   motion.step = monitor_.calibration().correct(*step);
+  if (worldFromOdometry_ && rec.odometry.cameraToOdom)  // the odometry's absolute tilt
+    motion.level = odometry::Level{*worldFromOdometry_ * *rec.odometry.cameraToOdom,
+                                   worldFromOdometry_->linear() * Eigen::Vector3d::UnitZ()};
   if (viewStamp_ && !previousViewFixed_) {
     // The last frame's pose was not the view's (skipped by the tracking rate, dead reckoning in state odometry,
     // a discarded track): the prediction is as uncertain as the wheels' whole interval since the view last fixed
@@ -162,6 +165,9 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   previousViewFixed_ = r.tracked && !r.poseOverridden && rec.state != TrackingState::odometry &&
                        rec.state != TrackingState::lost;
   if (previousViewFixed_) viewStamp_ = r.timestamp;
+  // The odometry frame in the world frame, from the first frame the view fixed with an odometry pose.
+  if (!worldFromOdometry_ && previousViewFixed_ && rec.odometry.cameraToOdom)
+    worldFromOdometry_ = r.T_camera_to_world * rec.odometry.cameraToOdom->inverse();
   previousComputationMs_ = r.times.computationMs();
   ++frames_;
   rec.endMonoNs = power::monotonicClock().nowNs();

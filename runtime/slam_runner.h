@@ -83,6 +83,7 @@ class SlamRunner {
   // last frame.
   std::optional<double> viewStamp_;
   bool previousViewFixed_ = false;
+  std::optional<Eigen::Isometry3d> worldFromOdometry_;  // the odometry frame in the world frame (its up axis)
   double previousComputationMs_ = 0.0;
   size_t frames_ = 0;
   TrackingMonitor monitor_;

@@ -154,7 +154,8 @@ void TrackingMonitor::fuse(FrameRecord& rec, const FrameMotion& motion) {
   const Eigen::Isometry3d predicted = motion.previousPose * step.delta;
   const Eigen::Isometry3d& tracked = d.refinedPose ? *d.refinedPose : rec.result.T_camera_to_world;
   const odometry::Fusion f =
-      odometry::fuseWithOdometry(rec.result.quality, motion.previousPose, tracked, predicted, step, config_.odometry);
+      odometry::fuseWithOdometry(rec.result.quality, motion.previousPose, tracked, predicted, step, config_.odometry,
+                                 motion.level);
   if (f.rejected) {
     rec.odometry.rejected = true;
     rec.odometry.why = f.why;

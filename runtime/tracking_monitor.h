@@ -33,6 +33,7 @@ struct FrameMotion {
   bool hasPrevious = false;                                         // false on the first frame
   std::optional<odometry::OdometryStep> step;  // the odometry's step since then (not rejected before ICP), calibrated
   std::optional<odometry::OdometryStep> raw;   // the same step as the wheels reported it
+  std::optional<odometry::Level> level;        // the odometry's absolute tilt at this frame
 };
 
 class TrackingMonitor {

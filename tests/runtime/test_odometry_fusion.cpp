@@ -1,5 +1,6 @@
 // runtime/odometry_fusion.h on hand-made views: a structure matrix whose eigen-motions are the camera axes
 // (basis identity: the twist's translation then rotation, camera at the origin), each with its conditioning.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -181,4 +182,46 @@ TEST_CASE("after frames skipped on the wheels, the prediction carries the whole 
   big.sigmaM = 1.0;
   widenNoise(big, *since);
   CHECK(big.sigmaM == 1.0);
+}
+
+TEST_CASE("the odometry's tilt is absolute: a fused pose is drawn to it", "[odometry][fusion]") {
+  const OdometryConfig c;
+  const Eigen::Vector3d up(0.0, -1.0, 0.0);  // the camera's y points down: up is -y
+  // The odometry's camera: level, heading 3 degrees off the world's z, 5 cm higher than the prediction (the last
+  // fused pose moved by the wheels, at the origin as the hand-made view's basis has it), which drifted 2 degrees
+  // nose down about the camera's x.
+  const Eigen::Matrix3d heading = Eigen::AngleAxisd(3.0 / 57.2957795, up).toRotationMatrix();
+  Eigen::Isometry3d odometry = moved(0.0, -0.05, 0.0);
+  odometry.linear() = heading;
+  Eigen::Isometry3d predicted = Eigen::Isometry3d::Identity();
+  predicted.linear() = heading * Eigen::AngleAxisd(-2.0 / 57.2957795, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const auto tiltDeg = [&](const Eigen::Isometry3d& p) {
+    return std::acos(std::clamp((p.linear().transpose() * up).dot(Eigen::Vector3d(0.0, -1.0, 0.0)), -1.0, 1.0)) *
+           57.2957795;
+  };
+  const auto headingOf = [](const Eigen::Isometry3d& p) {
+    const Eigen::Vector3d ahead = p.linear() * Eigen::Vector3d::UnitZ();
+    return std::atan2(ahead.x(), ahead.z());
+  };
+  const Eigen::Isometry3d whole = levelled(predicted, odometry, up, 1.0);
+  CHECK(tiltDeg(predicted) == Approx(2.0));
+  CHECK(tiltDeg(whole) == Approx(0.0).margin(1e-6));
+  CHECK(tiltDeg(levelled(predicted, odometry, up, 0.5)) == Approx(1.0));
+  CHECK(whole.translation().isApprox(predicted.translation(), 1e-12));  // the position and the heading stay
+  CHECK(headingOf(whole) == Approx(headingOf(odometry)));
+
+  // In the fusion: a view that leaves the pitch free and a standing robot (a zero step). With the level the fused
+  // pose turns toward it by the share its information earns against the step's; without it, not at all.
+  const OdometryStep step = stepOf(Eigen::Isometry3d::Identity(), c);
+  const TrackingQuality q = view(0.2, {3});
+  const Fusion plain = fuseWithOdometry(q, predicted, predicted, predicted, step, c);
+  const Fusion level = fuseWithOdometry(q, predicted, predicted, predicted, step, c, Level{odometry, up});
+  REQUIRE_FALSE(level.rejected);
+  CHECK(plain.pose.isApprox(predicted, 1e-9));
+  const double share = 1.0 / (1.0 + std::pow(c.tiltSigmaDeg / 57.2957795 / step.sigmaRad, 2));
+  CHECK(tiltDeg(level.pose) == Approx(2.0 * (1.0 - share)).epsilon(0.02));
+  CHECK(level.pose.translation().isApprox(predicted.translation(), 1e-6));
+  OdometryConfig off = c;
+  off.tiltSigmaDeg = 0.0;
+  CHECK(fuseWithOdometry(q, predicted, predicted, predicted, step, off, Level{odometry, up}).pose.isApprox(predicted, 1e-9));
 }
