@@ -33,6 +33,18 @@ Fusion fromOrigin(const TrackingQuality& q, const Eigen::Isometry3d& tracked, co
   return fuseWithOdometry(q, Eigen::Isometry3d::Identity(), tracked, odometry, stepOf(odometry, c), c);
 }
 
+// 0.2 s of samples at 50 Hz, the camera driving forward at 1 m/s.
+OdometryTrack forwardTrack() {
+  OdometryTrack track;
+  for (int i = 0; i <= 10; ++i) {
+    OdometrySample s;
+    s.timestamp = i * 0.02;
+    s.T_camera_to_odom = moved(0.0, 0.0, i * 0.02);
+    REQUIRE(track.add(s));
+  }
+  return track;
+}
+
 }  // namespace
 
 TEST_CASE("along a motion the view leaves free the odometry wins; along one it fixes, the view",
@@ -133,13 +145,7 @@ TEST_CASE("a motion the platform cannot make is named; one it can is not", "[odo
 
 TEST_CASE("the odometry's step between two frames, with its noise", "[odometry][fusion]") {
   OdometryConfig c;
-  OdometryTrack track;
-  for (int i = 0; i <= 10; ++i) {
-    OdometrySample s;
-    s.timestamp = i * 0.02;
-    s.T_camera_to_odom = moved(0.0, 0.0, i * 0.02);  // 1 m/s forward
-    REQUIRE(track.add(s));
-  }
+  const OdometryTrack track = forwardTrack();
   std::string why;
   const auto step = stepBetween(track, 0.03, 0.0633, c, why);
   REQUIRE(step);
@@ -151,13 +157,7 @@ TEST_CASE("the odometry's step between two frames, with its noise", "[odometry][
 
 TEST_CASE("after frames skipped on the wheels, the prediction carries the whole interval's noise", "[odometry][fusion]") {
   const OdometryConfig c;
-  OdometryTrack track;
-  for (int i = 0; i <= 10; ++i) {
-    OdometrySample s;
-    s.timestamp = i * 0.02;
-    s.T_camera_to_odom = moved(0.0, 0.0, i * 0.02);  // 1 m/s forward
-    REQUIRE(track.add(s));
-  }
+  const OdometryTrack track = forwardTrack();
   std::string why;
   // The tracked frame at 0.1 s; the view last fixed the pose at 0.0 s, two frames skipped between.
   auto step = stepBetween(track, 1.0 / 15, 0.1, c, why);
