@@ -82,15 +82,15 @@ TEST_CASE("with odometry, a coarse view that runs away from the wheels is not go
   CHECK(ate < 0.10);
 }
 
-// Right after frames that followed the wheels, the platform's velocity is theirs. First the mechanism: the drive
-// above at tr 3 (two frames in three take the wheels' pose), where every tracked frame comes after wheel-posed ones
-// and the coarse view jumps ahead of the model. Before the fix such a frame left no velocity to judge the next by,
-// and the jump stood as a wheel slip. Then the held-out drive where it was found (seed 2, its base -2% scale, +4%
-// turn scale, -0.2 deg/s; its first 76 frames), `adaptive` at full resolution: the view ran 0.117 m ahead at frame
-// 56 (the truth 0.042) and stood, `good`, for the rest of the drive (ATE 3.74 cm). Since the wheels' prediction
-// carries the noise of the whole interval since the view last fixed the pose, the fusion takes the runs ahead (0.05-
-// 0.09 m a frame in frames 45-57) along the corridor as the wheels say before the inertia rule is needed: the view
-// still runs ahead there, and no frame it leaves off the truth is good.
+// Right after frames that followed the wheels, the platform's velocity is theirs. First the rule at tr 3 (two frames
+// in three take the wheels' pose): on the drive above every tracked frame comes after wheel-posed ones and the coarse
+// view jumps ahead of the model; it is discarded there, not good (this case passed before the fix too). Then the
+// held-out drive where the fault was found (seed 2, its base -2% scale, +4% turn scale, -0.2 deg/s; its first 76
+// frames), `adaptive` at full resolution: before, a frame on the odometry left no velocity to judge the next by, and
+// the view's 0.117 m jump at frame 56 (the truth 0.042) stood, `good` (a001997: one good frame off the truth, ATE 3.79
+// cm; this case fails there). Since the wheels' prediction carries the noise of the whole interval since the view
+// last fixed the pose, the fusion takes the runs ahead (0.05-0.09 m a frame in frames 45-57) along the corridor as
+// the wheels say before the inertia rule is needed: the view still runs ahead, and no frame it leaves off is good.
 TEST_CASE("after frames on the wheels, a view that jumps ahead of them is not good", "[odometry][system]") {
   double ate = 0.0;
   const Judged j = coarseRun(sb::test::scratchDir("test_odometry_runaway_cli_skipped"), 3, ate);
