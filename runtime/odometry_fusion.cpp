@@ -63,12 +63,12 @@ void widenNoise(OdometryStep& step, const OdometryStep& since) {
 }
 
 Eigen::Isometry3d levelled(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& odometry,
-                           const Eigen::Vector3d& up, double gain) {
+                           const Eigen::Vector3d& up) {
   const Eigen::Vector3d a = predicted.linear().transpose() * up;  // up in the camera frame, as predicted
   const Eigen::Vector3d b = odometry.linear().transpose() * up;   // and as the odometry has it
   const Eigen::AngleAxisd tilt(Eigen::Quaterniond::FromTwoVectors(a, b));
   Eigen::Isometry3d out = predicted;
-  out.linear() = predicted.linear() * Eigen::AngleAxisd(gain * tilt.angle(), tilt.axis()).toRotationMatrix().transpose();
+  out.linear() = predicted.linear() * tilt.toRotationMatrix().transpose();
   return rigid(out);
 }
 
@@ -139,7 +139,7 @@ Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previ
     // The odometry's tilt as measured (relative to the prediction): rotations about the axes square to up, in the
     // motion basis (world axes; rotations about the camera centre at the view's lever).
     const Eigen::Vector3d& u = level->up;
-    const Twist toLevel = basis.solve(transformToTwist(rigid(levelled(predicted, level->odometry, u, 1.0) *
+    const Twist toLevel = basis.solve(transformToTwist(rigid(levelled(predicted, level->odometry, u) *
                                                              predicted.inverse())));
     const double tiltRad = c.tiltSigmaDeg / kDegPerRad;
     Matrix6 info = Matrix6::Zero();

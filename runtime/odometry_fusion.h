@@ -36,11 +36,11 @@ std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, d
 // lens the view's correction of 2 s of drift was refused as a slip (docs/odometry.md).
 void widenNoise(OdometryStep& step, const OdometryStep& since);
 
-// `predicted` (a camera pose in the world frame) with its tilt moved by `gain` (0-1) toward that of `odometry`
-// (the odometry's own camera pose, in the world frame), `up` the odometry frame's up axis in the world frame: it
-// turns about the camera centre and about an axis square to up, so the position and the heading stay.
+// `predicted` (a camera pose in the world frame) turned to the tilt of `odometry` (the odometry's own camera pose,
+// in the world frame), `up` the odometry frame's up axis in the world frame: it turns about the camera centre and
+// about an axis square to up, so the position and the heading stay.
 Eigen::Isometry3d levelled(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& odometry,
-                           const Eigen::Vector3d& up, double gain);
+                           const Eigen::Vector3d& up);
 
 // Of a view and wheels that disagree (the view's pose `tracked`, the wheels' `predicted`, both from `previous`
 // `dt` seconds ago), why the view is the wrong one, or "" when it is not shown to be: a body keeps its velocity
