@@ -27,10 +27,13 @@ std::optional<MapOdomStep> MapToOdom::onFrame(uint64_t frame, TrackingState stat
 
 std::string describe(const MapOdomStep& step) {
   switch (step.hold) {
-    case MapOdomHold::none: return "updated";
-    case MapOdomHold::lost: return "held since frame " + std::to_string(step.sinceFrame) + ": lost";
+    case MapOdomHold::none:
+      return "updated";
+    case MapOdomHold::lost:
+      return "held since frame " + std::to_string(step.sinceFrame) + ": lost";
     case MapOdomHold::noOdometry:
-      return "held since frame " + std::to_string(step.sinceFrame) + ": no robot odometry at the frame's stamp";
+      return "held since frame " + std::to_string(step.sinceFrame) +
+             ": no robot odometry at the frame's stamp";
   }
   return "?";
 }

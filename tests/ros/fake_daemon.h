@@ -1,8 +1,8 @@
 #pragma once
 // A stand-in for slamboosterd's socket in the bridge's system tests (issue 57): greets every client with
-// VERSION, answers ?ODOM with ODOM (accepting each sample) and anything else but ?WATCH with nothing, and lets
-// the test write report lines (POSE, KNOBS) to the client that sent ?WATCH. So a test can script what the real
-// daemon cannot be made to do on cue: a relocalisation's jump, a lost stretch.
+// VERSION, answers ?ODOM with ODOM (accepting each sample) and anything else but ?WATCH with nothing, and
+// lets the test write report lines (POSE, KNOBS) to the client that sent ?WATCH. So a test can script what
+// the real daemon cannot be made to do on cue: a relocalisation's jump, a lost stretch.
 
 #include <atomic>
 #include <mutex>

@@ -1,6 +1,6 @@
-// REP 105's map -> odom as the bridge computes it (ros/map_to_odom.h, issue 57), without a ROS master: composed
-// with the robot's odometry it gives the daemon's pose; a relocalisation's jump goes into map -> odom alone; a
-// lost frame, or one without odometry at its stamp, holds the last map -> odom.
+// REP 105's map -> odom as the bridge computes it (ros/map_to_odom.h, issue 57), without a ROS master:
+// composed with the robot's odometry it gives the daemon's pose; a relocalisation's jump goes into map ->
+// odom alone; a lost frame, or one without odometry at its stamp, holds the last map -> odom.
 
 #include <catch2/catch.hpp>
 
@@ -35,10 +35,12 @@ double rotationError(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 
 }  // namespace
 
-TEST_CASE("map -> odom composed with the robot's odometry gives the daemon's pose; a relocalisation moves map -> odom only",
-          "[ros]") {
+TEST_CASE(
+    "map -> odom composed with the robot's odometry gives the daemon's pose; a relocalisation moves map -> "
+    "odom only",
+    "[ros]") {
   MapToOdom tracker;
-  const Eigen::Isometry3d drift = pose(0.3, -0.2, 0.0, 0.05);  // where odom sits in map before the jump
+  const Eigen::Isometry3d drift = pose(0.3, -0.2, 0.0, 0.05);     // where odom sits in map before the jump
   const Eigen::Isometry3d corrected = pose(0.1, 0.4, 0.0, -0.1);  // after the relocalisation
   for (uint64_t frame = 0; frame < 10; ++frame) {
     INFO("frame " << frame);

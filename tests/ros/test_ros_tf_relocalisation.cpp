@@ -1,12 +1,12 @@
-// A relocalisation and a lost stretch in the robot's TF tree (issue 57, REP 105), against a real ROS master: the
-// real daemon cannot be made to relocalise on cue, so a stand-in (tests/ros/fake_daemon.h) serves the bridge a
-// scripted POSE stream while a fake base publishes /odom and odom -> base_link on /tf, and the mount on
-// /tf_static. The daemon's pose is map_T_odom * odom_T_base * mount with map_T_odom = A for frames 0-4, frames
-// 5-6 lost (the pose held), then a relocalisation to map_T_odom = B from frame 7 on. Through tf2: map -> odom is
-// A, held at A on the lost frames (diagnostics say so), B after the jump; odom -> base_link stays the base's, and
-// only the base publishes it; map -> base_link is the daemon's pose with the inverse mount on tracked frames; the
-// last map -> odom is also stamped ~transform_tolerance later (a lookup at "now" between frames succeeds) and
-// not beyond.
+// A relocalisation and a lost stretch in the robot's TF tree (issue 57, REP 105), against a real ROS master:
+// the real daemon cannot be made to relocalise on cue, so a stand-in (tests/ros/fake_daemon.h) serves the
+// bridge a scripted POSE stream while a fake base publishes /odom and odom -> base_link on /tf, and the mount
+// on /tf_static. The daemon's pose is map_T_odom * odom_T_base * mount with map_T_odom = A for frames 0-4,
+// frames 5-6 lost (the pose held), then a relocalisation to map_T_odom = B from frame 7 on. Through tf2: map
+// -> odom is A, held at A on the lost frames (diagnostics say so), B after the jump; odom -> base_link stays
+// the base's, and only the base publishes it; map -> base_link is the daemon's pose with the inverse mount on
+// tracked frames; the last map -> odom is also stamped ~transform_tolerance later (a lookup at "now" between
+// frames succeeds) and not beyond.
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Odometry.h>
@@ -17,8 +17,8 @@
 
 #include <map>
 #include <mutex>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "tests/daemon/daemon_e2e.h"
 #include "tests/ros/fake_daemon.h"
@@ -33,7 +33,7 @@ using namespace sb::test::ros_e2e;
 constexpr int kFrames = 10;
 constexpr double kStartS = 100.0, kPeriodS = 0.1;  // the frames' stamps
 constexpr double kToleranceS = 0.1;                // ~transform_tolerance given to the bridge
-constexpr double kTol = 1e-6;                      // metres / radians: the bridge's arithmetic, doubles and floats of TF
+constexpr double kTol = 1e-6;  // metres / radians: the bridge's arithmetic, doubles and floats of TF
 
 Eigen::Isometry3d pose(double x, double y, double yawRad) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -42,9 +42,13 @@ Eigen::Isometry3d pose(double x, double y, double yawRad) {
   return T;
 }
 
-Eigen::Isometry3d baseInOdom(int k) { return pose(0.2 * k, 0.01 * k * k, 0.04 * k); }
+Eigen::Isometry3d baseInOdom(int k) {
+  return pose(0.2 * k, 0.01 * k * k, 0.04 * k);
+}
 
-std::string state(int k) { return k == 5 || k == 6 ? "lost" : k == 7 ? "relocalised" : "good"; }
+std::string state(int k) {
+  return k == 5 || k == 6 ? "lost" : k == 7 ? "relocalised" : "good";
+}
 
 // The tracking diagnostics per frame.
 struct DiagnosticsLog {
@@ -101,16 +105,20 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
 
   auto bridge = startBridge(master,
                             {"socket:=" + socket, "reconnect_s:=0.05", "odom_topic:=/odom",
-                             "odom_camera_frame:=camera_depth_optical_frame", "map_period_s:=0", "cloud_period_s:=0",
-                             "transform_tolerance:=" + std::to_string(kToleranceS)},
+                             "odom_camera_frame:=camera_depth_optical_frame", "map_period_s:=0",
+                             "cloud_period_s:=0", "transform_tolerance:=" + std::to_string(kToleranceS)},
                             tmp.path + "/bridge.log");
   INFO(bridge->log());
-  REQUIRE(waitFor([&] { return odomPub.getNumSubscribers() >= 1 && tfStaticPub.getNumSubscribers() >= 2 &&
-                               diagnosticsSub.getNumPublishers() >= 1 && daemon.watched(); },
-                  20.0));
+  REQUIRE(waitFor(
+      [&] {
+        return odomPub.getNumSubscribers() >= 1 && tfStaticPub.getNumSubscribers() >= 2 &&
+               diagnosticsSub.getNumPublishers() >= 1 && daemon.watched();
+      },
+      20.0));
   std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched mount reaches the bridge's tf2 buffer
 
-  // The base: the whole drive's odometry first (TF, then /odom: the bridge pushes each sample to the "daemon").
+  // The base: the whole drive's odometry first (TF, then /odom: the bridge pushes each sample to the
+  // "daemon").
   tf2_msgs::TFMessage tf;
   std::vector<nav_msgs::Odometry> odometry;
   for (int k = 0; k < kFrames; ++k) {
@@ -130,8 +138,9 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
     odometry.push_back(o);
   }
   tfPub.publish(tf);
-  REQUIRE(waitFor([&] { return buffer.canTransform("odom", "base_link", ros::Time(kStartS + kPeriodS * (kFrames - 1))); },
-                  10.0));
+  REQUIRE(waitFor(
+      [&] { return buffer.canTransform("odom", "base_link", ros::Time(kStartS + kPeriodS * (kFrames - 1))); },
+      10.0));
   for (const auto& o : odometry) odomPub.publish(o);
   REQUIRE(waitFor([&] { return daemon.odometrySamples() == static_cast<size_t>(kFrames); }, 10.0));
 
@@ -144,13 +153,18 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
     if (state(k) != "lost") held = camera;
     daemonPoses.push_back(camera);
     const Eigen::Quaterniond q(camera.linear());
-    const nlohmann::json p = {{"class", "POSE"}, {"frame", k}, {"timestamp", kStartS + kPeriodS * k},
-                              {"position", {camera.translation().x(), camera.translation().y(), camera.translation().z()}},
-                              {"quaternion", {q.x(), q.y(), q.z(), q.w()}}, {"tracked", state(k) != "lost"},
-                              {"state", state(k)}};
+    const nlohmann::json p = {
+        {"class", "POSE"},
+        {"frame", k},
+        {"timestamp", kStartS + kPeriodS * k},
+        {"position", {camera.translation().x(), camera.translation().y(), camera.translation().z()}},
+        {"quaternion", {q.x(), q.y(), q.z(), q.w()}},
+        {"tracked", state(k) != "lost"},
+        {"state", state(k)}};
     daemon.report(p.dump());
-    daemon.report(nlohmann::json{{"class", "KNOBS"}, {"frame", k}, {"csr", 1}, {"icp", 1}, {"pd", {1, 1, 1}},
-                                 {"tr", 1}, {"ir", 1}}.dump());
+    daemon.report(nlohmann::json{
+        {"class", "KNOBS"}, {"frame", k}, {"csr", 1}, {"icp", 1}, {"pd", {1, 1, 1}}, {"tr", 1}, {"ir", 1}}
+                      .dump());
     INFO("frame " << k);
     REQUIRE(waitFor([&] { return diagnostics.of(k).has_value(); }, 10.0));
   }
@@ -164,7 +178,8 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
     const Eigen::Isometry3d expected = k < 7 ? A : B;  // lost frames 5-6 hold A
     CHECK(translationError(mapToOdom, expected) < kTol);
     CHECK(rotationError(mapToOdom, expected) < kTol);
-    const Eigen::Isometry3d odomToBase = toIsometry(buffer.lookupTransform("odom", "base_link", stamp).transform);
+    const Eigen::Isometry3d odomToBase =
+        toIsometry(buffer.lookupTransform("odom", "base_link", stamp).transform);
     CHECK(translationError(odomToBase, baseInOdom(k)) < kTol);  // the base's own, untouched by the jump
     CHECK(rotationError(odomToBase, baseInOdom(k)) < kTol);
     if (state(k) != "lost") {
@@ -186,7 +201,8 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
   // The jump is in map -> odom, by what the relocalisation corrected.
   CHECK(translationError(A, B) > 0.5);
 
-  // Forward-dated: a lookup between the last frame and last + tolerance finds the last map -> odom; past it none.
+  // Forward-dated: a lookup between the last frame and last + tolerance finds the last map -> odom; past it
+  // none.
   for (const double after : {0.05, kToleranceS}) {
     INFO("last frame + " << after << " s");
     const auto t = buffer.lookupTransform("map", "odom", last + ros::Duration(after));

@@ -1,9 +1,9 @@
-// The robot's TF tree with the bridge (issue 57, REP 105), against a real ROS master and the real daemon: a fake
-// base publishes a synthetic corridor drive's odometry as nav_msgs/Odometry on /odom and as odom -> base_link on
-// /tf, with the camera mount base_link -> camera_depth_optical_frame on /tf_static; the drive's depth goes over
-// the bridge into the daemon's push source (as in test_ros_odometry_topic). Then, through tf2 alone:
-// map -> base_link at every frame's stamp equals the daemon's pose (trajectory.tum) composed with the inverse
-// mount within 1 mm and 1 mrad; no frame has two parents; the bridge publishes map -> odom and never
+// The robot's TF tree with the bridge (issue 57, REP 105), against a real ROS master and the real daemon: a
+// fake base publishes a synthetic corridor drive's odometry as nav_msgs/Odometry on /odom and as odom ->
+// base_link on /tf, with the camera mount base_link -> camera_depth_optical_frame on /tf_static; the drive's
+// depth goes over the bridge into the daemon's push source (as in test_ros_odometry_topic). Then, through tf2
+// alone: map -> base_link at every frame's stamp equals the daemon's pose (trajectory.tum) composed with the
+// inverse mount within 1 mm and 1 mrad; no frame has two parents; the bridge publishes map -> odom and never
 // odom -> base_link; ~odometry is the base's pose in map (child_frame_id base_link) and equals the tree.
 // A relocalisation cannot be provoked on cue in this drive (it tracks throughout): test_ros_tf_relocalisation
 // scripts one through a stand-in daemon.
@@ -38,11 +38,12 @@ using sb::test::e2e::kDaemon;
 using sb::test::e2e::kTool;
 
 constexpr int kDriveFrames = 120;
-constexpr size_t kOdometryChunk = 40;  // samples published before waiting for the bridge: within its queue of 100
+constexpr size_t kOdometryChunk =
+    40;  // samples published before waiting for the bridge: within its queue of 100
 constexpr const char* kCameraFrame = "camera_depth_optical_frame";
-constexpr double kPositionTolM = 1e-3;     // the issue's 1 mm
-constexpr double kRotationTolRad = 1e-3;   // and 1 mrad
-constexpr double kStampTolS = 1e-6;        // trajectory.tum's stamps against the bridge's (POSE's, a double)
+constexpr double kPositionTolM = 1e-3;    // the issue's 1 mm
+constexpr double kRotationTolRad = 1e-3;  // and 1 mrad
+constexpr double kStampTolS = 1e-6;       // trajectory.tum's stamps against the bridge's (POSE's, a double)
 
 // The bridge's ~odometry messages, by stamp.
 struct OdometryLog {
@@ -73,8 +74,9 @@ struct ForwarderCounts {
 
 }  // namespace
 
-TEST_CASE("map -> odom -> base_link through tf2 is the daemon's pose composed with the mount, frame for frame",
-          "[ros][e2e][tf]") {
+TEST_CASE(
+    "map -> odom -> base_link through tf2 is the daemon's pose composed with the mount, frame for frame",
+    "[ros][e2e][tf]") {
   const std::string dir = scratchDir("ros_tf_tree");
   const std::string drive = dir + "/drive";
   const auto synth = runCommand(
@@ -91,7 +93,8 @@ TEST_CASE("map -> odom -> base_link through tf2 is the daemon's pose composed wi
   std::vector<sb::DepthFrame> frames;
   while (auto f = source->next()) frames.push_back(std::move(*f));
   REQUIRE(frames.size() == static_cast<size_t>(kDriveFrames));
-  const std::vector<nav_msgs::Odometry> odometry = odometryMessages(drive + "/odometry.txt", /*covariance=*/false);
+  const std::vector<nav_msgs::Odometry> odometry =
+      odometryMessages(drive + "/odometry.txt", /*covariance=*/false);
   REQUIRE(odometry.size() > frames.size());
   const Eigen::Isometry3d mount = parsePose(kBagCameraMount);
 
@@ -101,7 +104,8 @@ TEST_CASE("map -> odom -> base_link through tf2 is the daemon's pose composed wi
   joinMaster(master, "test_tf_tree");
   ros::NodeHandle node;
   ros::Publisher depthPub = node.advertise<sensor_msgs::Image>("/camera/depth/image", 2);
-  ros::Publisher infoPub = node.advertise<sensor_msgs::CameraInfo>("/camera/depth/camera_info", 1, /*latch=*/true);
+  ros::Publisher infoPub =
+      node.advertise<sensor_msgs::CameraInfo>("/camera/depth/camera_info", 1, /*latch=*/true);
   ros::Publisher odomPub = node.advertise<nav_msgs::Odometry>("/odom", 1000);
   ros::Publisher tfPub = node.advertise<tf2_msgs::TFMessage>("/tf", 100);
   ros::Publisher tfStaticPub = node.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
@@ -121,12 +125,12 @@ TEST_CASE("map -> odom -> base_link through tf2 is the daemon's pose composed wi
   infoPub.publish(ci);
   tfStaticPub.publish(cameraMountMessage(kCameraFrame, ros::Time(0.001)));
 
-  auto bridge = startBridge(master,
-                            {"socket:=" + socket, "push_socket:=" + push, "depth_topic:=/camera/depth/image",
-                             "push_depth_scale:=" + std::to_string(info.depthScale), "reconnect_s:=0.05",
-                             "odom_topic:=/odom", std::string("odom_camera_frame:=") + kCameraFrame,
-                             "transform_tolerance:=0.1"},
-                            tmp.path + "/bridge.log");
+  auto bridge = startBridge(
+      master,
+      {"socket:=" + socket, "push_socket:=" + push, "depth_topic:=/camera/depth/image",
+       "push_depth_scale:=" + std::to_string(info.depthScale), "reconnect_s:=0.05", "odom_topic:=/odom",
+       std::string("odom_camera_frame:=") + kCameraFrame, "transform_tolerance:=0.1"},
+      tmp.path + "/bridge.log");
   INFO(bridge->log());
   REQUIRE(waitFor(
       [&] {
@@ -137,9 +141,26 @@ TEST_CASE("map -> odom -> base_link through tf2 is the daemon's pose composed wi
       20.0));
   std::this_thread::sleep_for(std::chrono::seconds(2));  // the latched mount reaches the bridge's tf2 buffer
 
-  ChildProcess daemon({kDaemon, "--input", push, "--out", tmp.path + "/pushed", "--socket", socket, "--pacing",
-                       "recorded", "--at-end", "stop", "--controller", "fixed", "--set", "slam.threads=1", "--set",
-                       "slam.pipeline_config=" + config, "--set", "source.type=push", "--set",
+  ChildProcess daemon({kDaemon,
+                       "--input",
+                       push,
+                       "--out",
+                       tmp.path + "/pushed",
+                       "--socket",
+                       socket,
+                       "--pacing",
+                       "recorded",
+                       "--at-end",
+                       "stop",
+                       "--controller",
+                       "fixed",
+                       "--set",
+                       "slam.threads=1",
+                       "--set",
+                       "slam.pipeline_config=" + config,
+                       "--set",
+                       "source.type=push",
+                       "--set",
                        "output.rotation.mode=never"},
                       {}, tmp.path + "/daemon.log");
   INFO(daemon.log());
@@ -178,8 +199,11 @@ TEST_CASE("map -> odom -> base_link through tf2 is the daemon's pose composed wi
       tf.transforms.clear();
       for (size_t j = k - (k % kOdometryChunk); j <= k; ++j) odomPub.publish(odometry[j]);
       INFO("odometry samples published: " << k + 1);
-      REQUIRE(waitFor([&] { return counts.get("pushed") + counts.get("skipped_no_mount") + counts.get("failed") >= k + 1; },
-                      20.0));
+      REQUIRE(waitFor(
+          [&] {
+            return counts.get("pushed") + counts.get("skipped_no_mount") + counts.get("failed") >= k + 1;
+          },
+          20.0));
     }
     REQUIRE(counts.get("pushed") == odometry.size());
   }
@@ -189,7 +213,8 @@ TEST_CASE("map -> odom -> base_link through tf2 is the daemon's pose composed wi
   const auto trajectory = trajectoryLines(tmp.path + "/pushed/trajectory.tum");
   REQUIRE(trajectory.size() >= frames.size() - 2);
   const ros::Time last(lineValues(trajectory.back())[0]);
-  REQUIRE(waitFor([&] { return buffer.canTransform("map", "odom", last) && bridgeHas(trajectory.size()); }, 20.0));
+  REQUIRE(waitFor([&] { return buffer.canTransform("map", "odom", last) && bridgeHas(trajectory.size()); },
+                  20.0));
 
   size_t checked = 0;
   double worstM = 0.0, worstRad = 0.0;
@@ -230,7 +255,8 @@ TEST_CASE("map -> odom -> base_link through tf2 is the daemon's pose composed wi
   WARN(checked << " frames: map -> base_link through tf2 against the daemon's pose with the mount: largest "
                << worstM * 1e3 << " mm, " << worstRad * 1e3 << " mrad");
 
-  // One parent per frame; the bridge publishes map -> odom (and its own grid/camera frames), never the base's.
+  // One parent per frame; the bridge publishes map -> odom (and its own grid/camera frames), never the
+  // base's.
   for (const auto& [child, parents] : recorder.parents()) {
     INFO(child << " has parents " << parents.size() << ": " << *parents.begin() << " ...");
     CHECK(parents.size() == 1);

@@ -31,7 +31,9 @@ std::set<std::string> TfRecorder::edgesOf(const std::string& publisher) const {
 
 Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z).normalized().toRotationMatrix();
+  T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)
+                   .normalized()
+                   .toRotationMatrix();
   T.translation() = Eigen::Vector3d(t.translation.x, t.translation.y, t.translation.z);
   return T;
 }

@@ -1,7 +1,8 @@
 #pragma once
-// For the TF tree tests (issue 57): every edge seen on /tf and /tf_static with who published it, so a test can
-// say that no frame has two parents and which node publishes which edge; and small pose helpers.
+// For the TF tree tests (issue 57): every edge seen on /tf and /tf_static with who published it, so a test
+// can say that no frame has two parents and which node publishes which edge; and small pose helpers.
 
+#include <geometry_msgs/Transform.h>
 #include <ros/node_handle.h>
 #include <ros/subscriber.h>
 #include <tf2_msgs/TFMessage.h>
@@ -11,8 +12,6 @@
 #include <mutex>
 #include <set>
 #include <string>
-
-#include <geometry_msgs/Transform.h>
 
 namespace sb::test::ros_e2e {
 
