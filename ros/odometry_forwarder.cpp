@@ -101,6 +101,12 @@ std::optional<Eigen::Isometry3d> OdometryForwarder::cameraInOdom(const RobotFram
   }
 }
 
+std::optional<std::string> OdometryForwarder::parentInTf(const std::string& frame) const {
+  std::string parent;
+  if (!buffer_._frameExists(frame) || !buffer_._getParent(frame, ros::Time(0), parent)) return std::nullopt;
+  return parent;
+}
+
 void OdometryForwarder::publishDiagnostics() {
   diagnostic_msgs::DiagnosticStatus st;
   st.name = kDiagnosticName;

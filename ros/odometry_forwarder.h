@@ -47,6 +47,8 @@ class OdometryForwarder {
   // composed with the mount. nullopt with `why` set when TF does not have it.
   std::optional<Eigen::Isometry3d> cameraInOdom(const RobotFrames& frames, const ros::Time& stamp,
                                                 double waitSeconds, std::string& why) const;
+  // The parent `frame` has in TF now (published by another node), or nullopt when TF does not know it.
+  std::optional<std::string> parentInTf(const std::string& frame) const;
 
  private:
   void onOdometry(const nav_msgs::Odometry::ConstPtr& message);

@@ -3,6 +3,7 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/console.h>
 #include <std_msgs/String.h>
 #include <time.h>
 
@@ -112,6 +113,13 @@ void OdometryPublisher::onPose(const PoseReport& pose) {
   if (config_.publishTf) {
     if (robot) {
       publishMapToOdom(pose, stamp, camera, *robot);
+    } else if (const auto parent = wheels_ ? wheels_->parentInTf(config_.cameraFrame) : std::nullopt;
+               parent && *parent != config_.mapFrame) {
+      // ~camera_frame is the robot's own (e.g. camera_depth_optical_frame under base_link, before the first
+      // odometry): a second parent would break the robot's tree.
+      tfEdge_ = "none: ~camera_frame '" + config_.cameraFrame + "' has the parent '" + *parent +
+                "' in TF; leave ~camera_frame at slambooster_camera";
+      ROS_WARN_THROTTLE(10.0, "slambooster: %s", tfEdge_.c_str());
     } else {
       geometry_msgs::TransformStamped t;
       t.header = odom.header;
@@ -142,7 +150,11 @@ void OdometryPublisher::publishMapToOdom(const PoseReport& pose, const ros::Time
     return;
   }
   mapToOdomNote_ = describe(*step);
-  if (step->hold == MapOdomHold::noOdometry && !why.empty()) mapToOdomNote_ += " (" + why + ")";
+  if (step->hold == MapOdomHold::noOdometry && !why.empty()) {
+    mapToOdomNote_ += " (" + why + ")";
+    ROS_WARN_THROTTLE(10.0, "slambooster: %s -> %s %s", config_.mapFrame.c_str(), robot.odomFrame.c_str(),
+                      mapToOdomNote_.c_str());
+  }
   std::vector<geometry_msgs::TransformStamped> out(1);
   out[0].header.stamp = stamp;
   out[0].header.frame_id = config_.mapFrame;

@@ -103,11 +103,12 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
   mountMessage.transforms[0].transform = toTransform(mount);
   tfStaticPub.publish(mountMessage);
 
-  auto bridge = startBridge(master,
-                            {"socket:=" + socket, "reconnect_s:=0.05", "odom_topic:=/odom",
-                             "odom_camera_frame:=camera_depth_optical_frame", "map_period_s:=0",
-                             "cloud_period_s:=0", "transform_tolerance:=" + std::to_string(kToleranceS)},
-                            tmp.path + "/bridge.log");
+  auto bridge = startBridge(
+      master,
+      {"socket:=" + socket, "reconnect_s:=0.05", "odom_topic:=/odom",
+       "camera_frame:=camera_depth_optical_frame", "odom_camera_frame:=camera_depth_optical_frame",
+       "map_period_s:=0", "cloud_period_s:=0", "transform_tolerance:=" + std::to_string(kToleranceS)},
+      tmp.path + "/bridge.log");
   INFO(bridge->log());
   REQUIRE(waitFor(
       [&] {
@@ -116,6 +117,30 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
       },
       20.0));
   std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched mount reaches the bridge's tf2 buffer
+
+  // Before any odometry the bridge has no odom frame; its ~camera_frame here is the robot's camera frame
+  // (parent base_link, from /tf_static), which it must not give a second parent: no edge, and it says why.
+  const auto sendFrame = [&](int frame, double stampS, const Eigen::Isometry3d& camera,
+                             const std::string& st) {
+    const Eigen::Quaterniond q(camera.linear());
+    daemon.report(nlohmann::json{
+        {"class", "POSE"},
+        {"frame", frame},
+        {"timestamp", stampS},
+        {"position", {camera.translation().x(), camera.translation().y(), camera.translation().z()}},
+        {"quaternion", {q.x(), q.y(), q.z(), q.w()}},
+        {"tracked", st != "lost"},
+        {"state", st}}.dump());
+    daemon.report(nlohmann::json{
+        {"class", "KNOBS"}, {"frame", frame}, {"csr", 1}, {"icp", 1}, {"pd", {1, 1, 1}}, {"tr", 1}, {"ir", 1}}
+                      .dump());
+  };
+  sendFrame(99, kStartS - 1.0, mount, "good");
+  REQUIRE(waitFor([&] { return diagnostics.of(99).has_value(); }, 10.0));
+  CHECK(value(*diagnostics.of(99), "tf") ==
+        "none: ~camera_frame 'camera_depth_optical_frame' has the parent 'base_link' in TF; leave "
+        "~camera_frame at "
+        "slambooster_camera");
 
   // The base: the whole drive's odometry first (TF, then /odom: the bridge pushes each sample to the
   // "daemon").
@@ -152,19 +177,7 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
     const Eigen::Isometry3d camera = state(k) == "lost" ? held : mapToOdom * baseInOdom(k) * mount;
     if (state(k) != "lost") held = camera;
     daemonPoses.push_back(camera);
-    const Eigen::Quaterniond q(camera.linear());
-    const nlohmann::json p = {
-        {"class", "POSE"},
-        {"frame", k},
-        {"timestamp", kStartS + kPeriodS * k},
-        {"position", {camera.translation().x(), camera.translation().y(), camera.translation().z()}},
-        {"quaternion", {q.x(), q.y(), q.z(), q.w()}},
-        {"tracked", state(k) != "lost"},
-        {"state", state(k)}};
-    daemon.report(p.dump());
-    daemon.report(nlohmann::json{
-        {"class", "KNOBS"}, {"frame", k}, {"csr", 1}, {"icp", 1}, {"pd", {1, 1, 1}}, {"tr", 1}, {"ir", 1}}
-                      .dump());
+    sendFrame(k, kStartS + kPeriodS * k, camera, state(k));
     INFO("frame " << k);
     REQUIRE(waitFor([&] { return diagnostics.of(k).has_value(); }, 10.0));
   }
