@@ -27,7 +27,10 @@ struct BridgeConfig {
   std::string socketPath = "/run/slambooster/slambooster.sock";  // slamboosterd's socket
   std::string mapFrame = "map";                  // parent frame: the daemon's volume frame
   std::string cameraFrame = "slambooster_camera";  // child frame: the depth camera's optical frame
-  bool publishTf = true;                         // also broadcast map_frame -> camera_frame on /tf
+  bool publishTf = true;  // also broadcast on /tf: map_frame -> the odometry's frame once the robot's odometry
+                          // is known (REP 105), map_frame -> camera_frame before that and without odom_topic
+  double transformToleranceS = 0.1;  // map -> odom is also sent stamped this much after the frame (AMCL's
+                                     // transform_tolerance), so that lookups at "now" succeed between frames
   std::string stamp = "frame";  // "frame": the POSE timestamp as is (replays, depth from a ROS topic);
                                 // "monotonic": the daemon's CLOCK_MONOTONIC (a live OpenNI2 camera) mapped to ROS time
   double reconnectSeconds = 0.5;  // wait between attempts to reach the daemon

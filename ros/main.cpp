@@ -36,7 +36,7 @@ int main(int argc, char** argv) {
   ros::AsyncSpinner spinner(1);
   spinner.start();
   const sb::ros_bridge::MasterWatch watch;  // a restarted master ends the bridge with status 3
-  sb::ros_bridge::OdometryPublisher publisher(node, privateNode, config);
+  sb::ros_bridge::OdometryPublisher publisher(node, privateNode, config, wheels.get());
   sb::ros_bridge::GridPublisher grid(privateNode, config);    // ~map, its TF, ~octomap (issue 45)
   sb::ros_bridge::CloudPublisher cloud(privateNode, config);  // ~cloud
   sb::ros_bridge::DaemonLink(config, publisher, &grid, &cloud).run();

@@ -48,6 +48,8 @@ void OdometryForwarder::onOdometry(const nav_msgs::Odometry::ConstPtr& m) {
       const auto t = buffer_.lookupTransform(m->child_frame_id, config_.odomCameraFrame, ros::Time(0));
       const auto& r = t.transform.translation;
       mount_ = toIsometry(r.x, r.y, r.z, t.transform.rotation);
+      odomFrame_ = m->header.frame_id;
+      baseFrame_ = m->child_frame_id;
     } catch (const std::exception& e) {
       lastError_ = std::string("no camera mount yet: ") + e.what();
       if (++skipped_ == 1 || skipped_ % 100 == 0)
@@ -77,6 +79,32 @@ void OdometryForwarder::onOdometry(const nav_msgs::Odometry::ConstPtr& m) {
     connection_.reset();  // reconnect on the next sample
     ROS_WARN_THROTTLE(5.0, "slambooster: odometry at %.6f s not taken: %s", s.timestamp, e.what());
   }
+}
+
+std::optional<RobotFrames> OdometryForwarder::robotFrames() const {
+  std::lock_guard lock(mutex_);
+  if (!mount_ || odomFrame_.empty()) return std::nullopt;
+  return RobotFrames{odomFrame_, baseFrame_, *mount_};
+}
+
+std::optional<Eigen::Isometry3d> OdometryForwarder::cameraInOdom(const RobotFrames& frames, const ros::Time& stamp,
+                                                                 double waitSeconds, std::string& why) const {
+  try {
+    // No path at all (a base that publishes /odom but not its TF): say so at once rather than wait each frame.
+    if (!buffer_.canTransform(frames.odomFrame, frames.baseFrame, ros::Time(0), &why)) return std::nullopt;
+    const auto t = buffer_.lookupTransform(frames.odomFrame, frames.baseFrame, stamp, ros::Duration(waitSeconds));
+    const auto& r = t.transform.translation;
+    return toIsometry(r.x, r.y, r.z, t.transform.rotation) * frames.cameraInBase;
+  } catch (const std::exception& e) {
+    why = e.what();
+    return std::nullopt;
+  }
+}
+
+std::optional<std::string> OdometryForwarder::parentInTf(const std::string& frame) const {
+  std::string parent;
+  if (!buffer_._frameExists(frame) || !buffer_._getParent(frame, ros::Time(0), parent)) return std::nullopt;
+  return parent;
 }
 
 void OdometryForwarder::publishDiagnostics() {

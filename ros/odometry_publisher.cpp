@@ -3,10 +3,12 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/console.h>
 #include <std_msgs/String.h>
 #include <time.h>
 
 #include <cstdio>
+#include <vector>
 
 #include "core/error.h"
 #include "ros/pose_covariance.h"
@@ -31,6 +33,34 @@ std::string number(double v) {
   return buf;
 }
 
+// How long a frame's publication waits for the robot's odometry at its stamp to reach the TF buffer, seconds:
+// it normally is there already (the daemon used it for this frame); a base whose TF lags longer gets a held
+// map -> odom for that frame, which diagnostics say.
+constexpr double kOdometryWaitS = 0.05;
+
+geometry_msgs::Pose toPose(const Eigen::Isometry3d& T) {
+  const Eigen::Quaterniond q(T.linear());
+  geometry_msgs::Pose p;
+  p.position.x = T.translation().x();
+  p.position.y = T.translation().y();
+  p.position.z = T.translation().z();
+  p.orientation.x = q.x();
+  p.orientation.y = q.y();
+  p.orientation.z = q.z();
+  p.orientation.w = q.w();
+  return p;
+}
+
+geometry_msgs::Transform toTransform(const Eigen::Isometry3d& T) {
+  const geometry_msgs::Pose p = toPose(T);
+  geometry_msgs::Transform t;
+  t.translation.x = p.position.x;
+  t.translation.y = p.position.y;
+  t.translation.z = p.position.z;
+  t.rotation = p.orientation;
+  return t;
+}
+
 uint8_t levelOf(TrackingState state) {
   switch (state) {
     case TrackingState::good: return diagnostic_msgs::DiagnosticStatus::OK;
@@ -45,8 +75,8 @@ uint8_t levelOf(TrackingState state) {
 }  // namespace
 
 OdometryPublisher::OdometryPublisher(ros::NodeHandle& node, ros::NodeHandle& privateNode,
-                                     const BridgeConfig& config)
-    : config_(config) {
+                                     const BridgeConfig& config, const OdometryForwarder* wheels)
+    : config_(config), wheels_(wheels) {
   odometry_ = privateNode.advertise<nav_msgs::Odometry>("odometry", kQueue);
   state_ = privateNode.advertise<std_msgs::String>("tracking_state", kQueue, /*latch=*/true);
   diagnostics_ = node.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", kQueue);
@@ -64,36 +94,80 @@ ros::Time OdometryPublisher::stampOf(double timestamp) const {
 
 void OdometryPublisher::onPose(const PoseReport& pose) {
   const ros::Time stamp = stampOf(pose.timestamp);
+  const Eigen::Isometry3d camera = cameraInMap(pose);
+  const std::optional<RobotFrames> robot = wheels_ ? wheels_->robotFrames() : std::nullopt;
+  // With the mount known the pose is the base's (robot_localization's frames); otherwise the camera's.
+  const Eigen::Isometry3d child = robot ? camera * robot->cameraInBase.inverse() : camera;
   nav_msgs::Odometry odom;
   odom.header.stamp = stamp;
   odom.header.frame_id = config_.mapFrame;
-  odom.child_frame_id = config_.cameraFrame;
-  odom.pose.pose.position.x = pose.position[0];
-  odom.pose.pose.position.y = pose.position[1];
-  odom.pose.pose.position.z = pose.position[2];
-  odom.pose.pose.orientation.x = pose.quaternion[0];
-  odom.pose.pose.orientation.y = pose.quaternion[1];
-  odom.pose.pose.orientation.z = pose.quaternion[2];
-  odom.pose.pose.orientation.w = pose.quaternion[3];
+  odom.child_frame_id = robot ? robot->baseFrame : config_.cameraFrame;
+  odom.pose.pose = toPose(child);
+  // The camera's covariance (the axes the daemon tracks); the base's position differs from it by the mount's
+  // lever arm under the rotation's uncertainty, which this leaves out.
   const Covariance6 cov = poseCovariance(pose, config_.covariance);
   std::copy(cov.begin(), cov.end(), odom.pose.covariance.begin());
   odom.twist.covariance[0] = -1.0;  // the daemon does not estimate a twist (ROS convention for "unknown")
   odometry_.publish(odom);
 
   if (config_.publishTf) {
-    geometry_msgs::TransformStamped t;
-    t.header = odom.header;
-    t.child_frame_id = config_.cameraFrame;
-    t.transform.translation.x = pose.position[0];
-    t.transform.translation.y = pose.position[1];
-    t.transform.translation.z = pose.position[2];
-    t.transform.rotation = odom.pose.pose.orientation;
-    tf_.sendTransform(t);
+    if (robot) {
+      publishMapToOdom(pose, stamp, camera, *robot);
+    } else if (const auto parent = wheels_ ? wheels_->parentInTf(config_.cameraFrame) : std::nullopt;
+               parent && *parent != config_.mapFrame) {
+      // ~camera_frame is the robot's own (e.g. camera_depth_optical_frame under base_link, before the first
+      // odometry): a second parent would break the robot's tree.
+      tfEdge_ = "none: ~camera_frame '" + config_.cameraFrame + "' has the parent '" + *parent +
+                "' in TF; leave ~camera_frame at slambooster_camera";
+      ROS_WARN_THROTTLE(10.0, "slambooster: %s", tfEdge_.c_str());
+    } else {
+      geometry_msgs::TransformStamped t;
+      t.header = odom.header;
+      t.child_frame_id = config_.cameraFrame;
+      t.transform = toTransform(camera);
+      tf_.sendTransform(t);
+      tfEdge_ = config_.mapFrame + " -> " + config_.cameraFrame;
+    }
   }
   std_msgs::String state;
   state.data = trackingStateName(pose.trackingState);
   state_.publish(state);
   lastPose_ = pose;
+}
+
+void OdometryPublisher::publishMapToOdom(const PoseReport& pose, const ros::Time& stamp,
+                                         const Eigen::Isometry3d& cameraInMap, const RobotFrames& robot) {
+  tfEdge_ = config_.mapFrame + " -> " + robot.odomFrame;
+  std::string why;
+  // A lost frame's pose is not used: no need to wait for the odometry at its stamp.
+  const std::optional<Eigen::Isometry3d> cameraInOdom =
+      pose.trackingState == TrackingState::lost
+          ? std::nullopt
+          : wheels_->cameraInOdom(robot, stamp, kOdometryWaitS, why);
+  const std::optional<MapOdomStep> step = mapToOdom_.onFrame(pose.frame, pose.trackingState, cameraInMap, cameraInOdom);
+  if (!step) {
+    mapToOdomNote_ = "none yet: " + (why.empty() ? std::string("no tracked frame") : why);
+    return;
+  }
+  mapToOdomNote_ = describe(*step);
+  if (step->hold == MapOdomHold::noOdometry && !why.empty()) {
+    mapToOdomNote_ += " (" + why + ")";
+    ROS_WARN_THROTTLE(10.0, "slambooster: %s -> %s %s", config_.mapFrame.c_str(), robot.odomFrame.c_str(),
+                      mapToOdomNote_.c_str());
+  }
+  std::vector<geometry_msgs::TransformStamped> out(1);
+  out[0].header.stamp = stamp;
+  out[0].header.frame_id = config_.mapFrame;
+  out[0].child_frame_id = robot.odomFrame;
+  out[0].transform = toTransform(step->mapToOdom);
+  if (config_.transformToleranceS > 0) {  // for a lookup at "now" between frames (as AMCL, slam_toolbox)
+    out.push_back(out[0]);
+    // One nanosecond past the tolerance: on a regular clock stamp + tolerance is often a later frame's own
+    // stamp (30 Hz frames and 0.1 s: frame k + 3), and tf2 ignores a second transform at a stamp it holds, so
+    // that frame's exact map -> odom would be lost to this one.
+    out[1].header.stamp = stamp + ros::Duration(config_.transformToleranceS) + ros::Duration(0, 1);
+  }
+  tf_.sendTransform(out);
 }
 
 void OdometryPublisher::onKnobs(const KnobsReport& knobs) {
@@ -109,6 +183,8 @@ void OdometryPublisher::publishDiagnostics(const KnobsReport* knobs) {
   const PoseReport& p = *lastPose_;
   s.level = levelOf(p.trackingState);
   s.message = trackingStateName(p.trackingState);
+  if (p.trackingState == TrackingState::lost && mapToOdomNote_.rfind("held", 0) == 0)
+    s.message += "; " + tfEdge_ + " " + mapToOdomNote_ + " (the robot moves on its odometry)";
   s.values.push_back(keyValue("frame", std::to_string(p.frame)));
   s.values.push_back(keyValue("state", trackingStateName(p.trackingState)));
   s.values.push_back(keyValue("tracked", p.tracked ? "true" : "false"));
@@ -116,6 +192,8 @@ void OdometryPublisher::publishDiagnostics(const KnobsReport* knobs) {
   if (p.constrained) s.values.push_back(keyValue("constrained", *p.constrained ? "true" : "false"));
   if (p.conditioning) s.values.push_back(keyValue("conditioning", number(*p.conditioning)));
   if (!p.weakestMotion.empty()) s.values.push_back(keyValue("weakest_motion", p.weakestMotion));
+  if (!tfEdge_.empty()) s.values.push_back(keyValue("tf", tfEdge_));
+  if (!mapToOdomNote_.empty()) s.values.push_back(keyValue("map_to_odom", mapToOdomNote_));
   if (knobs) {
     s.values.push_back(keyValue("controller", knobs->controller));
     s.values.push_back(keyValue("csr", number(knobs->csr)));

@@ -28,6 +28,7 @@ BridgeConfig readBridgeConfig(const ros::NodeHandle& n) {
   n.param("map_frame", c.mapFrame, c.mapFrame);
   n.param("camera_frame", c.cameraFrame, c.cameraFrame);
   n.param("publish_tf", c.publishTf, c.publishTf);
+  n.param("transform_tolerance", c.transformToleranceS, c.transformToleranceS);
   n.param("stamp", c.stamp, c.stamp);
   n.param("reconnect_s", c.reconnectSeconds, c.reconnectSeconds);
   n.param("connect_timeout_s", c.connectTimeoutSeconds, c.connectTimeoutSeconds);
@@ -57,6 +58,7 @@ BridgeConfig readBridgeConfig(const ros::NodeHandle& n) {
   if (c.stamp != "frame" && c.stamp != "monotonic")
     throw Error("parameter ~stamp = '" + c.stamp + "' must be \"frame\" or \"monotonic\"");
   positive("reconnect_s", c.reconnectSeconds, "seconds");
+  if (c.transformToleranceS != 0) positive("transform_tolerance", c.transformToleranceS, "seconds (or 0: stamp only)");
   if (c.mapPeriodSeconds != 0) positive("map_period_s", c.mapPeriodSeconds, "seconds (or 0: no ~map)");
   if (c.cloudPeriodSeconds != 0) positive("cloud_period_s", c.cloudPeriodSeconds, "seconds (or 0: no ~cloud)");
   positive("connect_timeout_s", c.connectTimeoutSeconds, "seconds");
