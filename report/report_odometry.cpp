@@ -139,6 +139,12 @@ void addOdometrySection(HtmlPage& page, const RunData& run) {
 
   // Numeric fields of "odometry" (drift_m today; whatever the fusion logs per frame tomorrow).
   for (const Series& s : odometryNumberSeries(run.frames)) {
+    bool varies = false;
+    for (double v : s.y) varies |= std::isfinite(v) && v != 0.0;
+    if (!varies) {  // a flat zero line says nothing a sentence cannot
+      page.paragraph("odometry." + s.name + ": 0 on every frame.", "muted");
+      continue;
+    }
     LinePlot plot;
     plot.title = "odometry." + s.name + " per frame";
     plot.xLabel = "frame";

@@ -17,6 +17,7 @@
 #include "report/png_codec.h"
 #include "report/run_report.h"
 #include "report/run_summary.h"
+#include "report/text_escape.h"
 #include "tests/report/markup_check.h"
 #include "tests/support/test_data.h"
 
@@ -168,7 +169,7 @@ bool hasText(const MarkupCheck& page, const std::string& element, const std::str
 
 // The <svg> element whose <title> is `title`, as markup (empty when absent).
 std::string svgTitled(const std::string& html, const std::string& title) {
-  const size_t at = html.find("<title>" + title + "</title>");
+  const size_t at = html.find("<title>" + sb::report::escapeXml(title) + "</title>");
   if (at == std::string::npos) return "";
   const size_t start = html.rfind("<svg", at), end = html.find("</svg>", at);
   return html.substr(start, end + 6 - start);
@@ -200,11 +201,11 @@ TEST_CASE("a robot's report shows the wheels against the view and the grid with 
   }
 
   SECTION("the disagreement plot: the slip stands out at its frames, every verdict has a lane") {
-    const std::string plot = svgTitled(html, "Wheels&apos; step against the run&apos;s, per frame");
+    const std::string plot = svgTitled(html, "Wheels' step against the run's, per frame");
     REQUIRE_FALSE(plot.empty());
     for (const char* lane : {"used (1179)", "rejected (slip) (20)", "dead reckoning (state odometry) (50)",
-                             "fault: slipping (20)", "no wheels&apos; pose (1)"})
-      CHECK_THAT(plot, Catch::Contains(std::string("<title>") + lane + "</title>"));
+                             "fault: slipping (20)", "no wheels' pose (1)"})
+      CHECK_THAT(plot, Catch::Contains("<title>" + sb::report::escapeXml(lane) + "</title>"));
     // The numbers behind it: at the slip 10 cm, elsewhere the 3% scale error of a 3 cm step.
     sb::report::RunLoadOptions load;
     const sb::report::RunData data = sb::report::loadRun(run.dir, load);
@@ -217,7 +218,9 @@ TEST_CASE("a robot's report shows the wheels against the view and the grid with 
     CHECK(slipMin == Approx(10.0).margin(0.2));
     CHECK(elsewhereMax < 0.2);
     CHECK(w.wheelsOnlyFrames == 50);
-    CHECK(w.wheelsOnlyM == Approx(50 * 1.03 * kStepM).epsilon(0.02));
+    double driven = 0;  // the wheels' (3% long) steps over the dead-reckoning frames
+    for (int i = 600; i < 650; ++i) driven += 1.03 * (truthAt(i) - truthAt(i - 1)).norm();
+    CHECK(w.wheelsOnlyM == Approx(driven).epsilon(1e-6));
   }
 
   SECTION("numbers the fusion logs per frame get a plot; the final values include keys the type lacks") {
@@ -271,7 +274,7 @@ TEST_CASE("a new boolean verdict in frames.jsonl gets its lane without code chan
     frames.replace(at, 20, "\"stalled\":true");
   writeText(run.dir + "/frames.jsonl", frames);
   const std::string html = build(run);
-  CHECK_THAT(svgTitled(html, "Wheels&apos; step against the run&apos;s, per frame"),
+  CHECK_THAT(svgTitled(html, "Wheels' step against the run's, per frame"),
              Catch::Contains("<title>stalled (20)</title>"));
 }
 
