@@ -60,11 +60,9 @@ WheelsAgainstRun compareWheels(const RunData& run) {
     if (E && W && !anchor) anchor = *E * W->inverse();
     out.wheelsPath.push_back(W && anchor ? Eigen::Vector3d((*anchor * *W).translation())
                                          : Eigen::Vector3d::Constant(kNaN));
-    if (W && prevWheels && isDeadReckoning(log, i)) {
-      out.wheelsOnlyM += (W->translation() - prevWheels->translation()).norm();
+    if (isDeadReckoning(log, i)) {
       ++out.wheelsOnlyFrames;
-    } else if (isDeadReckoning(log, i)) {
-      ++out.wheelsOnlyFrames;
+      if (W && prevWheels) out.wheelsOnlyM += (W->translation() - prevWheels->translation()).norm();
     }
     if (E && W && prevRun && prevWheels) {
       const Eigen::Isometry3d runStep = prevRun->inverse() * *E;

@@ -59,8 +59,7 @@ void topView(HtmlPage& page, const RunData& run, const WheelsAgainstRun& w) {
                   ": where the orange line leaves the others, the wheels' distance or heading is off.");
 }
 
-void disagreementPlot(HtmlPage& page, const RunData& run, const WheelsAgainstRun& w,
-                      const std::vector<EventMarks>& lanes) {
+void disagreementPlot(HtmlPage& page, const WheelsAgainstRun& w, const std::vector<EventMarks>& lanes) {
   LinePlot plot;
   plot.title = "Wheels' step against the run's, per frame";
   plot.xLabel = "frame";
@@ -76,7 +75,6 @@ void disagreementPlot(HtmlPage& page, const RunData& run, const WheelsAgainstRun
               "pose's step (translation, cm; rotation, deg), the wheels' own step dashed. The lanes above are the "
               "fusion's verdicts from frames.jsonl. Where the wheels were used the two agree by construction; a "
               "slip (rejected) or a stall (wheels still, camera moving, or the reverse) stands out as a spike.");
-  (void)run;
 }
 
 void lanesOnly(HtmlPage& page, const RunData& run, const std::vector<EventMarks>& lanes) {
@@ -134,7 +132,7 @@ void addOdometrySection(HtmlPage& page, const RunData& run) {
                      "pose in " + run.wheelsPath + " (do the stamps share a clock?).",
                      "muted");
     else
-      disagreementPlot(page, run, w, lanes);
+      disagreementPlot(page, w, lanes);
   }
 
   // Numeric fields of "odometry" (drift_m today; whatever the fusion logs per frame tomorrow).
