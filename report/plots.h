@@ -87,7 +87,7 @@ struct XyPlot {
   std::vector<Series> series;  // paths in data units; style line or points
   bool equalAspect = true;     // one metre is as long on both axes (maps, trajectories)
   bool markStart = true;       // a ring at each line series' first finite point
-  bool markEnd = false;        // a filled square at each line series' last finite point
+  bool markEnd = false;        // a dot at each line series' last finite point
   std::optional<RasterBackground> background;
   Size size{560, 480};
 };

@@ -179,7 +179,7 @@ void addComparisonSection(HtmlPage& page, const RunData& a, const RunData& b) {
                 "Both runs' paths on " + on.label + "'s map.pgm, each in its own map frame" +
                     (other.grid ? "" : " (" + other.label + " wrote no grid: its path is drawn through " + on.label +
                                            "'s map frame)") +
-                    "; ring at the start, square at the end.");
+                    "; ring at the start, dot at the end.");
   } else {
     page.paragraph("No navigation map: neither run wrote map.pgm.", "muted");
   }

@@ -89,7 +89,7 @@ void addNavMapSection(HtmlPage& page, const RunData& run) {
                   std::to_string(g.cells.width()) + " x " + std::to_string(g.cells.height()) + " cells of " +
                   formatNumber(g.resolutionM * 100, 3) + " cm (" + std::to_string(occupied) + " occupied, " +
                   std::to_string(free) + " free), up from " + (g.up.empty() ? "?" : g.up) +
-                  " (map_frame.json). The run's estimate in the map frame, ring at the start, square at the end" +
+                  " (map_frame.json). The run's estimate in the map frame, ring at the start, dot at the end" +
                   (run.ate ? "; the ground truth dashed, brought into the map frame by the ATE's alignment" : "") +
                   (run.wheels.empty() ? "" : "; the wheels' path dashed orange") + ".");
 }

@@ -102,7 +102,7 @@ std::string svgXyPlot(const XyPlot& plot) {
     if (plot.markEnd && s.style != LineStyle::points)
       for (size_t i = std::min(s.x.size(), s.y.size()); i-- > 0;)
         if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) {
-          svg.rect(a.px(s.x[i]) - 4, a.py(s.y[i]) - 4, 8, 8, colours[k]);
+          svg.circle(a.px(s.x[i]), a.py(s.y[i]), 4, colours[k]);
           break;
         }
     svg.endGroup();
