@@ -68,6 +68,54 @@ void addTrigger(FrameLog& log, const std::string& name, double frame) {
   log.triggers.push_back({name, {frame}});
 }
 
+void addPose(FrameLog& log, const json& j) {
+  std::array<double, 7> pose;
+  pose.fill(kNaN);
+  const json* p = find(j, {"position"});
+  const json* q = find(j, {"quaternion"});
+  if (p && q && p->is_array() && q->is_array() && p->size() == 3 && q->size() == 4) {
+    for (size_t i = 0; i < 7; ++i) {
+      const json& v = i < 3 ? (*p)[i] : (*q)[i - 3];
+      if (v.is_number()) pose[i] = v.get<double>();
+    }
+  }
+  log.pose.push_back(pose);
+}
+
+// Every field of "odometry": booleans and numbers into columns, strings into text columns, each found by
+// name (a new field gets its column at the frame it first appears, earlier frames NaN or "").
+void addOdometry(FrameLog& log, const json& j, size_t index, const std::string& where, ProblemList& problems) {
+  for (auto& c : log.odometry) c.values.push_back(kNaN);
+  for (auto& c : log.odometryText) c.values.emplace_back();
+  const json* o = find(j, {"odometry"});
+  if (!o) return;
+  if (!o->is_object()) {
+    problems.add(where + ": 'odometry' should be an object, found " + typeName(*o));
+    return;
+  }
+  log.recordsOdometry = true;
+  for (auto it = o->begin(); it != o->end(); ++it) {
+    const json& v = *it;
+    if (v.is_boolean() || v.is_number()) {
+      auto c = std::find_if(log.odometry.begin(), log.odometry.end(), [&](const auto& x) { return x.name == it.key(); });
+      if (c == log.odometry.end()) {
+        log.odometry.push_back({it.key(), true, std::vector<double>(index + 1, kNaN)});
+        c = log.odometry.end() - 1;
+      }
+      c->boolean &= v.is_boolean();
+      c->values[index] = v.is_boolean() ? (v.get<bool>() ? 1.0 : 0.0) : v.get<double>();
+    } else if (v.is_string()) {
+      auto c = std::find_if(log.odometryText.begin(), log.odometryText.end(),
+                            [&](const auto& x) { return x.name == it.key(); });
+      if (c == log.odometryText.end()) {
+        log.odometryText.push_back({it.key(), std::vector<std::string>(index + 1)});
+        c = log.odometryText.end() - 1;
+      }
+      c->values[index] = v.get<std::string>();
+    }  // null, lists and objects: nothing to plot per frame
+  }
+}
+
 void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemList& problems) {
   const size_t index = log.size();
   double frame = number(j, {"frame"}, where, problems);
@@ -122,6 +170,8 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
     log.recordsTriggers = true;
     if (corrected->get<bool>()) addTrigger(log, "correction", log.frame.back());
   }
+  addPose(log, j);
+  addOdometry(log, j, index, where, problems);
 }
 
 // Drops the `count` oldest frames from every column (and the trigger frames before the first one kept).
@@ -136,6 +186,10 @@ void dropOldest(FrameLog& log, size_t count) {
                        &log.conditioning, &log.constrained, &log.state})
     cut(*column);
   for (auto& column : log.stageMs) cut(column);
+  for (auto& column : log.odometry) cut(column.values);
+  const auto n = static_cast<std::ptrdiff_t>(count);
+  for (auto& column : log.odometryText) column.values.erase(column.values.begin(), column.values.begin() + n);
+  log.pose.erase(log.pose.begin(), log.pose.begin() + n);
   if (log.frame.empty()) return;
   const double first = log.frame.front();
   for (auto& t : log.triggers)
@@ -149,6 +203,12 @@ const std::vector<double>& FrameLog::triggerFrames(const std::string& name) cons
   for (const auto& t : triggers)
     if (t.name == name) return t.frames;
   return none;
+}
+
+const FrameLog::OdometryColumn* FrameLog::odometryColumn(const std::string& name) const {
+  for (const auto& c : odometry)
+    if (c.name == name) return &c;
+  return nullptr;
 }
 
 bool FrameLog::hasColumn(const std::vector<double>& column) const {

@@ -3,6 +3,7 @@
 // forgiving: a bad or truncated line is skipped and reported (file and line), missing keys become NaN, so a
 // partial log still gives a partial report. The keys read are listed in report/README.md.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,26 @@ struct FrameLog {
   };
   std::vector<Trigger> triggers;
   bool recordsTriggers = false;  // some line has "triggers" or "corrected" (else: no controller information)
+
+  // The final pose of each frame ("position" x y z, "quaternion" qx qy qz qw: T_camera_to_world in the volume
+  // frame, as trajectory.tum but for every frame, lost ones included); NaN where the line has none.
+  std::vector<std::array<double, 7>> pose;
+  // The fusion's verdict on the wheels per frame: every field of the line's "odometry" object, read without
+  // knowing its names, so that a verdict the runtime adds shows up in the report as it is. Booleans and numbers
+  // are columns (true = 1, NaN where the line lacks the field); strings are kept per frame ("" where absent).
+  struct OdometryColumn {
+    std::string name;
+    bool boolean = true;          // every value seen was a boolean
+    std::vector<double> values;
+  };
+  struct OdometryText {
+    std::string name;
+    std::vector<std::string> values;
+  };
+  std::vector<OdometryColumn> odometry;        // in first-seen order
+  std::vector<OdometryText> odometryText;      // in first-seen order
+  bool recordsOdometry = false;                // some line has an "odometry" object
+  const OdometryColumn* odometryColumn(const std::string& name) const;  // nullptr when never seen
 
   // Frames of the named trigger (empty when it never fired).
   const std::vector<double>& triggerFrames(const std::string& name) const;

@@ -102,6 +102,12 @@ void HtmlPage::link(const std::string& href, const std::string& text, const std:
   body_ += "<p>" + escapeXml(before) + "<a href=\"" + escapeXml(href) + "\">" + escapeXml(text) + "</a></p>\n";
 }
 
+void HtmlPage::beginDetails(const std::string& summary) {
+  body_ += "<details><summary>" + escapeXml(summary) + "</summary>\n";
+}
+
+void HtmlPage::endDetails() { body_ += "</details>\n"; }
+
 void HtmlPage::details(const std::string& summary, const std::string& preformatted) {
   body_ += "<details><summary>" + escapeXml(summary) + "</summary>\n<pre>" + escapeXml(preformatted) +
            "</pre></details>\n";

@@ -41,6 +41,9 @@ class HtmlPage {
   // Several figures side by side (each: inner markup from figureMarkup/imageMarkup), wrapping on narrow screens.
   void row(const std::vector<std::string>& items);
   void link(const std::string& href, const std::string& text, const std::string& before = "");
+  // A collapsible block (closed) around what is added until endDetails().
+  void beginDetails(const std::string& summary);
+  void endDetails();
   // Collapsible block with preformatted text (e.g. the full config JSON).
   void details(const std::string& summary, const std::string& preformatted);
 

@@ -151,8 +151,21 @@ std::string svgLinePlot(const LinePlot& plot) {
   for (size_t k = 0; k < plot.events.size(); ++k) {
     const double laneTop = a.top + 2 + kLaneHeight * static_cast<double>(k);
     svg.beginGroup(plot.events[k].name + " (" + std::to_string(plot.events[k].x.size()) + ")");
-    for (double x : plot.events[k].x)
-      if (std::isfinite(x)) svg.line(data.px(x), laneTop, data.px(x), laneTop + kLaneHeight - 2, {eventColours[k], 1.5});
+    const std::vector<double>& xs = plot.events[k].x;
+    for (size_t i = 0; i < xs.size(); ++i) {
+      if (!std::isfinite(xs[i])) continue;
+      size_t last = i;
+      while (plot.events[k].spans && last + 1 < xs.size() && std::isfinite(xs[last + 1]) && xs[last + 1] >= xs[last] &&
+             xs[last + 1] - xs[last] <= 1.0)
+        ++last;
+      if (last == i) {
+        svg.line(data.px(xs[i]), laneTop, data.px(xs[i]), laneTop + kLaneHeight - 2, {eventColours[k], 1.5});
+      } else {
+        const double x0 = data.px(xs[i]), x1 = data.px(xs[last]);
+        svg.rect(x0 - 0.75, laneTop, std::max(1.5, x1 - x0 + 1.5), kLaneHeight - 2, eventColours[k]);
+      }
+      i = last;
+    }
     svg.endGroup();
   }
   return svg.str();

@@ -35,11 +35,12 @@ struct Series {
 
 // Moments marked on a line plot (e.g. controller triggers): a short tick per x in a lane along the top.
 struct EventMarks {
-  EventMarks(std::string marksName = "", std::vector<double> xs = {}, std::string colour = "")
-      : name(std::move(marksName)), x(std::move(xs)), color(std::move(colour)) {}
+  EventMarks(std::string marksName = "", std::vector<double> xs = {}, std::string colour = "", bool asSpans = false)
+      : name(std::move(marksName)), x(std::move(xs)), color(std::move(colour)), spans(asSpans) {}
   std::string name;           // legend entry, e.g. "surface trigger"
   std::vector<double> x;
   std::string color;          // empty = next palette colour
+  bool spans;                 // consecutive x (sorted, steps of at most 1) drawn as one bar: states held for frames
 };
 
 struct Size {
@@ -74,11 +75,20 @@ struct BarChart {
   Size size;
 };
 
+// A PNG drawn under an XY plot's paths (a map), stretched over [x0, x1] x [y0, y1] in data units, pixels kept
+// sharp. Its extent counts in the plot's bounds.
+struct RasterBackground {
+  std::vector<unsigned char> png;
+  double x0 = 0, y0 = 0, x1 = 1, y1 = 1;
+};
+
 struct XyPlot {
   std::string title, xLabel, yLabel;
   std::vector<Series> series;  // paths in data units; style line or points
   bool equalAspect = true;     // one metre is as long on both axes (maps, trajectories)
   bool markStart = true;       // a ring at each line series' first finite point
+  bool markEnd = false;        // a dot at each line series' last finite point
+  std::optional<RasterBackground> background;
   Size size{560, 480};
 };
 

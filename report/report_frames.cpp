@@ -99,6 +99,34 @@ void addKnobSection(HtmlPage& page, const RunData& run) {
   page.figure(svgLinePlot(pd0));
 }
 
+namespace {
+
+constexpr size_t kMaxStackedPoints = 600;
+
+// Means of `y` (finite values) over consecutive bins of `bin` samples, at the bins' mean x.
+Series binnedMeans(const std::string& name, const std::vector<double>& x, const std::vector<double>& y, size_t bin) {
+  Series out{name, {}, {}, "", LineStyle::line, 1, false};
+  if (bin <= 1) {
+    out.x = x;
+    out.y = y;
+    return out;
+  }
+  const size_t n = std::min(x.size(), y.size());
+  for (size_t start = 0; start < n; start += bin) {
+    double sx = 0, sy = 0;
+    size_t nx = 0, ny = 0;
+    for (size_t i = start; i < std::min(n, start + bin); ++i) {
+      if (std::isfinite(x[i])) sx += x[i], ++nx;
+      if (std::isfinite(y[i])) sy += y[i], ++ny;
+    }
+    out.x.push_back(nx ? sx / double(nx) : std::nan(""));
+    out.y.push_back(ny ? sy / double(ny) : std::nan(""));
+  }
+  return out;
+}
+
+}  // namespace
+
 void addStageTimeSection(HtmlPage& page, const RunData& run) {
   page.heading(2, "Time per frame", "stages");
   const FrameLog& f = run.frames;
@@ -111,6 +139,9 @@ void addStageTimeSection(HtmlPage& page, const RunData& run) {
   means.title = "Mean time per stage";
   means.yLabel = "ms/frame";
   means.groups.push_back({run.label, {}, "#0072B2"});
+  // Frames per point of the stacked areas: one filled polygon per stage costs two points per sample, so a long
+  // log is drawn as means over bins of frames (1200 frames: 2) to keep the plot under 200 KB.
+  const size_t bin = std::max<size_t>(1, (f.size() + kMaxStackedPoints - 1) / kMaxStackedPoints);
   for (size_t s : pipelineOrder(f.stageNames)) {
     double sum = 0;
     size_t n = 0;
@@ -120,7 +151,7 @@ void addStageTimeSection(HtmlPage& page, const RunData& run) {
         ++n;
       }
     if (sum <= 0) continue;  // stages that never ran (e.g. render in `run`) only clutter the legend
-    stacked.series.push_back({f.stageNames[s], f.frame, f.stageMs[s], "", LineStyle::line, 1, false});
+    stacked.series.push_back(binnedMeans(f.stageNames[s], f.frame, f.stageMs[s], bin));
     means.categories.push_back(f.stageNames[s]);
     means.groups[0].values.push_back(sum / static_cast<double>(n));
   }
@@ -129,7 +160,8 @@ void addStageTimeSection(HtmlPage& page, const RunData& run) {
     return;
   }
   stacked.size.height = 300;
-  page.figure(svgLinePlot(stacked), "Host-clock time of each stage, from frames.jsonl (key \"ms\").");
+  page.figure(svgLinePlot(stacked), "Host-clock time of each stage, from frames.jsonl (key \"ms\")" +
+                                        (bin > 1 ? "; each point the mean over " + std::to_string(bin) + " frames." : "."));
   means.size = {820, 280};
   means.valueLabels = true;
   page.figure(svgBarChart(means), "Mean over the frames in frames.jsonl.");

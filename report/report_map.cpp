@@ -113,11 +113,15 @@ std::string viewpoint(const RunData& run) {
 
 void addMapSection(HtmlPage& page, const RunData& run, const std::string& reportDir) {
   page.heading(2, "Map", "map");
-  if (auto map = loadMap(page, run))
-    page.image(map->png, "rendered model of " + run.label,
-               "Shaded raycast of the final model from " + viewpoint(run) + " (" +
-                   std::to_string(map->grey.width()) + " x " + std::to_string(map->grey.height()) +
-                   " px, model.png).");
+  if (auto map = loadMap(page, run)) {
+    const std::string caption = "Shaded raycast of the final model from " + viewpoint(run) + " (" +
+                                std::to_string(map->grey.width()) + " x " + std::to_string(map->grey.height()) +
+                                " px, model.png).";
+    if (run.grid)  // the navigation map above is the robot's picture: the model stays, smaller
+      page.row({HtmlPage::imageMarkup(map->png, "rendered model of " + run.label, caption)});
+    else
+      page.image(map->png, "rendered model of " + run.label, caption);
+  }
   if (run.meshPath.empty()) {
     page.paragraph("No mesh: run with --mesh to write mesh.ply.", "muted");
     return;
@@ -166,6 +170,19 @@ void addComparisonSection(HtmlPage& page, const RunData& a, const RunData& b) {
                : a.label + " is rendered from " + viewpoint(a) + ", " + b.label + " from " + viewpoint(b) +
                      ", so a pose difference between the runs also shows up as a shading difference.",
       "muted");
+
+  if (a.grid || b.grid) {
+    const RunData& on = a.grid ? a : b;
+    const RunData& other = a.grid ? b : a;
+    page.heading(3, "Paths on the navigation map");
+    page.figure(navMapFigure(on, &other),
+                "Both runs' paths on " + on.label + "'s map.pgm, each in its own map frame" +
+                    (other.grid ? "" : " (" + other.label + " wrote no grid: its path is drawn through " + on.label +
+                                           "'s map frame)") +
+                    "; ring at the start, dot at the end.");
+  } else {
+    page.paragraph("No navigation map: neither run wrote map.pgm.", "muted");
+  }
 
   const RunData& withTruth = a.groundTruth.empty() ? b : a;
   if (!a.trajectory.empty() || !b.trajectory.empty()) {

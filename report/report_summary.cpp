@@ -1,5 +1,6 @@
 // Overview (headline numbers and problems) and the full summary table of a run report.
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -90,22 +91,102 @@ void addOverviewSection(HtmlPage& page, const RunData& run) {
   page.table(t, "headline");
 }
 
+std::string unitOfKey(const std::string& key, std::string* stem) {
+  static const std::pair<const char*, const char*> suffixes[] = {
+      {"_deg_per_s", "deg/s"}, {"_m_per_frame", "m/frame"}, {"_ms_per_frame", "ms/frame"}, {"_per_frame", "/frame"},
+      {"_percent", "%"},       {"_ms", "ms"},               {"_cm", "cm"},               {"_mm", "mm"},
+      {"_m", "m"},             {"_deg", "deg"},             {"_seconds", "s"},           {"_s", "s"},
+      {"_kib", "KiB"},         {"_mib", "MiB"},             {"_watts", "W"},             {"_w", "W"},
+      {"joules", "J"},         {"_j", "J"},                 {"_frames", "frames"},       {"frames", "frames"}};
+  for (const auto& [suffix, unit] : suffixes) {
+    const std::string s(suffix);
+    if (key.size() > s.size() && key.compare(key.size() - s.size(), s.size(), s) == 0) {
+      if (stem) *stem = s[0] == '_' ? key.substr(0, key.size() - s.size()) : key;
+      return unit;
+    }
+  }
+  if (stem) *stem = key;
+  return "";
+}
+
+namespace {
+
+// RunSummary's sections (report/run_summary.h) by their top-level keys; a key none names goes to "other".
+struct SummaryGroup {
+  const char* title;
+  std::vector<const char*> keys;
+};
+
+const std::vector<SummaryGroup>& summaryGroups() {
+  static const std::vector<SummaryGroup> groups = {
+      {"Run", {"front_end", "sequence", "controller", "knobs", "threads", "daemon", "frames", "tracking_attempted",
+               "tracked", "tracked_percent", "integrated", "corrected", "unconstrained", "retracked", "half_wish_frames",
+               "half_applied_frames", "triggers", "knob_frames", "controller_frames", "tracking_state", "stopped",
+               "interrupted", "complete", "error", "schema_version"}},
+      {"Accuracy", {"ate", "ate_error"}},
+      {"Time", {"computation_ms_per_frame", "cpu_ms_per_frame", "controller_ms_per_frame", "stage_ms_per_frame", "work"}},
+      {"Odometry", {"odometry"}},
+      {"Map", {"navmap", "moving_volume", "model_view", "mesh_triangles", "mesh_slabs"}},
+      {"Energy", {"energy"}},
+      {"Machine", {"machine"}},
+  };
+  return groups;
+}
+
+// One row per leaf: the key's last part without its unit suffix (dots kept for nesting), the value, the unit.
+void groupRows(Table& t, const json& value, const std::string& key) {
+  std::vector<std::pair<std::string, const json*>> leaves;
+  flatten(value, key, leaves);
+  for (const auto& [leaf, v] : leaves) {
+    std::string stem;
+    const std::string unit = unitOfKey(leaf, &stem);
+    for (char& c : stem)
+      if (c == '_') c = ' ';
+    t.rows.push_back({{stem}, {cellText(*v), leaf, v->is_number()}, {unit}});
+  }
+}
+
+}  // namespace
+
 void addSummarySection(HtmlPage& page, const RunData& run) {
   page.heading(2, "Summary", "summary");
   if (!run.summary) {
     page.paragraph("No summary: summary.json is missing or unreadable (see the problems above).", "muted");
     return;
   }
-  json rest = run.summary->toJson();
-  json config;
-  if (rest.contains("config")) {
-    config = rest["config"];
-    rest.erase("config");
+  const json all = run.summaryJson.is_object() ? run.summaryJson : run.summary->toJson();
+  std::vector<std::string> placed = {"config", "controller_sections"};
+  for (const auto& g : summaryGroups()) {
+    Table t{{"quantity", "value", "unit"}, {}};
+    for (const char* key : g.keys) {
+      placed.emplace_back(key);
+      if (all.contains(key)) groupRows(t, all[key], key);
+    }
+    if (t.rows.empty()) continue;
+    page.heading(3, g.title);
+    page.table(t, "summary");
   }
-  page.table(flatTable(rest, ""), "summary");
-  if (!config.is_null()) {
-    page.heading(3, "Configuration");
-    page.table(flatTable(config, "config"), "summary");
+  Table other{{"quantity", "value", "unit"}, {}};
+  for (auto it = all.begin(); it != all.end(); ++it)
+    if (std::find(placed.begin(), placed.end(), it.key()) == placed.end()) groupRows(other, *it, it.key());
+  if (!other.rows.empty()) {
+    page.heading(3, "Other");
+    page.table(other, "summary");
+  }
+  // Every key as written, and the configuration, folded away.
+  json rest = all;
+  rest.erase("config");
+  rest.erase("controller_sections");
+  Table raw = flatTable(rest, "");
+  for (auto& row : raw.rows) row[1].key.clear();  // the data-key cells are the grouped tables'
+  page.beginDetails("Every key of summary.json (" + std::to_string(raw.rows.size()) + ")");
+  page.table(raw, "summary");
+  page.endDetails();
+  if (all.contains("config") || all.contains("controller_sections")) {
+    page.beginDetails("Configuration (summary.json \"config\" and \"controller_sections\")");
+    for (const char* key : {"config", "controller_sections"})
+      if (all.contains(key)) page.table(flatTable(all[key], key), "summary");
+    page.endDetails();
   }
 }
 

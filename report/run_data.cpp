@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/rotating_file.h"
+#include "report/nav_files.h"
 
 namespace sb::report {
 
@@ -44,6 +45,7 @@ void loadSummary(RunData& run) {
   }
   try {
     run.summary = readRunSummary(path.string());  // bounded nesting, line and column, typed fields
+    run.summaryJson = readJsonConfig(path.string(), "run summary");  // the keys the type does not know too
   } catch (const std::exception& e) {
     run.problems.push_back(std::string(e.what()) + " (no summary table)");
   }
@@ -162,6 +164,8 @@ RunData loadRun(const std::string& dir, const RunLoadOptions& options) {
   else
     run.problems.push_back("'" + (base / "model.png").string() + "' is missing (no map image)");
   if (isFile(base / "mesh.ply")) run.meshPath = (base / "mesh.ply").string();
+  loadWheels(run);
+  loadGrid(run);
   return run;
 }
 

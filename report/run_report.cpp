@@ -49,6 +49,8 @@ std::string buildRunReport(const std::string& runDir, const RunReportOptions& op
   addOverviewSection(page, run);
   if (other) addComparisonSection(page, run, *other);
   addTrajectorySection(page, run);
+  addOdometrySection(page, run);
+  addNavMapSection(page, run);
   addErrorSection(page, run);
   addKnobSection(page, run);
   addTrackingQualitySection(page, run);

@@ -26,8 +26,21 @@ void addStageTimeSection(HtmlPage& page, const RunData& run);
 void addEnergySection(HtmlPage& page, const RunData& run);
 // The rendered model and a link to the mesh (relative to `reportDir`, where the page is written).
 void addMapSection(HtmlPage& page, const RunData& run, const std::string& reportDir);
+// The wheels against the view: top view of wheels, estimate and truth; per-frame disagreement of their steps with
+// the fusion's verdicts (frames.jsonl "odometry", read generically); the learnt calibration; the share on the
+// wheels alone. One line when the run had no odometry.
+void addOdometrySection(HtmlPage& page, const RunData& run);
+// The navigation map (map.pgm in map_server's colours) with the run's path, start and end, metres on the axes.
+// One line when the run wrote no grid.
+void addNavMapSection(HtmlPage& page, const RunData& run);
+// The grid of `run` with its path as an <svg> (run.grid must be set); with `other`, both runs' paths on it (each
+// in its own map frame when it has one).
+std::string navMapFigure(const RunData& run, const RunData* other);
 // Every value of summary.json, each cell tagged with its flattened key (data-key="ate.rmse_m").
 void addSummarySection(HtmlPage& page, const RunData& run);
+// The unit a summary.json or frames.jsonl key names by its suffix ("computation_ms_per_frame" -> "ms/frame"); ""
+// when none. `stem`, when given, gets the key without that suffix.
+std::string unitOfKey(const std::string& key, std::string* stem = nullptr);
 // Side by side: maps with a difference image, trajectories, ITE and headline numbers of runs a and b.
 void addComparisonSection(HtmlPage& page, const RunData& a, const RunData& b);
 

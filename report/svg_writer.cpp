@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "report/base64.h"
 #include "report/text_escape.h"
 
 namespace sb::report {
@@ -79,6 +80,13 @@ void SvgWriter::rect(double x, double y, double w, double h, const std::string& 
   body_ += "<rect x=\"" + svgNumber(x) + "\" y=\"" + svgNumber(y) + "\" width=\"" + svgNumber(std::max(0.0, w)) +
            "\" height=\"" + svgNumber(std::max(0.0, h)) + "\" fill=\"" + escapeXml(fill) + "\"" +
            (stroke ? strokeAttributes(*stroke) : std::string()) + "/>\n";
+}
+
+void SvgWriter::image(double x, double y, double w, double h, const std::vector<unsigned char>& png) {
+  body_ += "<image x=\"" + svgNumber(x) + "\" y=\"" + svgNumber(y) + "\" width=\"" + svgNumber(std::max(0.0, w)) +
+           "\" height=\"" + svgNumber(std::max(0.0, h)) +
+           "\" preserveAspectRatio=\"none\" style=\"image-rendering: pixelated\" href=\"data:image/png;base64," +
+           base64Encode(png) + "\"/>\n";
 }
 
 void SvgWriter::circle(double cx, double cy, double r, const std::string& fill, const Stroke* stroke) {

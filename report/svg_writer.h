@@ -41,6 +41,8 @@ class SvgWriter {
   void rect(double x, double y, double w, double h, const std::string& fill, const Stroke* stroke = nullptr);
   void circle(double cx, double cy, double r, const std::string& fill, const Stroke* stroke = nullptr);
   void text(double x, double y, const std::string& text, const TextStyle& style = {});
+  // A PNG embedded as a data: URI, stretched over the box with its pixels kept sharp (maps).
+  void image(double x, double y, double w, double h, const std::vector<unsigned char>& png);
   // Places a complete <svg> element (e.g. a plot from plots.h) with its top-left corner at (x, y), nested as
   // is (several plots in one .svg file). Throws std::invalid_argument when `svgElement` is not an <svg>.
   void embed(double x, double y, const std::string& svgElement);

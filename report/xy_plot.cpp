@@ -25,6 +25,7 @@ std::string svgXyPlot(const XyPlot& plot) {
                                                           : LegendKind::line});
   }
   if (plot.markStart && !plot.series.empty()) layout.legend.push_back({"start", "#444444", LegendKind::ring});
+  if (plot.markEnd && !plot.series.empty()) layout.legend.push_back({"end", "#444444", LegendKind::dot});
 
   constexpr double inf = std::numeric_limits<double>::infinity();
   double x0 = inf, x1 = -inf, y0 = inf, y1 = -inf;
@@ -36,6 +37,10 @@ std::string svgXyPlot(const XyPlot& plot) {
         y0 = std::min(y0, s.y[i]);
         y1 = std::max(y1, s.y[i]);
       }
+  if (const auto& b = plot.background) {
+    x0 = std::min(x0, b->x0), x1 = std::max(x1, b->x1);
+    y0 = std::min(y0, b->y0), y1 = std::max(y1, b->y1);
+  }
   if (x0 > x1) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
 
   Axis xAxis, yAxis;
@@ -65,6 +70,8 @@ std::string svgXyPlot(const XyPlot& plot) {
     a = drawFrame(svg, plot.size, layout);
     a.xMin = xAxis.min, a.xMax = xAxis.max, a.yMin = yAxis.min, a.yMax = yAxis.max;
   }
+  if (const auto& b = plot.background)  // under the grid lines and paths; the bounds above hold its extent
+    svg.image(a.px(b->x0), a.py(b->y1), a.px(b->x1) - a.px(b->x0), a.py(b->y0) - a.py(b->y1), b->png);
   drawAxes(svg, a, layout, xAxis.ticks, xAxis.labels, yAxis.ticks, yAxis.labels);
 
   for (size_t k = 0; k < plot.series.size(); ++k) {
@@ -92,6 +99,12 @@ std::string svgXyPlot(const XyPlot& plot) {
       }
     }
     flush();
+    if (plot.markEnd && s.style != LineStyle::points)
+      for (size_t i = std::min(s.x.size(), s.y.size()); i-- > 0;)
+        if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) {
+          svg.circle(a.px(s.x[i]), a.py(s.y[i]), 4, colours[k]);
+          break;
+        }
     svg.endGroup();
   }
   return svg.str();

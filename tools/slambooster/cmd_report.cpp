@@ -1,5 +1,5 @@
-// `slambooster report`: the HTML report of a run directory (plots, map, summary), optionally side by side
-// with a second run.
+// `slambooster report`: the HTML report of a run directory (plots, the wheels against the view, the navigation
+// map, the rendered model, the summary), optionally side by side with a second run.
 
 #include <iostream>
 #include <memory>
@@ -17,7 +17,8 @@ void addReportCommand(CLI::App& app) {
   sub->add_option("--out", options->output,
                   "HTML file to write (default: RUN/report.html, or RUN/compare-<B>.html with --compare)");
   sub->add_option("--compare", options->compareDir,
-                  "Second run directory: adds maps side by side with a difference image, and both trajectories");
+                  "Second run directory: adds maps side by side with a difference image, both trajectories, and both paths\n"
+                  "on the first run's navigation map when either wrote map.pgm");
   sub->add_option("--groundtruth", options->groundTruth,
                   "Ground truth (TUM) when the sequence named in summary.json has none or has moved");
   sub->add_option("--title", options->title, "Page title");
