@@ -50,18 +50,26 @@ std::vector<std::string> odomRequestLines(const std::vector<odometry::OdometrySa
   return lines;
 }
 
-size_t pushOdometry(Connection& connection, const std::vector<odometry::OdometrySample>& samples,
-                    double timeoutSeconds, size_t maxLineBytes) {
-  size_t accepted = 0;
+OdomPushResult pushOdometry(Connection& connection, const std::vector<odometry::OdometrySample>& samples,
+                            double timeoutSeconds, size_t maxLineBytes) {
+  OdomPushResult r;
   for (const std::string& request : odomRequestLines(samples, maxLineBytes)) {
     connection.send(request);
     const nlohmann::json reply = connection.reply("ODOM", timeoutSeconds);
     if (reply.value("class", "") == "ERROR")
-      throw Error("slamboosterd refused odometry after " + std::to_string(accepted) +
+      throw Error("slamboosterd refused odometry after " + std::to_string(r.accepted) +
                   " samples: " + reply.value("message", ""));
-    accepted += reply.value("accepted", size_t{0});
+    r.accepted += reply.value("accepted", size_t{0});
+    if (const size_t refused = reply.value("refused", size_t{0})) {
+      if (r.refused == 0) r.firstRefused = reply.value("refused_first", "");
+      r.refused += refused;
+    }
+    r.held = reply.value("samples", size_t{0});
+    r.capacity = reply.value("capacity", size_t{0});
+    r.oldest = reply.contains("oldest") ? std::optional<double>(reply["oldest"].get<double>()) : std::nullopt;
+    r.newest = reply.contains("newest") ? std::optional<double>(reply["newest"].get<double>()) : std::nullopt;
   }
-  return accepted;
+  return r;
 }
 
 }  // namespace sb::client

@@ -2,6 +2,7 @@
 // Pushes the robot's odometry to slamboosterd over its socket (?ODOM, protocol 1.5; docs/protocol.md), for
 // robots without ROS and for `slamboosterctl odom FILE`; the ROS bridge pushes its ~odom_topic the same way.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,9 +18,18 @@ inline constexpr size_t kOdomLineBytes = 3500;  // a request line stays under th
 std::vector<std::string> odomRequestLines(const std::vector<odometry::OdometrySample>& samples,
                                           size_t maxLineBytes = kOdomLineBytes);
 
-// Sends the samples and waits for each reply; returns the samples accepted. Throws sb::Error with the
-// daemon's ERROR message when it refuses a batch (the batches before it stay added).
-size_t pushOdometry(Connection& connection, const std::vector<odometry::OdometrySample>& samples,
+// What the daemon said of the samples pushed: taken, refused alone (odometry_track.h's rules), and what its
+// track holds after the last batch (it keeps `capacity` samples, the oldest going first).
+struct OdomPushResult {
+  size_t accepted = 0, refused = 0;
+  std::string firstRefused;  // the daemon's message for the first refused sample
+  size_t held = 0, capacity = 0;
+  std::optional<double> oldest, newest;  // stamps held
+};
+
+// Sends the samples and waits for each reply. Throws sb::Error with the daemon's ERROR message when it
+// refuses a whole batch (the batches before it stay added).
+OdomPushResult pushOdometry(Connection& connection, const std::vector<odometry::OdometrySample>& samples,
                     double timeoutSeconds, size_t maxLineBytes = kOdomLineBytes);
 
 }  // namespace sb::client

@@ -10,37 +10,48 @@
 
 namespace sb {
 
-Trajectory readTumTrajectory(const std::string& path) {
-  InputFile in(path, "trajectory");
-  Trajectory out;
-  std::string line;
-  int lineNo = 0;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    const auto first = line.find_first_not_of(" \t\r");
-    if (first == std::string::npos || line[first] == '#') continue;
-    std::istringstream ss(line);
+TumTrajectoryReader::TumTrajectoryReader(const std::string& path) : path_(path), in_(std::make_unique<InputFile>(path, "trajectory")) {}
+
+TumTrajectoryReader::~TumTrajectoryReader() = default;
+
+bool TumTrajectoryReader::next(TimedPose& pose) {
+  while (std::getline(*in_, line_)) {
+    ++lineNo_;
+    const auto first = line_.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line_[first] == '#') continue;
+    std::istringstream ss(line_);
     double t, tx, ty, tz, qx, qy, qz, qw;
     if (!(ss >> t >> tx >> ty >> tz >> qx >> qy >> qz >> qw)) {
-      throw Error(path + ":" + std::to_string(lineNo) +
-                  ": expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got '" + line + "'");
+      throw Error(path_ + ":" + std::to_string(lineNo_) +
+                  ": expected 8 numbers 'timestamp tx ty tz qx qy qz qw', got '" + line_ + "'");
     }
     Eigen::Quaterniond q(qw, qx, qy, qz);
     const double n = q.norm();
     if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-3) {
-      throw Error(path + ":" + std::to_string(lineNo) + ": quaternion norm " + std::to_string(n) +
+      throw Error(path_ + ":" + std::to_string(lineNo_) + ": quaternion norm " + std::to_string(n) +
                   " is not 1 (TUM order is qx qy qz qw)");
     }
-    if (!out.empty() && t <= out.back().timestamp) {
-      throw Error(path + ":" + std::to_string(lineNo) + ": timestamp " + std::to_string(t) +
-                  " does not increase (previous " + std::to_string(out.back().timestamp) + ")");
+    if (any_ && t <= previous_) {
+      throw Error(path_ + ":" + std::to_string(lineNo_) + ": timestamp " + std::to_string(t) +
+                  " does not increase (previous " + std::to_string(previous_) + ")");
     }
-    TimedPose p;
-    p.timestamp = t;
-    p.T_camera_to_world.linear() = q.normalized().toRotationMatrix();
-    p.T_camera_to_world.translation() = Eigen::Vector3d(tx, ty, tz);
-    out.push_back(p);
+    any_ = true;
+    previous_ = t;
+    pose = TimedPose{};
+    pose.timestamp = t;
+    pose.T_camera_to_world.linear() = q.normalized().toRotationMatrix();
+    pose.T_camera_to_world.translation() = Eigen::Vector3d(tx, ty, tz);
+    return true;
   }
+  if (in_->bad()) throw Error(path_ + ": reading failed after line " + std::to_string(lineNo_));
+  return false;
+}
+
+Trajectory readTumTrajectory(const std::string& path) {
+  TumTrajectoryReader reader(path);
+  Trajectory out;
+  TimedPose p;
+  while (reader.next(p)) out.push_back(p);
   return out;
 }
 

@@ -90,7 +90,11 @@ std::unique_ptr<SlamWorker> Daemon::makeWorker(const SequenceInfo& info, Mailbox
   return std::make_unique<SlamWorker>(
       config_, info, *parts_->queue,
       [this, &mailbox](FrameReport report) {
-        mailbox.post([this, r = std::move(report)] { parts_->server->publishFrame(r); });
+        mailbox.post([this, r = std::move(report)] {
+          // The frames' clock, against which ?ODOM's stamps are placed (odometry_track.h's leap rule).
+          if (liveOdometry_.track) liveOdometry_.track->noteFrameStamp(r.pose.timestamp);
+          parts_->server->publishFrame(r);
+        });
       },
       [this, &mailbox] {
         mailbox.post([this] {
@@ -123,6 +127,7 @@ int Daemon::run() {
   const size_t fdLimit = ensureFdBudget(config_.socket.maxClients);  // before any file is opened
   spdlog::debug("open-file limit {}: {} clients plus {} for the pipeline", fdLimit, config_.socket.maxClients,
                 kReservedFds + 1);
+  checkSourceFiles(config_.source);  // what --check-config checks of the source, the same way
   SourceConfig source = config_.source;
   source.socketMode = config_.socket.mode;  // the push socket follows the control socket's mode
   p.source = createSource(source);

@@ -34,6 +34,13 @@ class SlamWorker;
 // input and the devices are not opened. Throws ConfigError naming the key, the file and what is wrong.
 void checkConfigFiles(const DaemonConfig& config);
 
+// The paths and values of the source section that start-up would refuse (issue 53: --check-config said
+// "valid" for them), checked by --check-config (through checkConfigFiles) and at start alike: a
+// source.odometry file that is missing, a FIFO or a directory (an odometry.txt is read through), a
+// source.camera_mount that is not a mount (odometry/camera_mount.h), a push source.path that exists and is not
+// a socket. Throws ConfigError naming the key and the value.
+void checkSourceFiles(const SourceConfig& source);
+
 class Daemon : public ServiceState {
  public:
   // `reload` re-reads the configuration for SIGHUP (the same file and overrides); it throws sb::Error on a

@@ -2,14 +2,18 @@
 // `slamboosterd --check-config` checks.
 
 #include <spdlog/spdlog.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "daemon/daemon.h"
 #include "daemon/daemon_parts.h"
 #include "daemon/peer_auth.h"
+#include "odometry/camera_mount.h"
+#include "odometry/odometry_file.h"
 #include "runtime/energy_account.h"
 
 namespace sb::daemon {
@@ -88,7 +92,39 @@ void Daemon::publishEnergy(const EnergyReport& report) {
   parts_->mailbox->post([this, report] { parts_->server->publishEnergy(report); });
 }
 
+void checkSourceFiles(const SourceConfig& source) {
+  const std::string& odometry = source.odometry;
+  if (odometry != "auto" && odometry != "none" && odometry != "socket") {
+    if (const std::string problem = pathProblem(odometry); !problem.empty())
+      throw ConfigError("source.odometry " + quoteForMessage(odometry) + " " + problem +
+                        " (give \"auto\", \"socket\", \"none\" or the path of an odometry.txt or a .bag)");
+  }
+  if (!source.cameraMount.empty()) {
+    try {
+      odometry::parseCameraMount(source.cameraMount, "source.camera_mount");
+    } catch (const Error& e) {
+      throw ConfigError(e.what());
+    }
+  }
+  if (source.type == "push" && !source.path.empty()) {
+    struct stat st {};
+    if (::lstat(source.path.c_str(), &st) == 0 && !S_ISSOCK(st.st_mode))
+      throw ConfigError("source.path " + quoteForMessage(source.path) +
+                        " exists and is not a socket (the push source listens there): remove it or set source.path");
+  }
+}
+
 void checkConfigFiles(const DaemonConfig& config) {
+  checkSourceFiles(config.source);
+  const std::string& odometry = config.source.odometry;
+  if (odometry != "auto" && odometry != "none" && odometry != "socket" &&
+      std::filesystem::path(odometry).extension() != ".bag") {
+    try {  // every line, as the start's reader checks it (odometry/odometry_file.h), one line in memory at a time
+      odometry::checkOdometryFile(odometry);
+    } catch (const Error& e) {
+      throw ConfigError(std::string("source.odometry: ") + e.what());
+    }
+  }
   try {
     const PipelineConfig pipeline = buildPipelineConfig(config.slam, SequenceInfo{});
     ControllerContext context;

@@ -16,16 +16,28 @@ odometry::OdometrySample toOdometrySample(const OdomSample& s) {
 }
 
 nlohmann::json addOdomSamples(odometry::OdometryTrack& track, const OdomRequest& request) {
-  size_t accepted = 0;
-  for (const OdomSample& s : request.samples) {
+  const uint64_t before = track.added();
+  size_t refused = 0;
+  std::string firstRefused;
+  for (size_t i = 0; i < request.samples.size(); ++i) {
     std::string why;
-    if (!track.add(toOdometrySample(s), &why))
-      throw Error("?ODOM: '" + (request.samples.size() > 1 ? "samples[" + std::to_string(accepted) + "].t" : "t") + "': " +
-                  why + (accepted ? " (the " + std::to_string(accepted) + " samples before it were added)" : ""));
-    ++accepted;
+    if (track.add(toOdometrySample(request.samples[i]), &why)) continue;
+    if (refused++ == 0)
+      firstRefused = "?ODOM: '" + (request.samples.size() > 1 ? "samples[" + std::to_string(i) + "].t" : "t") + "': " + why;
   }
-  nlohmann::json reply = {{"accepted", accepted}, {"samples", track.size()}};
+  // Held samples a later one confirmed count as accepted with it (and not as refused).
+  const uint64_t accepted = track.added() - before;
+  refused = accepted >= request.samples.size() ? 0 : request.samples.size() - accepted;
+  if (accepted == 0 && refused > 0)
+    throw Error(firstRefused + (refused > 1 ? " (and the " + std::to_string(refused - 1) + " samples after it)" : ""));
+  nlohmann::json reply = {{"accepted", accepted}, {"samples", track.size()},
+                          {"capacity", track.params().capacity}};
   if (const auto newest = track.newestStamp()) reply["newest"] = *newest;
+  if (const auto oldest = track.oldestStamp()) reply["oldest"] = *oldest;
+  if (refused > 0) {
+    reply["refused"] = refused;
+    reply["refused_first"] = firstRefused;
+  }
   return reply;
 }
 

@@ -12,9 +12,11 @@ namespace sb::daemon {
 // The track's sample of one request sample (quaternion normalised, covariance row-major 6x6).
 odometry::OdometrySample toOdometrySample(const OdomSample& sample);
 
-// Adds the samples in order and returns the ODOM reply fields (without "class"): accepted, samples held,
-// newest stamp. Throws sb::Error naming the first refused sample (its stamp not after the newest held); the
-// samples before it stay added.
+// Adds the samples in order, each refused alone when it cannot be placed (odometry_track.h: a stamp not after
+// the newest, or past the clock's leap), and returns the ODOM reply fields (without "class"): accepted, samples
+// held and the track's capacity, the oldest and newest stamps held, and with refusals "refused" (how many) and
+// "refused_first" (the first's message). Throws sb::Error naming the first refused sample when none was
+// accepted.
 nlohmann::json addOdomSamples(odometry::OdometryTrack& track, const OdomRequest& request);
 
 }  // namespace sb::daemon

@@ -23,7 +23,9 @@ void NavMapConfig::validate(double voxelSizeM) const {
   if (updatePeriodFrames < 0) fail("update_period_frames", ">= 0 (0: only when written)");
   if (up != "none" && up != "mount" && up != "floor") fail("up", "none, mount or floor");
   if (up == "mount" && !(mountHeightM > 0.0 && mountHeightM < 10.0)) fail("mount_height_m", "(0, 10) m with up mount");
-  if (std::abs(mountPitchDeg) > 90.0 || std::abs(mountRollDeg) > 90.0) fail("mount_pitch_deg/mount_roll_deg", "-90-90");
+  // Written so that NaN fails too (issue 53: a NaN pitch gave a 0x0 map.pgm and null in map_frame.json).
+  if (!(std::abs(mountPitchDeg) <= 90.0 && std::abs(mountRollDeg) <= 90.0))
+    fail("mount_pitch_deg/mount_roll_deg", "-90-90");
   if (floorFitFrames < 1) fail("floor_fit_frames", ">= 1");
 }
 

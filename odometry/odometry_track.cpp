@@ -2,8 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-
-#include "core/trajectory.h"
+#include <cstdio>
 
 namespace sb::odometry {
 
@@ -14,6 +13,12 @@ bool finitePose(const Eigen::Isometry3d& T) { return T.matrix().allFinite(); }
 std::string stamp(double t) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6f", t);
+  return buf;
+}
+
+std::string seconds(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
 
@@ -31,10 +36,24 @@ OdometryTrack::OdometryTrack(const OdometryTrackParams& params) : params_(params
   if (params_.capacity < 2) params_.capacity = 2;
 }
 
+OdometryTrack::OdometryTrack(const OdometryTrackParams& params, std::unique_ptr<OdometrySampleSource> source)
+    : OdometryTrack(params) {
+  source_ = std::move(source);
+  std::lock_guard<std::mutex> lock(mutex_);
+  while (source_ && samples_.size() < params_.capacity) {  // the first window at once (size() says it)
+    OdometrySample s;
+    if (!source_->next(s)) source_.reset();
+    else push(s);
+  }
+}
+
 OdometryTrack::OdometryTrack(const OdometryTrack& other) {
   std::lock_guard<std::mutex> lock(other.mutex_);
   params_ = other.params_;
   samples_ = other.samples_;
+  added_ = other.added_;
+  candidates_ = other.candidates_;
+  frameStamp_ = other.frameStamp_;
 }
 
 OdometryTrack& OdometryTrack::operator=(const OdometryTrack& other) {
@@ -42,7 +61,44 @@ OdometryTrack& OdometryTrack::operator=(const OdometryTrack& other) {
   std::scoped_lock lock(mutex_, other.mutex_);
   params_ = other.params_;
   samples_ = other.samples_;
+  added_ = other.added_;
+  candidates_ = other.candidates_;
+  frameStamp_ = other.frameStamp_;
+  source_.reset();
   return *this;
+}
+
+OdometryTrack::OdometryTrack(OdometryTrack&& other) noexcept {
+  std::lock_guard<std::mutex> lock(other.mutex_);
+  params_ = other.params_;
+  samples_ = std::move(other.samples_);
+  added_ = other.added_;
+  candidates_ = std::move(other.candidates_);
+  frameStamp_ = other.frameStamp_;
+  source_ = std::move(other.source_);
+}
+
+OdometryTrack::~OdometryTrack() = default;
+
+void OdometryTrack::push(const OdometrySample& sample) const {
+  samples_.push_back(sample);
+  ++added_;
+  while (samples_.size() > params_.capacity) samples_.pop_front();
+}
+
+void OdometryTrack::feedTo(double t) const {
+  // Read until a sample at or past t is held (interpolation needs the one after t), or the source ends.
+  while (source_ && std::isfinite(t) && (samples_.empty() || samples_.back().timestamp < t)) {
+    OdometrySample s;
+    if (!source_->next(s)) source_.reset();
+    else push(s);
+  }
+}
+
+void OdometryTrack::noteFrameStamp(double t) {
+  if (!std::isfinite(t)) return;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (!frameStamp_ || t > *frameStamp_) frameStamp_ = t;
 }
 
 bool OdometryTrack::add(const OdometrySample& sample, std::string* why) {
@@ -56,16 +112,55 @@ bool OdometryTrack::add(const OdometrySample& sample, std::string* why) {
   if (sample.covariance && !sample.covariance->allFinite())
     return refuse("odometry sample at " + stamp(sample.timestamp) + " s with a covariance that is not finite");
   std::lock_guard<std::mutex> lock(mutex_);
-  if (!samples_.empty() && sample.timestamp <= samples_.back().timestamp)
-    return refuse("odometry sample at " + stamp(sample.timestamp) + " s is not after the newest (" +
-                  stamp(samples_.back().timestamp) + " s): stamps must increase");
-  samples_.push_back(sample);
-  while (samples_.size() > params_.capacity) samples_.pop_front();
-  return true;
+  const double t = sample.timestamp, leap = params_.maxLeapS;
+  const std::optional<double> newest = samples_.empty() ? std::nullopt : std::optional<double>(samples_.back().timestamp);
+  if (newest && t <= *newest) {
+    // A duplicate or a sample out of order: refused. Far before the newest (and not before the frames' clock):
+    // perhaps the source's clock went back, or the newest was absurd; held until samples confirm it.
+    const bool farBack = *newest - t > leap && (!frameStamp_ || t >= *frameStamp_ - leap);
+    if (!farBack)
+      return refuse("odometry sample at " + stamp(t) + " s is not after the newest (" + stamp(*newest) +
+                    " s): stamps must increase");
+    return hold(sample, stamp(*newest - t) + " s before the newest sample (" + stamp(*newest) + " s)", why);
+  }
+  std::optional<double> reference = newest;
+  if (frameStamp_ && (!reference || *frameStamp_ > *reference)) reference = frameStamp_;
+  if (!reference || t - *reference <= leap) {
+    push(sample);
+    candidates_.clear();  // the clock in use goes on: held samples of another one stay refused
+    return true;
+  }
+  const bool byFrame = frameStamp_ && *reference == *frameStamp_;
+  return hold(sample,
+              stamp(t - *reference) + " s past the newest " + (byFrame ? "frame" : "sample") + " (" + stamp(*reference) +
+                  " s)",
+              why);
+}
+
+bool OdometryTrack::hold(const OdometrySample& sample, const std::string& where, std::string* why) {
+  const double t = sample.timestamp;
+  if (!candidates_.empty() && t > candidates_.back().timestamp && t - candidates_.back().timestamp <= params_.maxLeapS)
+    candidates_.push_back(sample);
+  else
+    candidates_.assign(1, sample);
+  if (candidates_.size() >= kOdometryClockConfirmSamples) {  // the new clock is confirmed: take it
+    const double first = candidates_.front().timestamp;
+    while (!samples_.empty() && samples_.back().timestamp >= first) samples_.pop_back();
+    for (const OdometrySample& s : candidates_) push(s);
+    candidates_.clear();
+    return true;
+  }
+  if (why)
+    *why = "odometry sample at " + stamp(t) + " s is " + where + ": more than the " + seconds(params_.maxLeapS) +
+           " s a stamp may leap (kMaxOdometryLeapS); refused, held until " +
+           std::to_string(kOdometryClockConfirmSamples - candidates_.size()) +
+           " more samples in a row confirm its clock";
+  return false;
 }
 
 std::optional<Eigen::Isometry3d> OdometryTrack::poseAt(double t, double maxGapS, double maxExtrapolationS) const {
   std::lock_guard<std::mutex> lock(mutex_);
+  feedTo(t);
   if (samples_.empty() || !std::isfinite(t) || t < samples_.front().timestamp) return std::nullopt;
   const OdometrySample& newest = samples_.back();
   if (t >= newest.timestamp) {
@@ -88,6 +183,7 @@ std::optional<Eigen::Isometry3d> OdometryTrack::poseAt(double t, double maxGapS,
 
 std::optional<Matrix6> OdometryTrack::covarianceAt(double t) const {
   std::lock_guard<std::mutex> lock(mutex_);
+  feedTo(t);
   std::optional<Matrix6> best;
   double bestDt = INFINITY;
   for (const auto& s : samples_)
@@ -109,12 +205,15 @@ std::optional<double> OdometryTrack::newestStamp() const {
   return samples_.back().timestamp;
 }
 
-OdometryTrack readOdometryFile(const std::string& path, OdometryTrackParams params) {
-  const Trajectory poses = readTumTrajectory(path);  // names the file and line on bad input
-  params.capacity = std::max(params.capacity, poses.size());
-  OdometryTrack track(params);
-  for (const TimedPose& p : poses) track.add(OdometrySample{p.timestamp, p.T_camera_to_world, std::nullopt});
-  return track;
+std::optional<double> OdometryTrack::oldestStamp() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (samples_.empty()) return std::nullopt;
+  return samples_.front().timestamp;
+}
+
+uint64_t OdometryTrack::added() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return added_;
 }
 
 }  // namespace sb::odometry

@@ -7,6 +7,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <set>
@@ -14,6 +15,7 @@
 
 #include "core/error.h"
 #include "drivers/bag_plugin.h"
+#include "odometry/camera_mount.h"
 #include "ros/depth_image.h"
 
 namespace sb::ros_bridge {
@@ -33,8 +35,13 @@ Eigen::Isometry3d toIsometry(const geometry_msgs::Point& p, const geometry_msgs:
   return T;
 }
 
-// The static transforms: child -> (parent, T_child_to_parent).
-using StaticTree = std::map<std::string, std::pair<std::string, Eigen::Isometry3d>>;
+// The static transforms: child -> (parent, T_child_to_parent, why it cannot be used: empty when it can).
+struct StaticLink {
+  std::string parent;
+  Eigen::Isometry3d T;
+  std::string problem;
+};
+using StaticTree = std::map<std::string, StaticLink>;
 
 StaticTree readStaticTree(rosbag::Bag& bag) {
   StaticTree tree;
@@ -47,7 +54,12 @@ StaticTree readStaticTree(rosbag::Bag& bag) {
       p.x = t.transform.translation.x;
       p.y = t.transform.translation.y;
       p.z = t.transform.translation.z;
-      tree[stripSlash(t.child_frame_id)] = {stripSlash(t.header.frame_id), toIsometry(p, t.transform.rotation)};
+      const auto& q = t.transform.rotation;
+      // A zero or non-unit rotation is refused where it is used (as odometry.txt and ?ODOM refuse one), not
+      // normalised into something else (zero became identity).
+      std::string problem = odometry::quaternionProblem(q.w, q.x, q.y, q.z);
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) problem = "the translation is not finite";
+      tree[stripSlash(t.child_frame_id)] = {stripSlash(t.header.frame_id), toIsometry(p, q), problem};
     }
   }
   return tree;
@@ -59,8 +71,10 @@ std::pair<Eigen::Isometry3d, std::string> toRoot(const StaticTree& tree, std::st
   for (int i = 0; i < kMaxChain; ++i) {
     const auto it = tree.find(frame);
     if (it == tree.end()) return {T, frame};
-    T = it->second.second * T;
-    frame = it->second.first;
+    if (!it->second.problem.empty())
+      throw Error("/tf_static's transform from '" + it->second.parent + "' to '" + frame + "': " + it->second.problem);
+    T = it->second.T * T;
+    frame = it->second.parent;
   }
   throw Error("/tf_static has a loop through '" + frame + "'");
 }
@@ -103,19 +117,7 @@ std::string chooseTopic(rosbag::Bag& bag, const std::string& path, const std::st
 }  // namespace
 
 Eigen::Isometry3d parseMount(const std::string& text, const std::string& what) {
-  std::istringstream in(text);
-  double v[7];
-  for (double& x : v)
-    if (!(in >> x) || !std::isfinite(x))
-      throw Error(what + " '" + text + "' must be seven numbers \"x y z qx qy qz qw\" (metres, unit quaternion)");
-  std::string rest;
-  if (in >> rest) throw Error(what + " '" + text + "' has more than seven numbers \"x y z qx qy qz qw\"");
-  const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
-  if (std::abs(q.norm() - 1.0) > 1e-3) throw Error(what + " '" + text + "': the quaternion is not of unit length");
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  T.linear() = q.normalized().toRotationMatrix();
-  T.translation() = Eigen::Vector3d(v[0], v[1], v[2]);
-  return T;
+  return odometry::parseCameraMount(text, what);  // one rule with the daemon's source.camera_mount
 }
 
 std::vector<odometry::OdometrySample> readBagOdometry(const std::string& path, const std::string& requested,
@@ -151,7 +153,14 @@ std::vector<odometry::OdometrySample> readBagOdometry(const std::string& path, c
       }
       odometry::OdometrySample s;
       s.timestamp = msg->header.stamp.toSec();
-      s.T_camera_to_odom = toIsometry(msg->pose.pose.position, msg->pose.pose.orientation) * *mount;
+      const auto& q = msg->pose.pose.orientation;
+      if (const std::string problem = odometry::quaternionProblem(q.w, q.x, q.y, q.z); !problem.empty()) {
+        char at[64];
+        std::snprintf(at, sizeof at, "%.6f", s.timestamp);
+        throw Error("bag '" + path + "': " + topic + " at " + at + " s: pose.orientation: " + problem +
+                    " (a nav_msgs/Odometry's orientation must be a unit quaternion)");
+      }
+      s.T_camera_to_odom = toIsometry(msg->pose.pose.position, q) * *mount;
       const auto& c = msg->pose.covariance;
       Eigen::Matrix<double, 6, 6> cov;
       for (int r = 0; r < 6; ++r)

@@ -7,6 +7,7 @@
 
 #include "client/odometry_pusher.h"
 #include "core/error.h"
+#include "odometry/camera_mount.h"
 
 namespace sb::ros_bridge {
 
@@ -47,7 +48,10 @@ void OdometryForwarder::onOdometry(const nav_msgs::Odometry::ConstPtr& m) {
     try {  // the mount is static: the latest transform
       const auto t = buffer_.lookupTransform(m->child_frame_id, config_.odomCameraFrame, ros::Time(0));
       const auto& r = t.transform.translation;
-      mount_ = toIsometry(r.x, r.y, r.z, t.transform.rotation);
+      const auto& mq = t.transform.rotation;
+      if (const std::string problem = odometry::quaternionProblem(mq.w, mq.x, mq.y, mq.z); !problem.empty())
+        throw Error("the camera mount from '" + m->child_frame_id + "' to '" + config_.odomCameraFrame + "': " + problem);
+      mount_ = toIsometry(r.x, r.y, r.z, mq);
       odomFrame_ = m->header.frame_id;
       baseFrame_ = m->child_frame_id;
     } catch (const std::exception& e) {
@@ -61,6 +65,15 @@ void OdometryForwarder::onOdometry(const nav_msgs::Odometry::ConstPtr& m) {
   }
   odometry::OdometrySample s;
   s.timestamp = m->header.stamp.toSec();
+  // One rule at every door (issue 53): a zero or non-unit orientation is refused, as odometry.txt and ?ODOM
+  // refuse it (normalised, zero became identity: a base that never turns).
+  const auto& q = m->pose.pose.orientation;
+  if (const std::string problem = odometry::quaternionProblem(q.w, q.x, q.y, q.z); !problem.empty()) {
+    ++failed_;
+    lastError_ = "odometry at " + std::to_string(s.timestamp) + " s refused: pose.orientation: " + problem;
+    ROS_WARN_THROTTLE(5.0, "slambooster: %s", lastError_.c_str());
+    return;
+  }
   const auto& p = m->pose.pose.position;
   s.T_camera_to_odom = toIsometry(p.x, p.y, p.z, m->pose.pose.orientation) * *mount_;
   Eigen::Matrix<double, 6, 6> cov;

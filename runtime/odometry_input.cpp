@@ -1,6 +1,7 @@
 #include "runtime/odometry_input.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "core/error.h"
@@ -36,6 +37,7 @@ OdometryInput fromBag(const std::string& path, const BagOdometryOptions& options
   }
   odometry::OdometryTrackParams params;
   params.capacity = std::max(params.capacity, samples.size());
+  params.maxLeapS = INFINITY;  // a recorded file: its stamps need only increase (odometry_track.h's leap rule is the live doors')
   auto track = std::make_shared<odometry::OdometryTrack>(params);
   for (const odometry::OdometrySample& s : samples) {
     std::string why;

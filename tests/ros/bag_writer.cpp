@@ -43,9 +43,14 @@ Eigen::Isometry3d mount() {
 // The base's odometry (the camera's poses less the mount) on /odom, and the mount on /tf_static.
 void writeOdometry(rosbag::Bag& bag, const BagSpec& spec) {
   const ros::Time start(kRecordDelayS);
-  if (spec.tfStatic) bag.write("/tf_static", start, cameraMountMessage("openni_depth_optical_frame", start));
-  for (const nav_msgs::Odometry& o : odometryMessages(spec.odometryFile, /*covariance=*/true))
-    bag.write("/odom", o.header.stamp + ros::Duration(kRecordDelayS), o);
+  if (spec.tfStatic) {
+    tf2_msgs::TFMessage tf = cameraMountMessage("openni_depth_optical_frame", start);
+    if (spec.zeroMountQuaternion) tf.transforms[0].transform.rotation = geometry_msgs::Quaternion();  // all zero
+    bag.write("/tf_static", start, tf);
+  }
+  std::vector<nav_msgs::Odometry> messages = odometryMessages(spec.odometryFile, /*covariance=*/true);
+  if (spec.zeroOdometryQuaternion && messages.size() > 10) messages[10].pose.pose.orientation = geometry_msgs::Quaternion();
+  for (const nav_msgs::Odometry& o : messages) bag.write("/odom", o.header.stamp + ros::Duration(kRecordDelayS), o);
 }
 
 }  // namespace

@@ -24,6 +24,9 @@ struct BagSpec {
   // /tf_static base_link -> the depth images' frame (kBagCameraMount) unless tfStatic is false.
   std::string odometryFile;
   bool tfStatic = true;
+  // Hostile orientations (issue 53 finding 4): the 10th Odometry message's, or /tf_static's mount, all zero.
+  bool zeroOdometryQuaternion = false;
+  bool zeroMountQuaternion = false;
   // Hostile bags (issue 44 G3, G4): the CameraInfo's K[0] (fx) when not NaN; the depth images' header
   // stamps when not empty (one per frame; the record times stay the sequence's: the frames keep their order).
   double cameraInfoFx = std::numeric_limits<double>::quiet_NaN();

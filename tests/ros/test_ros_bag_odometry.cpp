@@ -88,6 +88,35 @@ TEST_CASE("a bag's odometry reaches the run as the directory's odometry.txt does
     const auto none = runTool(bare, dir + "/none", "--no-odometry");
     CHECK_FALSE(none.odometry);
   }
+  // Issue 53 finding 4: a zero quaternion was normalised to identity (a base that never turns) where
+  // odometry.txt and ?ODOM refuse it; one rule at every door.
+  SECTION("a zero quaternion in the Odometry or in /tf_static is refused, naming it") {
+    spec.zeroOdometryQuaternion = true;
+    const std::string zeroOdom = dir + "/zero-odom.bag";
+    writeBag(zeroOdom, drive, spec);
+    const auto r = runCommand(kTool + " run " + zeroOdom + " --out " + dir + "/zero-odom --quiet 2>&1");
+    INFO(r.output);
+    CHECK(r.exitCode == 1);
+    CHECK(r.output.find("quaternion") != std::string::npos);
+    CHECK(r.output.find("/odom") != std::string::npos);
+    spec.zeroOdometryQuaternion = false;
+    spec.zeroMountQuaternion = true;
+    const std::string zeroMount = dir + "/zero-mount.bag";
+    writeBag(zeroMount, drive, spec);
+    const auto m = runCommand(kTool + " run " + zeroMount + " --out " + dir + "/zero-mount --quiet 2>&1");
+    INFO(m.output);
+    CHECK(m.exitCode == 1);
+    CHECK(m.output.find("/tf_static") != std::string::npos);
+    CHECK(m.output.find("quaternion") != std::string::npos);
+    // And a --camera-mount far away or with a zero quaternion, as source.camera_mount.
+    for (const std::string mount : {"0 0 1e300 -0.5 0.5 -0.5 0.5", "0 0 1.25 0 0 0 0"}) {
+      const auto c = runCommand(kTool + " run " + bag + " --out " + dir + "/bad-mount --quiet --camera-mount \"" +
+                                mount + "\" 2>&1");
+      INFO(c.output);
+      CHECK(c.exitCode == 1);
+      CHECK(c.output.find("--camera-mount") != std::string::npos);
+    }
+  }
   SECTION("a topic that is not Odometry") {
     const auto r = runCommand(kTool + " run " + bag + " --out " + dir + "/fail --quiet --odom-topic " +
                               kBagDepthTopic + " 2>&1");

@@ -105,9 +105,19 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
   std::vector<sb::DepthFrame> frames;
   while (auto f = source->next()) frames.push_back(std::move(*f));
   REQUIRE(frames.size() == static_cast<size_t>(kDriveFrames));
-  const std::vector<nav_msgs::Odometry> odometry =
-      odometryMessages(drive + "/odometry.txt", /*covariance=*/false);
+  std::vector<nav_msgs::Odometry> odometry = odometryMessages(drive + "/odometry.txt", /*covariance=*/false);
   REQUIRE(odometry.size() > frames.size());
+  // Two hostile messages among them (issue 53): one stamped 4e9 s (it stood as the newest and every later sample
+  // was refused: no odometry for the rest of the run), one between two samples with an all-zero orientation
+  // (normalised to identity: a base that never turns). Each must be refused alone.
+  nav_msgs::Odometry absurd = odometry[20];
+  absurd.header.stamp = ros::Time(4e9);
+  nav_msgs::Odometry zero = odometry[30];
+  zero.header.stamp = ros::Time((odometry[30].header.stamp.toSec() + odometry[31].header.stamp.toSec()) / 2);
+  zero.pose.pose.orientation = geometry_msgs::Quaternion();
+  odometry.insert(odometry.begin() + 31, zero);
+  odometry.insert(odometry.begin() + 21, absurd);
+  constexpr size_t kHostile = 2;
 
   e2e::TempDir tmp;
   const std::string socket = tmp.path + "/sb.sock", push = tmp.path + "/push.sock";
@@ -195,8 +205,8 @@ TEST_CASE("odometry from a ROS topic reaches the daemon: the same trajectory as 
           20.0));
     }
     CHECK(counts.get("skipped_no_mount") == 0);
-    CHECK(counts.get("failed") == 0);
-    REQUIRE(counts.get("pushed") == odometry.size());
+    CHECK(counts.get("failed") == kHostile);
+    REQUIRE(counts.get("pushed") == odometry.size() - kHostile);
   }
   client->send("?STATUS;");
   const auto status = client->reply("STATUS", 10.0);

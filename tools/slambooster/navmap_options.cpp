@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <sstream>
 #include <vector>
 
@@ -12,18 +13,31 @@ namespace sb::cli {
 
 namespace {
 
+// `count` finite numbers separated by commas (nan, inf and trailing text refused: issue 53).
 std::vector<double> numbers(const std::string& text, size_t count, const std::string& option) {
   std::vector<double> out;
   std::stringstream in(text);
   std::string item;
   try {
-    while (std::getline(in, item, ',')) out.push_back(std::stod(item));
+    while (std::getline(in, item, ',')) {
+      size_t used = 0;
+      const double v = std::stod(item, &used);
+      if (item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(v)) throw Error("");
+      out.push_back(v);
+    }
   } catch (const std::exception&) {
     out.clear();
   }
   if (out.size() != count)
-    throw Error(option + " '" + text + "': expected " + std::to_string(count) + " numbers separated by commas");
+    throw Error(option + " '" + text + "': expected " + std::to_string(count) + " finite numbers separated by commas");
   return out;
+}
+
+void inRange(double v, double lo, double hi, bool open, const std::string& option, const std::string& text,
+             const std::string& what) {
+  if (open ? (v > lo && v < hi) : (v >= lo && v <= hi)) return;
+  throw Error(option + " '" + text + "': " + what + " must lie in " + (open ? "(" : "[") + std::to_string(int(lo)) +
+              ", " + std::to_string(int(hi)) + (open ? ")" : "]"));
 }
 
 }  // namespace
@@ -50,6 +64,9 @@ std::shared_ptr<MapSink> makeNavMapSink(const NavMapOptions& o, const PipelineCo
   if (!o.mount.empty() && o.floor) throw Error("--map-mount and --map-floor: give one");
   if (!o.mount.empty()) {
     const std::vector<double> m = numbers(o.mount, 3, "--map-mount");
+    inRange(m[0], 0.0, 10.0, true, "--map-mount", o.mount, "HEIGHT (metres above the floor)");
+    inRange(m[1], -90.0, 90.0, false, "--map-mount", o.mount, "PITCH (degrees)");
+    inRange(m[2], -90.0, 90.0, false, "--map-mount", o.mount, "ROLL (degrees)");
     config.up = "mount";
     config.mountHeightM = m[0], config.mountPitchDeg = m[1], config.mountRollDeg = m[2];
   } else if (o.floor) {

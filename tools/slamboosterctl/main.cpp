@@ -106,18 +106,40 @@ std::string controlRequest(const Options& o) {
   return "?CONTROL=" + j.dump();
 }
 
-// Pushes an odometry.txt (TUM format, T_camera_to_odom) to the daemon's live odometry.
+// Pushes an odometry.txt (TUM format, T_camera_to_odom) to the daemon's live odometry, and says what the
+// daemon kept: it holds a bounded number of samples (the oldest going first), so a file longer than that loses
+// its start (issue 53: 10,000 samples were reported accepted while 4,096 were kept). Exit 1 when samples were
+// refused or are no longer held.
 int pushOdometryFile(const Options& o) {
   std::vector<sb::odometry::OdometrySample> samples;
   for (const sb::TimedPose& p : sb::readTumTrajectory(o.odometryFile))
     samples.push_back({p.timestamp, p.T_camera_to_world, std::nullopt});
   sb::client::Connection c(o.socket, o.timeout);
-  const size_t accepted = sb::client::pushOdometry(c, samples, o.timeout);
-  if (o.json)
-    print(o, {{"class", "ODOM"}, {"accepted", accepted}});
-  else
-    std::cout << "odometry: " << accepted << " samples of " << o.odometryFile << " accepted\n";
-  return 0;
+  const sb::client::OdomPushResult r = sb::client::pushOdometry(c, samples, o.timeout);
+  size_t dropped = 0;  // pushed samples older than the oldest held
+  if (r.oldest)
+    for (const auto& s : samples) dropped += s.timestamp < *r.oldest;
+  const size_t kept = r.accepted >= dropped ? r.accepted - dropped : 0;
+  if (o.json) {
+    nlohmann::json j = {{"class", "ODOM"}, {"sent", samples.size()}, {"accepted", r.accepted}, {"refused", r.refused},
+                        {"kept", kept}, {"dropped", dropped}, {"held", r.held}, {"capacity", r.capacity}};
+    if (r.oldest) j["oldest"] = *r.oldest;
+    if (r.newest) j["newest"] = *r.newest;
+    if (!r.firstRefused.empty()) j["refused_first"] = r.firstRefused;
+    print(o, j);
+  } else {
+    std::cout << "odometry: " << samples.size() << " samples of " << o.odometryFile << " sent, " << r.accepted
+              << " accepted";
+    if (r.refused) std::cout << ", " << r.refused << " refused (the first: " << r.firstRefused << ")";
+    std::cout << "; the daemon holds " << r.held << " samples (at most " << r.capacity << ")";
+    if (r.oldest && r.newest) std::cout << " from " << std::fixed << *r.oldest << " to " << *r.newest << " s";
+    std::cout << "\n";
+    if (dropped)
+      std::cout << "odometry: the " << dropped << " oldest samples of " << o.odometryFile << " are no longer held ("
+                << kept << " kept): push a file's samples shortly before the frames that need them, at most "
+                << r.capacity << " ahead\n";
+  }
+  return r.refused || dropped ? 1 : 0;
 }
 
 }  // namespace
