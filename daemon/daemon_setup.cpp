@@ -91,6 +91,7 @@ void Daemon::publishEnergy(const EnergyReport& report) {
 void checkConfigFiles(const DaemonConfig& config) {
   try {
     const PipelineConfig pipeline = buildPipelineConfig(config.slam, SequenceInfo{});
+    buildOdometryConfig(config.slam);
     ControllerContext context;
     context.baseKnobs = pipeline.knobs;
     loadControllerSettings(config.slam, context);
