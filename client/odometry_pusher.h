@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "client/connection.h"
-#include "odometry/odometry_track.h"
+#include "drivers/odometry_sample.h"
 
 namespace sb::client {
 

@@ -18,7 +18,7 @@
 #include "daemon/daemon_config.h"
 #include "daemon/protocol.h"
 #include "daemon/service_state.h"
-#include "runtime/odometry_input.h"
+#include "odometry/odometry_input.h"
 
 namespace sb {
 struct SequenceInfo;
@@ -60,7 +60,7 @@ class Daemon : public ServiceState {
   nlohmann::json odometry(const OdomRequest& request) override;
 
  private:
-  // The odometry of source.odometry (runtime/odometry_input.h); the socket's live track when it takes ?ODOM.
+  // The odometry of source.odometry (odometry/odometry_input.h); the socket's live track when it takes ?ODOM.
   OdometryInput openDaemonOdometry();
   struct Parts;
   std::unique_ptr<SlamWorker> makeWorker(const SequenceInfo& info, Mailbox& mailbox);

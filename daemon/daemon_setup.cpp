@@ -127,6 +127,7 @@ void checkConfigFiles(const DaemonConfig& config) {
   }
   try {
     const PipelineConfig pipeline = buildPipelineConfig(config.slam, SequenceInfo{});
+    buildOdometryConfig(config.slam);
     ControllerContext context;
     context.baseKnobs = pipeline.knobs;
     loadControllerSettings(config.slam, context);

@@ -185,6 +185,7 @@ nlohmann::json poseMessage(const FrameReport& r) {
                       {"odometry_drift_m", p.odometryDriftM}};
   if (p.conditioning) j["conditioning"] = *p.conditioning;
   if (!p.weakestMotion.empty()) j["weakest_motion"] = p.weakestMotion;
+  if (!p.odometryFault.empty()) j["odometry_fault"] = p.odometryFault;
   return j;
 }
 

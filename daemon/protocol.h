@@ -29,7 +29,9 @@ constexpr int kProtoMajor = 1;
 // 6: ?MAP answers MAP, the navigation grid (issue 45; docs/navmap.md).
 // 7: MAP carries frame_in_world (the grid's frame in POSE's) and octomap (map.bt's path); ?CLOUD answers CLOUD,
 // the map's surface cells for a point cloud.
-constexpr int kProtoMinor = 7;
+// 8: POSE carries odometry_fault, when the wheels and the view disagree (odometry/wheel_faults.h: disputed,
+// slipping, kidnapped), as frames.jsonl's odometry.fault.
+constexpr int kProtoMinor = 8;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
@@ -82,6 +84,8 @@ struct PoseFields {
   // the distance driven on odometry alone since depth last tracked (metres; 0 unless state is odometry).
   bool odometry = false;
   double odometryDriftM = 0.0;
+  // Protocol 1.8: the wheels and the view disagree (odometry/wheel_faults.h); "" when they do not.
+  std::string odometryFault;
 };
 
 struct KnobFields {

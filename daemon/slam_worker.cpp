@@ -37,6 +37,11 @@ PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& i
   return c;
 }
 
+odometry::OdometryConfig buildOdometryConfig(const SlamConfig& slam) {
+  if (slam.pipelineConfig.empty()) return {};
+  return odometry::odometryConfigFrom(readSettingsFile(slam.pipelineConfig).odometry, slam.pipelineConfig);
+}
+
 ControllerSettings loadControllerSettings(const SlamConfig& slam, const ControllerContext& context) {
   if (slam.controllerConfig.empty())
     return controllerSettingsFrom(nullptr, slam.controller, true, context, "slam.controller");
@@ -56,6 +61,7 @@ SlamWorker::SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence,
     : config_(config),
       sequence_(sequence),
       pipelineConfig_(buildPipelineConfig(config.slam, sequence)),
+      odometryConfig_(buildOdometryConfig(config.slam)),
       queue_(queue),
       publish_(std::move(publish)),
       finished_(std::move(finished)) {
@@ -213,7 +219,8 @@ void SlamWorker::startPass(Passes& p) {
   auto pipeline = Pipeline::create(pipelineConfig_, sequence_.intrinsics, p.pool);
   auto controller = createController(settings, context_);
   RunSummary header =
-      runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, p.pool.threadCount());
+      runSummaryHeader("daemon", sequence_.path, settings, *controller, *pipeline, odometryConfig_,
+                       p.pool.threadCount());
   header.daemon = DaemonPass{p.pass, stats().cpus, stats().threads};
   header.odometry = odometry_.summary();
   RunOutputs outputs;
@@ -226,7 +233,8 @@ void SlamWorker::startPass(Passes& p) {
   outputs.keepSlabBytes = static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0);
   outputs.slabRetention = segments_ ? segments_ : passRetention_;
   outputs.mapSink = maps_ ? maps_->startPass(p.pass) : nullptr;
-  p.run = std::make_unique<Run>(std::move(pipeline), std::move(controller), sequence_.depthScale, outputs,
+  p.run = std::make_unique<Run>(std::move(pipeline), std::move(controller), sequence_.depthScale, odometryConfig_,
+                                outputs,
                                 p.energy ? &*p.energy : nullptr);
   if (odometry_.track) p.run->runner().setOdometry(odometry_.track);
   if (publishEnergy_)

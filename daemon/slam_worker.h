@@ -26,7 +26,7 @@
 #include "pipeline/config.h"
 #include "power/power_sampler.h"
 #include "runtime/knob_pins.h"
-#include "runtime/odometry_input.h"
+#include "odometry/odometry_input.h"
 #include "runtime/slam_runner.h"
 
 namespace sb::daemon {
@@ -63,6 +63,9 @@ ControllerSettings loadControllerSettings(const SlamConfig& slam, const Controll
 // The pipeline config of a run of `sequence`: its volume size and start position, then the file
 // slam.pipeline_config on top. Validated; throws sb::Error naming the file or key.
 PipelineConfig buildPipelineConfig(const SlamConfig& slam, const SequenceInfo& sequence);
+// The platform's physics and the odometry's noise: the "odometry" section of slam.pipeline_config (defaults
+// without one). Throws sb::Error naming the file and key.
+odometry::OdometryConfig buildOdometryConfig(const SlamConfig& slam);
 
 class SlamWorker {
  public:
@@ -93,7 +96,7 @@ class SlamWorker {
     if (maps_) maps_->setPublish(std::move(publish));
   }
 
-  // Before start(): every pass's runner reads this odometry (runtime/odometry_input.h; its track may be the
+  // Before start(): every pass's runner reads this odometry (odometry/odometry_input.h; its track may be the
   // live one the socket adds to), and its summary says so. Default: none.
   void setOdometry(OdometryInput odometry) { odometry_ = std::move(odometry); }
 
@@ -128,6 +131,7 @@ class SlamWorker {
   DaemonConfig config_;
   SequenceInfo sequence_;
   PipelineConfig pipelineConfig_;
+  odometry::OdometryConfig odometryConfig_;
   ControllerContext context_;
   FrameQueue& queue_;
   Publish publish_;

@@ -40,7 +40,7 @@ struct SourceConfig {
   double depthScale = 0.0;          // raw units per metre; 0 = from calibration.json / the format
   size_t queueFrames = 4;           // capacity of the capture -> SLAM queue (frames)
   std::string depthTopic;           // replay of a ROS bag: its depth image topic; empty = the bag's only one
-  // The robot's odometry (runtime/odometry_input.h): "auto" = a replay's SEQ/odometry.txt (a bag's Odometry
+  // The robot's odometry (odometry/odometry_input.h): "auto" = a replay's SEQ/odometry.txt (a bag's Odometry
   // topic) when it has one, else what clients push with ?ODOM; "socket" = only ?ODOM; "none"; or a file's path.
   std::string odometry = "auto";
   std::string odomTopic;    // replay of a ROS bag: its nav_msgs/Odometry topic; empty = the bag's only one

@@ -9,7 +9,7 @@
 
 #include "drivers/frame_source.h"
 #include "drivers/sequence.h"
-#include "odometry/odometry_track.h"
+#include "drivers/odometry_sample.h"
 
 namespace sb {
 

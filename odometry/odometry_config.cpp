@@ -35,6 +35,10 @@ constexpr Key kKeys[] = {
     {"max_gap_s", &OdometryConfig::maxGapS, 0.001, 100.0},
     {"calibration_window_m", &OdometryConfig::calibrationWindowM, 0.0, 1e6},
     {"tilt_sigma_deg", &OdometryConfig::tiltSigmaDeg, 0.0, 90.0},
+    {"dispute_s", &OdometryConfig::disputeS, 0.0, 60.0},
+    {"calm_s", &OdometryConfig::calmS, 0.0, 60.0},
+    {"map_agreement_fraction", &OdometryConfig::mapAgreementFraction, 0.0, 1.0},
+    {"max_unchecked_s", &OdometryConfig::maxUncheckedS, 0.0, 60.0},
 };
 
 }  // namespace
@@ -47,6 +51,20 @@ nlohmann::json OdometryConfig::toJson() const {
   nlohmann::json j = nlohmann::json::object();
   for (const Key& k : kKeys) j[k.name] = this->*k.member;
   return j;
+}
+
+}  // namespace sb::odometry
+
+namespace sb::odometry {
+
+OdometryConfig odometryConfigFrom(const nlohmann::json& section, const std::string& where) {
+  OdometryConfig c;
+  if (section.is_null()) return c;
+  // Read as the settings file's "odometry" key, so that messages name it as before the section had its own type.
+  ConfigReader r(nlohmann::json{{"odometry", section}}, where);
+  r.section("odometry", [&](ConfigReader& s) { c.read(s); });
+  r.finish();
+  return c;
 }
 
 }  // namespace sb::odometry

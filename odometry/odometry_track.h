@@ -1,5 +1,5 @@
 #pragma once
-// The robot's odometry as one stream (architecture.md D4c; docs/odometry.md): stamped camera poses in an
+// The robot's odometry as one stream (docs/odometry.md): stamped camera poses in an
 // odometry frame, whatever door they came in by (a sequence's odometry.txt, a bag's nav_msgs/Odometry with its
 // /tf_static mount, the ROS bridge's ~odom_topic, the socket's ?ODOM request).
 //
@@ -29,18 +29,10 @@
 #include <string>
 #include <vector>
 
+#include "drivers/odometry_sample.h"
 #include "odometry/odometry_config.h"
 
 namespace sb::odometry {
-
-using Matrix6 = Eigen::Matrix<double, 6, 6>;
-
-struct OdometrySample {
-  double timestamp = 0.0;  // seconds, on the depth frames' clock
-  Eigen::Isometry3d T_camera_to_odom = Eigen::Isometry3d::Identity();
-  // Of the pose, in the odometry frame, order tx ty tz rx ry rz (m^2, rad^2), when the source states one.
-  std::optional<Matrix6> covariance;
-};
 
 // The most a live sample's stamp may lie past the newest sample and the newest frame (seconds), or before the
 // newest sample without being a plain duplicate or reordering; beyond it a sample is held (see above).

@@ -149,7 +149,6 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
   r.boolean("empty_space_skipping", c.emptySpaceSkipping);
   r.boolean("integrate_carve_blocks", c.integrateCarveBlocks);
   r.boolean("relocalise", c.relocalise);
-  r.section("odometry", [&](ConfigReader& s) { c.odometry.read(s); });
   std::string volumeMode = volumeModeName(c.volumeMode);
   r.string("volume_mode", volumeMode, {"auto", "moving", "fixed"});
   c.volumeMode = volumeMode == "moving" ? VolumeMode::moving
@@ -196,7 +195,6 @@ nlohmann::json configToJson(const PipelineConfig& c) {
   j["empty_space_skipping"] = c.emptySpaceSkipping;
   j["integrate_carve_blocks"] = c.integrateCarveBlocks;
   j["relocalise"] = c.relocalise;
-  j["odometry"] = c.odometry.toJson();
   j["volume_mode"] = volumeModeName(c.volumeMode);
   j["backend"] = backendKindName(c.backend);
   j["opencl_platform"] = c.openclPlatform;

@@ -7,7 +7,6 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "odometry/odometry_config.h"
 #include "pipeline/knobs.h"
 
 namespace sb {
@@ -49,9 +48,6 @@ struct PipelineConfig {
   // (pipeline/tracking_quality.h; at least one pixel of the tracked level): per-pixel normal noise falls by
   // about the block's inliers, structure larger than a block keeps its weight. 1: the per-pixel conditioning.
   int qualityBlockPixels = 32;
-
-  // --- the platform's physics and the robot's odometry (section "odometry"; odometry/odometry_config.h) ---
-  odometry::OdometryConfig odometry;
 
   // --- tracking state and relocalisation (runtime/tracking_monitor.h, reloc/) ---
   // Failed tracks in a row after which plain tracking is no longer trusted: the frames are lost until the

@@ -148,6 +148,8 @@ void fieldsOf(OdometrySummary& o, Field field) {
   field("yaw_scale_error", o.yawScaleError);
   field("yaw_bias_deg_per_s", o.yawBiasDegPerS);
   field("calibration_frames", o.calibrationFrames);
+  field("mount_error_deg", o.mountErrorDeg);
+  field("mount_turn_seen_deg", o.mountTurnSeenDeg);
 }
 
 template <typename Field>

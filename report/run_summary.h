@@ -58,17 +58,21 @@ struct TrackingStateSummary {
   bool lostAtEnd = false;
 };
 
-// The robot's odometry the run was given ("odometry"; runtime/odometry_input.h): absent without one.
+// The robot's odometry the run was given ("odometry"; odometry/odometry_input.h): absent without one.
 struct OdometrySummary {
   std::string source;         // where from: a file's path, "BAG TOPIC ...", "socket", ...
   size_t samples = 0;         // samples the track held at the last frame
   size_t framesWithPose = 0;  // frames whose stamp the odometry covered (interpolated)
   double pathM = 0.0;         // the odometry camera's path over those frames, metres
-  // The wheels' errors as the run learnt them at its last frame (runtime/odometry_calibration.h).
+  // The wheels' errors as the run learnt them at its last frame (odometry/odometry_calibration.h).
   double scaleError = 0.0;        // the distance read (1 + this) times the truth
   double yawScaleError = 0.0;     // turns read (1 + this) times the truth ...
   double yawBiasDegPerS = 0.0;    // ... plus this drift
   size_t calibrationFrames = 0;   // frames that brought evidence
+  // The camera mount's tilt error learnt from the turns (odometry/mount_calibration.h): degrees, and the turning
+  // seen, degrees (the correction applies from 20 degrees of turning on).
+  double mountErrorDeg = 0.0;
+  double mountTurnSeenDeg = 0.0;
 };
 
 struct StoppedSummary {  // `run --stop-after-ms` stopped the run ("stopped")

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "odometry/odometry_track.h"
+#include "drivers/odometry_sample.h"
 
 namespace sb::ros_bridge {
 

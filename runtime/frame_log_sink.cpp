@@ -65,6 +65,7 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   if (o.available || !o.why.empty()) {  // only in runs with odometry: others keep their frames.jsonl
     j["odometry"] = {{"available", o.available}, {"used", o.used}, {"rejected", o.rejected}, {"drift_m", o.driftM}};
     if (o.fused) j["odometry"]["fused"] = true;
+    if (o.fault != odometry::WheelFault::none) j["odometry"]["fault"] = odometry::wheelFaultName(o.fault);
     if (!o.why.empty()) j["odometry"]["why"] = o.why;
   }
   if (!rec.implausible.empty()) j["implausible"] = rec.implausible;

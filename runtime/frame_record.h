@@ -8,23 +8,13 @@
 
 #include "controller/controller.h"
 #include "pipeline/pipeline.h"
+#include "odometry/motion_model.h"
 #include "reloc/relocaliser.h"
 #include "core/tracking_state.h"
 
 namespace sb {
 
-// What the robot's odometry did for a frame (docs/odometry.md); all false/0 without odometry.
-struct FrameOdometry {
-  bool available = false;  // the odometry had a pose at this frame's stamp and at the previous frame's
-  bool used = false;       // its motion seeded ICP and was fused with the tracked pose (or, state odometry, was it)
-  bool rejected = false;   // contradicted by the view along the motions it fixes (a wheel slip): not used
-  double driftM = 0.0;     // metres driven on odometry alone since depth last tracked (state odometry)
-  bool fused = false;      // state odometry: the frame was fused at the odometry's pose (the view is back)
-  // The camera's pose in the odometry frame at the frame's stamp (T_camera_to_odom), when available: the
-  // odometry frame's z axis is up (REP 103), which the navigation map needs.
-  std::optional<Eigen::Isometry3d> cameraToOdom;
-  std::string why;         // when not available or rejected: why, for frames.jsonl
-};
+using odometry::FrameOdometry;  // odometry/motion_model.h
 
 struct FrameRecord {
   FrameResult result;             // after finishFrame: final pose, stage times, velocity of the final pose

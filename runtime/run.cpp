@@ -50,9 +50,9 @@ Eigen::Isometry3d overviewPose(const PipelineConfig& c) {
 }
 
 Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> controller, double depthScale,
-         const RunOutputs& outputs, EnergyAccount* energy)
+         const odometry::OdometryConfig& motion, const RunOutputs& outputs, EnergyAccount* energy)
     : pipeline_(std::move(pipeline)),
-      runner_(*pipeline_, std::move(controller), depthScale),
+      runner_(*pipeline_, std::move(controller), depthScale, motion),
       dir_(outputs.dir),
       outputs_(addStandardOutputs(runner_, outputs.dir, outputs.groundTruthPath, outputs.summary,
                                   outputs.comment, outputs.segments)),
@@ -82,7 +82,7 @@ FrameRecord Run::step(const DepthFrame& frame) {
   RunSummary& header = outputs_.summary->header();
   if (const odometry::OdometryTrack* track = runner_.odometry(); track && header.odometry) {
     countOdometryFrame(*track, frame.timestamp, *header.odometry, lastOdometryPose_);
-    noteCalibration(runner_.monitor().calibration().estimate(), *header.odometry);
+    noteCalibration(runner_.motion().calibration().estimate(), runner_.motion().mount(), *header.odometry);
   }
   try {
     FrameRecord rec = runner_.step(frame);

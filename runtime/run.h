@@ -27,7 +27,7 @@
 #include "runtime/energy_account.h"
 #include "runtime/map_sink.h"
 #include "runtime/map_slabs.h"
-#include "runtime/odometry_input.h"
+#include "odometry/odometry_input.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 
@@ -68,9 +68,10 @@ struct RunEnd {
 class Run {
  public:
   // Owns `pipeline` and `controller`; borrows `energy` (nullptr: no energy accounting; must outlive the run).
+  // `motion`: the platform's physics and the odometry's noise (odometry/odometry_config.h).
   // Creates the output directory and files (throws sb::Error naming them).
   Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> controller, double depthScale,
-      const RunOutputs& outputs, EnergyAccount* energy = nullptr);
+      const odometry::OdometryConfig& motion, const RunOutputs& outputs, EnergyAccount* energy = nullptr);
 
   // One frame (SlamRunner::step), then its energy. Throws sb::Error on bad input or a failed write.
   FrameRecord step(const DepthFrame& frame);

@@ -15,6 +15,10 @@ SettingsFile readSettingsFile(const std::string& path) {
     file.controller = file.pipeline["controller"];
     file.pipeline.erase("controller");
   }
+  if (file.pipeline.contains("odometry")) {
+    file.odometry = file.pipeline["odometry"];
+    file.pipeline.erase("odometry");
+  }
   return file;
 }
 
@@ -51,7 +55,7 @@ ControllerSettings controllerSettingsFrom(nlohmann::json section, const std::str
 
 RunSummary runSummaryHeader(const std::string& frontEnd, const std::string& sequence,
                             const ControllerSettings& settings, const Controller& controller,
-                            Pipeline& pipeline, unsigned threads) {
+                            Pipeline& pipeline, const odometry::OdometryConfig& odometry, unsigned threads) {
   const PipelineConfig& config = pipeline.config();
   RunSummary s;
   s.frontEnd = frontEnd;
@@ -60,6 +64,7 @@ RunSummary runSummaryHeader(const std::string& frontEnd, const std::string& sequ
   s.controllerSections = settings.sections;
   s.knobs = knobsSummary(controller.initialKnobs());
   s.config = configToJson(config);
+  s.config["odometry"] = odometry.toJson();
   s.threads = threads;
   if (dynamic_cast<CpuBackend*>(&pipeline.backend())) {
     s.machine = thisMachine(threads, "cpu", cpuModel());

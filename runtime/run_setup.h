@@ -15,6 +15,7 @@
 
 #include "controller/registry.h"
 #include "drivers/frame_source.h"
+#include "odometry/odometry_config.h"
 #include "pipeline/config.h"
 #include "pipeline/pipeline.h"
 #include "report/run_summary.h"
@@ -22,11 +23,12 @@
 namespace sb {
 
 // A settings file: one JSON object whose "controller" key, when present, is the controller section (a name
-// or a settings object, config/controller.json) and whose other keys are pipeline keys
-// (config/pipeline.json).
+// or a settings object, config/controller.json), whose "odometry" key is the platform's physics and the
+// odometry's noise (odometry/odometry_config.h), and whose other keys are pipeline keys (config/pipeline.json).
 struct SettingsFile {
-  nlohmann::json pipeline = nlohmann::json::object();  // every key but "controller"
+  nlohmann::json pipeline = nlohmann::json::object();  // every key but "controller" and "odometry"
   nlohmann::json controller;                           // the "controller" value; null when absent
+  nlohmann::json odometry;  // the "odometry" value (odometry/odometry_config.h); null when absent
 };
 // Reads `path` with readJsonConfig (the one JSON file loader). Throws sb::Error naming the file.
 SettingsFile readSettingsFile(const std::string& path);
@@ -46,10 +48,11 @@ ControllerSettings controllerSettingsFrom(nlohmann::json section, const std::str
                                           const ControllerContext& context, const std::string& where);
 
 // The first fields of summary.json, the same for both front ends: the front end ("run", "daemon"), the
-// sequence, the controller, its sections and initial knobs, the pipeline config, the worker threads and the
+// sequence, the controller, its sections and initial knobs, the pipeline config (its "odometry" key the
+// odometry's), the worker threads and the
 // machine the run is timed on (the CPU backend names this CPU; OpenCL the config's device selectors).
 RunSummary runSummaryHeader(const std::string& frontEnd, const std::string& sequence,
                             const ControllerSettings& settings, const Controller& controller,
-                            Pipeline& pipeline, unsigned threads);
+                            Pipeline& pipeline, const odometry::OdometryConfig& odometry, unsigned threads);
 
 }  // namespace sb

@@ -7,8 +7,13 @@
 
 namespace sb {
 
-SlamRunner::SlamRunner(Pipeline& pipeline, std::unique_ptr<Controller> controller, double depthScale)
-    : pipeline_(pipeline), depthScale_(depthScale), previousPose_(pipeline.pose()), monitor_(pipeline.config()) {
+SlamRunner::SlamRunner(Pipeline& pipeline, std::unique_ptr<Controller> controller, double depthScale,
+                       const odometry::OdometryConfig& motion)
+    : pipeline_(pipeline),
+      depthScale_(depthScale),
+      previousPose_(pipeline.pose()),
+      monitor_(pipeline.config()),
+      motion_(motion) {
   setController(std::move(controller));
 }
 
@@ -41,7 +46,8 @@ void SlamRunner::applyHalfPrecision(FrameRecord& rec) {
   rec.halfApplied = backend.halfPrecision();
 }
 
-Observation SlamRunner::observe(const FrameResult& r, const DepthFrame& frame, const FrameMotion& motion) const {
+Observation SlamRunner::observe(const FrameResult& r, const DepthFrame& frame,
+                                const odometry::FrameMotion& motion) const {
   Observation obs;
   obs.odometry = motion.step.has_value();
   obs.frame = r.frame;
@@ -85,54 +91,18 @@ Decision SlamRunner::decide(const Observation& obs, FrameRecord& rec) {
   return d;
 }
 
-FrameMotion SlamRunner::motionOf(const DepthFrame& frame, FrameRecord& rec) const {
-  FrameMotion motion;
-  motion.previousPose = previousPose_;
-  motion.previousStamp = previousStamp_;
-  motion.hasPrevious = frames_ > 0;
-  if (!odometry_) return motion;
-  if (!motion.hasPrevious) {
-    rec.odometry.why = "first frame: no motion yet";
-    return motion;
-  }
-  const odometry::OdometryConfig& c = pipeline_.config().odometry;
-  rec.odometry.cameraToOdom = odometry_->poseAt(frame.timestamp, c.maxGapS, c.maxExtrapolationS);
-  auto step = odometry::stepBetween(*odometry_, previousStamp_, frame.timestamp, c, rec.odometry.why);
-  if (!step) return motion;
-  rec.odometry.available = true;
-  // A step the platform cannot make is the wheels slipping (or a glitch), not motion.
-  const std::string slip =
-      odometry::implausibleMotion(c, Eigen::Isometry3d::Identity(), step->delta, step->dt, std::nullopt);
-  if (!slip.empty()) {
-    rec.odometry.rejected = true;
-    rec.odometry.why = "the odometry's step " + slip + ": a wheel slip, not used";
-    return motion;
-  }
-  motion.raw = step;
-  motion.step = monitor_.calibration().correct(*step);
-  if (worldFromOdometry_ && rec.odometry.cameraToOdom)  // the odometry's absolute tilt
-    motion.level = odometry::Level{*worldFromOdometry_ * *rec.odometry.cameraToOdom,
-                                   worldFromOdometry_->linear() * Eigen::Vector3d::UnitZ()};
-  if (viewStamp_ && !previousViewFixed_) {
-    // The last frame's pose was not the view's (skipped by the tracking rate, dead reckoning in state odometry,
-    // a discarded track): the prediction is as uncertain as the wheels' whole interval since the view last fixed
-    // the pose, not one step of it.
-    std::string why;
-    if (const auto interval = odometry::stepBetween(*odometry_, *viewStamp_, frame.timestamp, c, why))
-      odometry::widenNoise(*motion.step, *interval);
-  }
-  return motion;
-}
-
 FrameRecord SlamRunner::step(const DepthFrame& frame) {
   FrameRecord rec;
   rec.startMonoNs = power::monotonicClock().nowNs();
   rec.knobsPinned = !pins_.empty();
   applyHalfPrecision(rec);
-  const FrameMotion motion = motionOf(frame, rec);
+  const odometry::FrameMotion motion =
+      motion_.predict(previousPose_, previousStamp_, frames_ > 0, frame.timestamp, rec.odometry);
   IcpStart start = nextStart_;
-  if (motion.step) start.pose = previousPose_ * motion.step->delta;  // ICP starts from the odometry's motion
-  rec.result = pipeline_.trackFrame(frame, depthScale_, nextKnobs(), start);
+  if (motion.step) start.pose = motion.predicted();  // ICP starts from the odometry's motion
+  Knobs knobs = nextKnobs();
+  if (motion_.needsView()) knobs.trackingRate = 1;  // the view last checked the wheels too long ago
+  rec.result = pipeline_.trackFrame(frame, depthScale_, knobs, start);
   // Lost for a while: a plain track is not trusted (the relocaliser decides, in resolve()).
   if (monitor_.recovering()) pipeline_.discardTrack(rec.result);
   Observation obs = observe(rec.result, frame, motion);
@@ -150,7 +120,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   }
   rec.trackedVelocity = obs.velocity;
   rec.controller = controller_->name();
-  monitor_.resolve(pipeline_, frame, depthScale_, rec, motion);
+  monitor_.resolve(pipeline_, frame, depthScale_, rec, motion_, motion);
   const FrameResult& r = rec.result;
   pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
                         FrameOverrides{rec.decision.integrate, rec.decision.keepReference, rec.decision.refinedPose,
@@ -162,12 +132,9 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   rec.decision.next = nextKnobs();  // the controller's choice with the pins in place
   previousPose_ = r.T_camera_to_world;
   previousStamp_ = r.timestamp;
-  previousViewFixed_ = r.tracked && !r.poseOverridden && rec.state != TrackingState::odometry &&
-                       rec.state != TrackingState::lost;
-  if (previousViewFixed_) viewStamp_ = r.timestamp;
-  // The odometry frame in the world frame, from the first frame the view fixed with an odometry pose.
-  if (!worldFromOdometry_ && previousViewFixed_ && rec.odometry.cameraToOdom)
-    worldFromOdometry_ = r.T_camera_to_world * rec.odometry.cameraToOdom->inverse();
+  const bool viewFixed =
+      r.tracked && !r.poseOverridden && rec.state != TrackingState::odometry && rec.state != TrackingState::lost;
+  motion_.finished(r.T_camera_to_world, r.timestamp, viewFixed, rec.odometry);
   previousComputationMs_ = r.times.computationMs();
   ++frames_;
   rec.endMonoNs = power::monotonicClock().nowNs();

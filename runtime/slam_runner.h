@@ -12,7 +12,7 @@
 
 #include "controller/controller.h"
 #include "drivers/frame_source.h"
-#include "odometry/odometry_track.h"
+#include "odometry/motion_model.h"
 #include "pipeline/pipeline.h"
 #include "runtime/frame_record.h"
 #include "runtime/knob_pins.h"
@@ -24,7 +24,9 @@ namespace sb {
 class SlamRunner {
  public:
   // Borrows `pipeline` (must outlive the runner); owns `controller`. `depthScale`: raw units per metre.
-  SlamRunner(Pipeline& pipeline, std::unique_ptr<Controller> controller, double depthScale);
+  // `motion`: the platform's physics and the odometry's noise (the settings file's "odometry" section).
+  SlamRunner(Pipeline& pipeline, std::unique_ptr<Controller> controller, double depthScale,
+             const odometry::OdometryConfig& motion = {});
 
   // Adds an output; the runner owns it. Returns it for the caller's later use (e.g. reading a summary).
   OutputSink& addSink(std::unique_ptr<OutputSink> sink);
@@ -46,8 +48,8 @@ class SlamRunner {
   void setLatestJoules(double joules) { latestJoules_ = joules; }
   // The robot's odometry (odometry/odometry_track.h), shared with whoever adds samples (the daemon's socket);
   // nullptr: none. Read at each frame's stamp from the next frame on.
-  void setOdometry(std::shared_ptr<const odometry::OdometryTrack> track) { odometry_ = std::move(track); }
-  const odometry::OdometryTrack* odometry() const { return odometry_.get(); }
+  void setOdometry(std::shared_ptr<const odometry::OdometryTrack> track) { motion_.setTrack(std::move(track)); }
+  const odometry::OdometryTrack* odometry() const { return motion_.track(); }
   // Flushes every sink (files on disk reflect every frame so far).
   void flush();
 
@@ -57,14 +59,13 @@ class SlamRunner {
   const KnobPins& pins() const { return pins_; }
   size_t frames() const { return frames_; }
   const TrackingMonitor& monitor() const { return monitor_; }
+  const odometry::MotionModel& motion() const { return motion_; }
   Pipeline& pipeline() { return pipeline_; }
 
  private:
   // Switches the backend's half precision to what the last decision wished (where the backend has it).
   void applyHalfPrecision(FrameRecord& rec);
-  Observation observe(const FrameResult& result, const DepthFrame& frame, const FrameMotion& motion) const;
-  // The previous frame's pose and stamp, and the odometry's step since then (rec.odometry says what it found).
-  FrameMotion motionOf(const DepthFrame& frame, FrameRecord& rec) const;
+  Observation observe(const FrameResult& result, const DepthFrame& frame, const odometry::FrameMotion& motion) const;
   // Controller::decide, timed into rec.controllerMs, its knobs validated (throws sb::Error naming it).
   Decision decide(const Observation& observation, FrameRecord& rec);
 
@@ -79,15 +80,10 @@ class SlamRunner {
   std::optional<double> latestJoules_;
   Eigen::Isometry3d previousPose_;
   double previousStamp_ = 0.0;
-  // The last frame whose pose the view fixed, for the noise of the wheels' prediction, and whether it was the
-  // last frame.
-  std::optional<double> viewStamp_;
-  bool previousViewFixed_ = false;
-  std::optional<Eigen::Isometry3d> worldFromOdometry_;  // the odometry frame in the world frame (its up axis)
   double previousComputationMs_ = 0.0;
   size_t frames_ = 0;
   TrackingMonitor monitor_;
-  std::shared_ptr<const odometry::OdometryTrack> odometry_;
+  odometry::MotionModel motion_;
 };
 
 }  // namespace sb

@@ -7,34 +7,21 @@
 // the residual and inlier tests in the wrong place): the pose is held, nothing is fused, and each frame the
 // relocaliser (reloc/relocaliser.h) tries candidate poses until one is confirmed over consecutive frames.
 // While tracking is good the frames feed the relocaliser's keyframes.
-// With the robot's odometry (docs/odometry.md) a tracked pose is fused with the odometry's prediction, a frame
-// depth cannot track follows the odometry (state odometry) for a bounded distance and time, and the relocaliser
-// starts from the odometry's pose and refuses a candidate the odometry contradicts. With or without it, a
-// tracked motion the platform cannot make is not trusted (odometry/odometry_config.h: its physics).
+// The platform's motion (the odometry's fusion, the physics of a tracked motion) is the motion model's
+// (odometry/motion_model.h): the monitor asks it to judge a track, to follow the wheels where depth does not
+// track, where the dead reckoning is for the relocaliser's first guess, and whether the wheels contradict a
+// candidate.
 
 #include <cstddef>
-#include <deque>
-#include <string>
 
 #include "drivers/frame_source.h"
 #include "pipeline/pipeline.h"
 #include "reloc/fern_encoder.h"
 #include "reloc/relocaliser.h"
+#include "odometry/motion_model.h"
 #include "runtime/frame_record.h"
-#include "runtime/odometry_calibration.h"
-#include "runtime/odometry_fusion.h"
 
 namespace sb {
-
-// What the runner knows of a frame's motion before it is resolved.
-struct FrameMotion {
-  Eigen::Isometry3d previousPose = Eigen::Isometry3d::Identity();  // the previous frame's final pose
-  double previousStamp = 0.0;                                       // and its stamp (seconds)
-  bool hasPrevious = false;                                         // false on the first frame
-  std::optional<odometry::OdometryStep> step;  // the odometry's step since then (not rejected before ICP), calibrated
-  std::optional<odometry::OdometryStep> raw;   // the same step as the wheels reported it
-  std::optional<odometry::Level> level;        // the odometry's absolute tilt at this frame
-};
 
 class TrackingMonitor {
  public:
@@ -44,55 +31,29 @@ class TrackingMonitor {
   bool recovering() const { return recovering_; }
   // After the controller's decision on the frame in hand (rec.result, rec.decision): relocalises when
   // recovering, sets rec.state and rec.relocalisation, and overrides what a lost or relocalised frame may do
-  // (no correction, no fusion, the next ICP from the held or relocalised pose).
-  // `motion`: the previous frame's final pose and stamp, and the odometry's step since then when there is one.
+  // (no correction, no fusion, the next ICP from the held or relocalised pose). `model` judges the track and
+  // follows the wheels (odometry/motion_model.h); `motion`: the frame's prediction, from the model.
   void resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
-               const FrameMotion& motion);
+               odometry::MotionModel& model, const odometry::FrameMotion& motion);
   // After finishFrame: a good frame is offered to the keyframe database.
   void after(const DepthFrame& frame, double depthScale, FrameRecord& rec);
 
   const Relocaliser& relocaliser() const { return relocaliser_; }
-  // The wheels' errors learnt so far; the runner corrects each odometry step with it.
-  const odometry::OdometryCalibration& calibration() const { return calibration_; }
 
  private:
-  // The tracked pose against the platform's physics: an impossible motion is discarded (tracked false).
-  void checkPhysics(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion);
-  // The track discarded as implausible (`why`): the pose goes on at the last velocity, nothing fused.
-  void discardTrack(Pipeline& pipeline, FrameRecord& rec, const FrameMotion& motion, const std::string& why);
-  // A tracked frame with odometry: fused, or the odometry rejected as a slip.
-  void fuse(FrameRecord& rec, const FrameMotion& motion);
-  // A frame skipped by the tracking rate, with odometry: its pose is the last one moved by the wheels' step (in
-  // state odometry, the dead reckoning goes on within its budget). Nothing fused.
-  void followWheels(FrameRecord& rec, const FrameMotion& motion);
-  // The frame's pose came from the wheels (a skipped frame, state odometry): its motion is the platform's velocity
-  // the next frame's view is held against (inertia). Without it a view jumping ahead of a robot just back from the
-  // odometry state had no velocity to break, and the wheels were rejected as a slip instead (a held-out drive:
-  // 7.4 cm along the corridor at frame 56, kept for the whole drive).
-  void movedBy(const FrameRecord& rec, const FrameMotion& motion);
-  // A frame depth did not track, with odometry left in the budget: the pose follows it. False when it cannot.
-  bool followOdometry(FrameRecord& rec, const FrameMotion& motion);
-  // The relocaliser's try, refused when the odometry contradicts the candidate.
-  TrackAttempt tryWithOdometry(const TrackAttempt& attempt) const;
-  void relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec);
+  void relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
+                  odometry::MotionModel& model);
 
   PipelineConfig config_;
   FernEncoder encoder_;
   Relocaliser relocaliser_;
-  odometry::OdometryCalibration calibration_;
   int failedInARow_ = 0;
   bool recovering_ = false;
   TrackingState last_ = TrackingState::good;  // of the last frame with a tracking attempt
   // Frames in a row whose tracked motion the platform cannot make: the pose goes on at the last velocity and the
   // next frame tracks from there, up to this many (1 s at 30 Hz); then they count as failures (relocalisation).
   static constexpr int kMaxImplausibleInARow = 30;
-  static constexpr size_t kAgreementFrames = 30;  // the recent tracked frames a jump's evidence is held against
   int implausibleInARow_ = 0;
-  std::deque<double> agreement_;  // pair agreement of the last tracked frames (the evidence a jump must keep)
-  std::optional<Eigen::Vector3d> lastVelocity_;  // m/s, world frame: of the last tracked frame's motion
-  // Dead reckoning on the odometry since depth last tracked: the pose, the distance and time driven.
-  std::optional<Eigen::Isometry3d> odometryPose_;
-  double odometryDistanceM_ = 0.0, odometryTimeS_ = 0.0;
 };
 
 }  // namespace sb

@@ -71,14 +71,17 @@ std::string OdometryErrors::describe() const {
   return out;
 }
 
-Trajectory driveOdometry(const stress::DrivePath& path, double endS, const OdometryErrors& e, uint64_t seed) {
+Trajectory driveOdometry(const stress::DrivePath& path, double endS, const OdometryErrors& e, uint64_t seed,
+                         const DriveFaults& faults) {
   e.validate();
+  faults.validate();
+  const DriveClock clock(path, faults);
   Rng rng(seed * 0x9E3779B97F4A7C15ull + kOdometrySalt);
   const double period = 1.0 / e.rateHz;
   // Stamps offset from the frames' (which start at 0 s) by 10-90% of a period.
   const double offset = period * (0.1 + 0.8 * rng.unit());
   const Eigen::Isometry3d odomFromWorld = path.baseToWorld(0.0).inverse();  // the odometry frame: the base at 0 s
-  const Eigen::Isometry3d mount = path.cameraToBase();
+  const Eigen::Isometry3d mount = assumedMount(path.cameraToBase(), faults);
   const double yawBias = e.yawBiasDegps * kDegToRad, yawNoise = e.yawNoiseDegPerSqrtS * kDegToRad;
 
   Trajectory out;
@@ -87,9 +90,10 @@ Trajectory driveOdometry(const stress::DrivePath& path, double endS, const Odome
   Eigen::Isometry3d previousTrue = odomFromWorld * path.baseToWorld(0.0);
   for (size_t k = 0;; ++k) {
     const double t = offset + static_cast<double>(k) * period;
-    const Eigen::Isometry3d trueBase = odomFromWorld * path.baseToWorld(t);
-    // The true increment in the previous base frame (planar: the base stays on the floor).
-    const Eigen::Isometry3d d = previousTrue.inverse() * trueBase;
+    const Eigen::Isometry3d trueBase = odomFromWorld * path.baseToWorld(clock.at(t));
+    // The true increment in the previous base frame (planar: the base stays on the floor); none while carried.
+    const Eigen::Isometry3d d =
+        clock.carriedBetween(previousT, t) ? Eigen::Isometry3d::Identity() : previousTrue.inverse() * trueBase;
     const double dx = d.translation().x(), dy = d.translation().y();
     const double dyaw = std::atan2(d.linear()(1, 0), d.linear()(0, 0));
     const double dt = t - previousT, step = std::hypot(dx, dy);
@@ -97,22 +101,23 @@ Trajectory driveOdometry(const stress::DrivePath& path, double endS, const Odome
     const double my = (1.0 + e.scale) * dy + e.noiseMPerSqrtM * std::sqrt(step) * normal(rng);
     const double myaw = (1.0 + e.yawScale) * dyaw + yawBias * dt + yawNoise * std::sqrt(dt) * normal(rng);
     if (e.slipAtS >= 0.0 && e.slipAtS >= previousT && e.slipAtS < t) mx += e.slipM;  // the wheels spin
+    if (clock.stalled(t)) mx += (1.0 + e.scale) * faults.stallSpeedMps * dt;  // and spin on against the obstacle
     odom.x += std::cos(odom.yaw) * mx - std::sin(odom.yaw) * my;
     odom.y += std::sin(odom.yaw) * mx + std::cos(odom.yaw) * my;
     odom.yaw += myaw;
     TimedPose sample;
-    sample.timestamp = t;
+    sample.timestamp = t + faults.latencyS;
     sample.T_camera_to_world = toIsometry(odom) * mount;  // T_camera_to_odom
     out.push_back(sample);
     previousT = t;
     previousTrue = trueBase;
-    if (t >= endS) break;
+    if (std::min(t, t + faults.latencyS) >= endS) break;
   }
   return out;
 }
 
 void writeOdometryFile(const std::string& path, const Trajectory& odometry, const OdometryErrors& errors,
-                       uint64_t seed) {
+                       uint64_t seed, const DriveFaults& faults) {
   std::ofstream out(path);
   if (!out) throw Error("synth: cannot write '" + path + "': check that the directory exists");
   out << "# timestamp tx ty tz qx qy qz qw: wheel odometry, T_camera_to_odom (metres, seconds on depth.txt's "
@@ -120,6 +125,7 @@ void writeOdometryFile(const std::string& path, const Trajectory& odometry, cons
       << "# the camera's optical frame (x right, y down, z forward; groundtruth.txt's) in the base's odometry "
          "frame (ROS REP 103: x forward, y left, z up; the base at the drive's start), through the camera mount\n"
       << "# synthetic errors (seed " << seed << "): " << errors.describe() << "\n";
+  if (const std::string f = faults.describe(); !f.empty()) out << "# synthetic faults: " << f << "\n";
   for (const TimedPose& p : odometry) out << formatTumLine(p) << "\n";
   if (!out) throw Error("synth: writing '" + path + "' failed (disk full?)");
 }

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "core/trajectory.h"
+#include "synth/drive_faults.h"
 #include "synth/stress_drive.h"
 
 namespace sb::synth {
@@ -39,13 +40,14 @@ struct OdometryErrors {
 };
 
 // The drive's odometry from its start up to `endS` seconds (at least one sample at or after it). `seed`
-// seeds the noise and the stamps' offset.
+// seeds the noise and the stamps' offset. `faults` (drive_faults.h): the truth's stall or carry as the wheels
+// read it (a stall's spin, a carry's stillness), the stamps' latency and the mount the odometry assumes.
 Trajectory driveOdometry(const stress::DrivePath& path, double endS, const OdometryErrors& errors,
-                         uint64_t seed);
+                         uint64_t seed, const DriveFaults& faults = {});
 
 // Writes `odometry` as a TUM-format odometry.txt whose header comment states the convention and `errors`.
 // Throws sb::Error naming the file.
 void writeOdometryFile(const std::string& path, const Trajectory& odometry, const OdometryErrors& errors,
-                       uint64_t seed);
+                       uint64_t seed, const DriveFaults& faults = {});
 
 }  // namespace sb::synth

@@ -37,6 +37,7 @@ FrameRecord sampleRecord() {
   rec.odometry.available = true;
   rec.odometry.used = true;
   rec.odometry.driftM = 0.75;
+  rec.odometry.fault = sb::odometry::WheelFault::kidnapped;
   return rec;
 }
 
@@ -53,7 +54,8 @@ TEST_CASE("POSE and KNOBS carry the record's values under their frames.jsonl nam
   std::vector<std::string> poseKeys;
   for (auto it = pose.begin(); it != pose.end(); ++it) poseKeys.push_back(it.key());
   CHECK(poseKeys == std::vector<std::string>{"class", "conditioning", "constrained", "corrected", "frame",
-                                             "odometry", "odometry_drift_m", "position", "quaternion", "state",
+                                             "odometry", "odometry_drift_m", "odometry_fault", "position",
+                                             "quaternion", "state",
                                              "timestamp", "tracked", "velocity", "velocity_m_per_frame",
                                              "weakest_motion"});
   // The same name, the same value, in frames.jsonl (POSE's legacy "velocity" and its odometry summary aside).
@@ -66,6 +68,8 @@ TEST_CASE("POSE and KNOBS carry the record's values under their frames.jsonl nam
   CHECK(pose.at("velocity") == log.at("velocity_m_per_frame"));
   CHECK(pose.at("odometry") == log.at("odometry").at("available"));
   CHECK(pose.at("odometry_drift_m") == log.at("odometry").at("drift_m"));
+  CHECK(pose.at("odometry_fault") == log.at("odometry").at("fault"));
+  CHECK(pose.at("odometry_fault") == "kidnapped");
   CHECK(pose.at("state") == "odometry");
 
   std::vector<std::string> knobKeys;

@@ -2,7 +2,7 @@
 // runs it: the corridor drive's first 60 frames at 160x120 with their odometry (the robot setting off from rest),
 // tracked at a coarse fixed compute size (`--controller fixed --knobs csr=2`: 80x60), where ICP matches the model
 // 0.07-0.22 m ahead in one frame while the robot creeps at a few millimetres. Measured before the inertia rule
-// (runtime/odometry_fusion.h viewBreaksInertia): the wheels were rejected as a "slip" and the view stood, 22
+// (odometry/odometry_fusion.h viewBreaksInertia): the wheels were rejected as a "slip" and the view stood, 22
 // good or weak frames moving 3 cm or more unlike the truth, ATE 79.5 cm. With it: the view is discarded there
 // and the pose follows the odometry (state odometry), no good or weak frame off by 3 cm, ATE 2.4 cm.
 #include <catch2/catch.hpp>

@@ -145,3 +145,37 @@ TEST_CASE("after the lens is uncovered, the view corrects the dead reckoning's d
   runCovered(dir, truth, ate);
   CHECK(ate < 0.10);
 }
+
+// A tracking rate far past any use (`tr=1000`: after the first frame none would be tracked). Before, every frame
+// carried the first frame's `good` while the wheels alone drove the pose (a held-out drive at
+// tracking_rate_with_odometry 1000: 223 of 450 frames more than 0.3 m off, all `good`). Now a skipped frame is the
+// view's word only within max_unchecked_s (1 s) of the last frame the view fixed; then it is `odometry`, and the
+// next frame is tracked whatever the rate.
+TEST_CASE("a frame the view has not checked for a second is not good, and the next one is tracked",
+          "[odometry][system]") {
+  const std::string dir = sb::test::scratchDir("test_odometry_tracking_rate_cli_unchecked");
+  synthDrive(dir, "");
+  const auto run = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/run --controller fixed --knobs " +
+                              "csr=1,icp=1e-5,pd=10:5:4,tr=1000,ir=1 --threads 1 --volume-size 5 --quiet");
+  INFO(run.output);
+  REQUIRE(run.exitCode == 0);
+  std::ifstream frames(dir + "/run/frames.jsonl");
+  double lastChecked = 0.0;
+  int tracked = 0, uncheckedGood = 0, onWheels = 0;
+  for (std::string line; std::getline(frames, line);) {
+    const auto f = nlohmann::json::parse(line);
+    const double t = f.at("timestamp").get<double>();
+    const std::string state = f.at("state").get<std::string>();
+    if (f.at("tracked").get<bool>() || f.at("frame").get<int>() == 0) {
+      tracked += f.at("tracked").get<bool>();
+      lastChecked = t;
+      continue;
+    }
+    uncheckedGood += state == "good" && t - lastChecked > 1.0 + 1e-6;
+    onWheels += state == "odometry";
+  }
+  CHECK(uncheckedGood == 0);
+  CHECK(onWheels > 0);      // frames past the second: the rule fired (the test would show nothing otherwise)
+  CHECK(tracked >= 3);      // 120 frames, 4 s: tracked at least once a second after the first
+  CHECK(readJson(dir + "/run/summary.json").at("ate").at("rmse_m").get<double>() < 0.05);
+}

@@ -31,7 +31,7 @@
 #include "pipeline/pipeline.h"
 #include "power/power_config.h"
 #include "runtime/energy_account.h"
-#include "runtime/odometry_input.h"
+#include "odometry/odometry_input.h"
 #include "runtime/run.h"
 #include "runtime/run_setup.h"
 #include "tools/slambooster/commands.h"
@@ -64,7 +64,7 @@ struct RunOptions {
   NavMapOptions navmap;  // the navigation map (issue 45)
   std::string modelView = "last";  // viewpoint of model.png: "last" camera pose or "overview"
   std::string depthTopic;          // ROS bag input: the depth image topic (empty: the bag's only one)
-  std::string odometry;            // an odometry.txt (or .bag); empty: the sequence's own (runtime/odometry_input.h)
+  std::string odometry;            // an odometry.txt (or .bag); empty: the sequence's own (odometry/odometry_input.h)
   bool noOdometry = false;
   BagOdometryOptions bagOdometry;  // ROS bag input: --odom-topic, --camera-mount
 };
@@ -84,6 +84,7 @@ std::array<float, 3> parsePosition(const std::string& text) {
 struct RunSetup {
   PipelineConfig pipeline;
   ControllerSettings controller;
+  odometry::OdometryConfig odometry;
 };
 
 // defaults < sequence volume hints < config file < command-line flags (runtime/run_setup.h).
@@ -102,7 +103,8 @@ RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
   const std::string where = !file.controller.is_null() ? o.configPath + ": controller"
                             : o.controller.empty()     ? "controller"
                                                        : "--controller";
-  return RunSetup{c, controllerSettingsFrom(file.controller, o.controller, true, ControllerContext{c.knobs}, where)};
+  return RunSetup{c, controllerSettingsFrom(file.controller, o.controller, true, ControllerContext{c.knobs}, where),
+                  odometry::odometryConfigFrom(file.odometry, o.configPath)};
 }
 
 // CPU time (user + system) of the process so far, milliseconds.
@@ -235,7 +237,8 @@ void runCommand(const RunOptions& o) {
   const OdometryInput odometry =
       openOdometry(o.noOdometry ? "none" : o.odometry.empty() ? "auto" : o.odometry, o.sequence, o.bagOdometry);
   RunSummary header =
-      runSummaryHeader("run", o.sequence, setup.controller, *controller, *pipeline, pool.threadCount());
+      runSummaryHeader("run", o.sequence, setup.controller, *controller, *pipeline, setup.odometry,
+                       pool.threadCount());
   header.odometry = odometry.summary();
   // Energy: the run borrows the account of a sampler this command owns.
   std::unique_ptr<power::PowerSampler> sampler;
@@ -256,7 +259,8 @@ void runCommand(const RunOptions& o) {
                     formatKnobs(initial) + " (volume frame)";
   outputs.mapSlabs = o.mesh;
   outputs.mapSink = makeNavMapSink(o.navmap, setup.pipeline, info, odometry.track != nullptr);
-  Run run(std::move(pipeline), std::move(controller), info.depthScale, outputs, energy ? &*energy : nullptr);
+  Run run(std::move(pipeline), std::move(controller), info.depthScale, setup.odometry, outputs,
+          energy ? &*energy : nullptr);
   if (odometry.track) {
     run.runner().setOdometry(odometry.track);
     if (!o.quiet)

@@ -67,6 +67,9 @@ struct SynthArgs {
   unsigned threads = 0;
   synth::CorridorParams corridor;  // --scene corridor
   synth::OdometryErrors odometry;  // --stress drive: odometry.txt
+  synth::DriveFaults faults;       // --stress drive: the base's faults (synth/drive_faults.h)
+  std::vector<double> stall, carried, mountError;  // their options as given
+  std::vector<double> cover;                       // --cover AT,SECONDS
   bool noOdometry = false;
 };
 
@@ -75,6 +78,28 @@ std::vector<std::string> sceneChoices() {
   std::vector<std::string> names = synth::sceneNames();
   names.push_back(synth::kCorridorSceneName);
   return names;
+}
+
+// The fault options' lists into a.faults (validated; throws sb::Error naming the option).
+void applyFaultOptions(SynthArgs& a) {
+  synth::DriveFaults& f = a.faults;
+  if (!a.stall.empty()) {
+    f.stallAtS = a.stall[0];
+    f.stallS = a.stall[1];
+    if (a.stall.size() > 2) f.stallSpeedMps = a.stall[2];
+  }
+  if (!a.carried.empty()) {
+    f.carriedAtS = a.carried[0];
+    f.carriedBackM = a.carried[1];
+  }
+  for (size_t i = 0; i < a.mountError.size(); ++i) f.mountError[i] = a.mountError[i];
+  if ((!a.stall.empty() && !(a.stall[0] >= 0.0)) || (!a.carried.empty() && !(a.carried[0] >= 0.0)))
+    throw Error("synth: --odom-stall and --odom-carried start at a time of at least 0 s");
+  try {
+    f.validate();
+  } catch (const Error& e) {
+    throw Error(std::string(e.what()) + " (--odom-stall, --odom-carried, --odom-latency, --odom-mount-error)");
+  }
 }
 
 void runSynth(SynthArgs& a) {
@@ -130,6 +155,22 @@ void runSynth(SynthArgs& a) {
   const bool driveOdometry = !a.stress.empty() && synth::parseStressKind(a.stress) == synth::StressKind::Drive &&
                              !a.noOdometry;
   if (driveOdometry) a.odometry.validate();  // before anything is rendered
+  if (!a.cover.empty()) {  // frames [begin, end) of a covered lens: no depth
+    if (!(a.cover[0] >= 0.0 && a.cover[1] > 0.0))
+      throw Error("synth: --cover AT,SECONDS needs AT >= 0 and SECONDS > 0");
+    const double fps = trajectory.size() > 1 ? 1.0 / (trajectory[1].timestamp - trajectory[0].timestamp) : 30.0;
+    o.coveredFrames.emplace_back(static_cast<size_t>(a.cover[0] * fps),
+                                 static_cast<size_t>((a.cover[0] + a.cover[1]) * fps));
+  }
+  applyFaultOptions(a);
+  if ((a.faults.changesTruth() || !a.faults.describe().empty()) && !driveOdometry)
+    throw Error("synth: --odom-stall, --odom-carried, --odom-latency and --odom-mount-error need --stress drive "
+                "with its odometry");
+  if (a.faults.changesTruth()) {  // the truth stands through a stall, or jumps back at a carry
+    const synth::stress::DrivePath path = synth::drivePath(*stressScene, o.seed);
+    const synth::DriveClock clock(path, a.faults);
+    for (TimedPose& pose : trajectory) pose.T_camera_to_world = path.cameraToWorld(clock.at(pose.timestamp));
+  }
   const bool tty = isatty(STDERR_FILENO) != 0;
   const auto start = std::chrono::steady_clock::now();
   auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
@@ -153,10 +194,12 @@ void runSynth(SynthArgs& a) {
   }
   if (driveOdometry) {
     const synth::stress::DrivePath path = synth::drivePath(*stressScene, o.seed);
-    const Trajectory odometry = synth::driveOdometry(path, trajectory[r.frames - 1].timestamp, a.odometry, o.seed);
-    synth::writeOdometryFile(o.outDir + "/odometry.txt", odometry, a.odometry, o.seed);
-    std::printf("synth: odometry: %zu samples in %s/odometry.txt (%s)\n", odometry.size(), o.outDir.c_str(),
-                a.odometry.describe().c_str());
+    const Trajectory odometry =
+        synth::driveOdometry(path, trajectory[r.frames - 1].timestamp, a.odometry, o.seed, a.faults);
+    synth::writeOdometryFile(o.outDir + "/odometry.txt", odometry, a.odometry, o.seed, a.faults);
+    const std::string faults = a.faults.describe();
+    std::printf("synth: odometry: %zu samples in %s/odometry.txt (%s%s%s)\n", odometry.size(), o.outDir.c_str(),
+                a.odometry.describe().c_str(), faults.empty() ? "" : "; faults: ", faults.c_str());
   }
   std::printf("synth: valid pixels %.1f%%; volume hint: cube %.2f m, first camera at (%.3f, %.3f, %.3f) of it\n",
               100.0 * r.validFraction, r.volume.sizeM, r.volume.initialPosition[0], r.volume.initialPosition[1],
@@ -272,6 +315,33 @@ void addSynthCommand(CLI::App& app) {
       ->check(kFinite & CLI::Range(-10.0, 10.0))
       ->capture_default_str()
       ->group(odometryGroup);
+  const char* const faultGroup = "Faults of --stress drive's base (the truth and odometry.txt)";
+  sub->add_option("--cover", args->cover, "AT,SECONDS: the lens is covered (no depth) from AT s for SECONDS")
+      ->expected(2)
+      ->delimiter(',')
+      ->group(faultGroup);
+  sub->add_option("--odom-stall", args->stall,
+                  "AT,SECONDS[,SPEED]: the robot stands from AT s for SECONDS while its wheels read SPEED m/s "
+                  "(default 1)")
+      ->expected(2, 3)
+      ->delimiter(',')
+      ->group(faultGroup);
+  sub->add_option("--odom-carried", args->carried,
+                  "AT,METRES: the robot is lifted at AT s and set down METRES back along its path; the wheels "
+                  "never turn")
+      ->expected(2)
+      ->delimiter(',')
+      ->group(faultGroup);
+  sub->add_option("--odom-latency", args->faults.latencyS,
+                  "The odometry's stamps are this many seconds later than its poses' true time")
+      ->check(kFinite & CLI::Range(-1.0, 1.0))
+      ->group(faultGroup);
+  sub->add_option("--odom-mount-error", args->mountError,
+                  "ROLL,PITCH,YAW[,X,Y,Z]: the camera mount the odometry assumes is the true one turned by these "
+                  "degrees (about the optical z, x, y axes) and moved by these metres (camera frame)")
+      ->expected(3, 6)
+      ->delimiter(',')
+      ->group(faultGroup);
   sub->add_flag("--overwrite", o.overwrite, "Replace the contents of a non-empty --out directory");
   sub->callback([args] { runSynth(*args); });
 }

@@ -21,7 +21,7 @@
 
 #include "odometry/odometry_config.h"
 #include "pipeline/tracking_quality.h"
-#include "runtime/odometry_fusion.h"
+#include "odometry/odometry_fusion.h"
 
 namespace sb::odometry {
 

@@ -1,11 +1,11 @@
-// runtime/odometry_fusion.h on hand-made views: a structure matrix whose eigen-motions are the camera axes
+// odometry/odometry_fusion.h on hand-made views: a structure matrix whose eigen-motions are the camera axes
 // (basis identity: the twist's translation then rotation, camera at the origin), each with its conditioning.
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "runtime/odometry_fusion.h"
-#include "tests/runtime/odometry_views.h"
+#include "odometry/odometry_fusion.h"
+#include "tests/odometry/odometry_views.h"
 
 using namespace sb;
 using namespace sb::odometry;

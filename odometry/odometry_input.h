@@ -12,7 +12,8 @@
 #include <string>
 
 #include "odometry/odometry_track.h"
-#include "runtime/odometry_calibration.h"
+#include "odometry/mount_calibration.h"
+#include "odometry/odometry_calibration.h"
 #include "report/run_summary.h"
 
 namespace sb {
@@ -47,7 +48,8 @@ OdometryInput liveOdometry(const std::string& source);
 void countOdometryFrame(const odometry::OdometryTrack& track, double timestamp, OdometrySummary& summary,
                         std::optional<Eigen::Isometry3d>& last);
 
-// The wheels' errors learnt so far, into the summary.
-void noteCalibration(const odometry::CalibrationEstimate& estimate, OdometrySummary& summary);
+// The wheels' errors and the mount's learnt so far, into the summary.
+void noteCalibration(const odometry::CalibrationEstimate& estimate, const odometry::MountCalibration& mount,
+                     OdometrySummary& summary);
 
 }  // namespace sb

@@ -1,4 +1,4 @@
-#include "runtime/odometry_input.h"
+#include "odometry/odometry_input.h"
 
 #include <algorithm>
 #include <cmath>
@@ -79,7 +79,10 @@ void countOdometryFrame(const odometry::OdometryTrack& track, double timestamp, 
   last = pose;
 }
 
-void noteCalibration(const odometry::CalibrationEstimate& e, OdometrySummary& summary) {
+void noteCalibration(const odometry::CalibrationEstimate& e, const odometry::MountCalibration& mount,
+                     OdometrySummary& summary) {
+  summary.mountErrorDeg = mount.errorDeg();
+  summary.mountTurnSeenDeg = mount.turnSeenDeg();
   summary.scaleError = e.scale;
   summary.yawScaleError = e.yawScale;
   summary.yawBiasDegPerS = e.yawBiasRadPerS * 180.0 / 3.14159265358979323846;

@@ -1,12 +1,12 @@
-// runtime/odometry_calibration.h on a hand-made drive: a base whose wheels read long, whose turns read large and
+// odometry/odometry_calibration.h on a hand-made drive: a base whose wheels read long, whose turns read large and
 // whose heading drifts, tracked by a view that fixes every motion (or leaves the forward one free). Basis
 // identity: the twist's translation then rotation; the camera's optical frame (y down), so up is -y.
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "runtime/odometry_calibration.h"
-#include "runtime/odometry_fusion.h"
-#include "tests/runtime/odometry_views.h"
+#include "odometry/odometry_calibration.h"
+#include "odometry/odometry_fusion.h"
+#include "tests/odometry/odometry_views.h"
 
 using namespace sb;
 using namespace sb::odometry;

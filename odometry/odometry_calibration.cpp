@@ -1,4 +1,4 @@
-#include "runtime/odometry_calibration.h"
+#include "odometry/odometry_calibration.h"
 
 #include <Eigen/LU>
 #include <algorithm>

@@ -1,4 +1,4 @@
-#include "runtime/odometry_fusion.h"
+#include "odometry/odometry_fusion.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>

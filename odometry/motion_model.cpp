@@ -1,0 +1,371 @@
+#include "odometry/motion_model.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+namespace sb::odometry {
+
+namespace {
+
+std::string format(const char* fmt, double a, double b) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, fmt, a, b);
+  return buf;
+}
+
+// The pose a frame ends with, as the decision stands.
+const Eigen::Isometry3d& finalPose(const FrameView& view) {
+  if (view.decision.correctedPose) return *view.decision.correctedPose;
+  if (view.decision.refinedPose) return *view.decision.refinedPose;
+  return view.result.T_camera_to_world;
+}
+
+}  // namespace
+
+MotionModel::MotionModel(const OdometryConfig& config)
+    : config_(config),
+      calibration_(config),
+      mapAgreement_(config.mapAgreementFraction),
+      faults_(config.disputeS, config.calmS) {}
+
+FrameMotion MotionModel::predict(const Eigen::Isometry3d& previousPose, double previousStamp, bool hasPrevious,
+                                 double stamp, FrameOdometry& out) const {
+  FrameMotion motion;
+  motion.previousPose = previousPose;
+  motion.previousStamp = previousStamp;
+  motion.hasPrevious = hasPrevious;
+  if (!track_) return motion;
+  if (!motion.hasPrevious) {
+    out.why = "first frame: no motion yet";
+    return motion;
+  }
+  const OdometryConfig& c = config_;
+  out.cameraToOdom = track_->poseAt(stamp, c.maxGapS, c.maxExtrapolationS);
+  auto step = stepBetween(*track_, previousStamp, stamp, c, out.why);
+  if (!step) return motion;
+  out.available = true;
+  // A step the platform cannot make is the wheels slipping (or a glitch), not motion.
+  const std::string slip = implausibleMotion(c, Eigen::Isometry3d::Identity(), step->delta, step->dt, std::nullopt);
+  if (!slip.empty()) {
+    out.rejected = true;
+    out.why = "the odometry's step " + slip + ": a wheel slip, not used";
+    return motion;
+  }
+  motion.reported = step;
+  motion.raw = faultsOn() ? mount_.correct(*step) : *step;
+  motion.step = calibration_.correct(*motion.raw);
+  if (faults_.fault() == WheelFault::slipping) {  // watched, not used
+    motion.withheld = motion.step;
+    motion.step.reset();
+    return motion;
+  }
+  if (firstFix_ && out.cameraToOdom) {  // the odometry's absolute tilt
+    Eigen::Isometry3d E = Eigen::Isometry3d::Identity();
+    E.linear() = mount_.correction();
+    const Eigen::Isometry3d worldFromOdometry = firstFix_->first * E * firstFix_->second.inverse();
+    motion.level = Level{worldFromOdometry * *out.cameraToOdom * E.inverse(),
+                         worldFromOdometry.linear() * Eigen::Vector3d::UnitZ()};
+  }
+  if (viewStamp_ && !previousViewFixed_) {
+    // The last frame's pose was not the view's (skipped by the tracking rate, dead reckoning in state odometry,
+    // a discarded track): the prediction is as uncertain as the wheels' whole interval since the view last fixed
+    // the pose, not one step of it.
+    std::string why;
+    if (const auto interval = stepBetween(*track_, *viewStamp_, stamp, c, why)) {
+      widenNoise(*motion.step, *interval);
+      motion.uncheckedM = interval->distanceM();
+      motion.uncheckedS = interval->dt;
+    }
+  } else if (!viewStamp_ && firstStamp_) {  // the view has fixed no frame since the first
+    motion.uncheckedS = stamp - *firstStamp_;
+  }
+  return motion;
+}
+
+void MotionModel::judge(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion) {
+  FrameResult& r = view.result;
+  Decision& d = view.decision;
+  held_ = r.tracked && mapAgreement_.holds(r.pairAgreement);
+  needsView_ = false;
+  const std::optional<OdometryStep>& wheels = motion.withheld ? motion.withheld : motion.step;
+  const bool watching = wheels || faults_.fault() != WheelFault::none;
+  if (!faultsOn()) {
+    judgeByInertia(pipeline, view, motion);
+    return;
+  }
+  if (r.tracked && !watching) {
+    if (!d.correctedPose && motion.hasPrevious) checkPhysics(pipeline, view, motion);
+  } else if (r.tracked) {
+    judgeAgainstWheels(pipeline, view, motion, wheels);
+  }
+  view.odometry.fault = faults_.fault();
+  if (faults_.fault() != WheelFault::none && view.odometry.why.empty()) view.odometry.why = faults_.why();
+}
+
+void MotionModel::judgeByInertia(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion) {
+  FrameResult& r = view.result;
+  Decision& d = view.decision;
+  if (r.tracked && motion.step) {
+    // The view and the wheels are weighed first; where they disagree along a motion the view fixes, physics says
+    // who is wrong: a tracked motion that departs further from the last velocity than the wheels' (inertia), or
+    // one the platform cannot make, is the view's error (the pose follows the odometry); otherwise the wheels
+    // slipped (the tracked pose stands).
+    const Eigen::Isometry3d predicted = *motion.predicted();
+    const Eigen::Isometry3d tracked = d.refinedPose ? *d.refinedPose : r.T_camera_to_world;
+    const Fusion f =
+        fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *motion.step, config_, motion.level);
+    if (!f.rejected) {
+      view.odometry.used = true;
+      if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
+      d.refinedPose = f.pose;
+      d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
+      return;
+    }
+    view.odometry.rejected = true;
+    view.odometry.why = f.why;
+    if (d.correctedPose) return;
+    const std::string inertia = viewBreaksInertia(motion.previousPose, tracked, predicted,
+                                                  r.timestamp - motion.previousStamp, lastVelocity_, config_.slipFloorM);
+    if (!inertia.empty())
+      discardTrack(pipeline, view, motion, inertia);
+    else
+      checkPhysics(pipeline, view, motion);
+    if (!r.tracked) {
+      view.odometry.rejected = false;
+      view.odometry.why.clear();
+    }
+  } else if (r.tracked && !d.correctedPose && motion.hasPrevious) {
+    checkPhysics(pipeline, view, motion);
+  }
+}
+
+void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion,
+                                     const std::optional<OdometryStep>& wheels) {
+  FrameResult& r = view.result;
+  Decision& d = view.decision;
+  if (!held_) {
+    // The view does not fit the map where it is tracked, whether or not the wheels agree with it: a robot set
+    // down elsewhere whose view matched a look-alike near the wheels' pose, or a view that ran away. Nothing is
+    // fused; the pose follows the wheels (within the dead-reckoning budget) while the evidence gathers.
+    faults_.viewContradicted(r.timestamp);
+    discardTrack(pipeline, view, motion, "the view does not fit the map where it is tracked (pair agreement " +
+                                             format("%.2f below %.2f)", r.pairAgreement, mapAgreement_.floor()));
+    return;
+  }
+  if (!wheels) {  // a fault open and no odometry at this frame: the view alone
+    if (!d.correctedPose && motion.hasPrevious) checkPhysics(pipeline, view, motion);
+    return;
+  }
+  const Eigen::Isometry3d predicted = motion.previousPose * wheels->delta;
+  const Eigen::Isometry3d tracked = d.refinedPose ? *d.refinedPose : r.T_camera_to_world;
+  const Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *wheels, config_, motion.level);
+  if (f.rejected) {
+    // A motion the platform cannot make is the view's error (a runaway along a wall), whoever disagrees with it.
+    if (!d.correctedPose) checkPhysics(pipeline, view, motion);
+    if (!r.tracked) return;
+    // A body keeps its velocity: a view that departs further from the last velocity than the wheels' step (it
+    // slid to a look-alike of the corridor by a door's spacing) is discarded for this frame, as a wheel step that
+    // jumps is. One frame's inertia cannot decide a fault that lasts, though: after a discarded view the last
+    // velocity is the wheels', and a stall's view (tracked from the wheels' prediction each frame) is discarded
+    // again and again while the map grows at the wheels' poses. So a correction the view asks for that keeps
+    // growing frame after frame is the wheels running away: the view's pose stands (wheel_faults.h diverging).
+    // Either way a dispute opens: nothing is fused and no pose is good until the evidence decides it.
+    if (!motion.withheld) {
+      const std::string inertia = viewBreaksInertia(motion.previousPose, tracked, predicted,
+                                                    r.timestamp - motion.previousStamp, lastVelocity_,
+                                                    config_.slipFloorM);
+      if (!inertia.empty() && !faults_.diverging(r.timestamp, f.disagreementM)) {
+        discardTrack(pipeline, view, motion, inertia);
+        return;
+      }
+    }
+    faults_.wheelsContradicted(r.timestamp);
+    view.odometry.rejected = true;
+    view.odometry.why = f.why;
+  } else {
+    faults_.agreed(r.timestamp);
+  }
+  if (motion.withheld) {  // slipping: the wheels are watched, not used; the view alone, as without odometry
+    if (!f.rejected && !d.correctedPose && motion.hasPrevious) checkPhysics(pipeline, view, motion);
+    return;
+  }
+  if (f.rejected) {
+    d.integrate = false;  // the frame disagrees with the wheels: it does not feed the map until that is decided
+    return;
+  }
+  view.odometry.used = true;
+  if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
+  if (motion.reported && r.quality.known && r.quality.constrained)  // a view that fixes every rotation
+    mount_.learn(motion.previousPose.linear().transpose() * tracked.linear(), *motion.reported);
+  d.refinedPose = f.pose;
+  d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
+}
+
+void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
+  const FrameResult& r = view.result;
+  agreement_.push_back(r.pairAgreement);
+  if (agreement_.size() > kAgreementFrames) agreement_.pop_front();
+  odometryPose_.reset();
+  // The dead-reckoning budget ends only where the view fixed the pose with evidence: it holds the map and no
+  // dispute is open (a frame that merely tracked between frames on the wheels does not restart it).
+  if (!faultsOn() || (held_ && !view.odometry.rejected)) {
+    if (faults_.fault() == WheelFault::none) mapAgreement_.add(r.pairAgreement);
+    odometryDistanceM_ = odometryTimeS_ = 0.0;
+  }
+  const double dt = r.timestamp - motion.previousStamp;
+  if (motion.hasPrevious && dt > 0)
+    lastVelocity_ = (finalPose(view).translation() - motion.previousPose.translation()) / dt;
+  else
+    lastVelocity_.reset();
+}
+
+bool MotionModel::follow(const FrameView& view, const FrameMotion& motion) {
+  const FrameResult& r = view.result;
+  if (view.implausible.empty()) lastVelocity_.reset();
+  // A track that failed while the model was in view and the view disagreed with it: the robot is not where the
+  // wheels say (evidence of a kidnap); one that failed on a blind or new view says nothing.
+  if (faultsOn() && motion.step && r.trackingAttempted && r.inlierFraction > 0.0 && view.implausible.empty() &&
+      !mapAgreement_.holds(r.pairAgreement))
+    faults_.viewContradicted(r.timestamp);
+  view.odometry.fault = faults_.fault();
+  if (!motion.step || faults_.fault() == WheelFault::kidnapped) return false;
+  if (!followOdometry(view, motion)) {
+    if (faults_.concludeKidnapped()) {
+      view.odometry.fault = faults_.fault();
+      view.odometry.why = faults_.why();
+    }
+    return false;
+  }
+  movedBy(view, motion);
+  return true;
+}
+
+bool MotionModel::skipped(const FrameView& view, const FrameMotion& motion, bool deadReckoning) {
+  if (!motion.step) return true;
+  needsView_ = motion.uncheckedS > config_.maxUncheckedS;
+  if (deadReckoning) {  // depth could not track: the dead reckoning and its budget go on
+    if (followOdometry(view, motion)) movedBy(view, motion);
+    return true;
+  }
+  // Between two tracked frames the wheels carry the pose: one frame of a calibrated step is millimetres off.
+  Decision& d = view.decision;
+  d.correctedPose = motion.predicted();
+  d.refinedPose.reset();
+  d.integrate = false;
+  d.keepReference = true;  // the next tracked frame pairs with the last raycast, as after any unfused frame
+  d.nextStartPose.reset();
+  view.odometry.used = true;
+  movedBy(view, motion);
+  return !needsView_;
+}
+
+void MotionModel::deadReckon(const FrameMotion& motion) {
+  if (!motion.step) return;
+  odometryPose_ = odometryPose_.value_or(motion.previousPose) * motion.step->delta;
+  odometryDistanceM_ += motion.step->distanceM();
+  odometryTimeS_ += motion.step->dt;
+}
+
+void MotionModel::relocalised() {
+  odometryPose_.reset();
+  odometryDistanceM_ = odometryTimeS_ = 0.0;
+  faults_.reset();
+}
+
+void MotionModel::finished(const Eigen::Isometry3d& pose, double stamp, bool viewFixed, const FrameOdometry& odometry) {
+  previousViewFixed_ = viewFixed;
+  if (viewFixed) viewStamp_ = stamp;
+  if (!firstStamp_) firstStamp_ = stamp;
+  // The odometry frame in the world frame, from the first frame the view fixed with an odometry pose.
+  if (!firstFix_ && viewFixed && odometry.cameraToOdom) firstFix_.emplace(pose, *odometry.cameraToOdom);
+}
+
+void MotionModel::checkPhysics(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion) {
+  FrameResult& r = view.result;
+  const OdometryConfig& c = config_;
+  const double dt = r.timestamp - motion.previousStamp;
+  const std::string why = implausibleMotion(c, motion.previousPose, r.T_camera_to_world, dt, lastVelocity_);
+  if (why.empty()) return;
+  // The estimate catching up (the view agrees as well as before, within ICP's reach): it stands.
+  const double excess =
+      (r.T_camera_to_world.translation() - motion.previousPose.translation()).norm() - c.maxSpeedMPerS * dt;
+  if (!agreement_.empty() && excess <= c.maxCorrectionM) {
+    std::vector<double> recent(agreement_.begin(), agreement_.end());
+    std::nth_element(recent.begin(), recent.begin() + recent.size() / 2, recent.end());
+    if (r.pairAgreement >= recent[recent.size() / 2] - c.jumpAgreementMargin) return;
+  }
+  discardTrack(pipeline, view, motion, why);
+}
+
+void MotionModel::discardTrack(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion,
+                               const std::string& why) {
+  // Not a motion this platform makes: the view matched the model somewhere else (a runaway, a spliced frame).
+  // Discarded like a failed track: the pose goes on at the last velocity (or follows the odometry), nothing
+  // fused, and the next frame tracks from there; a run of them ends as failures (relocalisation).
+  FrameResult& r = view.result;
+  const double dt = r.timestamp - motion.previousStamp;
+  view.implausible = why;
+  pipeline.discardTrack(r);
+  Decision& d = view.decision;
+  // The pose goes on at the last plausible velocity (held without one), the rotation held.
+  Eigen::Isometry3d extrapolated = motion.previousPose;
+  if (lastVelocity_ && dt > 0) extrapolated.translation() += *lastVelocity_ * dt;
+  d.correctedPose = extrapolated;
+  d.refinedPose.reset();
+  d.integrate = false;
+  d.keepReference = false;
+  d.nextStartPose.reset();
+}
+
+void MotionModel::movedBy(const FrameView& view, const FrameMotion& motion) {
+  const double dt = view.result.timestamp - motion.previousStamp;
+  if (view.decision.correctedPose && dt > 0)
+    lastVelocity_ = (view.decision.correctedPose->translation() - motion.previousPose.translation()) / dt;
+}
+
+bool MotionModel::followOdometry(const FrameView& view, const FrameMotion& motion) {
+  const OdometryConfig& c = config_;
+  const OdometryStep& step = *motion.step;
+  const Eigen::Isometry3d pose = odometryPose_.value_or(motion.previousPose) * step.delta;
+  const double distance = odometryDistanceM_ + step.distanceM();
+  const double time = odometryTimeS_ + step.dt;
+  odometryPose_ = pose;
+  odometryDistanceM_ = distance;
+  odometryTimeS_ = time;
+  view.odometry.driftM = distance;
+  if (distance > c.maxDistanceM || time > c.maxTimeS) {
+    view.odometry.why = format("odometry alone for %.2f m, %.1f s: beyond its bound (max_distance_m, max_time_s)",
+                               distance, time);
+    return false;
+  }
+  Decision& d = view.decision;
+  d.correctedPose = pose;
+  d.refinedPose.reset();
+  // A covered lens or a blank view: nothing fused. When the view is back but the model in it is too sparse to
+  // track against (the volume moved on while the camera was blind, the region ahead was never mapped), the
+  // frame is fused at the odometry's pose, within its drift bound: the map's weights keep what it held, the
+  // holes fill, and the next frame tracks against it.
+  view.odometry.fused = view.result.trackingAttempted && view.result.inlierFraction > 0.0 &&
+                        view.implausible.empty() &&
+                        (!faultsOn() || (faults_.fault() == WheelFault::none &&
+                                         mapAgreement_.holds(view.result.pairAgreement)));
+  d.integrate = view.odometry.fused;
+  d.keepReference = false;
+  d.nextStartPose.reset();
+  view.odometry.used = true;
+  return true;
+}
+
+TrackAttempt MotionModel::vet(const TrackAttempt& attempt) const {
+  // Kidnapped: the view showed the robot is not where the wheels say, so they cannot refuse a candidate the
+  // view confirms (the relocaliser's confirmation over consecutive frames still holds).
+  if (!odometryPose_ || !attempt.tracked || faults_.fault() == WheelFault::kidnapped) return attempt;
+  const double tolerance = config_.relocaliseToleranceM + config_.noisePerM * odometryDistanceM_;
+  if ((attempt.T_camera_to_world.translation() - odometryPose_->translation()).norm() <= tolerance) return attempt;
+  TrackAttempt refused = attempt;  // the wheels say the camera is elsewhere: a repeating place, not this one
+  refused.tracked = false;
+  return refused;
+}
+
+}  // namespace sb::odometry

@@ -1,0 +1,177 @@
+#pragma once
+// The platform's motion as the runtime sees it (docs/odometry.md): the robot's odometry (its stream, the
+// calibration learnt of it, its prediction of each frame's motion and its fusion with the view), and the
+// platform's physics (a tracked motion it cannot make is not trusted, with or without odometry). The runner
+// asks it for each frame's prediction before tracking and hands it the view's result after the controller;
+// the tracking monitor (runtime/tracking_monitor.h) keeps only the tracking state and the relocaliser, and
+// asks it where the dead reckoning is and whether the wheels contradict a relocalisation.
+//
+//   FrameMotion m = model.predict(previousPose, previousStamp, hasPrevious, frame.timestamp, rec.odometry);
+//   ... track from m.start(), controller ...
+//   model.judge(pipeline, view, m);                 // fusion, slip, inertia, physics: may discard the track
+//   if (tracked) model.viewFixed(view, m); else model.follow(view, m);  // the pose the frame ends with
+//   model.finished(pose, stamp, viewFixed, rec.odometry);
+
+#include <Eigen/Geometry>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "controller/controller.h"
+#include "odometry/odometry_calibration.h"
+#include "odometry/odometry_config.h"
+#include "odometry/odometry_fusion.h"
+#include "odometry/mount_calibration.h"
+#include "odometry/odometry_track.h"
+#include "odometry/wheel_faults.h"
+#include "pipeline/pipeline.h"
+
+namespace sb::odometry {
+
+// What the robot's odometry did for a frame (docs/odometry.md); all false/0 without odometry.
+struct FrameOdometry {
+  bool available = false;  // the odometry had a pose at this frame's stamp and at the previous frame's
+  bool used = false;       // its motion seeded ICP and was fused with the tracked pose (or, state odometry, was it)
+  bool rejected = false;   // contradicted by the view along the motions it fixes (a wheel slip): not used
+  double driftM = 0.0;     // metres driven on odometry alone since depth last tracked (state odometry)
+  bool fused = false;      // state odometry: the frame was fused at the odometry's pose (the view is back)
+  // The camera's pose in the odometry frame at the frame's stamp (T_camera_to_odom), when available: the
+  // odometry frame's z axis is up (REP 103), which the navigation map needs.
+  std::optional<Eigen::Isometry3d> cameraToOdom;
+  std::string why;         // when not available or rejected: why, for frames.jsonl
+  WheelFault fault = WheelFault::none;  // the wheels and the view disagreeing (wheel_faults.h), after the frame
+};
+
+// What is known of a frame's motion before it is resolved.
+struct FrameMotion {
+  Eigen::Isometry3d previousPose = Eigen::Isometry3d::Identity();  // the previous frame's final pose
+  double previousStamp = 0.0;                                       // and its stamp (seconds)
+  bool hasPrevious = false;                                         // false on the first frame
+  std::optional<OdometryStep> step;  // the odometry's step since then (not rejected before ICP), calibrated
+  std::optional<OdometryStep> raw;   // the same step as the wheels reported it, in the true camera frame (the mount
+                                     // corrected, mount_calibration.h)
+  std::optional<OdometryStep> reported;  // as reported, in the frame of the mount the odometry assumes
+  // The wheels are at fault (slipping): their calibrated step, watched against the view but not used (`step` is
+  // then empty).
+  std::optional<OdometryStep> withheld;
+  // The wheels' interval since the view last fixed the pose (distance, seconds), when the last frame's pose was
+  // not the view's.
+  double uncheckedM = 0.0, uncheckedS = 0.0;
+  std::optional<Level> level;        // the odometry's absolute tilt at this frame
+  // The odometry's prediction of this frame's pose (ICP starts there), when there is a step.
+  std::optional<Eigen::Isometry3d> predicted() const {
+    if (!step) return std::nullopt;
+    return previousPose * step->delta;
+  }
+};
+
+// The frame in hand as the model reads and amends it (the runtime's FrameRecord, borrowed).
+struct FrameView {
+  FrameResult& result;
+  Decision& decision;
+  FrameOdometry& odometry;
+  std::string& implausible;  // why the tracked motion is one the platform cannot make; empty when it can
+};
+
+class MotionModel {
+ public:
+  explicit MotionModel(const OdometryConfig& config);
+
+  // The robot's odometry, shared with whoever adds samples (the daemon's socket); nullptr: none.
+  void setTrack(std::shared_ptr<const OdometryTrack> track) { track_ = std::move(track); }
+  const OdometryTrack* track() const { return track_.get(); }
+  const OdometryConfig& config() const { return config_; }
+  // The wheels' errors learnt so far; every step taken from the odometry is corrected by them.
+  const OdometryCalibration& calibration() const { return calibration_; }
+  // The camera mount's error learnt so far; every step is corrected by it first.
+  const MountCalibration& mount() const { return mount_; }
+
+  // The frame at `stamp`: the previous frame's final pose and stamp, and the odometry's step since then
+  // (calibrated, its noise widened over the frames the view did not fix); `out` says what the odometry had.
+  FrameMotion predict(const Eigen::Isometry3d& previousPose, double previousStamp, bool hasPrevious, double stamp,
+                      FrameOdometry& out) const;
+
+  // A tracked frame: with odometry the view and the wheels are weighed; where they disagree along a motion the
+  // view fixes, physics says who is wrong (inertia, the platform's limits). A track found wrong is discarded
+  // (view.result.tracked false, view.implausible says why).
+  void judge(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion);
+  // The view fixed the frame (tracked and kept): the dead reckoning ends, the velocity is the frame's.
+  void viewFixed(const FrameView& view, const FrameMotion& motion);
+  // The frame did not track: with odometry left in the budget its pose follows the wheels (true; state
+  // odometry). False when it cannot.
+  bool follow(const FrameView& view, const FrameMotion& motion);
+  // A frame skipped by the tracking rate: its pose is the last one moved by the wheels' step (`deadReckoning`:
+  // the dead reckoning of state odometry goes on within its budget). Nothing fused. False when the view has not
+  // checked the pose for longer than max_unchecked_s: the frame is not the view's word (state odometry).
+  bool skipped(const FrameView& view, const FrameMotion& motion, bool deadReckoning);
+  // The next frame must be tracked whatever the tracking rate: the view last checked the wheels too long ago.
+  bool needsView() const { return needsView_; }
+
+  // The wheels and the view disagree (wheel_faults.h): while `disputed` no pose is good and nothing is fused;
+  // `kidnapped`: the relocaliser searches the whole map.
+  WheelFault fault() const { return faults_.fault(); }
+
+  // While the tracker is lost: the dead reckoning goes on (the relocaliser's first guess).
+  void deadReckon(const FrameMotion& motion);
+  // The dead-reckoned pose since depth last tracked, and the distance driven on it.
+  const std::optional<Eigen::Isometry3d>& deadReckoned() const { return odometryPose_; }
+  double deadReckonedM() const { return odometryDistanceM_; }
+  // A relocalisation's attempt, refused (tracked false) when the wheels say the camera is elsewhere.
+  TrackAttempt vet(const TrackAttempt& attempt) const;
+  // The relocaliser placed the camera: the dead reckoning ends.
+  void relocalised();
+
+  // The frame's final pose and stamp; `viewFixed`: the view fixed it (for the next prediction's noise and the
+  // odometry's tilt).
+  void finished(const Eigen::Isometry3d& pose, double stamp, bool viewFixed, const FrameOdometry& odometry);
+
+ private:
+  // The tracked pose against the platform's physics: an impossible motion is discarded (tracked false).
+  void checkPhysics(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion);
+  // The track discarded as implausible (`why`): the pose goes on at the last velocity, nothing fused.
+  void discardTrack(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion, const std::string& why);
+  // A frame depth did not track, with odometry left in the budget: the pose follows it. False when it cannot.
+  bool followOdometry(const FrameView& view, const FrameMotion& motion);
+  // The frame's pose came from the wheels (a skipped frame, state odometry): its motion is the platform's velocity
+  // the next frame's view is held against (inertia). Without it a view jumping ahead of a robot just back from the
+  // odometry state had no velocity to break, and the wheels were rejected as a slip instead (a held-out drive:
+  // 7.4 cm along the corridor at frame 56, kept for the whole drive).
+  void movedBy(const FrameView& view, const FrameMotion& motion);
+
+  // Without the fault watch (dispute_s 0): the tracked frame fused with the wheels, a disagreement decided by one
+  // frame's inertia or the platform's limits.
+  void judgeByInertia(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion);
+  // The fault watch is on (odometry.dispute_s > 0; wheel_faults.h).
+  bool faultsOn() const { return config_.disputeS > 0.0; }
+  // A tracked frame with odometry (or a fault open): judged against the map, then against the wheels (`wheels`:
+  // the step used, or the one withheld while slipping): fused when they agree, the view's pose unfused while a
+  // dispute is open.
+  void judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion,
+                          const std::optional<OdometryStep>& wheels);
+
+  OdometryConfig config_;
+  std::shared_ptr<const OdometryTrack> track_;
+  OdometryCalibration calibration_;
+  MountCalibration mount_;
+  static constexpr size_t kAgreementFrames = 30;  // the recent tracked frames a jump's evidence is held against
+  std::deque<double> agreement_;  // pair agreement of the last tracked frames (the evidence a jump must keep)
+  MapAgreement mapAgreement_;     // of the recent frames the view fixed without dispute
+  FaultWatch faults_;
+  bool held_ = false;             // the last judged frame's view held the map
+  bool needsView_ = false;
+  std::optional<Eigen::Vector3d> lastVelocity_;  // m/s, world frame: of the last tracked frame's motion
+  // Dead reckoning on the odometry since depth last tracked: the pose, the distance and time driven.
+  std::optional<Eigen::Isometry3d> odometryPose_;
+  double odometryDistanceM_ = 0.0, odometryTimeS_ = 0.0;
+  // The last frame whose pose the view fixed, for the noise of the wheels' prediction, and whether it was the
+  // last frame.
+  std::optional<double> viewStamp_;
+  std::optional<double> firstStamp_;  // the run's first frame (the map's origin): unchecked time counts from it
+  bool previousViewFixed_ = false;
+  // The first frame the view fixed with an odometry pose: its pose and the odometry's (as reported). The odometry
+  // frame in the world frame (its up axis) follows from them and the mount's correction.
+  std::optional<std::pair<Eigen::Isometry3d, Eigen::Isometry3d>> firstFix_;
+};
+
+}  // namespace sb::odometry

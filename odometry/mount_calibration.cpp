@@ -1,0 +1,48 @@
+#include "odometry/mount_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sb::odometry {
+
+namespace {
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+}
+
+void MountCalibration::learn(const Eigen::Matrix3d& viewStep, const OdometryStep& raw) {
+  const Eigen::AngleAxisd view(viewStep), wheels(raw.delta.linear());
+  if (view.angle() < kMinStepDeg * kDegToRad || wheels.angle() < kMinStepDeg * kDegToRad) return;
+  if (view.axis().dot(wheels.axis()) < std::cos(kMaxAxisDeg * kDegToRad)) return;
+  // Turns either way: both axes into the hemisphere of the odometry's up.
+  const double sign = wheels.axis().dot(raw.up) < 0.0 ? -1.0 : 1.0;
+  const double w = view.angle();
+  viewSum_ += sign * w * view.axis();
+  wheelSum_ += sign * w * wheels.axis();
+  const Eigen::Vector3d diff = sign * (view.axis() - wheels.axis());
+  diffSum_ += w * diff;
+  diffSquares_ += w * diff.squaredNorm();
+  weights_ += w;
+  weightSquares_ += w * w;
+  turnRad_ += w;
+  if (turnRad_ < kMinTurnDeg * kDegToRad) return;
+  const Eigen::Vector3d mean = diffSum_ / weights_;
+  const double scatter = std::max(0.0, diffSquares_ / weights_ - mean.squaredNorm());
+  const double samples = weights_ * weights_ / weightSquares_;
+  const double standardError = std::sqrt(scatter / samples);
+  correction_ = mean.norm() >= kSignificance * standardError
+                    ? Eigen::Quaterniond::FromTwoVectors(wheelSum_.normalized(), viewSum_.normalized()).toRotationMatrix()
+                    : Eigen::Matrix3d::Identity();
+}
+
+OdometryStep MountCalibration::correct(const OdometryStep& raw) const {
+  OdometryStep out = raw;
+  Eigen::Isometry3d E = Eigen::Isometry3d::Identity();
+  E.linear() = correction_;
+  out.delta = E * raw.delta * E.inverse();
+  out.up = correction_ * raw.up;
+  return out;
+}
+
+double MountCalibration::errorDeg() const { return Eigen::AngleAxisd(correction_).angle() / kDegToRad; }
+
+}  // namespace sb::odometry

@@ -1,0 +1,104 @@
+#include "odometry/wheel_faults.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace sb::odometry {
+
+const char* wheelFaultName(WheelFault fault) {
+  switch (fault) {
+    case WheelFault::disputed: return "disputed";
+    case WheelFault::slipping: return "slipping";
+    case WheelFault::kidnapped: return "kidnapped";
+    case WheelFault::none: break;
+  }
+  return "none";
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+void MapAgreement::add(double pairAgreement) {
+  recent_.push_back(pairAgreement);
+  if (recent_.size() > kFrames) recent_.pop_front();
+}
+
+double MapAgreement::floor() const {
+  if (recent_.empty()) return 0.0;
+  return fraction_ * median(std::vector<double>(recent_.begin(), recent_.end()));
+}
+
+bool MapAgreement::holds(double pairAgreement) const { return recent_.empty() || pairAgreement >= floor(); }
+
+void FaultWatch::begin(double stamp) {
+  if (fault_ != WheelFault::none) return;
+  fault_ = WheelFault::disputed;
+  since_ = stamp;
+  wheelsAgainst_ = viewAgainst_ = 0;
+}
+
+bool FaultWatch::diverging(double stamp, double correctionM) {
+  calm_ = 0;
+  begin(stamp);
+  if (why_.empty()) why_ = "the wheels and the view disagree: undecided";
+  if (rising_ > 0 && correctionM > lastCorrectionM_) {
+    ++rising_;
+  } else {
+    rising_ = 1;
+    firstCorrectionM_ = correctionM;
+  }
+  lastCorrectionM_ = correctionM;
+  return rising_ >= kMinFrames && correctionM >= kGrowth * firstCorrectionM_;
+}
+
+void FaultWatch::wheelsContradicted(double stamp) {
+  calm_ = 0;
+  rising_ = 0;
+  if (fault_ == WheelFault::slipping || fault_ == WheelFault::kidnapped) return;
+  begin(stamp);
+  ++wheelsAgainst_;
+  why_ = "the view holds the map while the wheels report another motion";
+  if (wheelsAgainst_ >= kMinFrames && stamp - since_ >= decideS_ && wheelsAgainst_ > viewAgainst_) {
+    fault_ = WheelFault::slipping;
+    why_ = "the wheels' motion is contradicted by a view that holds the map: not used until they agree again";
+  }
+}
+
+void FaultWatch::viewContradicted(double stamp) {
+  calm_ = 0;
+  if (fault_ == WheelFault::kidnapped) return;
+  if (fault_ == WheelFault::slipping) fault_ = WheelFault::none;  // neither side is trusted now: decide again
+  begin(stamp);
+  ++viewAgainst_;
+  why_ = "the view does not fit the map near the wheels' pose";
+}
+
+bool FaultWatch::concludeKidnapped() {
+  if (fault_ != WheelFault::disputed || viewAgainst_ < kMinFrames || viewAgainst_ <= wheelsAgainst_) return false;
+  fault_ = WheelFault::kidnapped;
+  why_ = "the view has not fitted the map near the wheels' pose while they carried it: the robot is elsewhere";
+  return true;
+}
+
+void FaultWatch::agreed(double stamp) {
+  rising_ = 0;
+  if (fault_ == WheelFault::none) return;
+  if (calm_ == 0) calmSince_ = stamp;
+  ++calm_;
+  if (calm_ >= kMinFrames && stamp - calmSince_ >= (fault_ == WheelFault::disputed ? 0.0 : calmS_)) reset();
+}
+
+void FaultWatch::reset() {
+  fault_ = WheelFault::none;
+  wheelsAgainst_ = viewAgainst_ = calm_ = rising_ = 0;
+  why_.clear();
+}
+
+}  // namespace sb::odometry

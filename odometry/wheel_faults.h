@@ -1,0 +1,91 @@
+#pragma once
+// When the wheels and the view disagree (issue 52; docs/odometry.md "Faults"): a fault of the base (a stall
+// with spinning wheels, a wheel slip, wrong wheels) or of the view (a runaway, a robot carried elsewhere) is a
+// disagreement that lasts, and one frame's physics cannot decide it. The map built before the disagreement is
+// the referee: while the two disagree nothing is fused into it, and the evidence of a window of frames decides
+//   - the view holds the map (it tracks with the agreement of the frames before) while the wheels report
+//     another motion: the wheels are at fault (`slipping`); the pose follows the view, the wheels are not used
+//     until their steps agree with the view's again;
+//   - the view does not fit the map near the wheels' pose (its agreement falls, or it fails to track while
+//     seeing what the map holds): the place is wrong (`kidnapped`, or a view that ran away); the pose follows
+//     the wheels only within the dead-reckoning budget, nothing is fused, and the relocaliser searches the
+//     whole map, where a candidate the view confirms wins over the wheels.
+// Until one side has the evidence the dispute is `disputed` and no pose is `good`.
+
+#include <deque>
+#include <string>
+
+namespace sb::odometry {
+
+enum class WheelFault { none, disputed, slipping, kidnapped };
+const char* wheelFaultName(WheelFault fault);  // "none", "disputed", "slipping", "kidnapped"
+
+// The map's agreement of the recent frames the view fixed without dispute: what a view that holds the map
+// shows. A frame holds the map when its pair agreement (the share of the model's pairs it agrees with) is at
+// least a fraction of their median. The agreement moves with the motion (a standing camera agrees with nearly
+// all of a model it built itself, a driving one with 0.6-0.8 of it) but a view elsewhere agrees with a small
+// part (a robot carried 9 m back along a corridor: 0.1-0.45 where its frames had 0.75-0.9).
+class MapAgreement {
+ public:
+  explicit MapAgreement(double fraction) : fraction_(fraction) {}
+  void add(double pairAgreement);
+  // No history yet: every frame holds.
+  bool holds(double pairAgreement) const;
+  double floor() const;  // the agreement a frame must reach (0 without history)
+  bool known() const { return !recent_.empty(); }
+
+ private:
+  static constexpr size_t kFrames = 90;  // the recent undisputed frames (3 s at 30 Hz)
+  double fraction_;
+  std::deque<double> recent_;
+};
+
+// The evidence of a disagreement, frame by frame, and the verdict.
+class FaultWatch {
+ public:
+  // `decideS`: how long a disagreement must last before it is decided (the evidence of that many seconds of
+  // frames, at least kMinFrames of them); `calmS`: how long the wheels' steps must agree with the view again
+  // before a fault ends.
+  FaultWatch(double decideS, double calmS) : decideS_(decideS), calmS_(calmS) {}
+
+  WheelFault fault() const { return fault_; }
+  // A frame at `stamp` where the view holds the map but the wheels' step contradicts it.
+  void wheelsContradicted(double stamp);
+  // A frame where the view does not fit the map near the wheels' pose (poor agreement, or no track while the
+  // map was in view).
+  void viewContradicted(double stamp);
+  // The dead reckoning ran out of its budget during a dispute whose evidence is mostly of the view not fitting
+  // the map near the wheels' pose: the robot is elsewhere (kidnapped; true). A view that merely failed (a
+  // covered lens, a blank wall) is not that evidence.
+  bool concludeKidnapped();
+  // A frame where the view's correction of the wheels' prediction (`correctionM`, along the motions it fixes)
+  // breaks the body's inertia: one such frame is the view jumping (it is discarded), but a correction that keeps
+  // growing frame after frame is the wheels running away from a view that stays put (a stall: the view, tracked
+  // from the wheels' prediction each frame, finds the pose 3, 7, 10 cm back). True when it has grown on
+  // kMinFrames frames in a row to kGrowth times its first: the view is right. A dispute opens either way.
+  bool diverging(double stamp, double correctionM);
+  // A frame where the two agree (the view holds the map and the wheels' step agrees with it).
+  void agreed(double stamp);
+  // The relocaliser placed the camera, or the run starts over: no dispute.
+  void reset();
+  // Why the state is what it is, for frames.jsonl ("" when none).
+  const std::string& why() const { return why_; }
+
+ private:
+  static constexpr int kMinFrames = 3;
+  void begin(double stamp);
+
+  double decideS_, calmS_;
+  WheelFault fault_ = WheelFault::none;
+  double since_ = 0.0;       // the dispute's (or the calm's) first frame
+  int wheelsAgainst_ = 0;    // frames of the dispute where the view held the map against the wheels
+  int viewAgainst_ = 0;      // ... where the view did not fit the map
+  int calm_ = 0;             // frames in a row of agreement since the last contradiction
+  static constexpr double kGrowth = 2.5;
+  int rising_ = 0;           // frames in a row whose inertia-breaking correction grew
+  double firstCorrectionM_ = 0.0, lastCorrectionM_ = 0.0;
+  double calmSince_ = 0.0;
+  std::string why_;
+};
+
+}  // namespace sb::odometry

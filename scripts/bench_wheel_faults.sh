@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# The wheel-faults table (issue 52; README "Odometry"): corridor drives of a cheap base (2 x 17 m with an in-place
+# U-turn) with one fault each, run by DEFAULT and adaptive with defaults as a new user would
+# (`slambooster run SEQ --controller C`), and per run: the share of frames posed, the ATE over them with the
+# estimate anchored at the first frame as a robot's map frame is (no alignment), the worst error, and the count
+# of `good` frames more than 0.5 m from the truth (scripts/pose_honesty.py). Each case has its own seed and fault
+# time/size; CASES picks some (default all). WIDTH: 320 (default) or 640. CONFIG: a settings file given to every run
+# (e.g. {"odometry": {"dispute_s": 0.3}} for the fault watch).
+#
+# usage: scripts/bench_wheel_faults.sh [BUILD_DIR] [OUT] [CASE...]
+#   cases: plain covered stall carried latency mount
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-"$root/build"}
+out=${2:-/tmp/bench_wheel_faults}
+shift $(( $# > 2 ? 2 : $# ))
+bin="$build/tools/slambooster/slambooster"
+[ -x "$bin" ] || { echo "bench_wheel_faults: $bin not found (build first)" >&2; exit 1; }
+width=${WIDTH:-320}
+height=$(( width * 3 / 4 ))
+fx=$(python3 -c "print(481.2 * $width / 640)")
+fy=$(python3 -c "print(480.0 * $width / 640)")
+declare -A spec=(
+  [plain]="21|"
+  [covered]="22|--cover 9.5,2"
+  [stall]="23|--odom-stall 7.2,3,1.0"
+  [carried]="24|--odom-carried 15.3,9"
+  [latency]="25|--odom-latency 0.04"
+  [mount]="26|--odom-mount-error 1.5,2,0.5,0.02,0.03,0.02"
+)
+cases=("$@")
+[ ${#cases[@]} -gt 0 ] || cases=(plain covered stall carried latency mount)
+mkdir -p "$out"
+printf '%-9s %-9s %7s %9s %8s %9s  %s\n' case run posed ATE_cm worst_m good>0.5 states
+for c in "${cases[@]}"; do
+  [ -n "${spec[$c]+x}" ] || { echo "bench_wheel_faults: unknown case $c" >&2; exit 1; }
+  IFS='|' read -r seed fault <<< "${spec[$c]}"
+  seq="$out/$c-seq"
+  # shellcheck disable=SC2086
+  [ -f "$seq/odometry.txt" ] ||
+    "$bin" synth --scene corridor --stress drive --seed "$seed" --width "$width" --height "$height" --fx "$fx" \
+      --fy "$fy" $fault --out "$seq" --overwrite > "$seq.synth.log"
+  for run in default adaptive; do
+    dir="$out/$c-$run"
+    extra=()
+    [ -z "${CONFIG:-}" ] || extra=(--config "$CONFIG")
+    "$bin" run "$seq" --out "$dir" --controller "$run" --quiet "${extra[@]}" > "$dir.log" 2>&1
+    python3 "$root/scripts/pose_honesty.py" "$dir" "$seq/groundtruth.txt" > "$dir.honesty.json"
+    python3 - "$c" "$run" "$dir.honesty.json" <<'PY'
+import json, sys
+h = json.load(open(sys.argv[3]))
+print('%-9s %-9s %6.1f%% %9.2f %8.2f %9d  %s' % (sys.argv[1], sys.argv[2], 100 * h['posed_share'],
+      100 * (h['ate_posed_m'] or 0), h['worst_m'], h['good_off'], h['states']))
+PY
+  done
+done

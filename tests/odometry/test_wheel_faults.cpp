@@ -1,0 +1,114 @@
+// odometry/wheel_faults.h and odometry/mount_calibration.h: the evidence of a disagreement between the wheels
+// and the view, decided over a window and not by one frame; the map's agreement a view must keep; the mount's
+// error from the axes of the turns.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "odometry/mount_calibration.h"
+#include "odometry/wheel_faults.h"
+
+using namespace sb::odometry;
+
+namespace {
+constexpr double kFrameS = 1.0 / 30;
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+}  // namespace
+
+TEST_CASE("one frame's disagreement is not a verdict; a disagreement that lasts is", "[odometry][faults]") {
+  FaultWatch watch(0.3, 0.5);
+  watch.wheelsContradicted(0.0);
+  CHECK(watch.fault() == WheelFault::disputed);
+  watch.agreed(kFrameS);
+  watch.agreed(2 * kFrameS);
+  CHECK(watch.fault() == WheelFault::disputed);  // three frames of agreement end a dispute, not two
+  watch.agreed(3 * kFrameS);
+  CHECK(watch.fault() == WheelFault::none);
+
+  // A stall: the view holds the map frame after frame while the wheels run on.
+  double t = 1.0;
+  watch.wheelsContradicted(t);
+  for (int i = 1; i * kFrameS < 0.3 - 1e-9; ++i) {
+    watch.wheelsContradicted(t + i * kFrameS);
+    CHECK(watch.fault() == WheelFault::disputed);
+  }
+  watch.wheelsContradicted(t + 0.31);
+  CHECK(watch.fault() == WheelFault::slipping);
+  CHECK_FALSE(watch.why().empty());
+  // Slipping ends only after calm_s of agreement.
+  t += 1.0;
+  for (int i = 0; i < 10; ++i) watch.agreed(t + i * kFrameS);
+  CHECK(watch.fault() == WheelFault::slipping);
+  watch.agreed(t + 0.6);
+  CHECK(watch.fault() == WheelFault::none);
+}
+
+TEST_CASE("a view that does not fit the map while the wheels carry the pose is a kidnap when their budget ends",
+          "[odometry][faults]") {
+  FaultWatch watch(0.3, 0.5);
+  CHECK_FALSE(watch.concludeKidnapped());  // no dispute: a covered lens's dead reckoning ending is not a kidnap
+  for (int i = 0; i < 12; ++i) watch.viewContradicted(i * kFrameS);
+  CHECK(watch.fault() == WheelFault::disputed);  // not decided by the window: the budget decides
+  CHECK(watch.concludeKidnapped());
+  CHECK(watch.fault() == WheelFault::kidnapped);
+  watch.reset();
+  CHECK(watch.fault() == WheelFault::none);
+
+  // Mixed evidence: the side with more frames wins only when the window is over.
+  for (int i = 0; i < 6; ++i) watch.viewContradicted(i * kFrameS);
+  for (int i = 6; i < 20; ++i) watch.wheelsContradicted(i * kFrameS);
+  CHECK(watch.fault() == WheelFault::slipping);
+}
+
+TEST_CASE("a stall: the view's correction of the wheels keeps growing; a view's jump does not", "[odometry][faults]") {
+  FaultWatch stall(0.3, 0.5), jump(0.3, 0.5);
+  CHECK_FALSE(stall.diverging(0.0, 0.033));
+  CHECK_FALSE(stall.diverging(kFrameS, 0.066));
+  CHECK(stall.diverging(2 * kFrameS, 0.099));  // tripled over three rising frames: the wheels run away
+  CHECK(stall.fault() == WheelFault::disputed);
+  // A view that slid to a look-alike, discarded each frame from the wheels' prediction: bounded corrections.
+  const double corrections[] = {0.035, 0.042, 0.051, 0.056, 0.050, 0.052};
+  for (int i = 0; i < 6; ++i) CHECK_FALSE(jump.diverging(i * kFrameS, corrections[i]));
+}
+
+TEST_CASE("the map's agreement: a fraction of the recent median", "[odometry][faults]") {
+  MapAgreement agreement(0.5);
+  CHECK(agreement.holds(0.0));  // no history: nothing to hold against
+  for (int i = 0; i < 90; ++i) agreement.add(0.8 + 0.01 * (i % 3));
+  CHECK(agreement.floor() == Approx(0.405).margin(1e-9));
+  CHECK(agreement.holds(0.62));  // a driving frame after a standing spell
+  CHECK_FALSE(agreement.holds(0.3));  // a view elsewhere
+  for (int i = 0; i < 90; ++i) agreement.add(0.6);  // the old frames leave the window
+  CHECK(agreement.floor() == Approx(0.3).margin(1e-9));
+}
+
+TEST_CASE("the mount's tilt error from the turns: learnt after enough turning, zero without error",
+          "[odometry][mount]") {
+  // The true mount turns the camera about its up axis (-y in the optical frame); the assumed one is pitched 2
+  // degrees: the wheels' turns appear about an axis 2 degrees off.
+  const Eigen::Vector3d up(0, -1, 0);
+  const Eigen::Matrix3d E = Eigen::AngleAxisd(2.0 * kDeg, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  MountCalibration mount, clean;
+  for (int i = 0; i < 60; ++i) {
+    const Eigen::Matrix3d view = Eigen::AngleAxisd(3.0 * kDeg, up).toRotationMatrix();  // a U-turn's frame
+    OdometryStep raw;
+    raw.delta.linear() = E.transpose() * view * E;  // the same turn seen through the assumed mount
+    raw.up = E.transpose() * up;
+    raw.dt = kFrameS;
+    mount.learn(view, raw);
+    OdometryStep exact = raw;
+    exact.delta.linear() = view;
+    exact.up = up;
+    clean.learn(view, exact);
+    if (i == 25) CHECK(mount.errorDeg() == 0.0);  // 78 degrees seen: not yet
+  }
+  CHECK(mount.turnSeenDeg() == Approx(180.0));
+  CHECK(mount.errorDeg() == Approx(2.0).margin(0.01));
+  CHECK(clean.errorDeg() < 1e-6);
+  // Corrected, the wheels' turn is the view's.
+  OdometryStep raw;
+  raw.delta.linear() = E.transpose() * Eigen::AngleAxisd(3.0 * kDeg, up).toRotationMatrix() * E;
+  raw.up = E.transpose() * up;
+  const OdometryStep fixed = mount.correct(raw);
+  CHECK((fixed.delta.linear() - Eigen::AngleAxisd(3.0 * kDeg, up).toRotationMatrix()).norm() < 1e-6);
+  CHECK((fixed.up - up).norm() < 1e-6);
+}
