@@ -22,6 +22,21 @@ bool KeyframeDatabase::harvest(const FernCode& code, const Eigen::Isometry3d& T_
   return true;
 }
 
+bool KeyframeDatabase::insert(const Keyframe& keyframe) {
+  if (!keyframe.code.valid()) return false;
+  if (!keyframes_.empty() && keyframes_.front().code.codes.size() != keyframe.code.codes.size()) return false;
+  if (keyframes_.size() == capacity_) keyframes_.pop_front();
+  keyframes_.push_back(keyframe);
+  return true;
+}
+
+std::vector<const Keyframe*> KeyframeDatabase::all() const {
+  std::vector<const Keyframe*> out;
+  out.reserve(keyframes_.size());
+  for (const Keyframe& k : keyframes_) out.push_back(&k);
+  return out;
+}
+
 std::vector<KeyframeMatch> KeyframeDatabase::nearest(const FernCode& code, size_t k) const {
   std::vector<KeyframeMatch> all;
   if (!code.valid() || k == 0) return all;

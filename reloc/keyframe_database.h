@@ -37,6 +37,12 @@ class KeyframeDatabase {
   // Up to `k` keyframes most like `code`, most alike first (ties: the newer first). Empty for an invalid code.
   std::vector<KeyframeMatch> nearest(const FernCode& code, size_t k) const;
 
+  // Adds `keyframe` whatever it is like (a kept map's keyframes, runtime/map_store.h), the oldest going when
+  // full. False for an invalid code or one of another size than the stored ones.
+  bool insert(const Keyframe& keyframe);
+  // Every keyframe, oldest first (valid until the database changes).
+  std::vector<const Keyframe*> all() const;
+
   size_t size() const { return keyframes_.size(); }
   size_t capacity() const { return capacity_; }
   // Bytes held by the keyframes (codes and poses), for the bound stated in docs/tracking-state.md and STATUS.

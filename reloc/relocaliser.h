@@ -80,6 +80,12 @@ class Relocaliser {
   // The agreement an attempt needs now: minPairAgreement, or the recent tracked 90th percentile less the margin
   // when that is higher (once 10 good frames are known).
   double requiredAgreement() const;
+  // A kept map's keyframes (runtime/map_store.h), in its frame: searched like the ones harvested. Returns how
+  // many were taken (codes of another size are not).
+  size_t seed(const std::vector<Keyframe>& keyframes);
+  // Whether each fresh search also tries the held pose (true by default). Off while localising in a kept
+  // map: the held pose is in no frame of the store.
+  void setTryHeldPose(bool tryIt) { tryHeldPose_ = tryIt; }
   // Forgets a pending candidate (tracking went on without relocalisation).
   void reset() { pending_.reset(); confirmed_ = 0; }
 
@@ -94,6 +100,7 @@ class Relocaliser {
   std::optional<Eigen::Isometry3d> pending_;  // the candidate being confirmed: its pose at the last frame
   std::deque<double> tracked_;                // pair agreement of the last good frames (bounded)
   int confirmed_ = 0;
+  bool tryHeldPose_ = true;
 };
 
 }  // namespace sb

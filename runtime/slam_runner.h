@@ -57,6 +57,7 @@ class SlamRunner {
   const KnobPins& pins() const { return pins_; }
   size_t frames() const { return frames_; }
   const TrackingMonitor& monitor() const { return monitor_; }
+  TrackingMonitor& monitor() { return monitor_; }  // a kept map's start (TrackingMonitor::startInKeptMap)
   Pipeline& pipeline() { return pipeline_; }
 
  private:

@@ -39,7 +39,7 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
     return;
   }
   if (recovering_) {
-    if (motion.step) {  // dead reckoning goes on while lost: the relocaliser's first guess
+    if (motion.step && !localisingInKeptMap()) {  // dead reckoning goes on while lost: the relocaliser's first guess
       odometryPose_ = odometryPose_.value_or(motion.previousPose) * motion.step->delta;
       odometryDistanceM_ += motion.step->distanceM();
       odometryTimeS_ += motion.step->dt;
@@ -238,6 +238,7 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     Knobs knobs;  // DEFAULT's ICP (icp 1e-5, pd 10:5:4) at the relocaliser's compute size
     knobs.csr = config_.relocaliseCsr;
     const TryPose tryPose = [&](const Eigen::Isometry3d& start) {
+      if (keptMapPrepare_) keptMapPrepare_(start);
       return tryWithOdometry(pipeline.trackFrom(frame, depthScale, knobs, start, r));
     };
     const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
@@ -259,10 +260,23 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     odometryPose_.reset();
     odometryDistanceM_ = odometryTimeS_ = 0.0;
     rec.state = last_ = TrackingState::relocalised;
+    if (keptMapPrepare_) {  // localised in the kept map: from now on as without a store
+      keptMapPrepare_ = nullptr;
+      relocaliser_.setTryHeldPose(true);
+    }
   } else {
     r.tracked = false;
     rec.state = last_ = TrackingState::lost;
   }
+}
+
+void TrackingMonitor::startInKeptMap(const std::vector<Keyframe>& keyframes,
+                                     std::function<void(const Eigen::Isometry3d&)> prepare) {
+  relocaliser_.seed(keyframes);
+  relocaliser_.setTryHeldPose(false);
+  keptMapPrepare_ = std::move(prepare);
+  recovering_ = true;
+  last_ = TrackingState::lost;
 }
 
 void TrackingMonitor::after(const DepthFrame& frame, double depthScale, FrameRecord& rec) {

@@ -14,7 +14,9 @@
 
 #include <cstddef>
 #include <deque>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "drivers/frame_source.h"
 #include "pipeline/pipeline.h"
@@ -52,6 +54,15 @@ class TrackingMonitor {
   void after(const DepthFrame& frame, double depthScale, FrameRecord& rec);
 
   const Relocaliser& relocaliser() const { return relocaliser_; }
+
+  // Localising in a kept map (runtime/map_store.h; issue 55), called before the first frame: the relocaliser's
+  // keyframes are seeded with the store's (its frame), and the run starts recovering (state lost, nothing fused)
+  // without trying the held pose or the odometry's dead reckoning (both are in no frame of the store).
+  // `prepare(pose)` runs before each ICP try from `pose` (it places the store's surface around it in the
+  // volume). Once a candidate is confirmed the run is localised: its poses are in the store's frame and the
+  // monitor is as without a store.
+  void startInKeptMap(const std::vector<Keyframe>& keyframes, std::function<void(const Eigen::Isometry3d&)> prepare);
+  bool localisingInKeptMap() const { return static_cast<bool>(keptMapPrepare_); }
   // The wheels' errors learnt so far; the runner corrects each odometry step with it.
   const odometry::OdometryCalibration& calibration() const { return calibration_; }
 
@@ -93,6 +104,7 @@ class TrackingMonitor {
   // Dead reckoning on the odometry since depth last tracked: the pose, the distance and time driven.
   std::optional<Eigen::Isometry3d> odometryPose_;
   double odometryDistanceM_ = 0.0, odometryTimeS_ = 0.0;
+  std::function<void(const Eigen::Isometry3d&)> keptMapPrepare_;  // set while localising in a kept map
 };
 
 }  // namespace sb

@@ -71,22 +71,26 @@ std::string OdometryErrors::describe() const {
   return out;
 }
 
-Trajectory driveOdometry(const stress::DrivePath& path, double endS, const OdometryErrors& e, uint64_t seed) {
+Trajectory driveOdometry(const stress::DrivePath& path, double endS, const OdometryErrors& e, uint64_t seed,
+                         double startS) {
   e.validate();
-  Rng rng(seed * 0x9E3779B97F4A7C15ull + kOdometrySalt);
+  // The whole drive's stream as before; a later start mixes its start (milliseconds) into the seed.
+  const uint64_t startMs = startS > 0.0 ? static_cast<uint64_t>(std::llround(startS * 1000.0)) : 0;
+  Rng rng(seed * 0x9E3779B97F4A7C15ull + kOdometrySalt + startMs * 0xBF58476D1CE4E5B9ull);
   const double period = 1.0 / e.rateHz;
   // Stamps offset from the frames' (which start at 0 s) by 10-90% of a period.
   const double offset = period * (0.1 + 0.8 * rng.unit());
-  const Eigen::Isometry3d odomFromWorld = path.baseToWorld(0.0).inverse();  // the odometry frame: the base at 0 s
+  // The odometry frame: the base at the start.
+  const Eigen::Isometry3d odomFromWorld = path.baseToWorld(startS).inverse();
   const Eigen::Isometry3d mount = path.cameraToBase();
   const double yawBias = e.yawBiasDegps * kDegToRad, yawNoise = e.yawNoiseDegPerSqrtS * kDegToRad;
 
   Trajectory out;
   Planar odom;  // the base's reading, integrated
-  double previousT = 0.0;
-  Eigen::Isometry3d previousTrue = odomFromWorld * path.baseToWorld(0.0);
+  double previousT = startS;
+  Eigen::Isometry3d previousTrue = odomFromWorld * path.baseToWorld(startS);
   for (size_t k = 0;; ++k) {
-    const double t = offset + static_cast<double>(k) * period;
+    const double t = startS + offset + static_cast<double>(k) * period;
     const Eigen::Isometry3d trueBase = odomFromWorld * path.baseToWorld(t);
     // The true increment in the previous base frame (planar: the base stays on the floor).
     const Eigen::Isometry3d d = previousTrue.inverse() * trueBase;
@@ -118,7 +122,7 @@ void writeOdometryFile(const std::string& path, const Trajectory& odometry, cons
   out << "# timestamp tx ty tz qx qy qz qw: wheel odometry, T_camera_to_odom (metres, seconds on depth.txt's "
          "clock)\n"
       << "# the camera's optical frame (x right, y down, z forward; groundtruth.txt's) in the base's odometry "
-         "frame (ROS REP 103: x forward, y left, z up; the base at the drive's start), through the camera mount\n"
+         "frame (ROS REP 103: x forward, y left, z up; the base at the sequence's first frame: the drive's start, or where --frames-from starts it), through the camera mount\n"
       << "# synthetic errors (seed " << seed << "): " << errors.describe() << "\n";
   for (const TimedPose& p : odometry) out << formatTumLine(p) << "\n";
   if (!out) throw Error("synth: writing '" + path + "' failed (disk full?)");

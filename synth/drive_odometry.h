@@ -38,10 +38,11 @@ struct OdometryErrors {
   std::string describe() const;
 };
 
-// The drive's odometry from its start up to `endS` seconds (at least one sample at or after it). `seed`
-// seeds the noise and the stamps' offset.
+// The drive's odometry from `startS` (0: the drive's start) up to `endS` seconds (at least one sample at or
+// after it). The odometry frame is the base at `startS` (a robot started there). `seed` and `startS` seed the
+// noise and the stamps' offset: a part started later draws noise of its own.
 Trajectory driveOdometry(const stress::DrivePath& path, double endS, const OdometryErrors& errors,
-                         uint64_t seed);
+                         uint64_t seed, double startS = 0.0);
 
 // Writes `odometry` as a TUM-format odometry.txt whose header comment states the convention and `errors`.
 // Throws sb::Error naming the file.
