@@ -111,9 +111,17 @@ RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Iso
   std::vector<Eigen::Isometry3d> starts;
   if (tryHeldPose_) starts.push_back(heldPose);
   for (const KeyframeMatch& m : keyframes_.nearest(code, static_cast<size_t>(params_.candidates))) {
-    bool seen = false;
-    for (const auto& s : starts) seen = seen || near(s, m.keyframe->T_camera_to_world, 0.01, 1.0);
-    if (!seen) starts.push_back(m.keyframe->T_camera_to_world);
+    std::vector<Eigen::Isometry3d> poses{m.keyframe->T_camera_to_world};
+    for (double d : viewOffsetsM_) {
+      Eigen::Isometry3d moved = m.keyframe->T_camera_to_world;
+      moved.translation() += d * moved.linear().col(2);
+      poses.push_back(moved);
+    }
+    for (const Eigen::Isometry3d& pose : poses) {
+      bool seen = false;
+      for (const auto& s : starts) seen = seen || near(s, pose, 0.01, 1.0);
+      if (!seen) starts.push_back(pose);
+    }
   }
   std::optional<TrackAttempt> best;
   for (const auto& start : starts) {

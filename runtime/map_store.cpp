@@ -170,9 +170,13 @@ void MapStore::loadBox(const mapstore::SlabBox& world, const VolumeWindow& windo
   loadMs_ += msSince(start);
 }
 
-void MapStore::placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, BackendVolume& volume) {
+bool MapStore::placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, BackendVolume& volume) {
+  if (placedCorner_ && *placedCorner_ == window.cornerVoxels() && window.shiftFor(pose, window.cornerVoxels()).isZero())
+    return true;  // placed already
+  if (placedThisFrame_) return false;
+  placedThisFrame_ = true;
   window.placeFor(pose, volume);
-  if (placedCorner_ && *placedCorner_ == window.cornerVoxels()) return;
+  if (placedCorner_ && *placedCorner_ == window.cornerVoxels()) return true;
   const int r = config_.volumeResolution;
   mapstore::SlabBox world;
   for (int a = 0; a < 3; ++a) world.first[size_t(a)] = window.cornerVoxels()[a];
@@ -182,6 +186,7 @@ void MapStore::placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, Bac
   loadBox(world, window, volume, /*cleared=*/true);
   placedCorner_ = window.cornerVoxels();
   ++placements_;
+  return true;
 }
 
 void MapStore::swapIn(const std::array<int, 3>& first, const std::array<int, 3>& extent, const VolumeWindow& window,

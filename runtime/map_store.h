@@ -66,8 +66,10 @@ class MapStore {
   void localised(size_t frame, double timestamp);
 
   // Places the volume for a relocalisation candidate at `pose` (the store's frame) and fills it with the
-  // store's surface there (only when the placement changed). While localising the window holds still.
-  void placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, BackendVolume& volume);
+  // store's surface there (only when the placement changed). At most one new placement per frame (a few
+  // hundred ms at 256^3): false, and nothing done, for a candidate that needs another one this frame.
+  bool placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, BackendVolume& volume);
+  void nextFrame() { placedThisFrame_ = false; }
   // The box of the volume a shift brought in (VolumeWindow's enter listener): the store's surface of it
   // swapped back in (after the slabs still queued are written). Nothing unless writing.
   void swapIn(const std::array<int, 3>& first, const std::array<int, 3>& extent, const VolumeWindow& window,
@@ -106,6 +108,7 @@ class MapStore {
   std::optional<size_t> localisedFrame_;
   double localisedStamp_ = 0.0;  // seconds, the frame's
   std::optional<Eigen::Vector3i> placedCorner_;  // the corner whose volume holds the store's surface
+  bool placedThisFrame_ = false;
   size_t placements_ = 0, swapIns_ = 0;
   double loadMs_ = 0.0;
 

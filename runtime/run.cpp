@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -79,18 +80,24 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
   }
 }
 
+// Where a restarted robot is tried besides each kept keyframe: along its view, metres (nearest first).
+constexpr std::array<double, 4> kKeptMapViewOffsetsM = {0.25, -0.25, 0.5, -0.5};
+// A run writing a store keeps a keyframe at least every this many metres (or 30 degrees) of its path.
+constexpr double kKeptMapKeyframeSpacingM = 0.5;
+
 void Run::startMapStore(const RunOutputs& outputs) {
   mapStore_ = std::make_unique<MapStore>(outputs.mapStore, pipeline_->config(), outputs.mapStoreOptions);
   VolumeWindow& window = *pipeline_->volumeWindow();  // MapStore refuses a fixed volume
+  runner_.monitor().setKeyframeSpacing(kKeptMapKeyframeSpacingM);
   if (mapStore_->kept()) {
     // Localising first: nothing fused, the volume placed and filled from the store for each candidate and held
     // there (the held pose is in no frame of the store) until one is confirmed.
     pipeline_->skipBootstrap();
     window.setHeld(true);
-    runner_.monitor().startInKeptMap(mapStore_->keptKeyframes(),
-                                     [this, &window](const Eigen::Isometry3d& pose) {
-                                       mapStore_->placeFor(pose, window, pipeline_->backend());
-                                     });
+    runner_.monitor().startInKeptMap(
+        mapStore_->keptKeyframes(),
+        [this, &window](const Eigen::Isometry3d& pose) { return mapStore_->placeFor(pose, window, pipeline_->backend()); },
+        {kKeptMapViewOffsetsM.begin(), kKeptMapViewOffsetsM.end()});
   }
   window.setEnterListener([this, &window](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
     mapStore_->swapIn(first, extent, window, pipeline_->backend());
@@ -99,6 +106,7 @@ void Run::startMapStore(const RunOutputs& outputs) {
 }
 
 void Run::stepMapStore(const FrameRecord& rec) {
+  mapStore_->nextFrame();
   if (!mapStore_->writing() && !runner_.monitor().localisingInKeptMap()) {
     mapStore_->localised(rec.result.frame, rec.result.timestamp);
     pipeline_->volumeWindow()->setHeld(false);

@@ -44,7 +44,7 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
       odometryDistanceM_ += motion.step->distanceM();
       odometryTimeS_ += motion.step->dt;
     }
-    relocalise(pipeline, frame, depthScale, rec);
+    relocalise(pipeline, frame, depthScale, rec, motion);
     return;
   }
   if (r.tracked && motion.step) {
@@ -229,7 +229,8 @@ TrackAttempt TrackingMonitor::tryWithOdometry(const TrackAttempt& attempt) const
   return refused;
 }
 
-void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec) {
+void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
+                                 const FrameMotion& motion) {
   FrameResult& r = rec.result;
   Decision& d = rec.decision;
   rec.relocalising = true;
@@ -238,12 +239,17 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     Knobs knobs;  // DEFAULT's ICP (icp 1e-5, pd 10:5:4) at the relocaliser's compute size
     knobs.csr = config_.relocaliseCsr;
     const TryPose tryPose = [&](const Eigen::Isometry3d& start) {
-      if (keptMapPrepare_) keptMapPrepare_(start);
+      if (keptMapPrepare_ && !keptMapPrepare_(start)) {
+        TrackAttempt skipped;  // not tried this frame: fails
+        skipped.start = skipped.T_camera_to_world = start;
+        return skipped;
+      }
       return tryWithOdometry(pipeline.trackFrom(frame, depthScale, knobs, start, r));
     };
     const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
     // The odometry's dead-reckoned pose is the first candidate when there is one, else the held pose.
     rec.relocalisation = relocaliser_.relocalise(code, odometryPose_.value_or(pipeline.pose()), tryPose);
+    if (keptMapPrepare_) keptMapVerdict(rec.relocalisation, motion);
   } else {
     rec.relocalisation.why = "relocalisation is off";
   }
@@ -263,6 +269,9 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     if (keptMapPrepare_) {  // localised in the kept map: from now on as without a store
       keptMapPrepare_ = nullptr;
       relocaliser_.setTryHeldPose(true);
+      relocaliser_.setViewOffsets({});
+      relocaliser_.setConfirmFrames(config_.relocaliseConfirmFrames);
+      keptAnchor_.reset();
     }
   } else {
     r.tracked = false;
@@ -270,10 +279,35 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
   }
 }
 
-void TrackingMonitor::startInKeptMap(const std::vector<Keyframe>& keyframes,
-                                     std::function<void(const Eigen::Isometry3d&)> prepare) {
+void TrackingMonitor::keptMapVerdict(RelocaliseOutcome& out, const FrameMotion& motion) {
+  if (out.confirmed == 0 || !out.attempt) {
+    keptAnchor_.reset();
+    return;
+  }
+  const Eigen::Isometry3d& pose = out.attempt->T_camera_to_world;
+  if (out.confirmed == 1 || !keptAnchor_ || !motion.step) {  // a new candidate (or no wheels): its own anchor
+    keptAnchor_ = pose;
+    keptAnchorDistanceM_ = 0.0;
+    return;
+  }
+  keptAnchor_ = *keptAnchor_ * motion.step->delta;
+  keptAnchorDistanceM_ += motion.step->distanceM();
+  const double off = (pose.translation() - keptAnchor_->translation()).norm();
+  const double tolerance = kKeptMapOdometryToleranceM + config_.odometry.noisePerM * keptAnchorDistanceM_;
+  if (off <= tolerance) return;
+  out.why += format("; refused: the wheels put the camera %.3f m from it after %.2f m", off, keptAnchorDistanceM_);
+  out.accepted = false;
+  out.confirmed = 0;
+  relocaliser_.reset();
+  keptAnchor_.reset();
+}
+
+void TrackingMonitor::startInKeptMap(const std::vector<Keyframe>& keyframes, KeptMapPrepare prepare,
+                                     const std::vector<double>& offsetsM) {
   relocaliser_.seed(keyframes);
   relocaliser_.setTryHeldPose(false);
+  relocaliser_.setViewOffsets(offsetsM);
+  relocaliser_.setConfirmFrames(std::max(config_.relocaliseConfirmFrames, kKeptMapConfirmFrames));
   keptMapPrepare_ = std::move(prepare);
   recovering_ = true;
   last_ = TrackingState::lost;

@@ -59,10 +59,18 @@ class TrackingMonitor {
   // keyframes are seeded with the store's (its frame), and the run starts recovering (state lost, nothing fused)
   // without trying the held pose or the odometry's dead reckoning (both are in no frame of the store).
   // `prepare(pose)` runs before each ICP try from `pose` (it places the store's surface around it in the
-  // volume). Once a candidate is confirmed the run is localised: its poses are in the store's frame and the
-  // monitor is as without a store.
-  void startInKeptMap(const std::vector<Keyframe>& keyframes, std::function<void(const Eigen::Isometry3d&)> prepare);
+  // volume); false: not this frame (the try fails without ICP). Each keyframe is also tried from
+  // `offsetsM` along its view (a robot restarted on a path it drove, between two keyframes). A candidate must
+  // hold kKeptMapConfirmFrames frames and, with odometry, move as the wheels do while it holds (within
+  // kKeptMapOdometryToleranceM plus noise_per_m of the distance): another building's corridor can match a view
+  // as well as the right place, but not the motion. Once a candidate is confirmed the run is localised: its
+  // poses are in the store's frame and the monitor is as without a store.
+  using KeptMapPrepare = std::function<bool(const Eigen::Isometry3d&)>;
+  void startInKeptMap(const std::vector<Keyframe>& keyframes, KeptMapPrepare prepare,
+                      const std::vector<double>& offsetsM = {});
   bool localisingInKeptMap() const { return static_cast<bool>(keptMapPrepare_); }
+  // A run writing a kept map also harvests keyframes by distance (KeyframeDatabase::setMaxSpacing).
+  void setKeyframeSpacing(double metres) { relocaliser_.setKeyframeSpacing(metres); }
   // The wheels' errors learnt so far; the runner corrects each odometry step with it.
   const odometry::OdometryCalibration& calibration() const { return calibration_; }
 
@@ -85,7 +93,8 @@ class TrackingMonitor {
   bool followOdometry(FrameRecord& rec, const FrameMotion& motion);
   // The relocaliser's try, refused when the odometry contradicts the candidate.
   TrackAttempt tryWithOdometry(const TrackAttempt& attempt) const;
-  void relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec);
+  void relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
+                  const FrameMotion& motion);
 
   PipelineConfig config_;
   FernEncoder encoder_;
@@ -104,7 +113,13 @@ class TrackingMonitor {
   // Dead reckoning on the odometry since depth last tracked: the pose, the distance and time driven.
   std::optional<Eigen::Isometry3d> odometryPose_;
   double odometryDistanceM_ = 0.0, odometryTimeS_ = 0.0;
-  std::function<void(const Eigen::Isometry3d&)> keptMapPrepare_;  // set while localising in a kept map
+  // A kept map's verdict on the relocaliser's outcome: the candidate's motion against the wheels'.
+  void keptMapVerdict(RelocaliseOutcome& outcome, const FrameMotion& motion);
+  static constexpr int kKeptMapConfirmFrames = 15;          // 0.5 s at 30 Hz
+  static constexpr double kKeptMapOdometryToleranceM = 0.05;
+  KeptMapPrepare keptMapPrepare_;  // set while localising in a kept map
+  std::optional<Eigen::Isometry3d> keptAnchor_;  // the pending candidate moved by the wheels since it was found
+  double keptAnchorDistanceM_ = 0.0;
 };
 
 }  // namespace sb

@@ -122,7 +122,8 @@ void writeOdometryFile(const std::string& path, const Trajectory& odometry, cons
   out << "# timestamp tx ty tz qx qy qz qw: wheel odometry, T_camera_to_odom (metres, seconds on depth.txt's "
          "clock)\n"
       << "# the camera's optical frame (x right, y down, z forward; groundtruth.txt's) in the base's odometry "
-         "frame (ROS REP 103: x forward, y left, z up; the base at the sequence's first frame: the drive's start, or where --frames-from starts it), through the camera mount\n"
+         "frame (ROS REP 103: x forward, y left, z up; the base at the sequence's first frame: the drive's start, "
+         "or where --frames-from starts it), through the camera mount\n"
       << "# synthetic errors (seed " << seed << "): " << errors.describe() << "\n";
   for (const TimedPose& p : odometry) out << formatTumLine(p) << "\n";
   if (!out) throw Error("synth: writing '" + path + "' failed (disk full?)");

@@ -223,9 +223,12 @@ TEST_CASE("a slab that left comes back when the volume returns, and a kept store
     CHECK(!store.writing());
     REQUIRE(store.keptKeyframes().size() == 1);
     CHECK(store.keptKeyframes()[0].T_camera_to_world.isApprox(seen, 0.0));
-    store.placeFor(at(20.0, 1.5, 0.9), window, backend);
+    CHECK(store.placeFor(at(20.0, 1.5, 0.9), window, backend));
     CHECK(window.cornerVoxels() != Eigen::Vector3i::Zero());
-    store.placeFor(seen, window, backend);
+    CHECK(!store.placeFor(seen, window, backend));  // one new placement per frame
+    store.nextFrame();
+    CHECK(store.placeFor(seen, window, backend));
+    CHECK(store.placeFor(seen, window, backend));  // placed already: nothing to do
     REQUIRE(window.cornerVoxels() == Eigen::Vector3i::Zero());
     const std::vector<int16_t> placed = wholeVolume(backend, r);
     size_t observed = 0, same = 0;
@@ -236,6 +239,7 @@ TEST_CASE("a slab that left comes back when the volume returns, and a kept store
     }
     CHECK(same == observed);
     CHECK(raycastFrom(backend, seen) == raycastBefore);
+    CHECK(store.summaryJson()["placements"].get<size_t>() == 2);
     // Never localised: its end writes nothing into the kept store.
     sb::KeyframeDatabase keyframes(10, 0.1);
     store.finish(window, backend, keyframes);
