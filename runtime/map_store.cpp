@@ -102,8 +102,8 @@ void MapStore::openExisting() {
     throw Error("map store: '" + formatPath + "' does not name the format \"" + kFormatName +
                 "\": not a map store; give another --map-store");
   if (!f.contains("version") || !f["version"].is_number_unsigned() || f["version"] != mapstore::kFormatVersion)
-    throw Error("map store: '" + formatPath + "' is format version " + (f.contains("version") ? f["version"].dump() : "?") +
-                ", this build reads " + std::to_string(mapstore::kFormatVersion) +
+    throw Error("map store: '" + formatPath + "' is format version " +
+                (f.contains("version") ? f["version"].dump() : "?") + ", this build reads " + std::to_string(mapstore::kFormatVersion) +
                 ": use the slambooster that wrote it, or another --map-store");
   const auto same = [&](const char* key, double here) {
     if (!f.contains(key) || !f[key].is_number() || std::abs(f[key].get<double>() - here) > 1e-6 * std::abs(here))

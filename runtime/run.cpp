@@ -96,7 +96,9 @@ void Run::startMapStore(const RunOutputs& outputs) {
     window.setHeld(true);
     runner_.monitor().startInKeptMap(
         mapStore_->keptKeyframes(),
-        [this, &window](const Eigen::Isometry3d& pose) { return mapStore_->placeFor(pose, window, pipeline_->backend()); },
+        [this, &window](const Eigen::Isometry3d& pose) {
+          return mapStore_->placeFor(pose, window, pipeline_->backend());
+        },
         {kKeptMapViewOffsetsM.begin(), kKeptMapViewOffsetsM.end()});
   }
   window.setEnterListener([this, &window](const std::array<int, 3>& first, const std::array<int, 3>& extent) {

@@ -178,7 +178,8 @@ TEST_CASE("a slab that left comes back when the volume returns, and a kept store
     sb::MapStore store(dir, config);
     REQUIRE(!store.kept());
     REQUIRE(store.writing());
-    window.setSlabListener([&](sb::VolumeSlab&& slab) { store.addSlab(std::make_shared<const sb::VolumeSlab>(std::move(slab))); });
+    window.setSlabListener(
+        [&](sb::VolumeSlab&& slab) { store.addSlab(std::make_shared<const sb::VolumeSlab>(std::move(slab))); });
     window.setEnterListener([&](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
       store.swapIn(first, extent, window, backend);
     });

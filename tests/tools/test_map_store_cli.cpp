@@ -117,7 +117,8 @@ TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run
   CHECK(filesOf(foreign) == before);  // nothing written into a store the run was never localised in
 }
 
-TEST_CASE("a store that is not one, or is of another voxel size, is refused naming the file", "[tools][map_store][system]") {
+TEST_CASE("a store of another voxel size is refused naming its format.json, and left as it was",
+          "[tools][map_store][system]") {
   const std::string dir = sb::test::scratchDir("map_store_cli_refused");
   synth(" --frames-to 20 --out " + dir + "/seq");
   const std::string store = dir + "/store";
@@ -125,8 +126,8 @@ TEST_CASE("a store that is not one, or is of another voxel size, is refused nami
   run(dir + "/seq", store, dir + "/out1");
   const auto before = filesOf(store);
   fs::remove_all(dir + "/out2");
-  const auto r = runCommand(kTool + " run " + dir + "/seq --volume-size 5 --volume-resolution 128 --quiet --map-store " +
-                            store + " --out " + dir + "/out2");
+  const auto r = runCommand(kTool + " run " + dir + "/seq --volume-size 5 --volume-resolution 128 --quiet" +
+                            " --map-store " + store + " --out " + dir + "/out2");
   INFO(r.output);
   CHECK(r.exitCode != 0);
   CHECK(r.output.find(store + "/format.json") != std::string::npos);

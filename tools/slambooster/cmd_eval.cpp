@@ -123,8 +123,9 @@ RpeRow measureRpe(const Trajectory& est, const Trajectory& gt, double delta, boo
 void runEval(const EvalArgs& a) {
   Trajectory est = readTumTrajectory(a.estimatePath);
   const Trajectory gt = readTumTrajectory(a.groundTruthPath);
-  if (a.fromS) est.erase(std::remove_if(est.begin(), est.end(), [&](const TimedPose& p) { return p.timestamp < *a.fromS; }),
-                         est.end());
+  if (a.fromS)
+    est.erase(std::remove_if(est.begin(), est.end(), [&](const TimedPose& p) { return p.timestamp < *a.fromS; }),
+              est.end());
   AssociationOptions o;
   o.maxTimeDifference = a.maxDtS;
   o.timeOffset = a.offsetS;
