@@ -77,6 +77,8 @@ void readOutput(ConfigReader& r, OutputConfig& o) {
   r.boolean("report", o.report);
   r.string("navmap", o.navmap);
   r.number("navmap_period_s", o.navmapPeriodS, 0.5, 86400.0);
+  r.string("map_store", o.mapStore);
+  r.number("map_store_keep_mib", o.mapStoreKeepMib, 0.0, 1073741824.0);
   r.section("rotation", [&](ConfigReader& s) { readRotation(s, o.rotation); });
   if (o.dir.empty()) r.fail("dir", "a directory for trajectory.tum, frames.jsonl and summary.json (not empty)");
 }
@@ -201,6 +203,8 @@ nlohmann::json daemonConfigToJson(const DaemonConfig& c) {
             {"report", c.output.report},
             {"navmap", c.output.navmap},
             {"navmap_period_s", c.output.navmapPeriodS},
+            {"map_store", c.output.mapStore},
+            {"map_store_keep_mib", c.output.mapStoreKeepMib},
             {"rotation",
              {{"mode", c.output.rotation.mode},
               {"segment_mib", c.output.rotation.segmentMib},

@@ -57,6 +57,10 @@ struct OutputConfig {
   // atomically every navmapPeriodS seconds and at the end, and ?MAP answers the grid.
   std::string navmap;
   double navmapPeriodS = 10.0;
+  // The map kept across restarts (issue 55; docs/map-store.md): a store directory every pass continues (it
+  // localises in the map already there first); "" = none. Its slab files at most mapStoreKeepMib (0: no limit).
+  std::string mapStore;
+  double mapStoreKeepMib = 0.0;
   RotationConfig rotation;                   // per-frame outputs of long sessions
 };
 

@@ -230,6 +230,8 @@ void SlamWorker::startPass(Passes& p) {
   outputs.comment = "slamboosterd " + sequence_.path + " pass " + std::to_string(p.pass) + " (volume frame)";
   outputs.segments = segments_;
   outputs.mapSlabs = config_.output.mesh;
+  outputs.mapStore = config_.output.mapStore;
+  outputs.mapStoreOptions.keepSlabBytes = static_cast<uint64_t>(config_.output.mapStoreKeepMib * 1024.0 * 1024.0);
   outputs.keepSlabBytes = static_cast<uint64_t>(config_.output.rotation.keepSlabsMib * 1024.0 * 1024.0);
   outputs.slabRetention = segments_ ? segments_ : passRetention_;
   outputs.mapSink = maps_ ? maps_->startPass(p.pass) : nullptr;

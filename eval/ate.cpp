@@ -21,8 +21,8 @@ double median(std::vector<double> v) {
 
 }  // namespace
 
-AteResult computeAte(const Trajectory& estimate, const Trajectory& groundTruth,
-                     const AssociationOptions& options) {
+AteResult computeAte(const Trajectory& estimate, const Trajectory& groundTruth, const AssociationOptions& options,
+                     const Eigen::Isometry3d* fixedAlignment) {
   const MatchedPoses m = matchPoses(estimate, groundTruth, options, kMinAteMatches);
   const size_t n = m.estimate.size();
   Eigen::Matrix3Xd est(3, n), gt(3, n);
@@ -33,7 +33,7 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& groundTruth,
 
   AteResult r;
   r.matches = n;
-  r.alignment = alignRigid(est, gt, "estimate", "ground truth");
+  r.alignment = fixedAlignment ? *fixedAlignment : alignRigid(est, gt, "estimate", "ground truth");
   r.timestamps.resize(n);
   r.errors.resize(n);
   r.unalignedErrors.resize(n);

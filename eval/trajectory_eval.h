@@ -32,8 +32,10 @@ struct AteResult {
 };
 
 // Throws sb::Error when fewer than 3 poses associate or the positions are degenerate (collinear/identical).
+// With `fixedAlignment` the estimate is not aligned to this ground truth but mapped by it (a run in a kept map
+// measured in the frame fitted on the run that made the map: no refit).
 AteResult computeAte(const Trajectory& estimate, const Trajectory& groundTruth,
-                     const AssociationOptions& options = {});
+                     const AssociationOptions& options = {}, const Eigen::Isometry3d* fixedAlignment = nullptr);
 
 struct RpeResult {
   size_t pairs = 0;

@@ -21,8 +21,9 @@ constexpr int kPyramidLevels = 3;
 // [0] sum e^2 (m^2), [1..6] J^T e, [7..27] upper triangle of J^T J, [28] inliers, [29..31] rejection counts.
 using TrackSums = std::array<double, 32>;
 
-// The TSDF volume the backend holds, as the host sees it: read it whole or a box of it, and move it (the moving
-// volume). Its own interface: VolumeWindow (pipeline/volume_window.h) needs nothing else of a backend.
+// The TSDF volume the backend holds, as the host sees it: read it whole or a box of it, move it (the moving
+// volume), and write a box back (a kept map). Its own interface: VolumeWindow (pipeline/volume_window.h) needs
+// nothing else of a backend.
 class BackendVolume {
  public:
   virtual ~BackendVolume() = default;
@@ -44,6 +45,11 @@ class BackendVolume {
   // and the empty-space skipping grid follows. Poses given to integrate and raycast and the raycast's maps stay
   // in the world frame. A volume never moved has its corner at 0, the world's origin.
   virtual void moveVolume(const Eigen::Vector3i& cornerVoxels) = 0;
+
+  // The inverse of readVolumeBox: `in` (the same layout) replaces the box's voxels, and the empty-space
+  // skipping grid follows (a kept map's surface swapped back into the volume, runtime/map_store.h).
+  virtual void writeVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                              const int16_t* in) = 0;
 };
 
 // The stages of one frame on one device (the classic names, pipeline/stages.h) and the storage precision of

@@ -129,6 +129,10 @@ class Pipeline {
   FrameResult processFrame(const DepthFrame& frame, double depthScale, const Knobs& knobs);
 
   const Eigen::Isometry3d& pose() const { return pose_; }
+  // No bootstrap frames: no frame is fused at the initial pose before tracking (a run that starts localising in
+  // a kept map, runtime/map_store.h: its volume holds the store's surface until it is localised). Before the
+  // first frame.
+  void skipBootstrap() { config_.bootstrapFrames = 0; }
   const Eigen::Isometry3d& initialPose() const { return initialPose_; }
   const PipelineConfig& config() const { return config_; }
 

@@ -47,6 +47,7 @@ Eigen::Vector3i VolumeWindow::shiftFor(const Eigen::Isometry3d& T_camera_to_worl
 }
 
 Eigen::Vector3i VolumeWindow::follow(const Eigen::Isometry3d& T_camera_to_world, BackendVolume& backend) {
+  if (held_) return Eigen::Vector3i::Zero();
   const Eigen::Vector3i shift = shiftFor(T_camera_to_world, corner_);
   for (int axis = 0; axis < 3; ++axis) {
     const int voxels = shift[axis];
@@ -75,8 +76,29 @@ Eigen::Vector3i VolumeWindow::follow(const Eigen::Isometry3d& T_camera_to_world,
     corner_[axis] += voxels;
     backend.moveVolume(corner_);
     stats_.shiftMs += msSince(start);
+    if (enterListener_) {  // the planes that came in: at the far side of the move
+      const int entering = std::min(std::abs(voxels), resolution_);
+      std::array<int, 3> first{}, extent{resolution_, resolution_, resolution_};
+      extent[size_t(axis)] = entering;
+      first[size_t(axis)] = voxels > 0 ? resolution_ - entering : 0;
+      enterListener_(first, extent);
+    }
   }
   return shift;
+}
+
+Eigen::Vector3i VolumeWindow::placeFor(const Eigen::Isometry3d& T_camera_to_world, BackendVolume& backend) {
+  // shiftFor caps a far jump: repeat until the view is within the threshold (a few rounds at most).
+  Eigen::Vector3i total = Eigen::Vector3i::Zero();
+  for (Eigen::Vector3i shift = shiftFor(T_camera_to_world, corner_); !shift.isZero() && total.norm() < 1e8;
+       shift = shiftFor(T_camera_to_world, corner_ + total))
+    total += shift;
+  if (total.isZero()) return total;
+  const auto start = std::chrono::steady_clock::now();
+  corner_ += total;
+  backend.moveVolume(corner_);
+  stats_.shiftMs += msSince(start);
+  return total;
 }
 
 }  // namespace sb

@@ -65,6 +65,19 @@ class VolumeWindow {
   // None: slabs are neither read nor kept.
   void setSlabListener(std::function<void(VolumeSlab&&)> listener) { listener_ = std::move(listener); }
 
+  // The box of the volume that a shift of follow() brought in (logical voxels first .. first + extent - 1 of
+  // the volume at its new corner, cleared): a kept map swaps its surface back in there (runtime/map_store.h).
+  using EnterListener = std::function<void(const std::array<int, 3>& first, const std::array<int, 3>& extent)>;
+  void setEnterListener(EnterListener listener) { enterListener_ = std::move(listener); }
+
+  // Places the volume where follow() would bring it for a camera at `T_camera_to_world`, in one move, handing
+  // nothing to either listener: what leaves is dropped and what comes in is cleared (a kept map's volume,
+  // whose surface its store holds, placed for a relocalisation candidate). Returns the shift in voxels.
+  Eigen::Vector3i placeFor(const Eigen::Isometry3d& T_camera_to_world, BackendVolume& backend);
+  // While held, follow() does not move the volume (a kept map's volume placed for a candidate, while the pose
+  // is held elsewhere until the run is localised).
+  void setHeld(bool held) { held_ = held; }
+
   // The world position of the volume's corner, voxels and metres; the cyclic offset.
   const Eigen::Vector3i& cornerVoxels() const { return corner_; }
   Eigen::Vector3d cornerMetres() const { return corner_.cast<double>() * voxelSize_; }
@@ -79,6 +92,8 @@ class VolumeWindow {
   double viewDistance_;   // metres
   Eigen::Vector3i corner_ = Eigen::Vector3i::Zero();
   std::function<void(VolumeSlab&&)> listener_;
+  EnterListener enterListener_;
+  bool held_ = false;
   VolumeWindowStats stats_;
 };
 

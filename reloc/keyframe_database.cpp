@@ -15,11 +15,34 @@ KeyframeDatabase::KeyframeDatabase(size_t capacity, double minDissimilarity)
 
 bool KeyframeDatabase::harvest(const FernCode& code, const Eigen::Isometry3d& T_camera_to_world, size_t frame) {
   if (!code.valid()) return false;
-  for (const Keyframe& k : keyframes_)
-    if (code.dissimilarity(k.code) <= minDissimilarity_) return false;
+  constexpr double kSpacingMaxDeg = 30.0;
+  bool unlike = true, far = maxSpacingM_ > 0.0;
+  for (const Keyframe& k : keyframes_) {
+    unlike = unlike && code.dissimilarity(k.code) > minDissimilarity_;
+    if (far && (k.T_camera_to_world.translation() - T_camera_to_world.translation()).norm() <= maxSpacingM_ &&
+        Eigen::AngleAxisd(k.T_camera_to_world.linear().transpose() * T_camera_to_world.linear()).angle() <=
+            kSpacingMaxDeg * 3.14159265358979 / 180.0)
+      far = false;
+    if (!unlike && !far) return false;
+  }
   if (keyframes_.size() == capacity_) keyframes_.pop_front();
   keyframes_.push_back({code, T_camera_to_world, frame});
   return true;
+}
+
+bool KeyframeDatabase::insert(const Keyframe& keyframe) {
+  if (!keyframe.code.valid()) return false;
+  if (!keyframes_.empty() && keyframes_.front().code.codes.size() != keyframe.code.codes.size()) return false;
+  if (keyframes_.size() == capacity_) keyframes_.pop_front();
+  keyframes_.push_back(keyframe);
+  return true;
+}
+
+std::vector<const Keyframe*> KeyframeDatabase::all() const {
+  std::vector<const Keyframe*> out;
+  out.reserve(keyframes_.size());
+  for (const Keyframe& k : keyframes_) out.push_back(&k);
+  return out;
 }
 
 std::vector<KeyframeMatch> KeyframeDatabase::nearest(const FernCode& code, size_t k) const {

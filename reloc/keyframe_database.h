@@ -32,10 +32,21 @@ class KeyframeDatabase {
   // `minDissimilarity` (in [0, 1]).
   KeyframeDatabase(size_t capacity, double minDissimilarity);
 
-  // Adds the view as a keyframe when it is unlike every stored one (and its code is valid). True when added.
+  // Adds the view as a keyframe when it is unlike every stored one (and its code is valid), or, with a spacing
+  // set, when no keyframe was seen from within that spacing and 30 degrees of its pose (a map kept across runs,
+  // runtime/map_store.h: a corridor's views are alike, and a restarted robot needs a keyframe near it). True
+  // when added.
   bool harvest(const FernCode& code, const Eigen::Isometry3d& T_camera_to_world, size_t frame);
   // Up to `k` keyframes most like `code`, most alike first (ties: the newer first). Empty for an invalid code.
   std::vector<KeyframeMatch> nearest(const FernCode& code, size_t k) const;
+
+  // Adds `keyframe` whatever it is like (a kept map's keyframes, runtime/map_store.h), the oldest going when
+  // full. False for an invalid code or one of another size than the stored ones.
+  bool insert(const Keyframe& keyframe);
+  // Every keyframe, oldest first (valid until the database changes).
+  std::vector<const Keyframe*> all() const;
+
+  void setMaxSpacing(double metres) { maxSpacingM_ = metres; }  // 0: the dissimilarity rule alone
 
   size_t size() const { return keyframes_.size(); }
   size_t capacity() const { return capacity_; }
@@ -45,6 +56,7 @@ class KeyframeDatabase {
  private:
   size_t capacity_;
   double minDissimilarity_;
+  double maxSpacingM_ = 0.0;
   std::deque<Keyframe> keyframes_;  // oldest first
 };
 

@@ -53,6 +53,12 @@ Relocaliser::Relocaliser(const RelocaliserParams& p)
     throw Error("Relocaliser: candidates must be >= 0 and confirm frames >= 1");
 }
 
+size_t Relocaliser::seed(const std::vector<Keyframe>& keyframes) {
+  size_t taken = 0;
+  for (const Keyframe& k : keyframes) taken += keyframes_.insert(k) ? 1 : 0;
+  return taken;
+}
+
 void Relocaliser::noteTracked(double pairAgreement) {
   if (!std::isfinite(pairAgreement) || params_.agreementWindowFrames == 0) return;
   tracked_.push_back(pairAgreement);
@@ -102,11 +108,20 @@ RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Iso
     reset();
   }
   // Fresh candidates: the last good pose, then the keyframes most like this view (distinct poses only).
-  std::vector<Eigen::Isometry3d> starts{heldPose};
+  std::vector<Eigen::Isometry3d> starts;
+  if (tryHeldPose_) starts.push_back(heldPose);
   for (const KeyframeMatch& m : keyframes_.nearest(code, static_cast<size_t>(params_.candidates))) {
-    bool seen = false;
-    for (const auto& s : starts) seen = seen || near(s, m.keyframe->T_camera_to_world, 0.01, 1.0);
-    if (!seen) starts.push_back(m.keyframe->T_camera_to_world);
+    std::vector<Eigen::Isometry3d> poses{m.keyframe->T_camera_to_world};
+    for (double d : viewOffsetsM_) {
+      Eigen::Isometry3d moved = m.keyframe->T_camera_to_world;
+      moved.translation() += d * moved.linear().col(2);
+      poses.push_back(moved);
+    }
+    for (const Eigen::Isometry3d& pose : poses) {
+      bool seen = false;
+      for (const auto& s : starts) seen = seen || near(s, pose, 0.01, 1.0);
+      if (!seen) starts.push_back(pose);
+    }
   }
   std::optional<TrackAttempt> best;
   for (const auto& start : starts) {

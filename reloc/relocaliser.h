@@ -19,6 +19,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "pipeline/pipeline.h"
 #include "reloc/keyframe_database.h"
@@ -80,6 +81,20 @@ class Relocaliser {
   // The agreement an attempt needs now: minPairAgreement, or the recent tracked 90th percentile less the margin
   // when that is higher (once 10 good frames are known).
   double requiredAgreement() const;
+  // A kept map's keyframes (runtime/map_store.h), in its frame: searched like the ones harvested. Returns how
+  // many were taken (codes of another size are not).
+  size_t seed(const std::vector<Keyframe>& keyframes);
+  // Whether each fresh search also tries the held pose (true by default). Off while localising in a kept
+  // map: the held pose is in no frame of the store.
+  void setTryHeldPose(bool tryIt) { tryHeldPose_ = tryIt; }
+  // Each keyframe candidate is also tried moved by these metres along its view (its camera's +z), nearest
+  // first: a robot restarted on a path it drove stands between two keyframes, nearer one of these than the
+  // keyframe (ICP converges from a few tenths of a metre at most). None by default.
+  void setViewOffsets(std::vector<double> offsetsM) { viewOffsetsM_ = std::move(offsetsM); }
+  // Consecutive frames a candidate must hold from now on (a kept map asks more than a kidnap); >= 1.
+  void setConfirmFrames(int frames) { params_.confirmFrames = frames < 1 ? 1 : frames; }
+  // KeyframeDatabase::setMaxSpacing: keyframes also by distance (a map kept across runs).
+  void setKeyframeSpacing(double metres) { keyframes_.setMaxSpacing(metres); }
   // Forgets a pending candidate (tracking went on without relocalisation).
   void reset() { pending_.reset(); confirmed_ = 0; }
 
@@ -94,6 +109,8 @@ class Relocaliser {
   std::optional<Eigen::Isometry3d> pending_;  // the candidate being confirmed: its pose at the last frame
   std::deque<double> tracked_;                // pair agreement of the last good frames (bounded)
   int confirmed_ = 0;
+  bool tryHeldPose_ = true;
+  std::vector<double> viewOffsetsM_;
 };
 
 }  // namespace sb

@@ -312,6 +312,7 @@ json RunSummary::toJson() const {
   if (!modelView.empty()) j["model_view"] = modelView;
   if (movingVolume) j["moving_volume"] = sectionJson(*movingVolume);
   if (!navmap.is_null()) j["navmap"] = navmap;
+  if (!mapStore.is_null()) j["map_store"] = mapStore;
   if (meshTriangles) j["mesh_triangles"] = *meshTriangles;
   if (meshSlabs) j["mesh_slabs"] = *meshSlabs;
   if (complete) j["complete"] = *complete;
@@ -369,6 +370,7 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.string("model_view", s.modelView);
   readSection(f, "moving_volume", s.movingVolume);
   f.object("navmap", s.navmap);
+  f.object("map_store", s.mapStore);
   if (f.find("mesh_triangles")) f.count("mesh_triangles", s.meshTriangles.emplace());
   if (f.find("mesh_slabs")) f.count("mesh_slabs", s.meshSlabs.emplace());
   if (f.find("complete")) f.boolean("complete", s.complete.emplace());

@@ -156,6 +156,7 @@ struct RunSummary {
   std::string modelView;                // model.png's viewpoint ("last", "overview"); "" = none written
   std::optional<MovingVolumeSummary> movingVolume;  // absent with a fixed volume
   nlohmann::json navmap;        // the navigation map (navmap/nav_map_sink.h summaryJson); null without one
+  nlohmann::json mapStore;      // the kept map (runtime/map_store.h summaryJson); null without one
   std::optional<size_t> meshTriangles, meshSlabs;  // mesh.ply (and the slabs it merged)
   std::optional<bool> complete;                    // every output on disk; absent while the run goes on
   std::string error;                               // why the run ended early or an output failed

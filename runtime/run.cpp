@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -61,7 +62,8 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
     energyLog_ =
         std::make_unique<RotatingFile>(dir_, "energy.jsonl", "per-frame energy log", "", outputs.segments);
   mapSink_ = outputs.mapSink;
-  if (VolumeWindow* window = pipeline_->volumeWindow(); window && (outputs.mapSlabs || mapSink_)) {
+  if (!outputs.mapStore.empty()) startMapStore(outputs);
+  if (VolumeWindow* window = pipeline_->volumeWindow(); window && (outputs.mapSlabs || mapSink_ || mapStore_)) {
     if (outputs.mapSlabs) {
       MapSlabs::Options options;
       options.keepBytes = outputs.keepSlabBytes;
@@ -72,9 +74,54 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
       // One copy (the window's), shared by the navigation map's worker and the mesh's: never copied again.
       auto shared = std::make_shared<const VolumeSlab>(std::move(slab));
       if (mapSink_) mapSink_->onSlab(shared);
+      if (mapStore_) mapStore_->addSlab(shared);
       if (mapSlabs_) mapSlabs_->add(std::move(shared));
     });
   }
+}
+
+// Where a restarted robot is tried besides each kept keyframe: along its view, metres (nearest first).
+constexpr std::array<double, 4> kKeptMapViewOffsetsM = {0.25, -0.25, 0.5, -0.5};
+// A run writing a store keeps a keyframe at least every this many metres (or 30 degrees) of its path.
+constexpr double kKeptMapKeyframeSpacingM = 0.5;
+
+void Run::startMapStore(const RunOutputs& outputs) {
+  mapStore_ = std::make_unique<MapStore>(outputs.mapStore, pipeline_->config(), outputs.mapStoreOptions);
+  VolumeWindow& window = *pipeline_->volumeWindow();  // MapStore refuses a fixed volume
+  runner_.monitor().setKeyframeSpacing(kKeptMapKeyframeSpacingM);
+  if (mapStore_->kept()) {
+    // Localising first: nothing fused, the volume placed and filled from the store for each candidate and held
+    // there (the held pose is in no frame of the store) until one is confirmed.
+    pipeline_->skipBootstrap();
+    window.setHeld(true);
+    runner_.monitor().startInKeptMap(
+        mapStore_->keptKeyframes(),
+        [this, &window](const Eigen::Isometry3d& pose) {
+          return mapStore_->placeFor(pose, window, pipeline_->backend());
+        },
+        {kKeptMapViewOffsetsM.begin(), kKeptMapViewOffsetsM.end()});
+  }
+  window.setEnterListener([this, &window](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
+    mapStore_->swapIn(first, extent, window, pipeline_->backend());
+  });
+  outputs_.summary->header().mapStore = mapStore_->summaryJson();
+}
+
+void Run::stepMapStore(const FrameRecord& rec) {
+  mapStore_->nextFrame();
+  if (!mapStore_->writing() && !runner_.monitor().localisingInKeptMap()) {
+    mapStore_->localised(rec.result.frame, rec.result.timestamp);
+    pipeline_->volumeWindow()->setHeld(false);
+  }
+  keyframesDirty_ = keyframesDirty_ || rec.keyframeAdded;
+  // keyframes.bin at most once a second of frames (30): a killed run loses at most that many new keyframes.
+  constexpr size_t kKeyframeSaveFrames = 30;
+  if (keyframesDirty_ && mapStore_->writing() && rec.result.frame >= keyframesSavedAt_ + kKeyframeSaveFrames) {
+    mapStore_->saveKeyframes(runner_.monitor().relocaliser().keyframes());
+    keyframesSavedAt_ = rec.result.frame;
+    keyframesDirty_ = false;
+  }
+  outputs_.summary->header().mapStore = mapStore_->summaryJson();
 }
 
 FrameRecord Run::step(const DepthFrame& frame) {
@@ -86,6 +133,7 @@ FrameRecord Run::step(const DepthFrame& frame) {
   }
   try {
     FrameRecord rec = runner_.step(frame);
+    if (mapStore_) stepMapStore(rec);
     if (mapSink_) mapSink_->onFrame(rec, frame, *pipeline_);
     if (energy_) record(energy_->add(rec));
     return rec;
@@ -140,6 +188,11 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
   };
   const std::filesystem::path out(dir_);
   if (mapSlabs_) attempt([&] { mapSlabs_->drain(); });  // every slab on disk (a failed one is reported here)
+  if (mapStore_)
+    attempt([&] {  // the final volume and the keyframes into the store (when localised in it, or new)
+      mapStore_->finish(*pipeline_->volumeWindow(), pipeline_->backend(), runner_.monitor().relocaliser().keyframes());
+      summary.mapStore = mapStore_->summaryJson();
+    });
   if (!end.modelView.empty())
     attempt([&] {
       const Image<uint8_t> model = end.modelView == "overview"

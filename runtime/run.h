@@ -28,6 +28,7 @@
 #include "runtime/map_sink.h"
 #include "runtime/map_slabs.h"
 #include "odometry/odometry_input.h"
+#include "runtime/map_store.h"
 #include "runtime/slam_runner.h"
 #include "runtime/standard_outputs.h"
 
@@ -54,6 +55,10 @@ struct RunOutputs {
   // The navigation map (issue 45; navmap/nav_map_sink.h), or nullptr: given every frame and every slab that
   // leaves, written into DIR at the end (map.pgm, map.yaml, map.bt) and by the daemon at its period.
   std::shared_ptr<MapSink> mapSink;
+  // The map kept across runs (issue 55; runtime/map_store.h): its directory (created when absent, continued
+  // when present: the run localises in it first), or "" for none. Needs a moving volume.
+  std::string mapStore;
+  MapStoreOptions mapStoreOptions;
 };
 
 // What a run writes at its end.
@@ -92,10 +97,13 @@ class Run {
   Pipeline& pipeline() { return *pipeline_; }
   SummarySink& summary() { return *outputs_.summary; }
   MapSink* mapSink() { return mapSink_.get(); }
+  MapStore* mapStore() { return mapStore_.get(); }
   const std::string& dir() const { return dir_; }
 
  private:
   void record(const std::vector<power::FrameEnergy>& results);
+  void startMapStore(const RunOutputs& outputs);  // in the constructor
+  void stepMapStore(const FrameRecord& rec);      // after each frame
 
   std::unique_ptr<Pipeline> pipeline_;
   SlamRunner runner_;
@@ -107,6 +115,9 @@ class Run {
   std::unique_ptr<MapSlabs> mapSlabs_;  // RunOutputs::mapSlabs with a moving volume
   std::optional<Eigen::Isometry3d> lastOdometryPose_;  // of the last frame the odometry covered
   std::shared_ptr<MapSink> mapSink_;    // RunOutputs::mapSink
+  std::unique_ptr<MapStore> mapStore_;  // RunOutputs::mapStore
+  size_t keyframesSavedAt_ = 0;         // the frame keyframes.bin was last written at
+  bool keyframesDirty_ = false;
 };
 
 // The "overview" viewpoint of model.png: above and behind the volume centre, looking at it.

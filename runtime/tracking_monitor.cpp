@@ -1,5 +1,8 @@
 #include "runtime/tracking_monitor.h"
 
+#include <algorithm>
+#include <cstdio>
+
 namespace sb {
 
 TrackingMonitor::TrackingMonitor(const PipelineConfig& config)
@@ -19,8 +22,8 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
     return;
   }
   if (recovering_) {
-    model.deadReckon(motion);
-    relocalise(pipeline, frame, depthScale, rec, model);
+    if (!localisingInKeptMap()) model.deadReckon(motion);  // the dead reckoning is in no frame of a kept map
+    relocalise(pipeline, frame, depthScale, rec, model, motion);
     return;
   }
   model.judge(pipeline, view, motion);
@@ -65,7 +68,7 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
 }
 
 void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
-                                 odometry::MotionModel& model) {
+                                 odometry::MotionModel& model, const odometry::FrameMotion& motion) {
   FrameResult& r = rec.result;
   Decision& d = rec.decision;
   rec.relocalising = true;
@@ -74,11 +77,17 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     Knobs knobs;  // DEFAULT's ICP (icp 1e-5, pd 10:5:4) at the relocaliser's compute size
     knobs.csr = config_.relocaliseCsr;
     const TryPose tryPose = [&](const Eigen::Isometry3d& start) {
+      if (keptMapPrepare_ && !keptMapPrepare_(start)) {
+        TrackAttempt skipped;  // not tried this frame: fails
+        skipped.start = skipped.T_camera_to_world = start;
+        return skipped;
+      }
       return model.vet(pipeline.trackFrom(frame, depthScale, knobs, start, r));
     };
     const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
     // The odometry's dead-reckoned pose is the first candidate when there is one, else the held pose.
     rec.relocalisation = relocaliser_.relocalise(code, model.deadReckoned().value_or(pipeline.pose()), tryPose);
+    if (keptMapPrepare_) keptMapVerdict(rec.relocalisation, motion, model.config());
   } else {
     rec.relocalisation.why = "relocalisation is off";
   }
@@ -94,10 +103,55 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     failedInARow_ = 0;
     model.relocalised();
     rec.state = last_ = TrackingState::relocalised;
+    if (keptMapPrepare_) {  // localised in the kept map: from now on as without a store
+      keptMapPrepare_ = nullptr;
+      relocaliser_.setTryHeldPose(true);
+      relocaliser_.setViewOffsets({});
+      relocaliser_.setConfirmFrames(config_.relocaliseConfirmFrames);
+      keptAnchor_.reset();
+    }
   } else {
     r.tracked = false;
     rec.state = last_ = TrackingState::lost;
   }
+}
+
+void TrackingMonitor::keptMapVerdict(RelocaliseOutcome& out, const odometry::FrameMotion& motion,
+                                     const odometry::OdometryConfig& odometry) {
+  if (out.confirmed == 0 || !out.attempt) {
+    keptAnchor_.reset();
+    return;
+  }
+  const Eigen::Isometry3d& pose = out.attempt->T_camera_to_world;
+  if (out.confirmed == 1 || !keptAnchor_ || !motion.step) {  // a new candidate (or no wheels): its own anchor
+    keptAnchor_ = pose;
+    keptAnchorDistanceM_ = 0.0;
+    return;
+  }
+  keptAnchor_ = *keptAnchor_ * motion.step->delta;
+  keptAnchorDistanceM_ += motion.step->distanceM();
+  const double off = (pose.translation() - keptAnchor_->translation()).norm();
+  const double tolerance = kKeptMapOdometryToleranceM + odometry.noisePerM * keptAnchorDistanceM_;
+  if (off <= tolerance) return;
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "; refused: the wheels put the camera %.3f m from it after %.2f m", off,
+                keptAnchorDistanceM_);
+  out.why += buf;
+  out.accepted = false;
+  out.confirmed = 0;
+  relocaliser_.reset();
+  keptAnchor_.reset();
+}
+
+void TrackingMonitor::startInKeptMap(const std::vector<Keyframe>& keyframes, KeptMapPrepare prepare,
+                                     const std::vector<double>& offsetsM) {
+  relocaliser_.seed(keyframes);
+  relocaliser_.setTryHeldPose(false);
+  relocaliser_.setViewOffsets(offsetsM);
+  relocaliser_.setConfirmFrames(std::max(config_.relocaliseConfirmFrames, kKeptMapConfirmFrames));
+  keptMapPrepare_ = std::move(prepare);
+  recovering_ = true;
+  last_ = TrackingState::lost;
 }
 
 void TrackingMonitor::after(const DepthFrame& frame, double depthScale, FrameRecord& rec) {

@@ -13,6 +13,9 @@
 // candidate.
 
 #include <cstddef>
+#include <functional>
+#include <optional>
+#include <vector>
 
 #include "drivers/frame_source.h"
 #include "pipeline/pipeline.h"
@@ -40,9 +43,29 @@ class TrackingMonitor {
 
   const Relocaliser& relocaliser() const { return relocaliser_; }
 
+  // Localising in a kept map (runtime/map_store.h; issue 55), called before the first frame: the relocaliser's
+  // keyframes are seeded with the store's (its frame), and the run starts recovering (state lost, nothing fused)
+  // without trying the held pose or the odometry's dead reckoning (both are in no frame of the store).
+  // `prepare(pose)` runs before each ICP try from `pose` (it places the store's surface around it in the
+  // volume); false: not this frame (the try fails without ICP). Each keyframe is also tried from
+  // `offsetsM` along its view (a robot restarted on a path it drove, between two keyframes). A candidate must
+  // hold kKeptMapConfirmFrames frames and, with odometry, move as the wheels do while it holds (within
+  // kKeptMapOdometryToleranceM plus noise_per_m of the distance): another building's corridor can match a view
+  // as well as the right place, but not the motion. Once a candidate is confirmed the run is localised: its
+  // poses are in the store's frame and the monitor is as without a store.
+  using KeptMapPrepare = std::function<bool(const Eigen::Isometry3d&)>;
+  void startInKeptMap(const std::vector<Keyframe>& keyframes, KeptMapPrepare prepare,
+                      const std::vector<double>& offsetsM = {});
+  bool localisingInKeptMap() const { return static_cast<bool>(keptMapPrepare_); }
+  // A run writing a kept map also harvests keyframes by distance (KeyframeDatabase::setMaxSpacing).
+  void setKeyframeSpacing(double metres) { relocaliser_.setKeyframeSpacing(metres); }
+
  private:
   void relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
-                  odometry::MotionModel& model);
+                  odometry::MotionModel& model, const odometry::FrameMotion& motion);
+  // A kept map's verdict on the relocaliser's outcome: the candidate's motion against the wheels'.
+  void keptMapVerdict(RelocaliseOutcome& outcome, const odometry::FrameMotion& motion,
+                      const odometry::OdometryConfig& odometry);
 
   PipelineConfig config_;
   FernEncoder encoder_;
@@ -54,6 +77,11 @@ class TrackingMonitor {
   // next frame tracks from there, up to this many (1 s at 30 Hz); then they count as failures (relocalisation).
   static constexpr int kMaxImplausibleInARow = 30;
   int implausibleInARow_ = 0;
+  static constexpr int kKeptMapConfirmFrames = 15;          // 0.5 s at 30 Hz
+  static constexpr double kKeptMapOdometryToleranceM = 0.05;
+  KeptMapPrepare keptMapPrepare_;  // set while localising in a kept map
+  std::optional<Eigen::Isometry3d> keptAnchor_;  // the pending candidate moved by the wheels since it was found
+  double keptAnchorDistanceM_ = 0.0;
 };
 
 }  // namespace sb

@@ -72,24 +72,27 @@ std::string OdometryErrors::describe() const {
 }
 
 Trajectory driveOdometry(const stress::DrivePath& path, double endS, const OdometryErrors& e, uint64_t seed,
-                         const DriveFaults& faults) {
+                         double startS, const DriveFaults& faults) {
   e.validate();
   faults.validate();
   const DriveClock clock(path, faults);
-  Rng rng(seed * 0x9E3779B97F4A7C15ull + kOdometrySalt);
+  // The whole drive's stream as before; a later start mixes its start (milliseconds) into the seed.
+  const uint64_t startMs = startS > 0.0 ? static_cast<uint64_t>(std::llround(startS * 1000.0)) : 0;
+  Rng rng(seed * 0x9E3779B97F4A7C15ull + kOdometrySalt + startMs * 0xBF58476D1CE4E5B9ull);
   const double period = 1.0 / e.rateHz;
   // Stamps offset from the frames' (which start at 0 s) by 10-90% of a period.
   const double offset = period * (0.1 + 0.8 * rng.unit());
-  const Eigen::Isometry3d odomFromWorld = path.baseToWorld(0.0).inverse();  // the odometry frame: the base at 0 s
+  // The odometry frame: the base at the start.
+  const Eigen::Isometry3d odomFromWorld = path.baseToWorld(clock.at(startS)).inverse();
   const Eigen::Isometry3d mount = assumedMount(path.cameraToBase(), faults);
   const double yawBias = e.yawBiasDegps * kDegToRad, yawNoise = e.yawNoiseDegPerSqrtS * kDegToRad;
 
   Trajectory out;
   Planar odom;  // the base's reading, integrated
-  double previousT = 0.0;
-  Eigen::Isometry3d previousTrue = odomFromWorld * path.baseToWorld(0.0);
+  double previousT = startS;
+  Eigen::Isometry3d previousTrue = odomFromWorld * path.baseToWorld(clock.at(startS));
   for (size_t k = 0;; ++k) {
-    const double t = offset + static_cast<double>(k) * period;
+    const double t = startS + offset + static_cast<double>(k) * period;
     const Eigen::Isometry3d trueBase = odomFromWorld * path.baseToWorld(clock.at(t));
     // The true increment in the previous base frame (planar: the base stays on the floor); none while carried.
     const Eigen::Isometry3d d =
@@ -123,7 +126,8 @@ void writeOdometryFile(const std::string& path, const Trajectory& odometry, cons
   out << "# timestamp tx ty tz qx qy qz qw: wheel odometry, T_camera_to_odom (metres, seconds on depth.txt's "
          "clock)\n"
       << "# the camera's optical frame (x right, y down, z forward; groundtruth.txt's) in the base's odometry "
-         "frame (ROS REP 103: x forward, y left, z up; the base at the drive's start), through the camera mount\n"
+         "frame (ROS REP 103: x forward, y left, z up; the base at the sequence's first frame: the drive's start, "
+         "or where --frames-from starts it), through the camera mount\n"
       << "# synthetic errors (seed " << seed << "): " << errors.describe() << "\n";
   if (const std::string f = faults.describe(); !f.empty()) out << "# synthetic faults: " << f << "\n";
   for (const TimedPose& p : odometry) out << formatTumLine(p) << "\n";

@@ -225,6 +225,40 @@ void CpuBackend::readVolumeBox(const std::array<int, 3>& first, const std::array
     });
 }
 
+void CpuBackend::writeVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                                const int16_t* in) {
+  const int res = config_.volumeResolution;
+  const size_t rowIn = size_t(extent[0]), planeIn = rowIn * size_t(extent[1]);
+  for (const BoxPiece& p : boxPieces(first, extent, placement_.offset(), res))
+    pool_.parallelFor(0, p.extent[2], 8, [&](int, int z0, int z1) {
+      for (int z = z0; z < z1; ++z)
+        for (int y = 0; y < p.extent[1]; ++y) {
+          const size_t to = size_t(p.physical[0]) +
+                            size_t(res) * (size_t(p.physical[1] + y) + size_t(res) * size_t(p.physical[2] + z));
+          const size_t from = size_t(p.inBox[0]) + rowIn * size_t(p.inBox[1] + y) + planeIn * size_t(p.inBox[2] + z);
+          std::memcpy(volume_.data() + 2 * to, in + 2 * from, 2 * sizeof(int16_t) * size_t(p.extent[0]));
+        }
+    });
+  // The skipping masks of every block the box touches (and of the blocks below it: a mask holds the first
+  // voxel layer of its upper neighbours), from the volume as it is now.
+  const int blocks = res >> kSkipShift;
+  const int16_t below = surfaceTsdfBelow(config_.raycastSmallStepBelow);
+  const SbVoxelOffset o = placement_.offset();
+  std::array<int, 3> lo{}, hi{};
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max(0, (first[a] >> kSkipShift) - 1);
+    hi[a] = std::min(blocks, ((first[a] + extent[a] - 1) >> kSkipShift) + 1);
+  }
+  pool_.parallelFor(lo[2], hi[2], 1, [&](int, int z0, int z1) {
+    for (int bz = z0; bz < z1; ++bz)
+      for (int by = lo[1]; by < hi[1]; ++by)
+        for (int bx = lo[0]; bx < hi[0]; ++bx)
+          blockSurfaceMask_[size_t(bx) + size_t(blocks) * (size_t(by) + size_t(blocks) * size_t(bz))] =
+              sbBlockSurfaceMask(volume_.data(), res, o, kSkipShift, below, bx, by, bz);
+  });
+  computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_, pool_);
+}
+
 void CpuBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
   const Eigen::Vector3i before = placement_.corner();
   const int res = config_.volumeResolution;

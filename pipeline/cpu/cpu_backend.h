@@ -46,6 +46,8 @@ class CpuBackend : public ComputeBackend {
   void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
                      int16_t* out) override;
   void moveVolume(const Eigen::Vector3i& cornerVoxels) override;
+  void writeVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                      const int16_t* in) override;  // the box's skipping masks anew (sbBlockSurfaceMask)
   const VolumePlacement& placement() const { return placement_; }
 
   // Host views for tests and tools: 3 floats per pixel (vertex, normal), 1 per pixel (depth), row-major.

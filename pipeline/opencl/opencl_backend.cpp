@@ -232,6 +232,30 @@ void OpenClBackend::readVolumeBox(const std::array<int, 3>& first, const std::ar
   }
 }
 
+void OpenClBackend::writeVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                                   const int16_t* in) {
+  State& s = *s_;
+  constexpr size_t kVoxelBytes = 2 * sizeof(int16_t);  // (tsdf, weight)
+  const size_t res = size_t(s.config.volumeResolution);
+  const std::vector<BoxPiece> pieces = boxPieces(first, extent, s.placement.offset(), s.config.volumeResolution);
+  for (const BoxPiece& p : pieces) {
+    const size_t bufferOrigin[3] = {size_t(p.physical[0]) * kVoxelBytes, size_t(p.physical[1]),
+                                    size_t(p.physical[2])};
+    const size_t hostOrigin[3] = {size_t(p.inBox[0]) * kVoxelBytes, size_t(p.inBox[1]), size_t(p.inBox[2])};
+    const size_t region[3] = {size_t(p.extent[0]) * kVoxelBytes, size_t(p.extent[1]), size_t(p.extent[2])};
+    const size_t hostRow = size_t(extent[0]) * kVoxelBytes;
+    // Blocking: `in` is the caller's and may go once this returns.
+    opencl::check(clEnqueueWriteBufferRect(s.launcher.queue(), s.volume.get(), CL_TRUE, bufferOrigin, hostOrigin,
+                                           region, res * kVoxelBytes, res * res * kVoxelBytes, hostRow,
+                                           hostRow * size_t(extent[1]), in, 0, nullptr, nullptr),
+                  "clEnqueueWriteBufferRect (a box of the volume)");
+  }
+  s.volumeOnHost = false;
+  s.updateSkipping(Stage::integrate);  // from the volume as it is now
+  StageTimes ignored;
+  s.launcher.finish(ignored, Clock::now());
+}
+
 void OpenClBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
   State& s = *s_;
   const int res = s.config.volumeResolution;

@@ -37,6 +37,8 @@ class OpenClBackend : public ComputeBackend {
   void readVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
                      int16_t* out) override;
   void moveVolume(const Eigen::Vector3i& cornerVoxels) override;  // clearSlabKernel, the skipping grid anew
+  void writeVolumeBox(const std::array<int, 3>& first, const std::array<int, 3>& extent,
+                      const int16_t* in) override;  // clEnqueueWriteBufferRect per piece, the skipping grid anew
 
   // Half storage through vload_half / vstore_half is core OpenCL 1.2: every device has it. Switching converts
   // the maps already on the device, so a switch between trackFrame calls keeps the reference maps valid.

@@ -167,3 +167,19 @@ TEST_CASE("a planar trajectory aligns without reflection", "[eval][ate]") {
   CHECK(r.rmse < 1e-9);
   CHECK((r.alignment.matrix() - T.inverse().matrix()).cwiseAbs().maxCoeff() < 1e-9);
 }
+
+TEST_CASE("ATE with a fixed alignment maps the estimate by it instead of fitting one (a run in another's frame)",
+          "[eval][ate]") {
+  const auto gt = sb::test::helixTrajectory(200);
+  const Eigen::Isometry3d T = knownTransform();
+  const auto est = sb::test::transformed(gt, T);
+  // The right frame: the errors vanish; a frame 0.3 m off along x: every frame 0.3 m off, nothing refitted.
+  const Eigen::Isometry3d right = T.inverse();
+  CHECK(sb::computeAte(est, gt, {}, &right).max < 1e-9);
+  Eigen::Isometry3d off = right;
+  off.translation() += Eigen::Vector3d(0.3, 0.0, 0.0);
+  const auto r = sb::computeAte(est, gt, {}, &off);
+  CHECK(r.rmse == Approx(0.3).margin(1e-9));
+  CHECK(r.max == Approx(0.3).margin(1e-9));
+  CHECK(r.alignment.isApprox(off, 0.0));
+}

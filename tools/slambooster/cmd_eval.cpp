@@ -1,12 +1,14 @@
 // `slambooster eval EST GT`: ATE (Horn-aligned, TUM convention), the SLAMBooster paper's unaligned mean
 // error and RPE of an estimated TUM trajectory against ground truth; a table by default, JSON with --json.
 
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "core/trajectory.h"
@@ -25,6 +27,8 @@ struct EvalArgs {
   double offsetS = 0.0;
   double rpeDelta = 1.0;
   bool rpePerSecond = false;
+  std::vector<std::string> frameOf;  // EST1 GT1: the alignment fitted on them, not on EST / GT
+  std::optional<double> fromS;       // only the estimate's poses at or after this time
 };
 
 // One RPE measurement: its delta and unit, and the result or why there is none.
@@ -67,6 +71,8 @@ nlohmann::json toJson(const EvalArgs& a, const AteResult& ate, const RpeRow& fra
       {"translation_m", {t.x(), t.y(), t.z()}}};
   j["rpe_frames"] = rpeJson(frames);
   j["rpe_seconds"] = rpeJson(seconds);
+  if (a.frameOf.size() == 2) j["frame_of"] = a.frameOf;
+  if (a.fromS) j["from_s"] = *a.fromS;
   j["ite_csv"] = a.iteCsvPath.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.iteCsvPath);
   return j;
 }
@@ -115,14 +121,22 @@ RpeRow measureRpe(const Trajectory& est, const Trajectory& gt, double delta, boo
 }
 
 void runEval(const EvalArgs& a) {
-  const Trajectory est = readTumTrajectory(a.estimatePath);
+  Trajectory est = readTumTrajectory(a.estimatePath);
   const Trajectory gt = readTumTrajectory(a.groundTruthPath);
+  if (a.fromS)
+    est.erase(std::remove_if(est.begin(), est.end(), [&](const TimedPose& p) { return p.timestamp < *a.fromS; }),
+              est.end());
   AssociationOptions o;
   o.maxTimeDifference = a.maxDtS;
   o.timeOffset = a.offsetS;
   const std::string where = "evaluating '" + a.estimatePath + "' against '" + a.groundTruthPath + "': ";
   try {
-    const AteResult ate = computeAte(est, gt, o);
+    std::optional<Eigen::Isometry3d> frame;
+    if (a.frameOf.size() == 2) {  // the first run's frame: its own alignment, applied here unchanged
+      const Trajectory est1 = readTumTrajectory(a.frameOf[0]), gt1 = readTumTrajectory(a.frameOf[1]);
+      frame = computeAte(est1, gt1, o).alignment;
+    }
+    const AteResult ate = computeAte(est, gt, o, frame ? &*frame : nullptr);
     const RpeRow frames = measureRpe(est, gt, a.rpePerSecond ? 1.0 : a.rpeDelta, false, o, !a.rpePerSecond);
     const RpeRow seconds = measureRpe(est, gt, a.rpePerSecond ? a.rpeDelta : 1.0, true, o, a.rpePerSecond);
     if (!a.iteCsvPath.empty()) writeIteCsv(a.iteCsvPath, ate);
@@ -145,6 +159,11 @@ void addEvalCommand(CLI::App& app) {
   sub->add_option("EST", args->estimatePath, "estimated trajectory (TUM format)")->required();
   sub->add_option("GT", args->groundTruthPath, "ground-truth trajectory (TUM format)")->required();
   sub->add_flag("--json", args->json, "print one JSON object instead of the table");
+  sub->add_option("--frame-of", args->frameOf,
+                  "EST1 GT1: measure EST in the frame fitted on another run (EST1 against GT1) instead of fitting\n"
+                  "it: a run started in a kept map (--map-store), in the frame of the run that made the map")
+      ->expected(2);
+  sub->add_option("--from-s", args->fromS, "only the estimate's poses at or after this time (seconds)");
   sub->add_option("--ite-csv", args->iteCsvPath,
                   "write per-frame errors: timestamp,ate_error_m,unaligned_error_m");
   sub->add_option("--max-dt", args->maxDtS, "max timestamp difference for a match (s)")

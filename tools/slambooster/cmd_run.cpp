@@ -67,6 +67,8 @@ struct RunOptions {
   std::string odometry;            // an odometry.txt (or .bag); empty: the sequence's own (odometry/odometry_input.h)
   bool noOdometry = false;
   BagOdometryOptions bagOdometry;  // ROS bag input: --odom-topic, --camera-mount
+  std::string mapStore;            // the kept map's directory (runtime/map_store.h); empty: none
+  uint64_t mapStoreKeepMib = 0;
 };
 
 std::array<float, 3> parsePosition(const std::string& text) {
@@ -259,6 +261,8 @@ void runCommand(const RunOptions& o) {
                     formatKnobs(initial) + " (volume frame)";
   outputs.mapSlabs = o.mesh;
   outputs.mapSink = makeNavMapSink(o.navmap, setup.pipeline, info, odometry.track != nullptr);
+  outputs.mapStore = o.mapStore;
+  outputs.mapStoreOptions.keepSlabBytes = o.mapStoreKeepMib << 20;
   Run run(std::move(pipeline), std::move(controller), info.depthScale, setup.odometry, outputs,
           energy ? &*energy : nullptr);
   if (odometry.track) {
@@ -335,6 +339,13 @@ void addRunCommand(CLI::App& app) {
          "Viewpoint of model.png: last (the last camera pose) or overview (above and behind the volume "
          "centre, looking at it)")
       ->check(CLI::IsMember({"last", "overview"}));
+  sub->add_option("--map-store", options->mapStore,
+                  "Keep the map across runs in this directory (docs/map-store.md): created when absent; when it holds\n"
+                  "an earlier run's map the run first localises in it (state lost until a view is confirmed), then\n"
+                  "its poses are in the store's frame and it maps on into the store");
+  sub->add_option("--map-store-keep-mib", options->mapStoreKeepMib,
+                  "The store's slab files together at most this many MiB, the oldest removed first (0: no limit)")
+      ->check(CLI::Range(uint64_t{0}, uint64_t{1} << 30));
   sub->add_flag("--quiet", options->quiet, "No progress bar");
   addNavMapOptions(sub, options->navmap);
   sub->callback([options] { runCommand(*options); });

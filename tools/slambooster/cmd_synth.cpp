@@ -71,7 +71,36 @@ struct SynthArgs {
   std::vector<double> stall, carried, mountError;  // their options as given
   std::vector<double> cover;                       // --cover AT,SECONDS
   bool noOdometry = false;
+  // --frames-from / --frames-to: a part of the trajectory (frames [from, to) of it; to 0: its end), e.g. two
+  // runs of one drive in one building (a restart). Timestamps stay the whole trajectory's.
+  size_t framesFrom = 0, framesTo = 0;
 };
+
+// Frames [from, to) of `trajectory` (to 0: its end), with the segments and covered frames moved to the part's
+// numbering. Throws sb::Error when the part is empty.
+void keepPart(size_t from, size_t to, Trajectory& trajectory, std::vector<synth::StressSegment>& segments,
+              std::vector<std::pair<size_t, size_t>>& covered) {
+  if (from == 0 && to == 0) return;
+  const size_t end = to == 0 ? trajectory.size() : std::min(to, trajectory.size());
+  if (from >= end)
+    throw Error("synth: --frames-from " + std::to_string(from) + " --frames-to " + std::to_string(to) +
+                " leaves no frame of the trajectory's " + std::to_string(trajectory.size()) +
+                " (need from < to <= frames; to 0 is the end)");
+  trajectory = Trajectory(trajectory.begin() + static_cast<std::ptrdiff_t>(from),
+                          trajectory.begin() + static_cast<std::ptrdiff_t>(end));
+  const auto moved = [&](size_t i) { return std::clamp(i, from, end) - from; };
+  std::vector<synth::StressSegment> kept;
+  for (synth::StressSegment s : segments) {
+    s.begin = moved(s.begin);
+    s.end = moved(s.end);
+    if (s.begin < s.end) kept.push_back(s);
+  }
+  segments = std::move(kept);
+  std::vector<std::pair<size_t, size_t>> keptCovered;
+  for (const auto& [b, e] : covered)
+    if (moved(b) < moved(e)) keptCovered.emplace_back(moved(b), moved(e));
+  covered = std::move(keptCovered);
+}
 
 // The scenes --scene takes: the generated rooms and the corridor.
 std::vector<std::string> sceneChoices() {
@@ -152,6 +181,7 @@ void runSynth(SynthArgs& a) {
     trajectory = std::move(stress.poses);
     segments = std::move(stress.segments);
   }
+  keepPart(a.framesFrom, a.framesTo, trajectory, segments, o.coveredFrames);
   const bool driveOdometry = !a.stress.empty() && synth::parseStressKind(a.stress) == synth::StressKind::Drive &&
                              !a.noOdometry;
   if (driveOdometry) a.odometry.validate();  // before anything is rendered
@@ -194,8 +224,10 @@ void runSynth(SynthArgs& a) {
   }
   if (driveOdometry) {
     const synth::stress::DrivePath path = synth::drivePath(*stressScene, o.seed);
-    const Trajectory odometry =
-        synth::driveOdometry(path, trajectory[r.frames - 1].timestamp, a.odometry, o.seed, a.faults);
+    // A part that starts later (--frames-from) has fresh odometry: its frame is the base where the part
+    // starts, its noise drawn anew, as a robot restarted there reports it.
+    const Trajectory odometry = synth::driveOdometry(path, trajectory[r.frames - 1].timestamp, a.odometry, o.seed,
+                                                     trajectory.front().timestamp, a.faults);
     synth::writeOdometryFile(o.outDir + "/odometry.txt", odometry, a.odometry, o.seed, a.faults);
     const std::string faults = a.faults.describe();
     std::printf("synth: odometry: %zu samples in %s/odometry.txt (%s%s%s)\n", odometry.size(), o.outDir.c_str(),
@@ -249,6 +281,16 @@ void addSynthCommand(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--seed", o.seed, "Seed of the furniture layout and the sensor noise")->capture_default_str();
   sub->add_option("--frames", o.maxFrames, "Render at most this many frames (0 = all)")
+      ->check(CLI::Range(size_t{0}, kMaxSynthFrames))
+      ->capture_default_str();
+  sub->add_option("--frames-from", args->framesFrom,
+                  "Render the trajectory from this frame on (0-based; timestamps stay the trajectory's). With "
+                  "--frames-to, two parts of one drive are two runs in one building (a restart); a drive's part "
+                  "gets fresh odometry, its frame the base where the part starts")
+      ->check(CLI::Range(size_t{0}, kMaxSynthFrames))
+      ->capture_default_str();
+  sub->add_option("--frames-to", args->framesTo,
+                  "Render the trajectory up to this frame, exclusive (0 = its end); before --frames")
       ->check(CLI::Range(size_t{0}, kMaxSynthFrames))
       ->capture_default_str();
   sub->add_flag("--no-noise", args->noNoise,

@@ -1,0 +1,129 @@
+#pragma once
+// The map kept on disk across runs (issue 55; docs/map-store.md): `slambooster run SEQ --map-store DIR`.
+// A store directory holds
+//   format.json        the format's name and version, and the voxel size and truncation its TSDF was made with
+//   keyframes.bin      the relocaliser's keyframes: fern codes and poses in the store's frame
+//   slabs/slab-NNNNNN.tsdf  the TSDF that left the moving volume, and the final volume of each run, in the
+//                      world's voxel grid, run-length coded (runtime/map_store_format.h)
+// Every file is written aside and renamed over its name (core/atomic_file.h): a killed run leaves the store
+// as of its last complete file. Opening checks every file (magic, version, size, checksum) and refuses a
+// truncated, corrupt or foreign-version one, or a store made with another voxel size or truncation, naming the
+// file; nothing of a refused store is overwritten.
+//
+// A new (or empty) store: the run maps as always and writes into the store as it goes; its frame is the
+// run's. A kept store: the run starts localising (runtime/tracking_monitor.h, startInKeptMap): no frame is
+// fused and none is `good` until the relocaliser confirms a view against the store's surface, placed for
+// each candidate keyframe (placeFor); from then on every pose is in the store's frame, and slabs and keyframes
+// go into the same store. A run never localised writes nothing into it (another building's store stays as it
+// was). While writing, a shift that brings a part of the world back into the volume swaps the store's surface
+// of it in (swapIn): a revisit tracks against the kept surface.
+//
+// Threads: one thread (the run's) calls everything; a worker encodes and writes the slabs (the queue bounded
+// in bytes like runtime/map_slabs.h's, the adding thread waits for room).
+
+#include <Eigen/Geometry>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "pipeline/backend.h"
+#include "pipeline/config.h"
+#include "pipeline/volume_window.h"
+#include "reloc/keyframe_database.h"
+#include "runtime/map_store_format.h"
+
+namespace sb {
+
+struct MapStoreOptions {
+  // The slab files together at most this many bytes (the daemon's output.map_store_keep_mib; slambooster run
+  // --map-store-keep-mib); past it the oldest go first, said in the log and the summary. 0: no limit.
+  uint64_t keepSlabBytes = 0;
+  size_t queueBytes = size_t(32) << 20;  // slab copies waiting for the worker, at most (one larger goes alone)
+};
+
+class MapStore {
+ public:
+  // Opens (or creates) the store `dir` for a run with `config` (a moving volume). Throws sb::Error naming the
+  // file or key that is wrong, and what to do.
+  MapStore(std::string dir, const PipelineConfig& config, const MapStoreOptions& options = {});
+  ~MapStore();  // waits for the worker (a failure there is logged)
+  MapStore(const MapStore&) = delete;
+  MapStore& operator=(const MapStore&) = delete;
+
+  // The store holds an earlier run's map: the run localises in it before it writes anything.
+  bool kept() const { return !keptKeyframes_.empty(); }
+  const std::vector<Keyframe>& keptKeyframes() const { return keptKeyframes_; }
+  // Writing into the store: a new store from the first frame, a kept one once localised.
+  bool writing() const { return writing_; }
+  void localised(size_t frame, double timestamp);
+
+  // Places the volume for a relocalisation candidate at `pose` (the store's frame) and fills it with the
+  // store's surface there (only when the placement changed). At most one new placement per frame (a few
+  // hundred ms at 256^3): false, and nothing done, for a candidate that needs another one this frame.
+  bool placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, BackendVolume& volume);
+  void nextFrame() { placedThisFrame_ = false; }
+  // The box of the volume a shift brought in (VolumeWindow's enter listener): the store's surface of it
+  // swapped back in (after the slabs still queued are written). Nothing unless writing.
+  void swapIn(const std::array<int, 3>& first, const std::array<int, 3>& extent, const VolumeWindow& window,
+              BackendVolume& volume);
+  // A slab that left the volume (VolumeWindow's slab listener): queued for the worker. Nothing unless writing.
+  void addSlab(std::shared_ptr<const VolumeSlab> slab);
+  // Rewrites keyframes.bin from the relocaliser's database (the store's kept keyframes were seeded into it).
+  void saveKeyframes(const KeyframeDatabase& keyframes);
+  // The end of a run: the final volume as a slab, the keyframes, every slab written. Nothing unless writing.
+  void finish(const VolumeWindow& window, BackendVolume& volume, const KeyframeDatabase& keyframes);
+
+  // summary.json's "map_store": the directory, kept or new, localised (at which frame), files and bytes.
+  nlohmann::json summaryJson() const;
+  const std::string& dir() const { return dir_; }
+
+ private:
+  struct Entry {
+    std::string path;
+    size_t number = 0;
+    mapstore::SlabBox box;
+    uint64_t bytes = 0;
+  };
+  void openExisting();
+  void writeFormat() const;
+  void loadBox(const mapstore::SlabBox& world, const VolumeWindow& window, BackendVolume& volume, bool cleared);
+  void workerLoop();
+  void writeSlab(const VolumeSlab& slab);  // on the worker
+  void enforceRetentionLocked();
+  void drain();
+
+  std::string dir_;
+  PipelineConfig config_;
+  MapStoreOptions options_;
+  std::vector<Keyframe> keptKeyframes_;
+  bool writing_ = false;
+  std::optional<size_t> localisedFrame_;
+  double localisedStamp_ = 0.0;  // seconds, the frame's
+  std::optional<Eigen::Vector3i> placedCorner_;  // the corner whose volume holds the store's surface
+  bool placedThisFrame_ = false;
+  size_t placements_ = 0, swapIns_ = 0;
+  double loadMs_ = 0.0;
+
+  mutable std::mutex mutex_;
+  std::condition_variable work_, room_;
+  std::deque<std::shared_ptr<const VolumeSlab>> queue_;
+  size_t pending_ = 0, queuedBytes_ = 0;
+  bool stop_ = false;
+  std::exception_ptr error_;
+  std::thread worker_;
+  std::vector<Entry> slabs_;  // oldest first
+  size_t nextNumber_ = 0;
+  uint64_t slabBytes_ = 0, removedFiles_ = 0, removedBytes_ = 0;
+  size_t keyframesSaved_ = 0;
+  double workerMs_ = 0.0;
+};
+
+}  // namespace sb

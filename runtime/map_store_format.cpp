@@ -1,0 +1,265 @@
+#include "runtime/map_store_format.h"
+
+#include <algorithm>
+#include <cstring>
+#include <iterator>
+
+#include "core/error.h"
+#include "core/input_file.h"
+
+namespace sb::mapstore {
+
+namespace {
+
+constexpr char kSlabMagic[8] = {'S', 'B', 'T', 'S', 'D', 'F', '\n', '\0'};
+constexpr char kKeyframeMagic[8] = {'S', 'B', 'K', 'E', 'Y', 'F', '\n', '\0'};
+constexpr size_t kSlabHeaderBytes = 8 + 4 + 12 + 12 + 8 + 8;
+constexpr size_t kKeyframeHeaderBytes = 8 + 4 + 4 + 4 + 8 + 8;
+constexpr int kMaxExtent = 1 << 14;         // voxels per axis of one slab: far beyond any volume
+
+// Little-endian writer and reader of fixed-size fields (the host's byte order is never assumed).
+struct Writer {
+  std::vector<uint8_t> bytes;
+  void u32(uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(uint8_t(v >> (8 * i)));
+  }
+  void u64(uint64_t v) {
+    for (int i = 0; i < 8; ++i) bytes.push_back(uint8_t(v >> (8 * i)));
+  }
+  void i16(int16_t v) {
+    const auto u = static_cast<uint16_t>(v);
+    bytes.push_back(uint8_t(u));
+    bytes.push_back(uint8_t(u >> 8));
+  }
+  void f64(double v) {
+    uint64_t u;
+    std::memcpy(&u, &v, sizeof u);
+    u64(u);
+  }
+  void raw(const void* data, size_t n) {
+    const auto* p = static_cast<const uint8_t*>(data);
+    bytes.insert(bytes.end(), p, p + n);
+  }
+};
+
+struct Reader {
+  const std::string& path;
+  const std::vector<uint8_t>& bytes;
+  size_t at = 0;
+  void need(size_t n) const {
+    if (bytes.size() - at < n)
+      throw Error("map store: '" + path + "' is truncated (" + std::to_string(bytes.size()) +
+                  " bytes); it is not a complete store file: move it away or give another --map-store");
+  }
+  uint32_t u32() {
+    need(4);
+    uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= uint32_t(bytes[at + size_t(i)]) << (8 * i);
+    at += 4;
+    return v;
+  }
+  uint64_t u64() {
+    need(8);
+    uint64_t v = 0;
+    for (int i = 0; i < 8; ++i) v |= uint64_t(bytes[at + size_t(i)]) << (8 * i);
+    at += 8;
+    return v;
+  }
+  int16_t i16() {
+    need(2);
+    const auto v = static_cast<uint16_t>(bytes[at] | (bytes[at + 1] << 8));
+    at += 2;
+    return static_cast<int16_t>(v);
+  }
+  double f64() {
+    const uint64_t u = u64();
+    double v;
+    std::memcpy(&v, &u, sizeof v);
+    return v;
+  }
+};
+
+std::vector<uint8_t> readAll(const std::string& path, const std::string& what) {
+  InputFile in(path, what);
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error("map store: cannot read '" + path + "'");
+  return bytes;
+}
+
+// Checks the magic and version and, once the header is read, the payload's size and checksum.
+void checkMagic(Reader& r, const char (&magic)[8], const char* what) {
+  r.need(8);
+  if (std::memcmp(r.bytes.data(), magic, 8) != 0)
+    throw Error("map store: '" + r.path + "' is not a " + what + " (its first bytes differ): a foreign file in the "
+                "store, or a corrupt one; move it away");
+  r.at = 8;
+  const uint32_t version = r.u32();
+  if (version != kFormatVersion)
+    throw Error("map store: '" + r.path + "' is format version " + std::to_string(version) + ", this build reads " +
+                std::to_string(kFormatVersion) + ": use the slambooster that wrote it, or another --map-store");
+}
+
+void checkPayload(const Reader& r, uint64_t payloadBytes, uint64_t checksum) {
+  if (r.bytes.size() - r.at != payloadBytes)
+    throw Error("map store: '" + r.path + "' is truncated or has bytes appended (payload " +
+                std::to_string(r.bytes.size() - r.at) + " bytes, header says " + std::to_string(payloadBytes) +
+                "): move it away");
+  if (fnv1a64(r.bytes.data() + r.at, payloadBytes) != checksum)
+    throw Error("map store: '" + r.path + "' is corrupt (its checksum does not match): move it away");
+}
+
+struct SlabFile {
+  SlabBox box;
+  std::vector<uint8_t> bytes;
+  size_t payloadAt = 0;
+};
+
+SlabFile loadSlab(const std::string& path) {
+  SlabFile f;
+  f.bytes = readAll(path, "map store slab");
+  Reader r{path, f.bytes};
+  checkMagic(r, kSlabMagic, "map store slab");
+  for (int& v : f.box.first) v = static_cast<int32_t>(r.u32());
+  for (int& v : f.box.extent) {
+    v = static_cast<int32_t>(r.u32());
+    if (v < 1 || v > kMaxExtent)
+      throw Error("map store: '" + path + "' has a box extent of " + std::to_string(v) + " voxels: corrupt");
+  }
+  const uint64_t payload = r.u64(), checksum = r.u64();
+  checkPayload(r, payload, checksum);
+  f.payloadAt = r.at;
+  return f;
+}
+
+}  // namespace
+
+uint64_t fnv1a64(const uint8_t* data, size_t bytes) {
+  uint64_t h = 0xcbf29ce484222325ull;
+  for (size_t i = 0; i < bytes; ++i) h = (h ^ data[i]) * 0x100000001b3ull;
+  return h;
+}
+
+bool SlabBox::intersects(const SlabBox& o) const {
+  for (int a = 0; a < 3; ++a)
+    if (first[a] >= o.first[a] + o.extent[a] || o.first[a] >= first[a] + extent[a]) return false;
+  return true;
+}
+
+SlabBox SlabBox::intersection(const SlabBox& o) const {
+  SlabBox out;
+  for (int a = 0; a < 3; ++a) {
+    out.first[a] = std::max(first[a], o.first[a]);
+    out.extent[a] = std::max(0, std::min(first[a] + extent[a], o.first[a] + o.extent[a]) - out.first[a]);
+  }
+  return out;
+}
+
+std::vector<uint8_t> encodeSlab(const SlabBox& box, const int16_t* voxels) {
+  Writer payload;
+  const uint64_t n = box.voxels();
+  bool any = false;
+  for (uint64_t i = 0; i < n;) {
+    uint64_t skip = 0;
+    while (i < n && voxels[2 * i + 1] == 0 && skip < UINT32_MAX) ++skip, ++i;
+    uint64_t count = 0;
+    while (i + count < n && voxels[2 * (i + count) + 1] != 0 && count < UINT32_MAX) ++count;
+    payload.u32(uint32_t(skip));
+    payload.u32(uint32_t(count));
+    for (uint64_t j = 0; j < count; ++j) {
+      payload.i16(voxels[2 * (i + j)]);
+      payload.i16(voxels[2 * (i + j) + 1]);
+    }
+    any = any || count > 0;
+    i += count;
+  }
+  if (!any) return {};
+  Writer out;
+  out.raw(kSlabMagic, 8);
+  out.u32(kFormatVersion);
+  for (int v : box.first) out.u32(static_cast<uint32_t>(v));
+  for (int v : box.extent) out.u32(static_cast<uint32_t>(v));
+  out.u64(payload.bytes.size());
+  out.u64(fnv1a64(payload.bytes.data(), payload.bytes.size()));
+  out.raw(payload.bytes.data(), payload.bytes.size());
+  static_assert(kSlabHeaderBytes == 52, "the slab header's size");
+  return std::move(out.bytes);
+}
+
+SlabBox readSlabHeader(const std::string& path) { return loadSlab(path).box; }
+
+void mergeSlab(const std::string& path, const SlabBox& target, int16_t* out) {
+  const SlabFile f = loadSlab(path);
+  Reader r{path, f.bytes, f.payloadAt};
+  const SlabBox& box = f.box;
+  const uint64_t n = box.voxels();
+  const auto malformed = [&] {
+    return Error("map store: '" + path + "' holds runs that do not cover its box: corrupt; move it away");
+  };
+  for (uint64_t i = 0; i < n;) {
+    const uint64_t skip = r.u32(), count = r.u32();
+    if (skip > n - i || count > n - i - skip) throw malformed();
+    i += skip;
+    for (uint64_t j = 0; j < count; ++j, ++i) {
+      const int16_t tsdf = r.i16(), weight = r.i16();
+      const int x = box.first[0] + int(i % uint64_t(box.extent[0]));
+      const int y = box.first[1] + int((i / uint64_t(box.extent[0])) % uint64_t(box.extent[1]));
+      const int z = box.first[2] + int(i / (uint64_t(box.extent[0]) * uint64_t(box.extent[1])));
+      const int tx = x - target.first[0], ty = y - target.first[1], tz = z - target.first[2];
+      if (tx < 0 || ty < 0 || tz < 0 || tx >= target.extent[0] || ty >= target.extent[1] || tz >= target.extent[2])
+        continue;
+      const size_t at = size_t(tx) + size_t(target.extent[0]) * (size_t(ty) + size_t(target.extent[1]) * size_t(tz));
+      out[2 * at] = tsdf;
+      out[2 * at + 1] = weight;
+    }
+  }
+  if (r.at != f.bytes.size()) throw malformed();
+}
+
+std::vector<uint8_t> encodeKeyframes(const std::vector<const Keyframe*>& keyframes) {
+  Writer payload;
+  const uint32_t ferns = keyframes.empty() ? 0 : uint32_t(keyframes.front()->code.codes.size());
+  for (const Keyframe* k : keyframes) {
+    if (k->code.codes.size() != ferns) throw Error("map store: keyframes with codes of different sizes");
+    payload.u64(k->frame);
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) payload.f64(k->T_camera_to_world.matrix()(row, col));
+    payload.raw(k->code.codes.data(), ferns);
+  }
+  Writer out;
+  out.raw(kKeyframeMagic, 8);
+  out.u32(kFormatVersion);
+  out.u32(uint32_t(keyframes.size()));
+  out.u32(ferns);
+  out.u64(payload.bytes.size());
+  out.u64(fnv1a64(payload.bytes.data(), payload.bytes.size()));
+  out.raw(payload.bytes.data(), payload.bytes.size());
+  static_assert(kKeyframeHeaderBytes == 36, "the keyframe header's size");
+  return std::move(out.bytes);
+}
+
+std::vector<Keyframe> readKeyframes(const std::string& path) {
+  const std::vector<uint8_t> bytes = readAll(path, "map store keyframes");
+  Reader r{path, bytes};
+  checkMagic(r, kKeyframeMagic, "map store keyframe file");
+  const uint32_t count = r.u32(), ferns = r.u32();
+  const uint64_t payload = r.u64(), checksum = r.u64();
+  checkPayload(r, payload, checksum);
+  if (payload != uint64_t(count) * (8 + 96 + uint64_t(ferns)))
+    throw Error("map store: '" + path + "' says " + std::to_string(count) + " keyframes of " + std::to_string(ferns) +
+                " codes but holds " + std::to_string(payload) + " bytes of them: corrupt; move it away");
+  std::vector<Keyframe> out(count);
+  for (Keyframe& k : out) {
+    k.frame = size_t(r.u64());
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    for (int row = 0; row < 3; ++row)
+      for (int col = 0; col < 4; ++col) m(row, col) = r.f64();
+    if (!m.allFinite())
+      throw Error("map store: '" + path + "' holds a keyframe pose that is not finite: corrupt; move it away");
+    k.T_camera_to_world.matrix() = m;
+    k.code.codes.assign(bytes.begin() + std::ptrdiff_t(r.at), bytes.begin() + std::ptrdiff_t(r.at + ferns));
+    r.at += ferns;
+  }
+  return out;
+}
+
+}  // namespace sb::mapstore
