@@ -52,6 +52,7 @@ FrameMotion MotionModel::predict(const Eigen::Isometry3d& previousPose, double p
     out.why = "the odometry's step " + slip + ": a wheel slip, not used";
     return motion;
   }
+  out.calibration = calibration_.estimate();
   motion.reported = step;
   motion.raw = faultsOn() ? mount_.correct(*step) : *step;
   motion.step = calibration_.correct(*motion.raw);

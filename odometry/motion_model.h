@@ -41,6 +41,9 @@ struct FrameOdometry {
   std::optional<Eigen::Isometry3d> cameraToOdom;
   std::string why;         // when not available or rejected: why, for frames.jsonl
   WheelFault fault = WheelFault::none;  // the wheels and the view disagreeing (wheel_faults.h), after the frame
+  // The wheels' errors learnt up to this frame (odometry_calibration.h), when the odometry had a step here:
+  // the distance reads (1 + scale) times the truth, turns (1 + yawScale) times plus yawBias deg/s.
+  std::optional<CalibrationEstimate> calibration;
 };
 
 // What is known of a frame's motion before it is resolved.

@@ -1,6 +1,7 @@
 #include "report/nav_files.h"
 
 #include <cctype>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -122,7 +123,25 @@ void loadWheels(RunData& run) {
     path = fallback;
   }
   try {
-    run.wheels = readTumTrajectory(path.string());
+    // Streamed, and only what the run's frames span: an odometry file may hold a day of a robot's log (10^7
+    // lines) for a run of seconds, and the report must not hold it all (issue 53's memory bound). At most
+    // kMaxWheelPoints are kept, evenly in time.
+    constexpr size_t kMaxWheelPoints = 20000;
+    constexpr double kMarginS = 1.0;
+    double from = -INFINITY, to = INFINITY;
+    if (!run.trajectory.empty()) {
+      from = run.trajectory.front().timestamp - kMarginS;
+      to = run.trajectory.back().timestamp + kMarginS;
+    }
+    const double spacing = std::isfinite(to - from) ? (to - from) / kMaxWheelPoints : 0.0;
+    TumTrajectoryReader reader(path.string());
+    run.wheels.clear();
+    for (TimedPose pose; reader.next(pose);) {
+      if (pose.timestamp < from) continue;
+      if (pose.timestamp > to) break;
+      if (!run.wheels.empty() && pose.timestamp - run.wheels.back().timestamp < spacing) continue;
+      run.wheels.push_back(pose);
+    }
     run.wheelsPath = path.string();
   } catch (const Error& e) {
     run.wheelsWhy = std::string("the wheels' path is not shown: ") + e.what();

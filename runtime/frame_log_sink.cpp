@@ -66,6 +66,11 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
     j["odometry"] = {{"available", o.available}, {"used", o.used}, {"rejected", o.rejected}, {"drift_m", o.driftM}};
     if (o.fused) j["odometry"]["fused"] = true;
     if (o.fault != odometry::WheelFault::none) j["odometry"]["fault"] = odometry::wheelFaultName(o.fault);
+    if (o.calibration) {  // the learnt errors so far (report.html plots them over the run)
+      j["odometry"]["scale_error"] = o.calibration->scale;
+      j["odometry"]["yaw_scale_error"] = o.calibration->yawScale;
+      j["odometry"]["yaw_bias_deg_per_s"] = o.calibration->yawBiasRadPerS * 180.0 / 3.14159265358979323846;
+    }
     if (!o.why.empty()) j["odometry"]["why"] = o.why;
   }
   if (!rec.implausible.empty()) j["implausible"] = rec.implausible;

@@ -31,9 +31,10 @@ build=${1:-"$root/build-armhf"}
 subset=(
   test_core test_drivers test_eval test_mesh
   test_pipeline test_default_config test_opencl_select test_opencl_noplatform
-  test_controller test_reloc test_runtime test_map_slabs test_odometry_track test_odometry_fusion test_odometry_calibration test_navmap
+  test_controller test_reloc test_runtime test_map_slabs test_map_store test_odometry_track test_odometry_fusion
+  test_odometry_calibration test_wheel_faults test_navmap
   test_power_ledger test_power_meters test_power_io test_power_sampler
-  test_report
+  test_report test_report_odometry
   test_daemon_config test_protocol test_protocol_golden test_socket_server test_frame_report
   test_device_clock
 )
@@ -45,6 +46,7 @@ declare -A known_failures=()
 declare -A slow=(
   [test_synth]="the synthetic-sequence renderer's 900k assertions: ~4.5 min under qemu-arm, more than the whole subset"
   [test_synth_stress]="the stress trajectories of the synthetic-sequence generator (bench tooling, like test_synth)"
+  [test_drive_faults]="the synthetic drive's base faults (bench tooling, like test_synth_stress)"
   [test_drivers_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_drivers"
   [test_eval_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_eval"
   [test_synth_data]="replays real sequences (../shared/data) at ~20x the native time; same code as test_synth"
@@ -64,6 +66,7 @@ declare -A not_armhf=(
   [test_daemon_failures]=$spawns [test_moving_volume_cli]=$spawns [test_daemon_summary]=$spawns
   [test_output_symlinks]=$spawns [test_daemon_odometry]=$spawns [test_push_source]=$spawns [test_daemon_symlinks]=$spawns
   [test_daemon_full_disk]=$spawns [test_odometry_runaway_cli]=$spawns [test_odometry_tracking_rate_cli]=$spawns
+  [test_odometry_doors]=$spawns [test_odometry_map_doors_cli]=$spawns [test_map_store_cli]=$spawns
   [ros_component]="the ROS 1 component is not built in a cross build: Debian's armhf ROS dev packages do not
 cross-install (README, With ROS); this placeholder only says so"
   [test_ros_reports]="ROS 1 component: native builds only (see ros_component)"
@@ -75,6 +78,9 @@ cross-install (README, With ROS); this placeholder only says so"
   [test_ros_master_restart]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_bag_hostile]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_odometry_topic]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_tf_tree]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_tf_relocalisation]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_map_to_odom]="ROS 1 component: native builds only (see ros_component)"
   [test_cluster_reference]=$spawns [test_cluster_parallel]=$spawns [test_cluster_kill]=$spawns
   [test_cluster_slurm]="starts a Slurm cluster of the host's (amd64) daemons that run the armhf tool: $spawns"
   [test_openni2_source]="asserts frame arrival times (the last frame stamped under 0.5 s ago) that emulation on a
