@@ -31,7 +31,7 @@ declare -A spec=(
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=(plain covered stall carried latency mount)
 mkdir -p "$out"
-printf '%-9s %-9s %7s %9s %8s %9s  %s\n' case run posed ATE_cm worst_m good>0.5 states
+printf '%-9s %-9s %7s %9s %8s %9s  %s\n' case run posed ATE_anch_cm worst_m 'good>0.5m' states
 for c in "${cases[@]}"; do
   [ -n "${spec[$c]+x}" ] || { echo "bench_wheel_faults: unknown case $c" >&2; exit 1; }
   IFS='|' read -r seed fault <<< "${spec[$c]}"
