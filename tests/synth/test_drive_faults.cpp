@@ -10,18 +10,14 @@
 #include "synth/corridor_scene.h"
 #include "synth/drive_faults.h"
 #include "synth/drive_odometry.h"
+#include "tests/synth/exact_odometry.h"
 #include "synth/stress_drive.h"
 
 using namespace sb;
 using namespace sb::synth;
+using sb::synth::test::exactOdometry;
 
 namespace {
-
-OdometryErrors exact() {
-  OdometryErrors e;
-  e.scale = e.yawScale = e.yawBiasDegps = e.noiseMPerSqrtM = e.yawNoiseDegPerSqrtS = 0.0;
-  return e;
-}
 
 // The odometry's camera position at the sample nearest `t`.
 Eigen::Vector3d odometryAt(const Trajectory& odometry, double t) {
@@ -47,7 +43,7 @@ TEST_CASE("a stall holds the truth while the wheels read on; a carry jumps it ba
   CHECK(clock.at(8.0) == Approx(6.0));
   CHECK(clock.stalled(6.0));
   CHECK_FALSE(clock.stalled(7.5));
-  const Trajectory wheels = driveOdometry(path, 8.0, exact(), 0, 0.0, stall);
+  const Trajectory wheels = driveOdometry(path, 8.0, exactOdometry(), 0, 0.0, stall);
   // The wheels report about 1 m/s through the stall while the truth stands.
   CHECK((odometryAt(wheels, 6.9) - odometryAt(wheels, 5.1)).norm() == Approx(1.8).margin(0.1));
   CHECK((path.cameraToWorld(clock.at(6.9)).translation() - path.cameraToWorld(clock.at(5.1)).translation()).norm() <
@@ -60,8 +56,8 @@ TEST_CASE("a stall holds the truth while the wheels read on; a carry jumps it ba
   const double back = (path.baseToWorld(10.0).translation() - path.baseToWorld(carried.at(10.0)).translation()).norm();
   CHECK(back == Approx(4.0).margin(0.05));
   CHECK(carried.carriedBetween(9.99, 10.01));
-  const Trajectory still = driveOdometry(path, 10.5, exact(), 0, 0.0, carry);
-  const Trajectory plain = driveOdometry(path, 10.5, exact(), 0);
+  const Trajectory still = driveOdometry(path, 10.5, exactOdometry(), 0, 0.0, carry);
+  const Trajectory plain = driveOdometry(path, 10.5, exactOdometry(), 0);
   // Across the carry the wheels read one sample's worth of nothing; after it they read the drive on.
   const double carriedStep = (odometryAt(still, 10.01) - odometryAt(still, 9.99)).norm();
   const double drivenStep = (odometryAt(plain, 10.01) - odometryAt(plain, 9.99)).norm();
@@ -74,14 +70,15 @@ TEST_CASE("a latency shifts the stamps; a mount error turns the reported camera;
   const stress::DrivePath path = drivePath(scene, 0);
   DriveFaults late;
   late.latencyS = 0.04;
-  const Trajectory a = driveOdometry(path, 3.0, exact(), 0), b = driveOdometry(path, 3.0, exact(), 0, 0.0, late);
+  const Trajectory a = driveOdometry(path, 3.0, exactOdometry(), 0);
+  const Trajectory b = driveOdometry(path, 3.0, exactOdometry(), 0, 0.0, late);
   REQUIRE(a.size() == b.size());
   CHECK(b[10].timestamp - a[10].timestamp == Approx(0.04));
   CHECK((b[10].T_camera_to_world.matrix() - a[10].T_camera_to_world.matrix()).norm() < 1e-12);
 
   DriveFaults mount;
   mount.mountError = {0.0, 2.0, 0.0, 0.0, 0.0, 0.0};
-  const Trajectory m = driveOdometry(path, 3.0, exact(), 0, 0.0, mount);
+  const Trajectory m = driveOdometry(path, 3.0, exactOdometry(), 0, 0.0, mount);
   const double angle = Eigen::AngleAxisd(a[10].T_camera_to_world.linear().transpose() * m[10].T_camera_to_world.linear())
                            .angle() * 180.0 / 3.14159265358979323846;
   CHECK(angle == Approx(2.0).margin(1e-6));

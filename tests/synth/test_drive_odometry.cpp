@@ -7,18 +7,14 @@
 #include "core/trajectory.h"
 #include "synth/corridor_scene.h"
 #include "synth/drive_odometry.h"
+#include "tests/synth/exact_odometry.h"
 #include "synth/stress_drive.h"
 
 using namespace sb;
 using namespace sb::synth;
+using sb::synth::test::exactOdometry;
 
 namespace {
-
-OdometryErrors exact() {
-  OdometryErrors e;
-  e.scale = e.yawScale = e.yawBiasDegps = e.noiseMPerSqrtM = e.yawNoiseDegPerSqrtS = 0.0;
-  return e;
-}
 
 double yawOfSample(const TimedPose& p) {  // heading of the camera's forward axis (z) in the odometry plane
   const Eigen::Vector3d f = p.T_camera_to_world.linear().col(2);
@@ -52,7 +48,7 @@ TEST_CASE("drive odometry: seeded, at its own rate, not on the frames' stamps", 
 TEST_CASE("drive odometry: the camera 1.2 m up, looking along the base's x (REP 103)", "[synth][odometry]") {
   const Scene scene = generateCorridor(3);
   const stress::DrivePath path = drivePath(scene, 3);
-  const Trajectory odo = driveOdometry(path, 1.0, exact(), 3);
+  const Trajectory odo = driveOdometry(path, 1.0, exactOdometry(), 3);
   const Eigen::Isometry3d& first = odo.front().T_camera_to_world;
   CHECK(first.translation().z() == Approx(1.2).margin(1e-9));
   CHECK(first.translation().head<2>().norm() < 1e-3);                 // at rest at the start
@@ -71,7 +67,7 @@ TEST_CASE("drive odometry: the stated scale error and yaw bias are measurable", 
   const double endS = 8.0;  // on the first straight leg
   REQUIRE(path.label(endS) != "turn");
   SECTION("scale: 3% long over the distance driven") {
-    OdometryErrors e = exact();
+    OdometryErrors e = exactOdometry();
     e.scale = 0.03;
     const Trajectory odo = driveOdometry(path, endS, e, 0);
     const double driven =
@@ -83,20 +79,20 @@ TEST_CASE("drive odometry: the stated scale error and yaw bias are measurable", 
     CHECK(driven / truth == Approx(1.03).epsilon(1e-4));
   }
   SECTION("yaw bias: 0.3 deg/s on a straight") {
-    OdometryErrors e = exact();
+    OdometryErrors e = exactOdometry();
     e.yawBiasDegps = 0.3;
     const Trajectory odo = driveOdometry(path, endS, e, 0);
     const double turned = (yawOfSample(odo.back()) - yawOfSample(odo.front())) * 180.0 / M_PI;
     CHECK(turned == Approx(0.3 * (odo.back().timestamp - odo.front().timestamp)).epsilon(1e-3));
   }
   SECTION("noise: a random walk that grows with the distance") {
-    OdometryErrors e = exact();
+    OdometryErrors e = exactOdometry();
     e.noiseMPerSqrtM = 0.01;
     double sum2 = 0.0;
     const int seeds = 40;
     for (int s = 0; s < seeds; ++s) {
       const Trajectory odo = driveOdometry(path, endS, e, static_cast<uint64_t>(s));
-      const Trajectory ref = driveOdometry(path, endS, exact(), static_cast<uint64_t>(s));
+      const Trajectory ref = driveOdometry(path, endS, exactOdometry(), static_cast<uint64_t>(s));
       sum2 += (odo.back().T_camera_to_world.translation() - ref.back().T_camera_to_world.translation())
                   .squaredNorm();
     }
@@ -109,11 +105,11 @@ TEST_CASE("drive odometry: the stated scale error and yaw bias are measurable", 
 TEST_CASE("drive odometry: a wheel slip is one step's jump, kept afterwards", "[synth][odometry]") {
   const Scene scene = generateCorridor(0);
   const stress::DrivePath path = drivePath(scene, 0);
-  OdometryErrors e = exact();
+  OdometryErrors e = exactOdometry();
   e.slipAtS = 5.0;
   e.slipM = 0.4;
   const Trajectory odo = driveOdometry(path, 7.0, e, 0);
-  const Trajectory ref = driveOdometry(path, 7.0, exact(), 0);
+  const Trajectory ref = driveOdometry(path, 7.0, exactOdometry(), 0);
   size_t jumps = 0;
   for (size_t i = 1; i < odo.size(); ++i) {
     const double step =
@@ -156,7 +152,7 @@ TEST_CASE("drive odometry of a part started later: its frame is the base there, 
   CHECK(part.back().timestamp >= 8.0);
   // The base where the part starts is the odometry's origin: the first sample, 0-20 ms later, is within the
   // distance driven in that time (the robot cruises at under 1.5 m/s) of the mount above it.
-  const Trajectory exactPart = driveOdometry(path, 8.0, exact(), 0, start);
+  const Trajectory exactPart = driveOdometry(path, 8.0, exactOdometry(), 0, start);
   const Eigen::Isometry3d mount = path.cameraToBase();
   CHECK((exactPart.front().T_camera_to_world.translation() - mount.translation()).norm() < 0.03);
   // Exact odometry of the part is the truth's motion since its start.
