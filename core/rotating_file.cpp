@@ -121,6 +121,7 @@ void RotatingFile::openSegment() {
   }
   size_ = 0;
   opened_ = std::chrono::steady_clock::now();
+  if (store_) store_->reserve(this, header_.size());  // room first: the limits hold while it is written
   if (!header_.empty()) write(header_);
   if (store_) store_->setCurrent(this, static_cast<uint64_t>(size_));
 }
@@ -144,6 +145,7 @@ bool RotatingFile::due() const {
 
 void RotatingFile::append(std::string_view lines) {
   if (due()) rotate();
+  if (store_) store_->reserve(this, static_cast<uint64_t>(size_) + lines.size());
   write(lines);
   if (store_) {
     store_->setCurrent(this, static_cast<uint64_t>(size_));

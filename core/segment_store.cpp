@@ -93,6 +93,12 @@ void SegmentStore::setCurrent(const void* writer, uint64_t bytes) {
   current_[writer] = bytes;
 }
 
+void SegmentStore::reserve(const void* writer, uint64_t bytes) {
+  std::lock_guard lock(mutex_);
+  current_[writer] = bytes;
+  enforceLimitsLocked();
+}
+
 void SegmentStore::dropCurrent(const void* writer) {
   std::lock_guard lock(mutex_);
   current_.erase(writer);
@@ -174,12 +180,16 @@ void SegmentStore::makeRoom(uint64_t bytes) {
   }
 }
 
-void SegmentStore::enforce() {
-  std::lock_guard lock(mutex_);
+void SegmentStore::enforceLimitsLocked() {
   while (totalLocked() > limits_.keepBytes && removeOldestLocked()) {
   }
   while (limits_.keepSegments > 0 && closed_.size() > limits_.keepSegments && removeOldestLocked()) {
   }
+}
+
+void SegmentStore::enforce() {
+  std::lock_guard lock(mutex_);
+  enforceLimitsLocked();
   // The free space after every write (one statvfs, about a microsecond): another program may fill the disk at
   // any moment, and the outputs that do not rotate (summary.json, rewritten every frame) need room too.
   while (limits_.minFreeBytes > 0 && freeBytesLocked() < limits_.minFreeBytes &&

@@ -89,6 +89,10 @@ class SegmentStore {
   // The current size of the segment a writer has open (`writer`: any id unique to it, e.g. its address).
   void setCurrent(const void* writer, uint64_t bytes);
   void dropCurrent(const void* writer);
+  // Before a writer grows its segment to `bytes`: accounts them and removes the oldest closed segments while
+  // the byte or count limit would be passed, in one step, so the files on disk stay within the limits while
+  // the write happens (enforce() after it would leave them over the limit for the time of the write).
+  void reserve(const void* writer, uint64_t bytes);
   // Removes the oldest closed segments while a limit is passed (the free space is read each time). Called
   // after every write.
   void enforce();
@@ -115,6 +119,7 @@ class SegmentStore {
 
  private:
   bool removeOldestLocked();          // closed segments only (the byte and count limits)
+  void enforceLimitsLocked();         // the byte and count limits
   bool removeOldestForSpaceLocked();  // the oldest closed segment or attached file
   uint64_t freeBytesLocked() const;
   uint64_t totalLocked() const;

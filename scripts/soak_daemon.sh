@@ -101,9 +101,18 @@ echo "$pipeline" > "$out/pipeline.json"
 pid=$!
 
 keep_bytes=$(awk -v m="$keep_mib" 'BEGIN { printf "%d", m * 1048576 }')
+segment_list() {
+  find "$outputs" -maxdepth 2 -type f -regex '.*-[0-9][0-9][0-9][0-9][0-9][0-9]+\.[a-z]+$' -printf "$1" 2>/dev/null || true
+}
 segment_bytes() {  # the rotated outputs on disk
-  find "$outputs" -maxdepth 2 -type f -regex '.*-[0-9][0-9][0-9][0-9][0-9][0-9]+\.[a-z]+$' -printf '%s\n' 2>/dev/null |
-    awk '{ s += $1 } END { printf "%d", s }' || true  # a segment removed meanwhile: find says so, no matter
+  # Sizes, then the names again: a segment counted and removed before the listing ends would be counted with
+  # the newer bytes written in its place, more than was ever on disk at once; only the ones still there count
+  # (segments only grow while they are there, so this is never more than the disk held at the second listing).
+  local sizes names
+  sizes=$(segment_list '%p %s\n')
+  names=$(segment_list '%p\n')
+  awk 'NR == FNR { there[$0] = 1; next } ($1 in there) { s += $2 } END { printf "%d", s }' \
+    <(printf '%s\n' "$names") <(printf '%s\n' "$sizes")
 }
 summary_frames() {
   # summary.json's "frames", read through its type (`slambooster summary`); none while it is rewritten

@@ -1,7 +1,10 @@
 // Rotating output files and their retention (core/rotating_file.h, core/segment_store.h): segment names and
 // headers, numbering across restarts, the byte, count and free-space limits (oldest first, across streams),
 // and the single-file mode replays keep.
+#include <sys/resource.h>
+
 #include <catch2/catch.hpp>
+#include <csignal>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -107,6 +110,43 @@ TEST_CASE("retention keeps every stream within the byte limit, oldest segments f
   CHECK_FALSE(fs::exists(dir + "/frames-000001.jsonl"));
   CHECK(fs::exists(frames.path()));
   CHECK(streamFiles(dir, "frames.jsonl").back() == frames.path());
+}
+
+// The soak test once read the rotated outputs 755 bytes over output.rotation.keep_mib: a line was written
+// first and the oldest segment removed after it. Here the write fails (the file-size limit, EFBIG), so what
+// is on disk is what the rotating file left before writing: the room must already be made.
+TEST_CASE("retention makes room before a line is written, not after", "[core][rotation]") {
+  const std::string dir = test::scratchDir("rotation_room_first");
+  const RetentionLimits limits = smallLimits();
+  auto store = std::make_shared<SegmentStore>(dir, limits);
+  RotatingFile frames(dir, "frames.jsonl", "per-frame log", "", store);
+  // Up to the byte limit, and on until a line that passes it still fits in the current segment (no rotation).
+  const auto gap = [&] { return limits.keepBytes - store->usage().bytes; };
+  for (int i = 0; i < 2000 && (store->usage().removedSegments == 0 ||
+                               fs::file_size(frames.path()) + gap() + 1 >= kSegment);
+       ++i)
+    frames.append(line(1000));
+  const uint64_t onDisk = bytesOf(streamFiles(dir, "frames.jsonl"));
+  REQUIRE(onDisk == store->usage().bytes);
+  const size_t need = static_cast<size_t>(limits.keepBytes - onDisk) + 1;  // one byte past the limit
+  REQUIRE(fs::file_size(frames.path()) + need < kSegment);
+
+  rlimit old{};
+  REQUIRE(::getrlimit(RLIMIT_FSIZE, &old) == 0);
+  rlimit capped = old;
+  capped.rlim_cur = static_cast<rlim_t>(fs::file_size(frames.path()));  // any byte more fails
+  const auto previous = std::signal(SIGXFSZ, SIG_IGN);
+  REQUIRE(::setrlimit(RLIMIT_FSIZE, &capped) == 0);
+  bool threw = false;
+  try {
+    frames.append(line(need));
+  } catch (const Error&) {
+    threw = true;
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  std::signal(SIGXFSZ, previous);
+  CHECK(threw);
+  CHECK(bytesOf(streamFiles(dir, "frames.jsonl")) + need <= limits.keepBytes);
 }
 
 TEST_CASE("retention by segment count and by free space", "[core][rotation]") {
