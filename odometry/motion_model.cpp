@@ -1,6 +1,7 @@
 #include "odometry/motion_model.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <vector>
 
@@ -26,6 +27,7 @@ const Eigen::Isometry3d& finalPose(const FrameView& view) {
 MotionModel::MotionModel(const OdometryConfig& config)
     : config_(config),
       calibration_(config),
+      timeOffset_(config),
       mapAgreement_(config.mapAgreementFraction),
       faults_(config.disputeS, config.calmS) {}
 
@@ -41,8 +43,9 @@ FrameMotion MotionModel::predict(const Eigen::Isometry3d& previousPose, double p
     return motion;
   }
   const OdometryConfig& c = config_;
-  out.cameraToOdom = track_->poseAt(stamp, c.maxGapS, c.maxExtrapolationS);
-  auto step = stepBetween(*track_, previousStamp, stamp, c, out.why);
+  const double offset = timeOffset_.offset();  // the odometry's clock: its instant of each frame's stamp
+  out.cameraToOdom = track_->poseAt(stamp + offset, c.maxGapS, c.maxExtrapolationS);
+  auto step = stepBetween(*track_, previousStamp + offset, stamp + offset, c, out.why);
   if (!step) return motion;
   out.available = true;
   // A step the platform cannot make is the wheels slipping (or a glitch), not motion.
@@ -73,7 +76,7 @@ FrameMotion MotionModel::predict(const Eigen::Isometry3d& previousPose, double p
     // a discarded track): the prediction is as uncertain as the wheels' whole interval since the view last fixed
     // the pose, not one step of it.
     std::string why;
-    if (const auto interval = stepBetween(*track_, *viewStamp_, stamp, c, why)) {
+    if (const auto interval = stepBetween(*track_, *viewStamp_ + offset, stamp + offset, c, why)) {
       widenNoise(*motion.step, *interval);
       motion.uncheckedM = interval->distanceM();
       motion.uncheckedS = interval->dt;
@@ -160,6 +163,12 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
   }
   const Eigen::Isometry3d predicted = motion.previousPose * wheels->delta;
   const Eigen::Isometry3d tracked = d.refinedPose ? *d.refinedPose : r.T_camera_to_world;
+  // The view's rotation since it last fixed the pose, where it fixes every rotation: the evidence of the
+  // odometry's clock (whether or not the wheels agree: a latency is what makes them disagree in a turn).
+  if (lastViewPose_ && r.quality.known && r.quality.constrained) {
+    const Eigen::AngleAxisd turn(lastViewPose_->linear().transpose() * tracked.linear());
+    timeOffset_.add(*track_, lastViewStamp_, r.timestamp, turn.axis() * turn.angle());
+  }
   const Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *wheels, config_, motion.level);
   if (f.rejected) {
     // A motion the platform cannot make is the view's error (a runaway along a wall), whoever disagrees with it.
@@ -172,7 +181,10 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     // again and again while the map grows at the wheels' poses. So a correction the view asks for that keeps
     // growing frame after frame is the wheels running away: the view's pose stands (wheel_faults.h diverging).
     // Either way a dispute opens: nothing is fused and no pose is good until the evidence decides it.
-    if (!motion.withheld) {
+    // A view that stands where it last fixed the pose while the wheels drove on is a stall (the robot ran into
+    // something and its wheels spin): a sudden stop is a motion a body makes, and the view is no look-alike
+    // (one would not land on the very pose it left), so inertia does not discard it; it is the evidence.
+    if (!motion.withheld && !viewStill(tracked, motion, *wheels)) {
       const std::string inertia = viewBreaksInertia(motion.previousPose, tracked, predicted,
                                                     r.timestamp - motion.previousStamp, lastVelocity_,
                                                     config_.slipFloorM);
@@ -211,8 +223,15 @@ void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
   // The dead-reckoning budget ends only where the view fixed the pose with evidence: it holds the map and no
   // dispute is open (a frame that merely tracked between frames on the wheels does not restart it).
   if (!faultsOn() || (held_ && !view.odometry.rejected)) {
-    if (faults_.fault() == WheelFault::none) mapAgreement_.add(r.pairAgreement);
+    if (faults_.fault() == WheelFault::none) {
+      mapAgreement_.add(r.pairAgreement);
+      mapAgreement_.addCoverage(modelCoverage(r.inlierFraction, r.pairAgreement));
+    }
     odometryDistanceM_ = odometryTimeS_ = 0.0;
+  }
+  if (held_) {  // the view fixed this pose (whether or not the wheels agreed): a stall is judged frame to frame
+    lastViewPose_ = finalPose(view);
+    lastViewStamp_ = r.timestamp;
   }
   const double dt = r.timestamp - motion.previousStamp;
   if (motion.hasPrevious && dt > 0)
@@ -227,8 +246,11 @@ bool MotionModel::follow(const FrameView& view, const FrameMotion& motion) {
   // A track that failed while the model was in view and the view disagreed with it: the robot is not where the
   // wheels say (evidence of a kidnap); one that failed on a blind or new view says nothing.
   if (faultsOn() && motion.step && r.trackingAttempted && r.inlierFraction > 0.0 && view.implausible.empty() &&
-      !mapAgreement_.holds(r.pairAgreement))
+      !mapAgreement_.holds(r.pairAgreement) &&
+      mapAgreement_.covered(modelCoverage(r.inlierFraction, r.pairAgreement)))
     faults_.viewContradicted(r.timestamp);
+  else
+    faults_.expire(r.timestamp);
   view.odometry.fault = faults_.fault();
   if (!motion.step || faults_.fault() == WheelFault::kidnapped) return false;
   if (!followOdometry(view, motion)) {
@@ -268,7 +290,19 @@ void MotionModel::deadReckon(const FrameMotion& motion) {
   odometryTimeS_ += motion.step->dt;
 }
 
+bool MotionModel::viewStill(const Eigen::Isometry3d& tracked, const FrameMotion& motion,
+                            const OdometryStep& wheels) const {
+  if (!lastViewPose_) return false;
+  // The wheels' motion since the view last fixed the pose: this step, or the whole unchecked interval.
+  const double wheelsM = std::max(wheels.distanceM(), motion.uncheckedM);
+  const double viewM = (tracked.translation() - lastViewPose_->translation()).norm();
+  const double viewDeg =
+      Eigen::AngleAxisd(lastViewPose_->linear().transpose() * tracked.linear()).angle() * 180.0 / M_PI;
+  return viewM <= kStillM && viewDeg <= kStillDeg && wheelsM >= 2.0 * kStillM;
+}
+
 void MotionModel::relocalised() {
+  lastViewPose_.reset();
   odometryPose_.reset();
   odometryDistanceM_ = odometryTimeS_ = 0.0;
   faults_.reset();
@@ -349,7 +383,7 @@ bool MotionModel::followOdometry(const FrameView& view, const FrameMotion& motio
   // holes fill, and the next frame tracks against it.
   view.odometry.fused = view.result.trackingAttempted && view.result.inlierFraction > 0.0 &&
                         view.implausible.empty() &&
-                        (!faultsOn() || (faults_.fault() == WheelFault::none &&
+                        (!faultsOn() || ((faults_.fault() == WheelFault::none || faults_.unsupported()) &&
                                          mapAgreement_.holds(view.result.pairAgreement)));
   d.integrate = view.odometry.fused;
   d.keepReference = false;

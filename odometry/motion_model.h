@@ -24,6 +24,7 @@
 #include "odometry/odometry_fusion.h"
 #include "odometry/mount_calibration.h"
 #include "odometry/odometry_track.h"
+#include "odometry/time_offset.h"
 #include "odometry/wheel_faults.h"
 #include "pipeline/pipeline.h"
 
@@ -89,6 +90,8 @@ class MotionModel {
   const OdometryCalibration& calibration() const { return calibration_; }
   // The camera mount's error learnt so far; every step is corrected by it first.
   const MountCalibration& mount() const { return mount_; }
+  // The odometry's clock against the frames' learnt so far; every step is read at the frames' stamps plus it.
+  const TimeOffset& timeOffset() const { return timeOffset_; }
 
   // The frame at `stamp`: the previous frame's final pose and stamp, and the odometry's step since then
   // (calibrated, its noise widened over the frames the view did not fix); `out` says what the odometry had.
@@ -153,10 +156,16 @@ class MotionModel {
   void judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion,
                           const std::optional<OdometryStep>& wheels);
 
+  // The view stands where it last fixed the pose (within kStillM, kStillDeg: a tracked view's noise is
+  // millimetres) while the wheels moved at least twice that since: a stall's signature.
+  bool viewStill(const Eigen::Isometry3d& tracked, const FrameMotion& motion, const OdometryStep& wheels) const;
+  static constexpr double kStillM = 0.01, kStillDeg = 0.5;
+
   OdometryConfig config_;
   std::shared_ptr<const OdometryTrack> track_;
   OdometryCalibration calibration_;
   MountCalibration mount_;
+  TimeOffset timeOffset_;
   static constexpr size_t kAgreementFrames = 30;  // the recent tracked frames a jump's evidence is held against
   std::deque<double> agreement_;  // pair agreement of the last tracked frames (the evidence a jump must keep)
   MapAgreement mapAgreement_;     // of the recent frames the view fixed without dispute
@@ -170,6 +179,8 @@ class MotionModel {
   // The last frame whose pose the view fixed, for the noise of the wheels' prediction, and whether it was the
   // last frame.
   std::optional<double> viewStamp_;
+  std::optional<Eigen::Isometry3d> lastViewPose_;  // the pose of the last frame the view fixed (holding the map)
+  double lastViewStamp_ = 0.0;                     // and its stamp
   std::optional<double> firstStamp_;  // the run's first frame (the map's origin): unchecked time counts from it
   bool previousViewFixed_ = false;
   // The first frame the view fixed with an odometry pose: its pose and the odometry's (as reported). The odometry

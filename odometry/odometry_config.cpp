@@ -39,6 +39,8 @@ constexpr Key kKeys[] = {
     {"calm_s", &OdometryConfig::calmS, 0.0, 60.0},
     {"map_agreement_fraction", &OdometryConfig::mapAgreementFraction, 0.0, 1.0},
     {"max_unchecked_s", &OdometryConfig::maxUncheckedS, 0.0, 60.0},
+    {"time_offset_s", &OdometryConfig::timeOffsetS, -10.0, 10.0},
+    {"time_offset_range_s", &OdometryConfig::timeOffsetRangeS, 0.0, 1.0},
 };
 
 }  // namespace

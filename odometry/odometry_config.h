@@ -82,6 +82,10 @@ struct OdometryConfig {
   // A frame the tracking rate skips takes the wheels' pose; it is the view's word (carries its state) only within
   // this time of the last frame the view fixed, and the next frame is tracked whatever the rate.
   double maxUncheckedS = 1.0;             // seconds
+  // The odometry's stamps against the frames' (odometry/time_offset.h): a frame at stamp t is matched with the
+  // odometry at t + timeOffsetS (a latency of 40 ms: 0.04), learnt online within timeOffsetRangeS of it (0: fixed).
+  double timeOffsetS = 0.0;               // seconds
+  double timeOffsetRangeS = 0.0;          // seconds (learning off by default: docs/odometry.md "Faults")
 
   void read(ConfigReader& r);
   nlohmann::json toJson() const;

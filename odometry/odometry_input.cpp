@@ -79,8 +79,11 @@ void countOdometryFrame(const odometry::OdometryTrack& track, double timestamp, 
   last = pose;
 }
 
-void noteCalibration(const odometry::CalibrationEstimate& e, const odometry::MountCalibration& mount,
-                     OdometrySummary& summary) {
+void noteCalibration(const odometry::MotionModel& model, OdometrySummary& summary) {
+  const odometry::CalibrationEstimate e = model.calibration().estimate();
+  const odometry::MountCalibration& mount = model.mount();
+  summary.timeOffsetS = model.timeOffset().offset();
+  summary.timeOffsetLearnt = model.timeOffset().learnt();
   summary.mountErrorDeg = mount.errorDeg();
   summary.mountTurnSeenDeg = mount.turnSeenDeg();
   summary.scaleError = e.scale;

@@ -12,8 +12,7 @@
 #include <string>
 
 #include "odometry/odometry_track.h"
-#include "odometry/mount_calibration.h"
-#include "odometry/odometry_calibration.h"
+#include "odometry/motion_model.h"
 #include "report/run_summary.h"
 
 namespace sb {
@@ -48,8 +47,7 @@ OdometryInput liveOdometry(const std::string& source);
 void countOdometryFrame(const odometry::OdometryTrack& track, double timestamp, OdometrySummary& summary,
                         std::optional<Eigen::Isometry3d>& last);
 
-// The wheels' errors and the mount's learnt so far, into the summary.
-void noteCalibration(const odometry::CalibrationEstimate& estimate, const odometry::MountCalibration& mount,
-                     OdometrySummary& summary);
+// The wheels' errors, the mount's and the odometry's clock learnt so far, into the summary.
+void noteCalibration(const odometry::MotionModel& model, OdometrySummary& summary);
 
 }  // namespace sb

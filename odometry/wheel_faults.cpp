@@ -37,10 +37,24 @@ double MapAgreement::floor() const {
 
 bool MapAgreement::holds(double pairAgreement) const { return recent_.empty() || pairAgreement >= floor(); }
 
+void MapAgreement::addCoverage(double coverage) {
+  coverage_.push_back(coverage);
+  if (coverage_.size() > kFrames) coverage_.pop_front();
+}
+
+bool MapAgreement::covered(double coverage) const {
+  return coverage_.empty() ||
+         coverage >= kCoveredFraction * median(std::vector<double>(coverage_.begin(), coverage_.end()));
+}
+
+double modelCoverage(double inlierFraction, double pairAgreement) {
+  return pairAgreement > 0.0 ? inlierFraction / pairAgreement : 0.0;
+}
+
 void FaultWatch::begin(double stamp) {
   if (fault_ != WheelFault::none) return;
   fault_ = WheelFault::disputed;
-  since_ = stamp;
+  since_ = lastEvidence_ = stamp;
   wheelsAgainst_ = viewAgainst_ = 0;
 }
 
@@ -64,6 +78,7 @@ void FaultWatch::wheelsContradicted(double stamp) {
   if (fault_ == WheelFault::slipping || fault_ == WheelFault::kidnapped) return;
   begin(stamp);
   ++wheelsAgainst_;
+  lastEvidence_ = stamp;
   why_ = "the view holds the map while the wheels report another motion";
   if (wheelsAgainst_ >= kMinFrames && stamp - since_ >= decideS_ && wheelsAgainst_ > viewAgainst_) {
     fault_ = WheelFault::slipping;
@@ -77,6 +92,7 @@ void FaultWatch::viewContradicted(double stamp) {
   if (fault_ == WheelFault::slipping) fault_ = WheelFault::none;  // neither side is trusted now: decide again
   begin(stamp);
   ++viewAgainst_;
+  lastEvidence_ = stamp;
   why_ = "the view does not fit the map near the wheels' pose";
 }
 
@@ -93,6 +109,10 @@ void FaultWatch::agreed(double stamp) {
   if (calm_ == 0) calmSince_ = stamp;
   ++calm_;
   if (calm_ >= kMinFrames && stamp - calmSince_ >= (fault_ == WheelFault::disputed ? 0.0 : calmS_)) reset();
+}
+
+void FaultWatch::expire(double stamp) {
+  if (fault_ == WheelFault::disputed && stamp - lastEvidence_ > kStaleDecisions * decideS_) reset();
 }
 
 void FaultWatch::reset() {

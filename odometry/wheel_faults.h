@@ -33,12 +33,25 @@ class MapAgreement {
   bool holds(double pairAgreement) const;
   double floor() const;  // the agreement a frame must reach (0 without history)
   bool known() const { return !recent_.empty(); }
+  // How much of the view the model covers (the pairs the model had a surface for, per pixel: inliers / pixels
+  // over inliers / pairs) on the recent undisputed frames. A view that fails to fit a model covering as much of
+  // it as usual (at least kCoveredFraction of the recent median) is evidence that the camera is elsewhere: the
+  // map at the wheels' pose is whole and the view does not match it. One that fails on a model that covers less
+  // (a stretch the volume has not mapped yet, the far side of a U-turn: the coverage falls frame after frame as
+  // the robot drives into it, 0.55 -> 0.3 -> 0.1 on a held-out drive) says nothing of where the camera is.
+  void addCoverage(double coverage);
+  bool covered(double coverage) const;
+  static constexpr double kCoveredFraction = 0.8;
 
  private:
   static constexpr size_t kFrames = 90;  // the recent undisputed frames (3 s at 30 Hz)
   double fraction_;
-  std::deque<double> recent_;
+  std::deque<double> recent_, coverage_;
 };
+
+// The share of the view the model had a surface for, from a track's inlier fraction and pair agreement (0 when
+// nothing was paired).
+double modelCoverage(double inlierFraction, double pairAgreement);
 
 // The evidence of a disagreement, frame by frame, and the verdict.
 class FaultWatch {
@@ -66,6 +79,13 @@ class FaultWatch {
   bool diverging(double stamp, double correctionM);
   // A frame where the two agree (the view holds the map and the wheels' step agrees with it).
   void agreed(double stamp);
+  // A dispute still undecided with no evidence for either side for kStaleDecisions times the decision time (the
+  // view fails to track where the map holds too little to judge by: the far side of a U-turn) is dropped: nothing
+  // can decide it, and a map starved of every frame the wheels carry would never let the view track again.
+  void expire(double stamp);
+  // A dispute is open but neither side has evidence yet (one frame's inertia opened it): the frames the wheels
+  // carry may still feed a map the view cannot track against, as without a dispute.
+  bool unsupported() const { return fault_ == WheelFault::disputed && wheelsAgainst_ == 0 && viewAgainst_ == 0; }
   // The relocaliser placed the camera, or the run starts over: no dispute.
   void reset();
   // Why the state is what it is, for frames.jsonl ("" when none).
@@ -73,6 +93,8 @@ class FaultWatch {
 
  private:
   static constexpr int kMinFrames = 3;
+  static constexpr double kStaleDecisions = 3.0;
+  double lastEvidence_ = 0.0;  // the stamp of the dispute's last frame of evidence (or its opening)
   void begin(double stamp);
 
   double decideS_, calmS_;

@@ -150,6 +150,8 @@ void fieldsOf(OdometrySummary& o, Field field) {
   field("calibration_frames", o.calibrationFrames);
   field("mount_error_deg", o.mountErrorDeg);
   field("mount_turn_seen_deg", o.mountTurnSeenDeg);
+  field("time_offset_s", o.timeOffsetS);
+  field("time_offset_learnt", o.timeOffsetLearnt);
 }
 
 template <typename Field>

@@ -73,6 +73,10 @@ struct OdometrySummary {
   // seen, degrees (the correction applies from 20 degrees of turning on).
   double mountErrorDeg = 0.0;
   double mountTurnSeenDeg = 0.0;
+  // The odometry's clock against the frames' (odometry/time_offset.h): seconds added to a frame's stamp, and
+  // whether the turns' evidence moved it from odometry.time_offset_s.
+  double timeOffsetS = 0.0;
+  bool timeOffsetLearnt = false;
 };
 
 struct StoppedSummary {  // `run --stop-after-ms` stopped the run ("stopped")

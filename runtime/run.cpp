@@ -129,7 +129,7 @@ FrameRecord Run::step(const DepthFrame& frame) {
   RunSummary& header = outputs_.summary->header();
   if (const odometry::OdometryTrack* track = runner_.odometry(); track && header.odometry) {
     countOdometryFrame(*track, frame.timestamp, *header.odometry, lastOdometryPose_);
-    noteCalibration(runner_.motion().calibration().estimate(), runner_.motion().mount(), *header.odometry);
+    noteCalibration(runner_.motion(), *header.odometry);
   }
   try {
     FrameRecord rec = runner_.step(frame);

@@ -5,10 +5,11 @@
 # estimate anchored at the first frame as a robot's map frame is (no alignment), the worst error, and the count
 # of `good` frames more than 0.5 m from the truth (scripts/pose_honesty.py). Each case has its own seed and fault
 # time/size; CASES picks some (default all). WIDTH: 320 (default) or 640. CONFIG: a settings file given to every run
-# (e.g. {"odometry": {"dispute_s": 0.3}} for the fault watch).
+# (e.g. {"odometry": {"dispute_s": 0.3}} for the fault watch). RUNS: the controllers (default "default adaptive").
 #
 # usage: scripts/bench_wheel_faults.sh [BUILD_DIR] [OUT] [CASE...]
-#   cases: plain covered stall carried latency mount
+#   cases: plain covered stall carried latency mount, and the second set plain2 covered2 stall2 carried2 latency2
+#   mount2
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}
@@ -27,6 +28,13 @@ declare -A spec=(
   [carried]="24|--odom-carried 15.3,9"
   [latency]="25|--odom-latency 0.04"
   [mount]="26|--odom-mount-error 1.5,2,0.5,0.02,0.03,0.02"
+  # A second set with other seeds, fault times and sizes, to check what the first set taught.
+  [plain2]="31|"
+  [covered2]="32|--cover 21,1.5"
+  [stall2]="33|--odom-stall 12.5,2,0.6"
+  [carried2]="34|--odom-carried 20,6"
+  [latency2]="35|--odom-latency 0.07"
+  [mount2]="36|--odom-mount-error -1,1.5,1,0.03,-0.02,0.01"
 )
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=(plain covered stall carried latency mount)
@@ -40,7 +48,7 @@ for c in "${cases[@]}"; do
   [ -f "$seq/odometry.txt" ] ||
     "$bin" synth --scene corridor --stress drive --seed "$seed" --width "$width" --height "$height" --fx "$fx" \
       --fy "$fy" $fault --out "$seq" --overwrite > "$seq.synth.log"
-  for run in default adaptive; do
+  for run in ${RUNS:-default adaptive}; do
     dir="$out/$c-$run"
     extra=()
     [ -z "${CONFIG:-}" ] || extra=(--config "$CONFIG")

@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """How honest a run's tracking state is about its pose (issue 52's measure).
 
-    scripts/pose_honesty.py RUN_DIR GROUNDTRUTH [--off-m 0.5] [--after FRAME]
+    scripts/pose_honesty.py RUN_DIR GROUNDTRUTH [--off-m 0.5] [--after FRAME] [--per-frame CSV]
 
 Reads RUN_DIR/frames.jsonl (each frame's pose and state) and a TUM groundtruth.txt. The estimate and the truth
 are anchored at the first frame (as a robot's map frame is: no alignment fitted), and each frame's position
 error is the distance between them. Prints one JSON object: the frames, the posed share (every state but
 lost), the ATE rmse over the posed frames (anchored, metres), the worst error, and the count of `good` frames
 more than --off-m from the truth (the lie the issue counts). --after: the ATE over the posed frames from that
-frame on as well (after a relocalisation)."""
+frame on as well (after a relocalisation). --per-frame: each frame's `frame,state,error_m` into that file."""
 import argparse
 import json
 import math
@@ -61,6 +61,7 @@ def main():
     ap.add_argument('groundtruth')
     ap.add_argument('--off-m', type=float, default=0.5)
     ap.add_argument('--after', type=int, default=None)
+    ap.add_argument('--per-frame', default=None)
     a = ap.parse_args()
     truth = read_truth(a.groundtruth)
     frames = []
@@ -85,6 +86,10 @@ def main():
             anchor = (R, t)
         p = apply(anchor[0], anchor[1], fr['position'])
         errors.append((fr['frame'], fr['state'], math.dist(p, g[1])))
+    if a.per_frame:
+        with open(a.per_frame, 'w') as f:
+            f.write('frame,state,error_m\n')
+            f.writelines('%d,%s,%.4f\n' % e for e in errors)
     posed = [e for e in errors if e[1] != 'lost']
     after = [e for e in posed if a.after is not None and e[0] >= a.after]
     rmse = lambda es: math.sqrt(sum(e[2] ** 2 for e in es) / len(es)) if es else None

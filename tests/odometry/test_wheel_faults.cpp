@@ -1,10 +1,11 @@
 // odometry/wheel_faults.h and odometry/mount_calibration.h: the evidence of a disagreement between the wheels
 // and the view, decided over a window and not by one frame; the map's agreement a view must keep; the mount's
-// error from the axes of the turns.
+// error from the axes of the turns; the odometry's clock from the changes of turn rate.
 #include <catch2/catch.hpp>
 #include <cmath>
 
 #include "odometry/mount_calibration.h"
+#include "odometry/time_offset.h"
 #include "odometry/wheel_faults.h"
 
 using namespace sb::odometry;
@@ -111,4 +112,91 @@ TEST_CASE("the mount's tilt error from the turns: learnt after enough turning, z
   const OdometryStep fixed = mount.correct(raw);
   CHECK((fixed.delta.linear() - Eigen::AngleAxisd(3.0 * kDeg, up).toRotationMatrix()).norm() < 1e-6);
   CHECK((fixed.up - up).norm() < 1e-6);
+}
+
+namespace {
+
+// An in-place turn: still, the rate ramping up to 60 deg/s over 0.5 s, turning, ramping down, still (seconds).
+double yawAt(double t) {
+  const double rate = 60.0 * kDeg, ramp = 0.5, start = 1.0, cruise = 2.0;
+  auto integral = [&](double u) {  // of the rate from `start`, u seconds in
+    if (u <= 0) return 0.0;
+    if (u <= ramp) return rate * u * u / (2 * ramp);
+    if (u <= ramp + cruise) return rate * ramp / 2 + rate * (u - ramp);
+    const double d = std::min(u - ramp - cruise, ramp);
+    return rate * ramp / 2 + rate * cruise + rate * d - rate * d * d / (2 * ramp);
+  };
+  return integral(t - start);
+}
+
+Eigen::Isometry3d turned(double yaw) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return p;
+}
+
+// The wheels' track of the turn, stamped `latencyS` late; the view's frames (their true stamps) through it.
+double learntOffset(double latencyS, double (*yaw)(double), bool* learnt = nullptr, double noiseRad = 0.0) {
+  OdometryConfig c;
+  c.timeOffsetRangeS = 0.2;  // learning on (off by default)
+  OdometryTrack track;
+  for (double t = 0.0; t < 6.0; t += 0.01) {
+    OdometrySample s;
+    s.timestamp = t + latencyS;
+    s.T_camera_to_odom = turned(yaw(t));
+    track.add(s);
+  }
+  TimeOffset offset(c);
+  unsigned state = 12345;  // the view's noise: uniform, of standard deviation noiseRad, the same every run
+  auto noise = [&] {
+    state = state * 1103515245u + 12345u;
+    return noiseRad * std::sqrt(12.0) * (static_cast<double>((state >> 8) & 0xffff) / 65535.0 - 0.5);
+  };
+  for (int i = 1; i * kFrameS < 5.0; ++i) {
+    const double t0 = (i - 1) * kFrameS, t1 = i * kFrameS;
+    offset.add(track, t0, t1, Eigen::Vector3d(noise(), noise(), yaw(t1) - yaw(t0) + noise()));
+  }
+  if (learnt) *learnt = offset.learnt();
+  return offset.offset();
+}
+
+}  // namespace
+
+TEST_CASE("the odometry's latency is learnt from the changes of turn rate, within its range",
+          "[odometry][faults]") {
+  bool learnt = false;
+  CHECK(learntOffset(0.04, yawAt, &learnt) == Approx(0.04).margin(0.006));
+  CHECK(learnt);
+  CHECK(learntOffset(-0.07, yawAt) == Approx(-0.07).margin(0.006));
+  CHECK(learntOffset(0.0, yawAt) == Approx(0.0).margin(0.006));
+  // Beyond the range (0.2 s) it stops at its edge rather than wandering.
+  CHECK(learntOffset(0.35, yawAt) <= 0.2 + 1e-9);
+  // A constant turn rate (or none) matches every offset alike: no evidence, the start value stays.
+  CHECK(learntOffset(0.04, [](double t) { return 0.5 * t; }, &learnt) == 0.0);
+  CHECK_FALSE(learnt);
+  CHECK(learntOffset(0.04, [](double) { return 0.0; }, &learnt) == 0.0);
+  CHECK_FALSE(learnt);
+  // With a view's noise (1 mrad a frame): the same, and noise alone does not move it.
+  CHECK(learntOffset(0.04, yawAt, &learnt, 0.001) == Approx(0.04).margin(0.011));
+  CHECK(learnt);
+  CHECK(std::abs(learntOffset(0.0, yawAt, &learnt, 0.001)) <= 0.011);
+  CHECK(learntOffset(0.04, [](double t) { return 0.5 * t; }, &learnt, 0.001) == 0.0);
+  CHECK_FALSE(learnt);
+}
+
+TEST_CASE("a dispute nothing can decide is dropped; one with fresh evidence is not", "[odometry][faults]") {
+  FaultWatch watch(0.3, 0.5);
+  CHECK(watch.diverging(0.0, 0.05) == false);  // one frame's inertia opens it, undecided
+  CHECK(watch.fault() == WheelFault::disputed);
+  watch.expire(0.5);
+  CHECK(watch.fault() == WheelFault::disputed);  // within three decision times
+  watch.expire(0.95);
+  CHECK(watch.fault() == WheelFault::none);
+  // Evidence keeps it open: the view failing to fit the map near the wheels' pose, frame after frame.
+  watch.viewContradicted(2.0);
+  for (int i = 1; i <= 60; ++i) {
+    watch.viewContradicted(2.0 + i * kFrameS);
+    watch.expire(2.0 + i * kFrameS);
+  }
+  CHECK(watch.fault() == WheelFault::disputed);
 }
