@@ -104,8 +104,9 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
       path = (dir / tum::kAssociationsFile).string();
       problem = pathProblem(path);
       if (problem == "does not exist")
-        throw Error("sequence " + quoteForMessage(directory) + " has no " + tum::kIndexFile + " (nor " + tum::kAssociationsFile +
-                    "): a TUM-layout sequence needs `timestamp depth/file.png` lines in depth.txt");
+        throw Error("sequence " + quoteForMessage(directory) + " has no " + tum::kIndexFile + " (nor " +
+                    tum::kAssociationsFile + "): a TUM-layout sequence needs `timestamp depth/file.png` lines in " +
+                    tum::kIndexFile);
     }
     throw Error("sequence " + quoteForMessage(directory) + ": " + name + " " + quoteForMessage(path) + " " + problem +
                 "; it must be a readable text file of `timestamp depth/file.png` lines");

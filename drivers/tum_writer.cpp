@@ -43,7 +43,8 @@ TumSequenceWriter::TumSequenceWriter(const std::string& directory, const Sequenc
         throw Error("cannot write sequence to '" + directory +
                     "': the directory is not empty; choose another or allow overwriting");
       // The files this writer produces: `overwrite` removes exactly these, nothing else in the directory.
-      for (const char* name : {tum::kIndexFile, tum::kCalibrationFile, tum::kGroundTruthFile}) fs::remove(dir / name, ec);
+      for (const char* name : {tum::kIndexFile, tum::kCalibrationFile, tum::kGroundTruthFile})
+        fs::remove(dir / name, ec);
       fs::remove_all(dir / tum::kDepthDir, ec);
     }
   }
