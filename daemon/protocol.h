@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/energy_report.h"
 #include "daemon/odom_request.h"
 #include "pipeline/knobs.h"
 #include "core/tracking_state.h"
@@ -99,14 +100,6 @@ struct FrameReport {
   PoseFields pose;
   KnobFields knobs;
   std::vector<std::string> pinned;  // knobs pinned over the controller's choice
-};
-
-// Energy of one frame (architecture.md D5; produced by the power meter ledger, which may lag POSE).
-struct EnergyReport {
-  uint64_t frame = 0;
-  double joules = 0.0;
-  double meanWatts = 0.0;
-  std::string meter;
 };
 
 // The navigation grid (navmap/) as the SLAM thread last wrote it: immutable once made.

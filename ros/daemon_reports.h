@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "core/energy_report.h"
 #include "core/tracking_state.h"
 
 namespace sb::ros_bridge {
@@ -39,13 +40,6 @@ struct KnobsReport {
   double csr = 0, icp = 0, tr = 0, ir = 0;
   std::array<double, 3> pd{};
   double computationMs = 0.0;
-};
-
-struct EnergyReport {
-  uint64_t frame = 0;
-  double joules = 0.0;
-  double meanWatts = 0.0;
-  std::string meter;
 };
 
 // The state a POSE says: its `state` member when present and known; otherwise derived from the older members:

@@ -111,7 +111,7 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
         R"("pd":[10,5,4],"pinned":["csr"],"tr":1})"
         "\n");
   CHECK(versionMessage("0.1.0")["class"] == "VERSION");
-  CHECK(energyMessage(EnergyReport{})["class"] == "ENERGY");
+  CHECK(energyMessage(sb::EnergyReport{})["class"] == "ENERGY");
   CHECK(statusMessage({{"fps", 1}})["class"] == "STATUS");
   CHECK(errorMessage("x")["class"] == "ERROR");
   CHECK(watchMessage(true, true, false, true)["class"] == "WATCH");

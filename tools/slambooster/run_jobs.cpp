@@ -21,6 +21,7 @@
 #include "core/config_reader.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "drivers/tum_layout.h"
 #include "tools/slambooster/claim.h"
 
 namespace sb::cli {
@@ -184,7 +185,7 @@ std::string knobsId(const Knobs& k) {
 std::string sequenceName(const std::string& path) {
   fs::path p(path);
   while (!p.empty() && p.filename().empty()) p = p.parent_path();
-  if (p.filename() == "depth.txt") p = p.parent_path();
+  if (p.filename() == tum::kIndexFile) p = p.parent_path();
   return p.stem().string();
 }
 
