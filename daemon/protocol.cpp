@@ -191,16 +191,13 @@ nlohmann::json poseMessage(const FrameReport& r) {
 
 nlohmann::json knobsMessage(const FrameReport& r) {
   const KnobFields& k = r.knobs;
-  return {{"class", "KNOBS"},
-          {"pinned", r.pinned},
-          {"frame", k.frame},
-          {"controller", k.controller},
-          {"computation_ms", k.computationMs},
-          {"csr", k.knobs.csr},
-          {"icp", k.knobs.icpThreshold},
-          {"pd", {k.knobs.pyramidIterations[0], k.knobs.pyramidIterations[1], k.knobs.pyramidIterations[2]}},
-          {"tr", k.knobs.trackingRate},
-          {"ir", k.knobs.integrationRate}};
+  nlohmann::json j = {{"class", "KNOBS"},
+                      {"pinned", r.pinned},
+                      {"frame", k.frame},
+                      {"controller", k.controller},
+                      {"computation_ms", k.computationMs}};
+  j.update(knobsToJson(k.knobs));  // each knob under its frames.jsonl name (pipeline/knobs.h's table)
+  return j;
 }
 
 nlohmann::json energyMessage(const EnergyReport& e) {

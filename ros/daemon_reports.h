@@ -7,9 +7,12 @@
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/energy_report.h"
 #include "core/tracking_state.h"
+#include "pipeline/knobs.h"
 
 namespace sb::ros_bridge {
 
@@ -37,8 +40,7 @@ struct PoseReport {
 struct KnobsReport {
   uint64_t frame = 0;
   std::string controller;
-  double csr = 0, icp = 0, tr = 0, ir = 0;
-  std::array<double, 3> pd{};
+  Knobs knobs;  // each under its name in pipeline/knobs.h's table
   double computationMs = 0.0;
 };
 
@@ -51,6 +53,9 @@ TrackingState trackingStateOf(const PoseReport& pose);
 // the wrong type (a daemon of another major version, or not a daemon).
 PoseReport parsePose(const nlohmann::json& j);
 KnobsReport parseKnobs(const nlohmann::json& j);
+// The knobs as the diagnostics' key values, in the table's order: each knob's name and value (%.6g; pd's three
+// levels joined by ',').
+std::vector<std::pair<std::string, std::string>> knobValues(const KnobsReport& k);
 EnergyReport parseEnergy(const nlohmann::json& j);
 
 }  // namespace sb::ros_bridge

@@ -4,10 +4,6 @@
 
 namespace sb {
 
-KnobsSummary knobsSummary(const Knobs& k) {
-  return {k.csr, k.icpThreshold, k.pyramidIterations, k.trackingRate, k.integrationRate};
-}
-
 nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   const FrameResult& r = rec.result;
   nlohmann::json stages = nlohmann::json::object();

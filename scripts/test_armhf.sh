@@ -95,6 +95,7 @@ busy host misses (1.4 s seen); the OpenNI2 code is the same natively, where it r
   [test_ctl_needed]="the host's readelf on the built slamboosterctl: no armhf code, runs natively"
   [test_layers]="reads the sources (tests/docs/check_layers.py): no armhf code, runs natively"
   [test_doc_links]="reads the documents (tests/docs/check_links.py): no armhf code, runs natively"
+  [test_knob_names]="reads the sources (tests/docs/check_knob_names.py): no armhf code, runs natively"
   [test_summary_get]=$spawns
   [test_thread_pool_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
   [test_prefetch_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
