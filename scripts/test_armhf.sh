@@ -35,7 +35,8 @@ subset=(
   test_odometry_calibration test_wheel_faults test_navmap
   test_power_ledger test_power_meters test_power_io test_power_sampler
   test_report test_report_odometry
-  test_daemon_config test_protocol test_protocol_golden test_socket_server test_frame_report
+  test_daemon_config test_protocol test_protocol_golden test_socket_server test_socket_rate_limit
+  test_frame_report
   test_device_clock
 )
 # Known armhf failures: a test case that fails on armhf, reported to the owner of the code. Its test runs
