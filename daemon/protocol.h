@@ -32,7 +32,9 @@ constexpr int kProtoMajor = 1;
 // the map's surface cells for a point cloud.
 // 8: POSE carries odometry_fault, when the wheels and the view disagree (odometry/wheel_faults.h: disputed,
 // slipping, kidnapped), as frames.jsonl's odometry.fault.
-constexpr int kProtoMinor = 8;
+// 9: ?MAP and ?CLOUD rate-limited per connection (issue 53): the same reply at most once a second, sooner an
+// ERROR carrying retry_after_s, the connection's next requests held that long (daemon/socket_server.h).
+constexpr int kProtoMinor = 9;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
