@@ -31,7 +31,8 @@ constexpr int kProtoMajor = 1;
 // the map's surface cells for a point cloud.
 // 8: POSE carries odometry_fault, when the wheels and the view disagree (odometry/wheel_faults.h: disputed,
 // slipping, kidnapped), as frames.jsonl's odometry.fault.
-constexpr int kProtoMinor = 8;
+// 9: POSE carries kept_map in a run started with a kept map (docs/map-store.md): localising, localised.
+constexpr int kProtoMinor = 9;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
@@ -86,6 +87,9 @@ struct PoseFields {
   double odometryDriftM = 0.0;
   // Protocol 1.8: the wheels and the view disagree (odometry/wheel_faults.h); "" when they do not.
   std::string odometryFault;
+  // Protocol 1.9: a run started with a kept map (docs/map-store.md): "localising" (the pose is in no frame
+  // of the store yet; the state is lost) or "localised" (the pose is in the store's frame); "" without one.
+  std::string keptMap;
 };
 
 struct KnobFields {
