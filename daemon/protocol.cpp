@@ -186,6 +186,7 @@ nlohmann::json poseMessage(const FrameReport& r) {
   if (p.conditioning) j["conditioning"] = *p.conditioning;
   if (!p.weakestMotion.empty()) j["weakest_motion"] = p.weakestMotion;
   if (!p.odometryFault.empty()) j["odometry_fault"] = p.odometryFault;
+  if (!p.keptMap.empty()) j["kept_map"] = p.keptMap;
   return j;
 }
 

@@ -34,7 +34,8 @@ constexpr int kProtoMajor = 1;
 // slipping, kidnapped), as frames.jsonl's odometry.fault.
 // 9: ?MAP and ?CLOUD rate-limited per connection (issue 53): the same reply at most once a second, sooner an
 // ERROR carrying retry_after_s, the connection's next requests held that long (daemon/socket_server.h).
-constexpr int kProtoMinor = 9;
+// 10: POSE carries kept_map in a run started with a kept map (docs/map-store.md): localising, localised.
+constexpr int kProtoMinor = 10;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
@@ -89,6 +90,9 @@ struct PoseFields {
   double odometryDriftM = 0.0;
   // Protocol 1.8: the wheels and the view disagree (odometry/wheel_faults.h); "" when they do not.
   std::string odometryFault;
+  // Protocol 1.9: a run started with a kept map (docs/map-store.md): "localising" (the pose is in no frame
+  // of the store yet; the state is lost) or "localised" (the pose is in the store's frame); "" without one.
+  std::string keptMap;
 };
 
 struct KnobFields {

@@ -76,6 +76,7 @@ PoseReport parsePose(const nlohmann::json& j) {
   if (const auto it = j.find("state"); it != j.end() && it->is_string()) p.state = it->get<std::string>();
   if (j.contains("odometry")) p.odometry = flag(j, cls, "odometry");
   if (j.contains("odometry_drift_m")) p.odometryDriftM = number(j, cls, "odometry_drift_m");
+  if (const auto it = j.find("kept_map"); it != j.end() && it->is_string()) p.keptMap = it->get<std::string>();
   p.trackingState = trackingStateOf(p);
   return p;
 }

@@ -34,6 +34,7 @@ struct PoseReport {
   std::optional<std::string> state;       // the daemon's own state string when it sends one
   bool odometry = false;                  // protocol 1.4: the frame had an odometry pose
   double odometryDriftM = 0.0;            // protocol 1.4: metres driven on odometry alone (state odometry)
+  std::string keptMap;                    // protocol 1.9: "localising" / "localised" in a kept map, else empty
   TrackingState trackingState = TrackingState::lost;  // `state` when known, else derived (trackingStateOf)
 };
 

@@ -192,6 +192,7 @@ void OdometryPublisher::publishDiagnostics(const KnobsReport* knobs) {
   if (p.constrained) s.values.push_back(keyValue("constrained", *p.constrained ? "true" : "false"));
   if (p.conditioning) s.values.push_back(keyValue("conditioning", number(*p.conditioning)));
   if (!p.weakestMotion.empty()) s.values.push_back(keyValue("weakest_motion", p.weakestMotion));
+  if (!p.keptMap.empty()) s.values.push_back(keyValue("kept_map", p.keptMap));  // docs/map-store.md
   if (!tfEdge_.empty()) s.values.push_back(keyValue("tf", tfEdge_));
   if (!mapToOdomNote_.empty()) s.values.push_back(keyValue("map_to_odom", mapToOdomNote_));
   if (knobs) {

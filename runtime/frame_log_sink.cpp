@@ -57,6 +57,7 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                            {"why", rec.relocalisation.why}};
   if (rec.keyframeAdded) j["keyframe_added"] = true;
   j["keyframes"] = rec.keyframes;
+  if (rec.keptMap != KeptMap::none) j["kept_map"] = keptMapName(rec.keptMap);
   const FrameOdometry& o = rec.odometry;
   if (o.available || !o.why.empty()) {  // only in runs with odometry: others keep their frames.jsonl
     j["odometry"] = {{"available", o.available}, {"used", o.used}, {"rejected", o.rejected}, {"drift_m", o.driftM}};

@@ -40,6 +40,7 @@ FrameRecord sampleRecord() {
   rec.odometry.used = true;
   rec.odometry.driftM = 0.75;
   rec.odometry.fault = sb::odometry::WheelFault::kidnapped;
+  rec.keptMap = KeptMap::localised;
   return rec;
 }
 
@@ -56,13 +57,13 @@ TEST_CASE("POSE and KNOBS carry the record's values under their frames.jsonl nam
   std::vector<std::string> poseKeys;
   for (auto it = pose.begin(); it != pose.end(); ++it) poseKeys.push_back(it.key());
   CHECK(poseKeys == std::vector<std::string>{"class", "conditioning", "constrained", "corrected", "frame",
-                                             "odometry", "odometry_drift_m", "odometry_fault", "position",
+                                             "kept_map", "odometry", "odometry_drift_m", "odometry_fault", "position",
                                              "quaternion", "state",
                                              "timestamp", "tracked", "velocity", "velocity_m_per_frame",
                                              "weakest_motion"});
   // The same name, the same value, in frames.jsonl (POSE's legacy "velocity" and its odometry summary aside).
   for (const char* key : {"frame", "timestamp", "position", "quaternion", "tracked", "corrected", "state",
-                          "velocity_m_per_frame", "conditioning", "weakest_motion", "constrained"}) {
+                          "velocity_m_per_frame", "conditioning", "weakest_motion", "constrained", "kept_map"}) {
     INFO(key);
     REQUIRE(log.contains(key));
     CHECK(pose.at(key) == log.at(key));
@@ -108,6 +109,7 @@ TEST_CASE("the ROS bridge reads every POSE and KNOBS field the daemon writes", "
   CHECK(p.trackingState == TrackingState::odometry);  // one enum: the daemon's
   CHECK(p.odometry);
   CHECK(p.odometryDriftM == 0.75);
+  CHECK(p.keptMap == "localised");
   // Every state the daemon can send is one the bridge knows by name.
   for (int s = 0; s < kTrackingStateCount; ++s) {
     FrameRecord other = rec;
