@@ -6,7 +6,6 @@
 namespace sb {
 
 void AdaptiveConfig::read(ConfigReader& r) {
-  r.integer("initial_level", initialLevel, 0, 16);
   r.integer("bootstrap_frames", bootstrapFrames, 0, 100000);
   r.integer("retrack_levels", retrackLevels, 0, 16);
   r.integer("hold_frames", holdFrames, 0, 100000);
@@ -25,7 +24,6 @@ void AdaptiveConfig::read(ConfigReader& r) {
   r.boolean("integrate_unconstrained", integrateUnconstrained);
   r.number("icp_hold_conditioning", icpHoldConditioning, 0.0, 1.0);
   r.number("learn_conditioning", learnConditioning, 0.0, 1.0);
-  r.number("pose_conditioning", poseConditioning, 0.0, 1.0);
   r.number("confirm_translation_m", confirmTranslationM, 0.0, 10.0);
   r.number("confirm_rotation_deg", confirmRotationDeg, 0.0, 180.0);
   evidence.read(r);
@@ -34,8 +32,7 @@ void AdaptiveConfig::read(ConfigReader& r) {
 }
 
 nlohmann::json AdaptiveConfig::toJson() const {
-  nlohmann::json j = {{"initial_level", initialLevel},
-                      {"bootstrap_frames", bootstrapFrames},
+  nlohmann::json j = {{"bootstrap_frames", bootstrapFrames},
                       {"retrack_levels", retrackLevels},
                       {"hold_frames", holdFrames},
                       {"relax_frames", relaxFrames},
@@ -48,7 +45,6 @@ nlohmann::json AdaptiveConfig::toJson() const {
                       {"integrate_unconstrained", integrateUnconstrained},
                       {"icp_hold_conditioning", icpHoldConditioning},
                       {"learn_conditioning", learnConditioning},
-                      {"pose_conditioning", poseConditioning},
                       {"confirm_translation_m", confirmTranslationM},
                       {"confirm_rotation_deg", confirmRotationDeg}};
   evidence.toJson(j);
@@ -61,8 +57,7 @@ AdaptiveController::AdaptiveController(std::string name, const AdaptiveConfig& c
     : name_(std::move(name)),
       config_(config),
       evidence_(config.evidence),
-      gate_(config.integration),
-      level_(std::clamp(config.initialLevel, 0, config.ladder.maxLevel)) {}
+      gate_(config.integration) {}
 
 void AdaptiveController::setLevel(int level, const std::string& reason, Decision& d) {
   level = std::clamp(level, 0, config_.ladder.maxLevel);
@@ -157,8 +152,6 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
     if (unsettled) {
       motion_.forget();
     } else {
-      const Eigen::Isometry3d fused = motion_.fuse(o.previousPose, o.pose, o.quality, config_.poseConditioning);
-      if (fused.matrix() != o.pose.matrix()) d.refinedPose = fused;
       motion_.learn(o.previousPose, o.pose, o.quality, config_.learnConditioning);
     }
     evidence_.accept(o);
@@ -212,7 +205,7 @@ Decision AdaptiveController::finish(const Observation& o, const Doubt& doubt, De
                        (doubt.kind == Doubt::none || doubt.kind == Doubt::prediction ||
                         (doubt.kind == Doubt::notConverged && finest) ||
                         (doubt.kind == Doubt::unconstrained && config_.integrateUnconstrained));
-  const Eigen::Isometry3d finalPose = d.correctedPose ? *d.correctedPose : d.refinedPose ? *d.refinedPose : o.pose;
+  const Eigen::Isometry3d finalPose = d.correctedPose ? *d.correctedPose : o.pose;
   d.integrate = gate_.decide(finalPose, trusted, o.odometry);
   if (!*d.integrate) {
     d.triggers |= kTriggerSkipIntegrate;

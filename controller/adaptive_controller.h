@@ -1,7 +1,7 @@
 #pragma once
 // `adaptive`: the product's controller (issue 21; architecture.md D4, beyond the paper). It decides from the
 // tracker's own evidence, not from speed:
-//   1. run at the coarsest level the evidence allows: from initial_level, after the bootstrap, one level coarser every
+//   1. run at the coarsest level the evidence allows: from the finest, after the bootstrap, one level coarser every
 //      `relax_frames` frames without doubt, up to the ladder's max_level (max_level_with_odometry while the
 //      robot's odometry drives the frames: a robot explores, and the coarse levels' biases add up as drift);
 //   2. judge each tracking result (tracking_evidence.h: failed, unconstrained, not converged, lost overlap,
@@ -18,7 +18,7 @@
 //      degrees per frame the last pose is 10-20 cm from the truth at the scene's depth, beyond ICP's 0.1 m
 //      pairing distance, while the prediction misses only by the change of motion in one frame. The motion
 //      is learnt from every tracked frame, weakly constrained ones included: forgetting it there was measured
-//      worse (config/README.md, icp_hold_conditioning);
+//      worse (config/README.md, predict_start);
 //   5. fuse a frame only when it brings something new (integration_gate.h); a corrected frame or one doubted
 //      for anything but its view or a confirmed fast motion is never fused (except a frame ICP left unconverged
 //      at the finest level, where no re-track can settle it: fused as DEFAULT fuses it, or the map stops
@@ -38,8 +38,7 @@
 namespace sb {
 
 struct AdaptiveConfig {
-  int initialLevel = 0;            // the level of the first frames (the pipeline's bootstrap builds the first map)
-  int bootstrapFrames = 4;         // frames [0, bootstrapFrames) stay at initial_level
+  int bootstrapFrames = 4;         // frames [0, bootstrapFrames) stay at the finest level (the first map)
   int retrackLevels = 1;           // a doubted frame is tracked again this many levels finer (0 = never)
   int holdFrames = 15;             // frames at the finer level after a doubt before relaxing
   int relaxFrames = 3;             // undoubted frames per level towards approximation
@@ -65,21 +64,17 @@ struct AdaptiveConfig {
   // ICP keeps its start pose along motions whose conditioning is below this (IcpStart): along a motion that
   // a pure plane leaves free its update is noise over a near-zero eigenvalue. Off (0) by default: a weak view
   // with a sliver of structure (conditioning 0.0002-0.0006) still carries the motion, and holding it there
-  // lost a new sequence (config/README.md); 0.0006 helps on a blank wall (stress-corridor).
+  // lost a handheld sequence; 0.0006 for a camera without odometry among bare walls (config/README.md).
   double icpHoldConditioning = 0.0;
   // The learnt motion follows a tracked frame along each motion by c / (c + learn_conditioning), c the view's
   // structure conditioning along it (blendByStructure): whole where the view fixes the motion, hardly at all
   // along what it leaves free. 0: the whole measured motion.
   double learnConditioning = 0.003;
-  // The pose of a tracked, accepted frame follows ICP along each motion by c / (c + pose_conditioning) and the
-  // constant-velocity prediction by the rest (MotionModel::fuse): along a motion the view leaves free ICP returns
-  // its start plus the model's slide, the prediction is the better estimate. 0: ICP's pose.
-  double poseConditioning = 0.0;
   EvidenceParams evidence;
   IntegrationParams integration;
   KnobLadder ladder;
 
-  // Section keys: initial_level, bootstrap_frames, retrack_levels, hold_frames, relax_frames,
+  // Section keys: bootstrap_frames, retrack_levels, hold_frames, relax_frames,
   // correction_max_extrapolated_frames, predict_start, integrate_unconstrained, icp_hold_conditioning,
   // learn_conditioning, confirm_translation_m, confirm_rotation_deg, and those of EvidenceParams,
   // IntegrationParams and KnobLadder.
@@ -91,7 +86,7 @@ class AdaptiveController final : public Controller {
  public:
   AdaptiveController(std::string name, const AdaptiveConfig& config);
   const std::string& name() const override { return name_; }
-  Knobs initialKnobs() const override { return config_.ladder.coupled(config_.initialLevel); }
+  Knobs initialKnobs() const override { return config_.ladder.coupled(0); }
   Decision decide(const Observation& observation) override;
 
   int level() const { return level_; }
@@ -114,7 +109,7 @@ class AdaptiveController final : public Controller {
   TrackingEvidence evidence_;
   MotionModel motion_;
   IntegrationGate gate_;
-  int level_ = 0;  // set from initial_level
+  int level_ = 0;  // the ladder's level: 0 the finest
   size_t seen_ = 0;          // observations of distinct frames
   size_t holdUntil_ = 0;     // the last frame whose decision may not relax the level
   int undoubted_ = 0;        // undoubted frames since the last level change or doubt

@@ -34,13 +34,17 @@ void KnobLadder::read(ConfigReader& r) {
   r.integers("csr_levels", csrLevels, 1, 8, 1, 8);
   r.numbers("icp_levels", icpLevels, 0.0, 1.0, 1, 16);
   r.integers("pd0_levels", pd0Levels, 1, kMaxIterations, 1, 16);
-  r.integer("pd1", pd1, 0, kMaxIterations);
-  r.integer("pd2", pd2, 0, kMaxIterations);
+  // The fixed knobs under their names in pipeline/knobs.h's table, with the table's ranges.
+  const auto fixed = [&r](const KnobKey& key, int& value) {
+    r.integer(key.name, value, static_cast<int>(key.minimum), static_cast<int>(key.maximum));
+  };
+  fixed(iterationsKey(1), pd1);
+  fixed(iterationsKey(2), pd2);
   r.integer("icp_level_offset", icpLevelOffset, 0, 15);
   r.integer("icp_level_divisor", icpLevelDivisor, 1, 16);
   r.integer("max_level", maxLevel, 0, 15);
-  r.integer("tr", trackingRate, 1, kMaxRate);
-  r.integer("ir", integrationRate, 1, kMaxRate);
+  fixed(knobKey(&Knobs::trackingRate), trackingRate);
+  fixed(knobKey(&Knobs::integrationRate), integrationRate);
   for (int l = 0; l <= maxLevel; ++l) {
     try {
       validateKnobs(coupled(l));
@@ -57,13 +61,13 @@ void KnobLadder::toJson(nlohmann::json& j) const {
   j["csr_levels"] = csrLevels;
   j["icp_levels"] = icpLevels;
   j["pd0_levels"] = pd0Levels;
-  j["pd1"] = pd1;
-  j["pd2"] = pd2;
+  j[iterationsKey(1).name] = pd1;
+  j[iterationsKey(2).name] = pd2;
   j["icp_level_offset"] = icpLevelOffset;
   j["icp_level_divisor"] = icpLevelDivisor;
   j["max_level"] = maxLevel;
-  j["tr"] = trackingRate;
-  j["ir"] = integrationRate;
+  j[knobKey(&Knobs::trackingRate).name] = trackingRate;
+  j[knobKey(&Knobs::integrationRate).name] = integrationRate;
 }
 
 }  // namespace sb

@@ -62,16 +62,6 @@ void MotionModel::learn(const Eigen::Isometry3d& previousPose, const Eigen::Isom
   known_ = true;
 }
 
-Eigen::Isometry3d MotionModel::fuse(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose,
-                                    const TrackingQuality& quality, double lambda) const {
-  if (!known_ || !(lambda > 0) || !quality.known) return pose;
-  const Eigen::Isometry3d measured = nearestRigid(pose * previousPose.inverse());
-  const Twist measuredStep = transformToTwist(measured);
-  const Twist step = blendByStructure(quality, transformToTwist(motion_), measuredStep, lambda);
-  if (!step.allFinite() || step == measuredStep) return pose;  // nothing known of the structure
-  return nearestRigid(twistToTransform(step) * previousPose);
-}
-
 Doubt TrackingEvidence::judge(const Observation& o, const Eigen::Isometry3d& predicted, bool usePrediction) const {
   if (!o.tracked) return {Doubt::failed, "track failed"};
   if (o.quality.known && o.quality.icpConditioning < params_.weakConditioning)

@@ -56,11 +56,6 @@ class MotionModel {
   // (blendByStructure): the prior does not feed on ICP's slide along what the view leaves free.
   void learn(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose,
              const TrackingQuality& quality = {}, double lambda = 0.0);
-  // The pose of a tracked frame fused with the prediction: along each motion of the view's structure, ICP's step
-  // from `previousPose` by c / (c + lambda), the predicted step by the rest (blendByStructure). `pose` itself
-  // when the motion is not known, the quality is not, or lambda <= 0.
-  Eigen::Isometry3d fuse(const Eigen::Isometry3d& previousPose, const Eigen::Isometry3d& pose,
-                         const TrackingQuality& quality, double lambda) const;
   void forget() { motion_ = Eigen::Isometry3d::Identity(); known_ = false; }
   bool known() const { return known_; }
 

@@ -59,6 +59,17 @@ class Client {
   // Since when messages are being dropped without the client draining its queue (nullopt: not stalled).
   std::optional<SteadyClock::time_point> stalledSince() const { return stalledSince_; }
 
+  // The last MAP (or CLOUD) this client was sent and when: a repeat of the same line within
+  // SocketServer::kSameBulkReplyInterval is refused (the rate limit of ?MAP and ?CLOUD).
+  struct BulkSent {
+    Line line;
+    SteadyClock::time_point at;
+  };
+  BulkSent lastMap, lastCloud;
+  // Until when the client's further request lines wait (a rate limit's refusal: its retry_after_s).
+  SteadyClock::time_point heldUntil;
+  bool held(SteadyClock::time_point now) const { return now < heldUntil; }
+
   // What the client asked for with ?WATCH.
   bool watching = false;
   bool watchPose = true;

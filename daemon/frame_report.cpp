@@ -26,6 +26,7 @@ FrameReport frameReport(const FrameRecord& rec, std::vector<std::string> pinned)
   p.odometry = rec.odometry.available;
   p.odometryDriftM = rec.odometry.driftM;
   if (rec.odometry.fault != odometry::WheelFault::none) p.odometryFault = odometry::wheelFaultName(rec.odometry.fault);
+  if (rec.keptMap != KeptMap::none) p.keptMap = keptMapName(rec.keptMap);
   KnobFields& k = report.knobs;
   k.frame = r.frame;
   k.controller = rec.controller;

@@ -186,21 +186,19 @@ nlohmann::json poseMessage(const FrameReport& r) {
   if (p.conditioning) j["conditioning"] = *p.conditioning;
   if (!p.weakestMotion.empty()) j["weakest_motion"] = p.weakestMotion;
   if (!p.odometryFault.empty()) j["odometry_fault"] = p.odometryFault;
+  if (!p.keptMap.empty()) j["kept_map"] = p.keptMap;
   return j;
 }
 
 nlohmann::json knobsMessage(const FrameReport& r) {
   const KnobFields& k = r.knobs;
-  return {{"class", "KNOBS"},
-          {"pinned", r.pinned},
-          {"frame", k.frame},
-          {"controller", k.controller},
-          {"computation_ms", k.computationMs},
-          {"csr", k.knobs.csr},
-          {"icp", k.knobs.icpThreshold},
-          {"pd", {k.knobs.pyramidIterations[0], k.knobs.pyramidIterations[1], k.knobs.pyramidIterations[2]}},
-          {"tr", k.knobs.trackingRate},
-          {"ir", k.knobs.integrationRate}};
+  nlohmann::json j = {{"class", "KNOBS"},
+                      {"pinned", r.pinned},
+                      {"frame", k.frame},
+                      {"controller", k.controller},
+                      {"computation_ms", k.computationMs}};
+  j.update(knobsToJson(k.knobs));  // each knob under its frames.jsonl name (pipeline/knobs.h's table)
+  return j;
 }
 
 nlohmann::json energyMessage(const EnergyReport& e) {

@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/energy_report.h"
 #include "daemon/odom_request.h"
 #include "pipeline/knobs.h"
 #include "core/tracking_state.h"
@@ -31,7 +32,10 @@ constexpr int kProtoMajor = 1;
 // the map's surface cells for a point cloud.
 // 8: POSE carries odometry_fault, when the wheels and the view disagree (odometry/wheel_faults.h: disputed,
 // slipping, kidnapped), as frames.jsonl's odometry.fault.
-constexpr int kProtoMinor = 8;
+// 9: ?MAP and ?CLOUD rate-limited per connection (issue 53): the same reply at most once a second, sooner an
+// ERROR carrying retry_after_s, the connection's next requests held that long (daemon/socket_server.h).
+// 10: POSE carries kept_map in a run started with a kept map (docs/map-store.md): localising, localised.
+constexpr int kProtoMinor = 10;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).
@@ -86,6 +90,9 @@ struct PoseFields {
   double odometryDriftM = 0.0;
   // Protocol 1.8: the wheels and the view disagree (odometry/wheel_faults.h); "" when they do not.
   std::string odometryFault;
+  // Protocol 1.9: a run started with a kept map (docs/map-store.md): "localising" (the pose is in no frame
+  // of the store yet; the state is lost) or "localised" (the pose is in the store's frame); "" without one.
+  std::string keptMap;
 };
 
 struct KnobFields {
@@ -99,14 +106,6 @@ struct FrameReport {
   PoseFields pose;
   KnobFields knobs;
   std::vector<std::string> pinned;  // knobs pinned over the controller's choice
-};
-
-// Energy of one frame (architecture.md D5; produced by the power meter ledger, which may lag POSE).
-struct EnergyReport {
-  uint64_t frame = 0;
-  double joules = 0.0;
-  double meanWatts = 0.0;
-  std::string meter;
 };
 
 // The navigation grid (navmap/) as the SLAM thread last wrote it: immutable once made.

@@ -4,6 +4,8 @@
 #include <sys/socket.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cerrno>
 #include <cstring>
 #include <vector>
@@ -119,8 +121,11 @@ bool SocketServer::serveRequests() {
   std::map<uid_t, size_t> servedPerUid;
   size_t served = 0;
   std::vector<int> ready;
+  const auto now = SteadyClock::now();
+  // A held client (refused by a rate limit) waits: its lines are looked at again at a later turn (every POSE
+  // and the daemon's housekeeping tick make one), without keeping the loop busy meanwhile.
   for (const auto& [fd, client] : clients_)
-    if (client->hasPendingLines()) ready.push_back(fd);
+    if (client->hasPendingLines() && !client->held(now)) ready.push_back(fd);
   if (ready.empty()) return false;
   // Start after the last client served first, so no client is always first (or always cut off).
   const auto first = std::upper_bound(ready.begin(), ready.end(), lastFirstServed_);
@@ -130,7 +135,7 @@ bool SocketServer::serveRequests() {
   for (const int fd : ready) {
     Client& client = *clients_.at(fd);
     size_t& uidServed = servedPerUid[client.peer().uid];
-    for (size_t n = 0; client.hasPendingLines() && n < kRequestsPerClientPerTurn &&
+    for (size_t n = 0; client.hasPendingLines() && !client.held(now) && n < kRequestsPerClientPerTurn &&
                        uidServed < kRequestsPerUidPerTurn && served < kRequestsPerTurn;
          ++n, ++uidServed, ++served) {
       const Client::PendingLine line = client.takeLine();
@@ -144,7 +149,7 @@ bool SocketServer::serveRequests() {
       close(fd, "peer closed", false);
       continue;
     }
-    pending = pending || client.hasPendingLines();
+    pending = pending || (client.hasPendingLines() && !client.held(now));
     updateInterest(client);
   }
   return pending;
@@ -177,12 +182,12 @@ void SocketServer::handleLine(Client& client, std::string_view line) {
       if (!lastMap_)
         return reply(client, errorMessage("?MAP: no navigation grid yet (output.navmap: a settings file saying "
                                           "which way is up; the grid comes at the first output.navmap_period_s)"));
-      return deliver(client, lastMap_);
+      return deliverBulk(client, lastMap_, client.lastMap, "?MAP", "grid");
     case Command::cloud:
       if (!lastCloud_)
         return reply(client, errorMessage("?CLOUD: no map cloud yet (output.navmap with octomap_resolution_m above 0; "
                                           "the cloud comes with the grid, at the first output.navmap_period_s)"));
-      return deliver(client, lastCloud_);
+      return deliverBulk(client, lastCloud_, client.lastCloud, "?CLOUD", "cloud");
     case Command::status: {
       nlohmann::json s = state_.status();
       s["clients"] = clients_.size();
@@ -234,6 +239,35 @@ void SocketServer::reply(Client& client, const nlohmann::json& message) {
 void SocketServer::deliver(Client& client, const Line& line) {
   if (!client.send(line)) ++messagesDropped_;
   if (!client.flush()) return;  // the read path or the next event closes it
+  updateInterest(client);
+}
+
+void SocketServer::deliverBulk(Client& client, const Line& line, Client::BulkSent& sent, const char* request,
+                               const char* what) {
+  const auto now = SteadyClock::now();
+  const std::chrono::duration<double> since = now - sent.at;
+  const std::chrono::duration<double> interval = kSameBulkReplyInterval;
+  if (sent.line == line && since < interval) {
+    const double retry = std::max(0.01, std::ceil((interval - since).count() * 100.0) / 100.0);
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "%s: this connection was sent the same %s %.2f s ago; a connection gets the same one at most "
+                  "once every %.1f s (a new one comes every output.navmap_period_s); ask again in %.2f s",
+                  request, what, since.count(), interval.count(), retry);
+    nlohmann::json e = errorMessage(text);
+    e["retry_after_s"] = retry;
+    // Its further requests wait as long: a flood of ?MAP gets one ERROR and one MAP a second, not an ERROR
+    // per request (each a reply to write, which on a small board takes the SLAM thread's core).
+    client.heldUntil = sent.at + kSameBulkReplyInterval;
+    return reply(client, e);
+  }
+  if (!client.send(line)) {
+    ++messagesDropped_;
+  } else {
+    sent.line = line;
+    sent.at = now;
+  }
+  if (!client.flush()) return;
   updateInterest(client);
 }
 

@@ -4,6 +4,7 @@
 // daemon publishes (POSE, KNOBS, ENERGY) to watching clients. Never blocks: a client that does not read
 // loses messages and is then disconnected.
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -28,6 +29,10 @@ class SocketServer {
   static constexpr size_t kRequestsPerClientPerTurn = 8;
   static constexpr size_t kRequestsPerUidPerTurn = 32;
   static constexpr size_t kRequestsPerTurn = 128;
+  // The rate limit of the bulky replies (issue 53): a connection is sent the same MAP (or CLOUD) at most once
+  // per this interval. Asking again sooner gets ERROR with retry_after_s (docs/protocol.md); a new grid is
+  // always sent. A flood of ?MAP then costs what a flood of short replies costs, not a grid per request.
+  static constexpr std::chrono::milliseconds kSameBulkReplyInterval{1000};
 
   // `listener`: a listening, non-blocking Unix stream socket (borrowed; see unix_socket.h).
   SocketServer(EventLoop& loop, int listener, const SocketConfig& config, ControlPolicy policy,
@@ -66,6 +71,10 @@ class SocketServer {
   void handleLine(Client& client, std::string_view line);
   void reply(Client& client, const nlohmann::json& message);
   void deliver(Client& client, const Line& line);
+  // `line` (the MAP or CLOUD asked by `request`, `what` it holds) unless `sent` says this client got it less
+  // than kSameBulkReplyInterval ago; then the ERROR saying when to ask again.
+  void deliverBulk(Client& client, const Line& line, Client::BulkSent& sent, const char* request,
+                   const char* what);
   void updateInterest(Client& client);
   void close(int fd, const char* why, bool byServer);
   nlohmann::json pollMessage() const;

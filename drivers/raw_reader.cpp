@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "drivers/calibration.h"
+#include "drivers/tum_layout.h"
 
 namespace fs = std::filesystem;
 
@@ -115,7 +116,7 @@ RawReader::RawReader(const std::string& path, const SequenceOptions& options) {
   // Calibration: <file>.json, else calibration.json beside it.
   std::optional<Calibration> calibration;
   const fs::path own(path + ".json");
-  const fs::path beside = fs::path(path).parent_path() / "calibration.json";
+  const fs::path beside = fs::path(path).parent_path() / tum::kCalibrationFile;
   if (fs::is_regular_file(own, ec))
     calibration = readCalibration(own.string());
   else if (fs::is_regular_file(beside, ec))

@@ -10,6 +10,7 @@
 #include "drivers/bag_loader.h"
 #include "drivers/prefetch_source.h"
 #include "drivers/raw_reader.h"
+#include "drivers/tum_layout.h"
 #include "drivers/tum_reader.h"
 
 namespace fs = std::filesystem;
@@ -42,7 +43,7 @@ std::unique_ptr<FrameSource> openUnbuffered(const std::string& path, const Seque
   if (fs::is_regular_file(p, ec)) {
     if (p.extension() == ".raw") return std::make_unique<RawReader>(path, options);
     if (p.extension() == ".bag") return openBag(path, options);
-    if (p.filename() == "depth.txt") return std::make_unique<TumReader>(p.parent_path().string(), options);
+    if (p.filename() == tum::kIndexFile) return std::make_unique<TumReader>(p.parent_path().string(), options);
     throw Error("cannot tell the format of '" + path +
                 "': give a TUM-layout directory (with depth.txt), a SLAMBench file ending in .raw or a ROS bag "
                 "ending in .bag");

@@ -12,6 +12,7 @@
 #include "core/trajectory.h"
 #include "drivers/calibration.h"
 #include "drivers/tum_index.h"
+#include "drivers/tum_layout.h"
 #include "drivers/tum_reader.h"
 
 namespace fs = std::filesystem;
@@ -20,12 +21,6 @@ namespace sb {
 
 namespace {
 
-// The files a cut writes; `overwrite` removes exactly these.
-const char* const kIndexName = "depth.txt";
-const char* const kAssociationsName = "associations.txt";
-const char* const kCalibrationName = "calibration.json";
-const char* const kGroundTruthName = "groundtruth.txt";
-const char* const kSegmentsName = "segments.csv";
 constexpr double kRadToDeg = 180.0 / 3.141592653589793;
 
 size_t parseIndex(const std::string& item, const std::string& number) {
@@ -100,9 +95,9 @@ CutResult cutTumSequence(const std::string& sourceDir, const std::vector<FrameRa
   const TumReader source(sourceDir, SequenceOptions{});
   const fs::path src = fs::absolute(sourceDir).lexically_normal();
   const bool associations =
-      !fs::is_regular_file(src / kIndexName) && fs::is_regular_file(src / kAssociationsName);
+      !fs::is_regular_file(src / tum::kIndexFile) && fs::is_regular_file(src / tum::kAssociationsFile);
   const std::vector<TumIndexEntry> index =
-      readTumIndex((src / (associations ? kAssociationsName : kIndexName)).string(), associations);
+      readTumIndex((src / (associations ? tum::kAssociationsFile : tum::kIndexFile)).string(), associations);
   if (index.size() < 2)
     throw Error("cut: source '" + sourceDir + "' has one frame: no frame rate to give the cut's timestamps");
   for (const FrameRange& r : ranges)
@@ -124,7 +119,8 @@ CutResult cutTumSequence(const std::string& sourceDir, const std::vector<FrameRa
   if (fs::exists(out, ec) && !fs::is_empty(out, ec)) {
     if (!options.overwrite)
       throw Error("cut: '" + outDir + "' is not empty; choose another directory or allow overwriting");
-    for (const char* name : {kIndexName, kCalibrationName, kGroundTruthName, kSegmentsName})
+    // The files a cut writes: `overwrite` removes exactly these.
+    for (const char* name : {tum::kIndexFile, tum::kCalibrationFile, tum::kGroundTruthFile, tum::kSegmentsFile})
       fs::remove(out / name, ec);
   }
   fs::create_directories(out, ec);
@@ -132,11 +128,11 @@ CutResult cutTumSequence(const std::string& sourceDir, const std::vector<FrameRa
 
   const std::string gtPath = source.info().groundTruthPath;
   const Trajectory gt = gtPath.empty() ? Trajectory{} : readTumTrajectory(gtPath);
-  std::ofstream depth(out / kIndexName), truth, segments(out / kSegmentsName);
+  std::ofstream depth(out / tum::kIndexFile), truth, segments(out / tum::kSegmentsFile);
   depth << "# timestamp filename (cut of " << src.string() << ")\n";
   segments << "label,begin_frame,end_frame\n";
   if (!gt.empty()) {
-    truth.open(out / kGroundTruthName);
+    truth.open(out / tum::kGroundTruthFile);
     truth << "# timestamp tx ty tz qx qy qz qw (camera-to-world, metres; reference poses of " << gtPath
           << " at the cut's timestamps)\n";
   }
@@ -175,10 +171,10 @@ CutResult cutTumSequence(const std::string& sourceDir, const std::vector<FrameRa
       ++result.frames;
     }
   }
-  if (fs::is_regular_file(src / kCalibrationName))
-    fs::copy_file(src / kCalibrationName, out / kCalibrationName, fs::copy_options::overwrite_existing, ec);
+  if (fs::is_regular_file(src / tum::kCalibrationFile))
+    fs::copy_file(src / tum::kCalibrationFile, out / tum::kCalibrationFile, fs::copy_options::overwrite_existing, ec);
   else
-    writeCalibration((out / kCalibrationName).string(), source.info());
+    writeCalibration((out / tum::kCalibrationFile).string(), source.info());
   depth.flush();
   truth.flush();
   segments.flush();

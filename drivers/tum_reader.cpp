@@ -12,6 +12,7 @@
 #include "core/png_io.h"
 #include "drivers/calibration.h"
 #include "drivers/tum_index.h"
+#include "drivers/tum_layout.h"
 
 namespace fs = std::filesystem;
 
@@ -19,11 +20,7 @@ namespace sb {
 
 namespace {
 
-const char* const kIndexName = "depth.txt";
-const char* const kAssociationsName = "associations.txt";
 const char* const kIclGroundTruthExtension = ".freiburg";  // ICL-NUIM: livingRoom0n.gt.freiburg
-const char* const kCalibrationName = "calibration.json";
-const char* const kGroundTruthName = "groundtruth.txt";
 
 // TUM RGB-D (Freiburg) defaults: fx = fy = 525, centre (319.5, 239.5), 5000 units per metre.
 CameraDefaults tumDefaults() {
@@ -96,27 +93,28 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
     throw Error("sequence directory " + quoteForMessage(directory) + " " +
                 (problem.empty() ? std::string("is a file, not a directory") : problem));
   }
-  indexPath_ = (dir / kIndexName).string();
+  indexPath_ = (dir / tum::kIndexFile).string();
   const std::string indexProblem = pathProblem(indexPath_);
-  const bool associations = !indexProblem.empty() && isReadableRegularFile((dir / kAssociationsName).string());
-  if (associations) indexPath_ = (dir / kAssociationsName).string();
+  const bool associations = !indexProblem.empty() && isReadableRegularFile((dir / tum::kAssociationsFile).string());
+  if (associations) indexPath_ = (dir / tum::kAssociationsFile).string();
   if (!associations && !indexProblem.empty()) {  // missing, or a FIFO, directory, device, loop, unreadable
-    std::string name = kIndexName, path = indexPath_, problem = indexProblem;
+    std::string name = tum::kIndexFile, path = indexPath_, problem = indexProblem;
     if (problem == "does not exist") {
-      name = kAssociationsName;
-      path = (dir / kAssociationsName).string();
+      name = tum::kAssociationsFile;
+      path = (dir / tum::kAssociationsFile).string();
       problem = pathProblem(path);
       if (problem == "does not exist")
-        throw Error("sequence " + quoteForMessage(directory) + " has no " + kIndexName + " (nor " + kAssociationsName +
-                    "): a TUM-layout sequence needs `timestamp depth/file.png` lines in depth.txt");
+        throw Error("sequence " + quoteForMessage(directory) + " has no " + tum::kIndexFile + " (nor " +
+                    tum::kAssociationsFile + "): a TUM-layout sequence needs `timestamp depth/file.png` lines in " +
+                    tum::kIndexFile);
     }
     throw Error("sequence " + quoteForMessage(directory) + ": " + name + " " + quoteForMessage(path) + " " + problem +
                 "; it must be a readable text file of `timestamp depth/file.png` lines");
   }
 
   // Ground truth: groundtruth.txt, else ICL-NUIM's single *.freiburg file (which also marks the format).
-  if (fs::is_regular_file(dir / kGroundTruthName, ec)) {
-    info_.groundTruthPath = (dir / kGroundTruthName).string();
+  if (fs::is_regular_file(dir / tum::kGroundTruthFile, ec)) {
+    info_.groundTruthPath = (dir / tum::kGroundTruthFile).string();
   } else {
     std::vector<fs::path> freiburg;
     for (const auto& f : fs::directory_iterator(dir, ec))
@@ -128,7 +126,7 @@ TumReader::TumReader(const std::string& directory, const SequenceOptions& option
 
   info_.path = directory;
   std::optional<Calibration> calibration;
-  const fs::path calibrationPath = dir / kCalibrationName;
+  const fs::path calibrationPath = dir / tum::kCalibrationFile;
   if (fs::exists(calibrationPath, ec)) calibration = readCalibration(calibrationPath.string());
   const Calibration* cal = calibration ? &*calibration : nullptr;
   invalidValues_ = invalidDepthValues(cal);

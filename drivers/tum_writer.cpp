@@ -8,18 +8,13 @@
 #include "core/error.h"
 #include "core/png_io.h"
 #include "drivers/calibration.h"
+#include "drivers/tum_layout.h"
 
 namespace fs = std::filesystem;
 
 namespace sb {
 
 namespace {
-
-// The files this writer produces; `overwrite` removes exactly these, nothing else in the directory.
-const char* const kIndexName = "depth.txt";
-const char* const kCalibrationName = "calibration.json";
-const char* const kGroundTruthName = "groundtruth.txt";
-const char* const kDepthDirName = "depth";
 
 // depth.txt timestamps: seconds with microsecond resolution (the TUM convention).
 std::string formatTimestamp(double seconds) {
@@ -30,7 +25,7 @@ std::string formatTimestamp(double seconds) {
 
 std::string depthFileName(size_t frame) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%s/%06zu.png", kDepthDirName, frame);
+  std::snprintf(buf, sizeof buf, "%s/%06zu.png", tum::kDepthDir, frame);
   return buf;
 }
 
@@ -47,18 +42,20 @@ TumSequenceWriter::TumSequenceWriter(const std::string& directory, const Sequenc
       if (!overwrite)
         throw Error("cannot write sequence to '" + directory +
                     "': the directory is not empty; choose another or allow overwriting");
-      for (const char* name : {kIndexName, kCalibrationName, kGroundTruthName}) fs::remove(dir / name, ec);
-      fs::remove_all(dir / kDepthDirName, ec);
+      // The files this writer produces: `overwrite` removes exactly these, nothing else in the directory.
+      for (const char* name : {tum::kIndexFile, tum::kCalibrationFile, tum::kGroundTruthFile})
+        fs::remove(dir / name, ec);
+      fs::remove_all(dir / tum::kDepthDir, ec);
     }
   }
-  fs::create_directories(dir / kDepthDirName, ec);
-  if (ec) throw Error("cannot create '" + (dir / kDepthDirName).string() + "': " + ec.message());
+  fs::create_directories(dir / tum::kDepthDir, ec);
+  if (ec) throw Error("cannot create '" + (dir / tum::kDepthDir).string() + "': " + ec.message());
   if (info.intrinsics.width <= 0 || info.intrinsics.height <= 0)
     throw Error("cannot write sequence to '" + directory + "': intrinsics give an empty image size");
   if (!(info.depthScale > 0))
     throw Error("cannot write sequence to '" + directory + "': depth scale must be > 0");
 
-  const std::string indexPath = (dir / kIndexName).string();
+  const std::string indexPath = (dir / tum::kIndexFile).string();
   index_.open(indexPath);
   if (!index_) throw Error("cannot write '" + indexPath + "': check that the directory is writable");
   index_ << "# timestamp filename (depth: 16-bit PNG, " << info.depthScale << " units per metre)\n";
@@ -90,13 +87,13 @@ void TumSequenceWriter::write(const DepthFrame& frame) {
   const std::string name = depthFileName(frames_);
   writePng16((fs::path(directory_) / name).string(), frame.depth);
   index_ << stamp << ' ' << name << '\n';
-  if (!index_) throw Error("writing '" + directory_ + "/" + kIndexName + "' failed (disk full?)");
+  if (!index_) throw Error("writing '" + directory_ + "/" + tum::kIndexFile + "' failed (disk full?)");
   lastTimestamp_ = written;
   ++frames_;
 }
 
 void TumSequenceWriter::writeGroundTruth(const Trajectory& trajectory) {
-  writeTumTrajectory((fs::path(directory_) / kGroundTruthName).string(), trajectory,
+  writeTumTrajectory((fs::path(directory_) / tum::kGroundTruthFile).string(), trajectory,
                      "reference poses of this sequence");
 }
 
@@ -106,8 +103,8 @@ void TumSequenceWriter::finish() {
   index_.flush();
   const bool ok = static_cast<bool>(index_);
   index_.close();
-  if (!ok) throw Error("writing '" + directory_ + "/" + kIndexName + "' failed (disk full?)");
-  writeCalibration((fs::path(directory_) / kCalibrationName).string(), info_);
+  if (!ok) throw Error("writing '" + directory_ + "/" + tum::kIndexFile + "' failed (disk full?)");
+  writeCalibration((fs::path(directory_) / tum::kCalibrationFile).string(), info_);
 }
 
 }  // namespace sb

@@ -58,4 +58,22 @@ AteResult computeAte(const Trajectory& estimate, const Trajectory& groundTruth, 
   return r;
 }
 
+Eigen::Isometry3d alignFrames(const Trajectory& estimate, const Trajectory& groundTruth,
+                              const AssociationOptions& options) {
+  const MatchedPoses m = matchPoses(estimate, groundTruth, options, kMinAteMatches);
+  const Eigen::Index n = static_cast<Eigen::Index>(m.estimate.size());
+  Eigen::Matrix3Xd est(3, 4 * n), gt(3, 4 * n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const Eigen::Isometry3d& e = m.estimate[size_t(i)].T_camera_to_world;
+    const Eigen::Isometry3d& g = m.groundTruth[size_t(i)].T_camera_to_world;
+    est.col(4 * i) = e.translation();
+    gt.col(4 * i) = g.translation();
+    for (int a = 0; a < 3; ++a) {
+      est.col(4 * i + 1 + a) = e * (kFrameLeverM * Eigen::Vector3d::Unit(a));
+      gt.col(4 * i + 1 + a) = g * (kFrameLeverM * Eigen::Vector3d::Unit(a));
+    }
+  }
+  return alignRigid(est, gt, "estimate", "ground truth");
+}
+
 }  // namespace sb

@@ -37,6 +37,16 @@ struct AteResult {
 AteResult computeAte(const Trajectory& estimate, const Trajectory& groundTruth,
                      const AssociationOptions& options = {}, const Eigen::Isometry3d* fixedAlignment = nullptr);
 
+// The rigid transform from the estimate's world frame to the ground truth's, fitted on whole poses: each matched
+// pose's position and the points kFrameLeverM along its camera's three axes (Horn, as computeAte). A run's
+// frame measured this way is fixed by its orientations as well as its path: a straight drive's positions alone
+// leave the rotation about the line free (fitted to centimetres of noise, it swung a second run 0.8 m beside
+// the line by 10 cm). For a run in a kept map measured in the frame of the run that made it: computeAte's
+// `fixedAlignment`. Throws sb::Error like computeAte.
+constexpr double kFrameLeverM = 1.0;
+Eigen::Isometry3d alignFrames(const Trajectory& estimate, const Trajectory& groundTruth,
+                              const AssociationOptions& options = {});
+
 struct RpeResult {
   size_t pairs = 0;
   double translationRmse = 0, translationMean = 0;  // metres per delta

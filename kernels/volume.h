@@ -15,8 +15,6 @@
 #include "kernels/common.h"
 
 #define SB_TSDF_SCALE 32767.0f
-// The surface block list's blocks (pipeline/surface_blocks.h): (1 << SB_SURFACE_BLOCK_SHIFT)^3 voxels.
-#define SB_SURFACE_BLOCK_SHIFT 3
 // Voxels closer to the camera plane than this (metres) are not projected.
 #define SB_MIN_PROJECTION_DEPTH 0.0001f
 

@@ -1,5 +1,5 @@
 #pragma once
-// The odometry meets the view (docs/odometry.md; DESIGN 4c): the step the wheels report between two frames,
+// The odometry meets the view (docs/odometry.md): the step the wheels report between two frames,
 // the platform's physics, and the tracked pose fused with the odometry's prediction per eigen-motion of the
 // view's structure, after the degeneracy-aware update of Zhang, Kaess and Singh (ICRA 2016: "On degeneracy of
 // optimization-based state estimation problems"): along a motion the view fixes the tracked pose wins, along

@@ -60,7 +60,6 @@ const std::vector<IntField>& intFields() {
       {"bootstrap_frames", &PipelineConfig::bootstrapFrames, 1, 1000},
       {"volume_resolution", &PipelineConfig::volumeResolution, 8, 1024},
       {"max_weight", &PipelineConfig::maxWeight, 1, 32767},
-      {"integrate_carve_every", &PipelineConfig::integrateCarveEvery, 0, 100000},
       {"quality_block_px", &PipelineConfig::qualityBlockPixels, 1, 256},
       {"lost_after_failed_frames", &PipelineConfig::lostAfterFailedFrames, 1, 1000},
       {"relocalise_candidates", &PipelineConfig::relocaliseCandidates, 0, 32},
@@ -145,9 +144,7 @@ PipelineConfig parseConfig(const nlohmann::json& j, const PipelineConfig& base, 
   std::vector<double> position(c.initialPosition.begin(), c.initialPosition.end());
   r.numbers("initial_position", position, 0.0, 1.0, 3, 3, "[x, y, z], fractions of the volume side");
   for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>(position[i]);
-  r.boolean("bilateral_sensor_footprint", c.bilateralSensorFootprint);
   r.boolean("empty_space_skipping", c.emptySpaceSkipping);
-  r.boolean("integrate_carve_blocks", c.integrateCarveBlocks);
   r.boolean("relocalise", c.relocalise);
   std::string volumeMode = volumeModeName(c.volumeMode);
   r.string("volume_mode", volumeMode, {"auto", "moving", "fixed"});
@@ -191,9 +188,7 @@ nlohmann::json configToJson(const PipelineConfig& c) {
   for (const auto& f : floatFields()) j[f.key] = c.*(f.member);
   for (const auto& f : intFields()) j[f.key] = c.*(f.member);
   j["initial_position"] = {c.initialPosition[0], c.initialPosition[1], c.initialPosition[2]};
-  j["bilateral_sensor_footprint"] = c.bilateralSensorFootprint;
   j["empty_space_skipping"] = c.emptySpaceSkipping;
-  j["integrate_carve_blocks"] = c.integrateCarveBlocks;
   j["relocalise"] = c.relocalise;
   j["volume_mode"] = volumeModeName(c.volumeMode);
   j["backend"] = backendKindName(c.backend);

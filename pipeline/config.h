@@ -27,9 +27,6 @@ struct PipelineConfig {
   int bilateralRadius = 2;              // pixels: the filter window is (2r+1)^2 = 5x5
   float bilateralSpatialSigma = 4.0f;   // pixels
   float bilateralRangeSigma = 0.1f;     // metres
-  // The filter's radius and sigma in sensor pixels at every compute size (pipeline/bilateral_taps.h), instead of
-  // in the compute size's own pixels. Off: on the real 7-Scenes sequence adaptive lost 0.5 cm with it.
-  bool bilateralSensorFootprint = false;
   float halfSampleMaxDifference = 0.3f; // metres: pyramid half-sampling keeps pixels this close to the centre
 
   // --- tracking (ICP) ---
@@ -82,18 +79,6 @@ struct PipelineConfig {
   std::array<float, 3> initialPosition{0.5f, 0.5f, 0.3f};  // first camera position, fractions of the side
   float mu = 0.1f;                                      // metres: TSDF truncation distance
   int maxWeight = 100;                                  // maximum TSDF weight (frames)
-  // Integrations between two that also carve free space (voxels in front of the band set towards +1, as
-  // KinectFusion does every frame); the others visit only the blocks the band crosses
-  // (pipeline/surface_blocks.h). 1: every integration carves (as before issue 43); 0: never. 1 by default: 8
-  // fails the corridor drive (test_moving_volume_cli, 97.2% tracked) and costs DEFAULT 0.16 cm on
-  // stress-hard-bursts (docs/performance-history.md, issue 43).
-  int integrateCarveEvery = 1;
-  // false: integrate_carve_every counts whole integrations (every Nth visits the whole view). true: it counts
-  // per block (pipeline/carve_schedule.h): a block in view is carved when it first comes into the volume's
-  // view and then once every N integrations, so a carving costs the blocks that are due, not the view. false
-  // by default: at N 8 DEFAULT loses 1.25% of the corridor drive's frames without odometry
-  // (docs/performance-history.md, "Carving per block").
-  bool integrateCarveBlocks = false;
 
   // --- raycast ---
   float nearPlane = 0.4f;               // metres (camera depth)

@@ -65,8 +65,6 @@ void IntegrateCull::update(ThreadPool& pool, const float* depth, int width, int 
   const int points = blocks_ + 1;
   corners_.resize(static_cast<size_t>(points) * points * points);
   live_.resize(static_cast<size_t>(blocks_) * blocks_ * blocks_);
-  inside_.resize(live_.size());
-  view_.resize(live_.size());
   rowLive_.resize(static_cast<size_t>(blocks_) * blocks_);
   buildPyramid(depth, width, height);
   const float* m = worldToCamera.m;
@@ -97,8 +95,6 @@ void IntegrateCull::update(ThreadPool& pool, const float* depth, int width, int 
           const size_t b = (static_cast<size_t>(bz) * blocks_ + by) * blocks_ + bx;
           uint8_t& live = live_[b];
           live = 1;
-          inside_[b] = 0;
-          view_[b] = 1;
           double zMin = INFINITY, uMin = INFINITY, uMax = -INFINITY, vMin = INFINITY, vMax = -INFINITY;
           for (int corner = 0; corner < 8; ++corner) {
             const Corner& c = corners_[(static_cast<size_t>(bz + (corner >> 2)) * points + by + ((corner >> 1) & 1)) *
@@ -110,22 +106,17 @@ void IntegrateCull::update(ThreadPool& pool, const float* depth, int width, int 
             vMin = std::min(vMin, c.v);
             vMax = std::max(vMax, c.v);
           }
-          if (zMin < kNearGuardM) {
-            view_[b] = inPyramid(bx, by, bz, width, height, k);
-            continue;
-          }
+          if (zMin < kNearGuardM) continue;
           // Pixels the voxels can land on (the kernel takes the floor of the projection).
           const double u0 = std::floor(uMin - kMarginPx), u1 = std::floor(uMax + kMarginPx);
           const double v0 = std::floor(vMin - kMarginPx), v1 = std::floor(vMax + kMarginPx);
           if (u1 < 0 || v1 < 0 || u0 > width - 1 || v0 > height - 1) {
             live = 0;  // outside the image
-            view_[b] = 0;
             continue;
           }
-          inside_[b] = u0 >= 0 && v0 >= 0 && u1 <= width - 1 && v1 <= height - 1;
           const float farthest = maxDepth(static_cast<int>(std::max(u0, 0.0)), static_cast<int>(std::min(u1, width - 1.0)),
                                           static_cast<int>(std::max(v0, 0.0)), static_cast<int>(std::min(v1, height - 1.0)));
-          if (farthest <= 0.0f || zMin >= double(farthest) + double(mu) + kMarginM) live = view_[b] = 0;
+          if (farthest <= 0.0f || zMin >= double(farthest) + double(mu) + kMarginM) live = 0;
         }
     for (int bz = bz0; bz < bz1; ++bz)
       for (int by = 0; by < blocks_; ++by) {
@@ -133,30 +124,6 @@ void IntegrateCull::update(ThreadPool& pool, const float* depth, int width, int 
         rowLive_[static_cast<size_t>(bz) * blocks_ + by] = std::find(row, row + blocks_, 1) != row + blocks_;
       }
   });
-}
-
-bool IntegrateCull::inPyramid(int bx, int by, int bz, int width, int height, SbCamera k) const {
-  // The voxels integrateVoxel may update lie in z >= SB_MIN_PROJECTION_DEPTH and, there, in the four
-  // half-spaces through the camera centre that bound the image's pixels (u >= -m: fx x + (cx + 0.5 + m) z
-  // >= 0, and so on). A block (convex) all of whose corners lie outside one of them holds no such voxel.
-  const int points = blocks_ + 1;
-  const double m = kMarginPx;
-  const double planes[5][3] = {{0.0, 0.0, 1.0},
-                               {k.fx, 0.0, k.cx + 0.5 + m},
-                               {-k.fx, 0.0, -(k.cx + 0.5 - width - m)},
-                               {0.0, k.fy, k.cy + 0.5 + m},
-                               {0.0, -k.fy, -(k.cy + 0.5 - height - m)}};
-  const double offsets[5] = {-(double(SB_MIN_PROJECTION_DEPTH) - kMarginM), 0.0, 0.0, 0.0, 0.0};
-  for (int p = 0; p < 5; ++p) {
-    bool allOutside = true;
-    for (int corner = 0; corner < 8 && allOutside; ++corner) {
-      const size_t row = static_cast<size_t>(bz + (corner >> 2)) * points + by + ((corner >> 1) & 1);
-      const Corner& c = corners_[row * points + bx + (corner & 1)];
-      allOutside = planes[p][0] * c.x + planes[p][1] * c.y + planes[p][2] * c.z + offsets[p] < 0.0;
-    }
-    if (allOutside) return false;
-  }
-  return true;
 }
 
 size_t IntegrateCull::culledCount() const { return static_cast<size_t>(std::count(live_.begin(), live_.end(), 0)); }

@@ -1,7 +1,7 @@
 #pragma once
-// Block culling for the CPU backend's integrate (and, through pipeline/carve_schedule.h, both backends'
-// per-block carving): which blocks of 8^3 voxels one integration cannot change, decided from the block's
-// corners and a max-depth pyramid of the depth image, so that integrate visits only the others. Exact: a
+// Block culling for the CPU backend's integrate: which blocks of 8^3 voxels one integration cannot change,
+// decided from the block's corners and a max-depth pyramid of the depth image, so that integrate visits only
+// the others. Exact: a
 // block is culled only when every voxel in it would leave integrateVoxel() without an update, because
 //   - no voxel of it projects into the image, or
 //   - every pixel its voxels can project to has no reading (depth 0), or
@@ -40,20 +40,6 @@ class IntegrateCull {
     return &live_[(static_cast<size_t>(bz) * blocks_ + static_cast<size_t>(by)) * blocks_];
   }
   bool anyLive(int by, int bz) const { return rowLive_[static_cast<size_t>(bz) * blocks_ + by] != 0; }
-  // 1 where every voxel of block (bx, by, bz) projects into the image (its corners' footprint, widened by
-  // kMarginPx, inside it, none closer than kNearGuardM): the blocks an integration sees whole
-  // (pipeline/carve_schedule.h). Same layout as liveRow.
-  const uint8_t* insideRow(int by, int bz) const {
-    return &inside_[(static_cast<size_t>(bz) * blocks_ + static_cast<size_t>(by)) * blocks_];
-  }
-  // 1 where block (bx, by, bz) is live and not wholly outside the view's pyramid (behind the camera or
-  // beyond one of the image's sides, widened by kMarginPx): liveRow less the blocks that the near guard
-  // keeps although none of their voxels can be updated (those behind the camera, which the carving
-  // integrate clips per row).
-  // Same layout as liveRow.
-  const uint8_t* viewRow(int by, int bz) const {
-    return &view_[(static_cast<size_t>(bz) * blocks_ + static_cast<size_t>(by)) * blocks_];
-  }
   // Blocks culled by the last update (for tests and counters).
   size_t culledCount() const;
   size_t liveCount() const { return live_.size() - culledCount(); }
@@ -64,16 +50,12 @@ class IntegrateCull {
     double u, v;     // projection (pixels, before the floor), valid when z >= guard
   };
   void buildPyramid(const float* depth, int width, int height);
-  // Whether block (bx, by, bz) may hold a voxel inside the view's pyramid (from its corners; see viewRow).
-  bool inPyramid(int bx, int by, int bz, int width, int height, SbCamera k) const;
   // Max reading over pixels [u0, u1] x [v0, v1] (inclusive, inside the image) or a superset of them.
   float maxDepth(int u0, int u1, int v0, int v1) const;
 
   int blocks_ = 0;
   std::vector<Corner> corners_;     // (blocks + 1)^3 grid of block corners
   std::vector<uint8_t> live_;       // blocks^3
-  std::vector<uint8_t> inside_;     // blocks^3: the block's footprint is inside the image
-  std::vector<uint8_t> view_;       // blocks^3: live and not outside the view's pyramid
   std::vector<uint8_t> rowLive_;    // blocks^2: 1 where a row of blocks (by, bz) has a live block
   std::vector<std::vector<float>> pyramid_;  // level L: max reading per tile of (8 << L)^2 pixels (0: none)
   std::vector<int> pyramidCols_, pyramidRows_;

@@ -1,6 +1,8 @@
 #include "pipeline/knobs.h"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
+#include <type_traits>
 #include <cstdlib>
 #include <sstream>
 #include <vector>
@@ -56,24 +58,64 @@ Knobs knobPreset(const std::string& name) {
   throw Error("unknown knob preset " + quoteForMessage(name) + " (use 'default' or 'accurate')");
 }
 
-void validateKnobs(const Knobs& k) {
-  if (!validCsr(k.csr))
-    throw Error("knob csr=" + std::to_string(k.csr) + " is not allowed (use 1, 2, 4 or 8)");
-  if (!(k.icpThreshold >= 0.0 && k.icpThreshold <= 1.0))
-    throw Error("knob icp=" + std::to_string(k.icpThreshold) + " is out of range (use a value in [0, 1])");
-  for (int level = 0; level < 3; ++level) {
-    const int v = k.pyramidIterations[level];
-    const int minimum = level == 0 ? 1 : 0;
-    if (v < minimum || v > kMaxIterations)
-      throw Error("knob pd" + std::to_string(level) + "=" + std::to_string(v) + " is out of range (use " +
-                  std::to_string(minimum) + ".." + std::to_string(kMaxIterations) + " iterations)");
+const KnobKey* findKnob(const std::string& name) {
+  for (const KnobKey& key : kKnobKeys)
+    if (name == key.name) return &key;
+  return nullptr;
+}
+
+namespace {
+
+std::string numberText(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// "1, 2, 4 or 8": the powers of two in the key's range.
+std::string powersOfTwo(const KnobKey& key) {
+  std::string list;
+  std::string last;
+  for (double v = 1; v <= key.maximum; v *= 2) {
+    if (v < key.minimum) continue;
+    if (!last.empty()) list += (list.empty() ? "" : ", ") + last;
+    last = numberText(v);
   }
-  if (k.trackingRate < 1 || k.trackingRate > kMaxRate)
-    throw Error("knob tr=" + std::to_string(k.trackingRate) + " is out of range (use 1.." + std::to_string(kMaxRate) +
-                ")");
-  if (k.integrationRate < 1 || k.integrationRate > kMaxRate)
-    throw Error("knob ir=" + std::to_string(k.integrationRate) + " is out of range (use 1.." +
-                std::to_string(kMaxRate) + ")");
+  return list.empty() ? last : list + " or " + last;
+}
+
+void validate(const KnobKey& key, const Knobs& k) {
+  const double v = key.value(k);
+  const std::string item = std::string("knob ") + key.name + "=" +
+                           (key.isWhole() ? std::to_string(static_cast<int>(v)) : std::to_string(v));
+  if (key.powerOfTwo) {
+    const int i = static_cast<int>(v);
+    if (v < key.minimum || v > key.maximum || (i & (i - 1)) != 0)
+      throw Error(item + " is not allowed (use " + powersOfTwo(key) + ")");
+    return;
+  }
+  if (!(v >= key.minimum && v <= key.maximum)) {
+    if (key.isWhole())
+      throw Error(item + " is out of range (use " + numberText(key.minimum) + ".." + numberText(key.maximum) +
+                  key.unit + ")");
+    throw Error(item + " is out of range (use a value in [" + numberText(key.minimum) + ", " +
+                numberText(key.maximum) + "]" + key.unit + ")");
+  }
+}
+
+std::string knownNames() {
+  std::string list;
+  for (const KnobKey& key : kKnobKeys) {
+    if (key.level == 0) list += std::string(list.empty() ? "" : ", ") + kIterationsKnob;
+    list += std::string(list.empty() ? "" : ", ") + key.name;
+  }
+  return list;
+}
+
+}  // namespace
+
+void validateKnobs(const Knobs& k) {
+  for (const KnobKey& key : kKnobKeys) validate(key, k);
 }
 
 Knobs parseKnobs(const std::string& text, const Knobs& base) {
@@ -82,25 +124,18 @@ Knobs parseKnobs(const std::string& text, const Knobs& base) {
     if (item.empty()) continue;
     const size_t eq = item.find('=');
     if (eq == std::string::npos)
-      throw Error("knob item '" + item + "' has no '=' (expected e.g. csr=2,icp=1e-4,pd=8:5:4,tr=1,ir=2)");
-    const std::string key = item.substr(0, eq);
+      throw Error("knob item '" + item + "' has no '=' (expected e.g. " + formatKnobs(Knobs{}) + ")");
+    const std::string name = item.substr(0, eq);
     const std::string value = item.substr(eq + 1);
-    if (key == "csr") {
-      k.csr = parseInt(key, value);
-    } else if (key == "icp") {
-      k.icpThreshold = parseNumber(key, value);
-    } else if (key == "pd") {
+    if (name == kIterationsKnob) {
       const auto levels = split(value, ':');
-      if (levels.size() != 3) throw Error("knob pd='" + value + "' needs three iteration counts like pd=10:5:4");
-      for (int i = 0; i < 3; ++i) k.pyramidIterations[i] = parseInt("pd", levels[i]);
-    } else if (key == "pd0" || key == "pd1" || key == "pd2") {
-      k.pyramidIterations[key[2] - '0'] = parseInt(key, value);
-    } else if (key == "tr") {
-      k.trackingRate = parseInt(key, value);
-    } else if (key == "ir") {
-      k.integrationRate = parseInt(key, value);
+      if (levels.size() != k.pyramidIterations.size())
+        throw Error("knob " + name + "='" + value + "' needs three iteration counts like " + name + "=10:5:4");
+      for (size_t i = 0; i < levels.size(); ++i) k.pyramidIterations[i] = parseInt(name, levels[i]);
+    } else if (const KnobKey* key = findKnob(name)) {
+      key->set(k, key->isWhole() ? parseInt(name, value) : parseNumber(name, value));
     } else {
-      throw Error("unknown knob '" + key + "' in '" + text + "' (known: csr, icp, pd, pd0, pd1, pd2, tr, ir)");
+      throw Error("unknown knob '" + name + "' in '" + text + "' (known: " + knownNames() + ")");
     }
   }
   validateKnobs(k);
@@ -109,15 +144,30 @@ Knobs parseKnobs(const std::string& text, const Knobs& base) {
 
 std::string formatKnobs(const Knobs& k) {
   std::ostringstream s;
-  s << "csr=" << k.csr << ",icp=" << k.icpThreshold << ",pd=" << k.pyramidIterations[0] << ":"
-    << k.pyramidIterations[1] << ":" << k.pyramidIterations[2] << ",tr=" << k.trackingRate
-    << ",ir=" << k.integrationRate;
+  forEachKnobField(k, [&s](const char* name, const auto& value) {
+    s << (s.tellp() > 0 ? "," : "") << name << "=";
+    if constexpr (std::is_arithmetic_v<std::decay_t<decltype(value)>>) {
+      s << value;
+    } else {
+      for (size_t i = 0; i < value.size(); ++i) s << (i ? ":" : "") << value[i];
+    }
+  });
   return s.str();
 }
 
 const std::vector<std::string>& pinnableKnobs() {
-  static const std::vector<std::string> knobs = {"csr", "icp", "pd0", "pd1", "pd2", "tr", "ir"};
+  static const std::vector<std::string> knobs = [] {
+    std::vector<std::string> names;
+    for (const KnobKey& key : kKnobKeys) names.emplace_back(key.name);
+    return names;
+  }();
   return knobs;
+}
+
+nlohmann::json knobsToJson(const Knobs& k) {
+  nlohmann::json j = nlohmann::json::object();
+  forEachKnobField(k, [&j](const char* name, const auto& value) { j[name] = value; });
+  return j;
 }
 
 }  // namespace sb

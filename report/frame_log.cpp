@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "core/tracking_state.h"
+#include "pipeline/knobs.h"
 
 namespace sb::report {
 
@@ -121,9 +122,9 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   double frame = number(j, {"frame"}, where, problems);
   log.frame.push_back(std::isfinite(frame) ? frame : static_cast<double>(index));
   log.timestamp.push_back(number(j, {"timestamp"}, where, problems));
-  log.csr.push_back(number(j, {"knobs", "csr"}, where, problems));
-  log.icp.push_back(number(j, {"knobs", "icp"}, where, problems));
-  const json* pd = find(j, {"knobs", "pd"});
+  log.csr.push_back(number(j, {"knobs", knobKey(&Knobs::csr).name}, where, problems));
+  log.icp.push_back(number(j, {"knobs", knobKey(&Knobs::icpThreshold).name}, where, problems));
+  const json* pd = find(j, {"knobs", kIterationsKnob});
   log.pd0.push_back(pd && pd->is_array() && !pd->empty() && (*pd)[0].is_number() ? (*pd)[0].get<double>() : kNaN);
   log.computationMs.push_back(number(j, {"computation_ms"}, where, problems));
   log.tracked.push_back(number(j, {"tracked"}, where, problems));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "pipeline/knobs.h"
 #include "report/plots.h"
 #include "report/run_sections.h"
 #include "report/text_escape.h"
@@ -63,7 +64,7 @@ void addKnobSection(HtmlPage& page, const RunData& run) {
     page.paragraph("No per-frame log to show (see the problems above).", "muted");
     return;
   }
-  LinePlot csr = knobPlot("csr (compute size ratio)", "csr", f, f.csr);
+  LinePlot csr = knobPlot("csr (compute size ratio)", knobKey(&Knobs::csr).name, f, f.csr);
   for (double& v : csr.series[0].y) v = std::isfinite(v) && v > 0 ? std::log2(v) : std::nan("");
   csr.yTicks = {{0, "1"}, {1, "2"}, {2, "4"}, {3, "8"}};
   std::string caption;
@@ -89,12 +90,12 @@ void addKnobSection(HtmlPage& page, const RunData& run) {
     page.figure(svgLinePlot(level));
   }
 
-  LinePlot icp = knobPlot("icp (ICP early-stop threshold)", "icp", f, icpLevels(f.icp));
+  LinePlot icp = knobPlot("icp (ICP early-stop threshold)", knobKey(&Knobs::icpThreshold).name, f, icpLevels(f.icp));
   for (int level = static_cast<int>(kIcpZeroLevel); level <= 0; ++level)
     icp.yTicks.push_back({level, level == kIcpZeroLevel ? "0" : level == 0 ? "1" : "1e" + std::to_string(level)});
   page.figure(svgLinePlot(icp));
 
-  LinePlot pd0 = knobPlot("pd0 (max ICP iterations, finest level)", "pd0", f, f.pd0);
+  LinePlot pd0 = knobPlot("pd0 (max ICP iterations, finest level)", iterationsKey(0).name, f, f.pd0);
   pd0.yMin = 0.0;
   page.figure(svgLinePlot(pd0));
 }

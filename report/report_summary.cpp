@@ -80,8 +80,8 @@ void addOverviewSection(HtmlPage& page, const RunData& run) {
               "headline.unaligned_mean_cm");
   addHeadline(t, "energy", s.joulesPerFrame(), "J/frame", "headline.joules_per_frame");
   addHeadline(t, "mean power", s.meanWatts(), "W", "headline.mean_power_w");
-  if (s.knobs.csr > 0) {  // a summary from before the knobs has none
-    const json knobs = s.knobs.toJson();
+  if (s.knobs) {  // a summary from before the knobs has none
+    const json knobs = knobsToJson(*s.knobs);
     std::string text;
     for (auto it = knobs.begin(); it != knobs.end(); ++it)
       text += (text.empty() ? "" : ", ") + it.key() + "=" + cellText(*it);

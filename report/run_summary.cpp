@@ -175,12 +175,8 @@ void fieldsOf(EnergySummary& e, Field field) {
 }
 
 template <typename Field>
-void fieldsOf(KnobsSummary& k, Field field) {
-  field("csr", k.csr);
-  field("icp", k.icp);
-  field("pd", k.pd);
-  field("tr", k.tr);
-  field("ir", k.ir);
+void fieldsOf(Knobs& k, Field field) {
+  forEachKnobField(k, field);
 }
 
 template <typename Field>
@@ -267,8 +263,6 @@ void readSection(const Fields& f, const char* key, std::optional<Section>& out) 
 
 }  // namespace
 
-json KnobsSummary::toJson() const { return sectionJson(*this); }
-
 double RunSummary::constrainedMinConditioning() const {
   if (!config.is_object()) return NAN;
   const auto it = config.find("constrained_min_conditioning");
@@ -281,7 +275,6 @@ json RunSummary::toJson() const {
             {"sequence", sequence},
             {"controller", controller},
             {"controller_sections", controllerSections},
-            {"knobs", knobs.toJson()},
             {"config", config},
             {"threads", threads},
             {"frames", frames},
@@ -302,6 +295,7 @@ json RunSummary::toJson() const {
             {"knob_frames", json(knobFrames)},
             {"controller_frames", json(controllerFrames)},
             {"tracking_state", sectionJson(trackingState)}};
+  if (knobs) j["knobs"] = sectionJson(*knobs);
   if (machine) j["machine"] = sectionJson(*machine);
   if (daemon) j["daemon"] = sectionJson(*daemon);
   if (odometry) j["odometry"] = sectionJson(*odometry);
@@ -335,7 +329,7 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   f.string("sequence", s.sequence);
   f.string("controller", s.controller);
   f.object("controller_sections", s.controllerSections);
-  if (f.find("knobs")) fieldsOf(s.knobs, Reader{f.nested("knobs")});
+  readSection(f, "knobs", s.knobs);
   f.object("config", s.config);
   if (f.find("config")) {  // the one key code reads (constrainedMinConditioning): a number or absent
     double conditioning = NAN;

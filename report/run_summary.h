@@ -11,8 +11,8 @@
 // Three sub-objects stay the JSON objects their owners write, shown whole by the report: the pipeline config
 // (pipeline/config.h configToJson, whose schema is the pipeline's; code reads one key of it, typed by
 // constrainedMinConditioning), the controller sections (controller/registry.h: each controller's settings, read
-// by no code) and the navigation map (navmap/nav_map_sink.h). The energy totals, the initial knobs and the
-// moving volume are typed below, written and read here.
+// by no code) and the navigation map (navmap/nav_map_sink.h). The energy totals and the moving volume are typed
+// below, written and read here; the initial knobs are pipeline/knobs.h's, by its key table.
 
 #include <cstddef>
 #include <array>
@@ -22,6 +22,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+
+#include "pipeline/knobs.h"
 
 namespace sb {
 
@@ -101,15 +103,6 @@ struct EnergySummary {
   std::map<std::string, size_t> unknownReasons;       // why a frame's joules are unknown -> frames
 };
 
-// The controller's initial knobs ("knobs"; the shape of frames.jsonl's "knobs", runtime/frame_log_sink.h).
-struct KnobsSummary {
-  int csr = 0;                  // compute size ratio
-  double icp = 0;               // ICP early-stop threshold
-  std::array<int, 3> pd{};      // max ICP iterations per level: finest, mid, coarsest
-  int tr = 0, ir = 0;           // tracking and integration rates (every n-th frame)
-  nlohmann::json toJson() const;
-};
-
 // The moving volume ("moving_volume"; runtime/map_slabs.h movingVolumeSummary): absent with a fixed volume.
 struct MovingVolumeSummary {
   size_t shifts = 0;              // per axis
@@ -127,7 +120,7 @@ struct RunSummary {
   std::string sequence;    // the input's path
   std::string controller;  // the controller the run started with (a daemon may switch: controllerFrames)
   nlohmann::json controllerSections = nlohmann::json::object();  // its settings sections (owner's JSON)
-  KnobsSummary knobs;                                            // the controller's initial knobs
+  std::optional<Knobs> knobs;  // the controller's initial knobs ("knobs", as frames.jsonl writes a frame's)
   nlohmann::json config = nlohmann::json::object();              // the pipeline config (owner's JSON)
   unsigned threads = 0;                                          // worker threads
   std::optional<MachineInfo> machine;

@@ -59,6 +59,10 @@ std::string DaemonLink::serveOnce() {
       grid_->onMap(*message);
     else if (cls == "CLOUD" && cloud_)
       cloud_->onCloud(*message);
+    else if (cls == "ERROR" && message->contains("retry_after_s"))
+      // A rate limit (protocol 1.9: ~map_period_s or ~cloud_period_s under a second asks again for the grid
+      // it has): the next period asks again.
+      ROS_DEBUG("slamboosterd: %s", message->value("message", "").c_str());
     else if (cls == "ERROR")
       ROS_WARN("slamboosterd: %s", message->value("message", "").c_str());
     // Other classes (WATCH, future ones) are ignored, as the protocol asks.

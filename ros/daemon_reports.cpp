@@ -1,6 +1,8 @@
 #include "ros/daemon_reports.h"
 
+#include <cstdio>
 #include <nlohmann/json.hpp>
+#include <type_traits>
 
 #include "core/error.h"
 
@@ -74,6 +76,7 @@ PoseReport parsePose(const nlohmann::json& j) {
   if (const auto it = j.find("state"); it != j.end() && it->is_string()) p.state = it->get<std::string>();
   if (j.contains("odometry")) p.odometry = flag(j, cls, "odometry");
   if (j.contains("odometry_drift_m")) p.odometryDriftM = number(j, cls, "odometry_drift_m");
+  if (const auto it = j.find("kept_map"); it != j.end() && it->is_string()) p.keptMap = it->get<std::string>();
   p.trackingState = trackingStateOf(p);
   return p;
 }
@@ -83,13 +86,35 @@ KnobsReport parseKnobs(const nlohmann::json& j) {
   KnobsReport k;
   k.frame = frameOf(j, cls);
   if (const auto it = j.find("controller"); it != j.end() && it->is_string()) k.controller = *it;
-  k.csr = number(j, cls, "csr");
-  k.icp = number(j, cls, "icp");
-  k.pd = numbers<3>(j, cls, "pd");
-  k.tr = number(j, cls, "tr");
-  k.ir = number(j, cls, "ir");
+  forEachKnobField(k.knobs, [&](const char* name, auto& member) {
+    if constexpr (std::is_arithmetic_v<std::decay_t<decltype(member)>>) {
+      member = static_cast<std::decay_t<decltype(member)>>(number(j, cls, name));
+    } else {
+      const auto levels = numbers<std::tuple_size_v<std::decay_t<decltype(member)>>>(j, cls, name);
+      for (size_t i = 0; i < levels.size(); ++i) member[i] = static_cast<int>(levels[i]);
+    }
+  });
   if (j.contains("computation_ms")) k.computationMs = number(j, cls, "computation_ms");
   return k;
+}
+
+std::vector<std::pair<std::string, std::string>> knobValues(const KnobsReport& k) {
+  const auto text = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.6g", v);
+    return std::string(buf);
+  };
+  std::vector<std::pair<std::string, std::string>> values;
+  forEachKnobField(k.knobs, [&](const char* name, const auto& member) {
+    if constexpr (std::is_arithmetic_v<std::decay_t<decltype(member)>>) {
+      values.emplace_back(name, text(member));
+    } else {
+      std::string list;
+      for (int v : member) list += (list.empty() ? "" : ",") + text(v);
+      values.emplace_back(name, list);
+    }
+  });
+  return values;
 }
 
 EnergyReport parseEnergy(const nlohmann::json& j) {

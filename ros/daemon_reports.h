@@ -7,8 +7,12 @@
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "core/energy_report.h"
 #include "core/tracking_state.h"
+#include "pipeline/knobs.h"
 
 namespace sb::ros_bridge {
 
@@ -30,22 +34,15 @@ struct PoseReport {
   std::optional<std::string> state;       // the daemon's own state string when it sends one
   bool odometry = false;                  // protocol 1.4: the frame had an odometry pose
   double odometryDriftM = 0.0;            // protocol 1.4: metres driven on odometry alone (state odometry)
+  std::string keptMap;                    // protocol 1.9: "localising" / "localised" in a kept map, else empty
   TrackingState trackingState = TrackingState::lost;  // `state` when known, else derived (trackingStateOf)
 };
 
 struct KnobsReport {
   uint64_t frame = 0;
   std::string controller;
-  double csr = 0, icp = 0, tr = 0, ir = 0;
-  std::array<double, 3> pd{};
+  Knobs knobs;  // each under its name in pipeline/knobs.h's table
   double computationMs = 0.0;
-};
-
-struct EnergyReport {
-  uint64_t frame = 0;
-  double joules = 0.0;
-  double meanWatts = 0.0;
-  std::string meter;
 };
 
 // The state a POSE says: its `state` member when present and known; otherwise derived from the older members:
@@ -57,6 +54,9 @@ TrackingState trackingStateOf(const PoseReport& pose);
 // the wrong type (a daemon of another major version, or not a daemon).
 PoseReport parsePose(const nlohmann::json& j);
 KnobsReport parseKnobs(const nlohmann::json& j);
+// The knobs as the diagnostics' key values, in the table's order: each knob's name and value (%.6g; pd's three
+// levels joined by ',').
+std::vector<std::pair<std::string, std::string>> knobValues(const KnobsReport& k);
 EnergyReport parseEnergy(const nlohmann::json& j);
 
 }  // namespace sb::ros_bridge

@@ -192,15 +192,12 @@ void OdometryPublisher::publishDiagnostics(const KnobsReport* knobs) {
   if (p.constrained) s.values.push_back(keyValue("constrained", *p.constrained ? "true" : "false"));
   if (p.conditioning) s.values.push_back(keyValue("conditioning", number(*p.conditioning)));
   if (!p.weakestMotion.empty()) s.values.push_back(keyValue("weakest_motion", p.weakestMotion));
+  if (!p.keptMap.empty()) s.values.push_back(keyValue("kept_map", p.keptMap));  // docs/map-store.md
   if (!tfEdge_.empty()) s.values.push_back(keyValue("tf", tfEdge_));
   if (!mapToOdomNote_.empty()) s.values.push_back(keyValue("map_to_odom", mapToOdomNote_));
   if (knobs) {
     s.values.push_back(keyValue("controller", knobs->controller));
-    s.values.push_back(keyValue("csr", number(knobs->csr)));
-    s.values.push_back(keyValue("icp", number(knobs->icp)));
-    s.values.push_back(keyValue("pd", number(knobs->pd[0]) + "," + number(knobs->pd[1]) + "," + number(knobs->pd[2])));
-    s.values.push_back(keyValue("tr", number(knobs->tr)));
-    s.values.push_back(keyValue("ir", number(knobs->ir)));
+    for (const auto& [key, value] : knobValues(*knobs)) s.values.push_back(keyValue(key, value));
     s.values.push_back(keyValue("computation_ms", number(knobs->computationMs)));
   }
   if (lastEnergy_) {  // ENERGY lags POSE: the latest known frame's

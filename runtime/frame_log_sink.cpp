@@ -4,10 +4,6 @@
 
 namespace sb {
 
-KnobsSummary knobsSummary(const Knobs& k) {
-  return {k.csr, k.icpThreshold, k.pyramidIterations, k.trackingRate, k.integrationRate};
-}
-
 nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   const FrameResult& r = rec.result;
   nlohmann::json stages = nlohmann::json::object();
@@ -61,6 +57,7 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                            {"why", rec.relocalisation.why}};
   if (rec.keyframeAdded) j["keyframe_added"] = true;
   j["keyframes"] = rec.keyframes;
+  if (rec.keptMap != KeptMap::none) j["kept_map"] = keptMapName(rec.keptMap);
   const FrameOdometry& o = rec.odometry;
   if (o.available || !o.why.empty()) {  // only in runs with odometry: others keep their frames.jsonl
     j["odometry"] = {{"available", o.available}, {"used", o.used}, {"rejected", o.rejected}, {"drift_m", o.driftM}};

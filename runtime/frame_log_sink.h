@@ -16,10 +16,6 @@
 
 namespace sb {
 
-// The knobs as frames.jsonl and summary.json write them (report/run_summary.h KnobsSummary, one key list):
-// {"csr": 1, "icp": 1e-5, "pd": [10, 5, 4], "tr": 1, "ir": 2}
-KnobsSummary knobsSummary(const Knobs& knobs);
-inline nlohmann::json knobsToJson(const Knobs& knobs) { return knobsSummary(knobs).toJson(); }
 // One frames.jsonl object (see the file comment); also what the daemon publishes (daemon/protocol.h).
 nlohmann::json frameRecordToJson(const FrameRecord& record);
 

@@ -16,6 +16,14 @@ namespace sb {
 
 using odometry::FrameOdometry;  // odometry/motion_model.h
 
+// A run started with a kept map (runtime/map_store.h): still localising in it (no pose in its frame yet), or
+// localised (the pose is in the store's frame, the frame of the run that made it). `none`: no kept map (a run
+// without a store, or one writing a new store).
+enum class KeptMap { none, localising, localised };
+inline const char* keptMapName(KeptMap k) {
+  return k == KeptMap::localising ? "localising" : k == KeptMap::localised ? "localised" : "none";
+}
+
 struct FrameRecord {
   FrameResult result;             // after finishFrame: final pose, stage times, velocity of the final pose
   Decision decision;              // the controller's decision after this frame (decision.next = next knobs)
@@ -36,6 +44,7 @@ struct FrameRecord {
   RelocaliseOutcome relocalisation;
   bool keyframeAdded = false;
   size_t keyframes = 0;
+  KeptMap keptMap = KeptMap::none;  // frames.jsonl / POSE "kept_map" (absent when none)
   // The frame's pose is an estimate: the frame was not lost. A lost frame's pose is the last good one, held, or
   // the controller's extrapolation of it: not a measurement. trajectory.tum and the ATE leave lost frames out
   // (the TUM convention: a trajectory lists the frames the system estimated; the tracked share and the lost

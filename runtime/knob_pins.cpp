@@ -1,6 +1,5 @@
 #include "runtime/knob_pins.h"
 
-#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -11,36 +10,22 @@ namespace sb {
 
 namespace {
 
-void set(Knobs& k, const std::string& knob, double v) {
-  const int i = static_cast<int>(v);
-  if (knob == "csr")
-    k.csr = i;
-  else if (knob == "icp")
-    k.icpThreshold = v;
-  else if (knob == "pd0")
-    k.pyramidIterations[0] = i;
-  else if (knob == "pd1")
-    k.pyramidIterations[1] = i;
-  else if (knob == "pd2")
-    k.pyramidIterations[2] = i;
-  else if (knob == "tr")
-    k.trackingRate = i;
-  else if (knob == "ir")
-    k.integrationRate = i;
+const KnobKey& known(const std::string& knob, const char* verb) {
+  const KnobKey* key = findKnob(knob);
+  if (!key) throw Error(std::string("cannot ") + verb + " unknown knob '" + knob + "'");
+  return *key;
 }
 
 }  // namespace
 
 void KnobPins::pin(const std::string& knob, double value) {
-  const auto& known = pinnableKnobs();
-  if (std::find(known.begin(), known.end(), knob) == known.end())
-    throw Error("cannot pin unknown knob '" + knob + "'");
+  const KnobKey& key = known(knob, "pin");
   std::ostringstream v;
   v << value;
-  if (knob != "icp" && (value != std::floor(value) || std::abs(value) > 1e6))
+  if (key.isWhole() && (value != std::floor(value) || std::abs(value) > 1e6))
     throw Error("pinned knob '" + knob + "' = " + v.str() + " must be an integer");
   Knobs probe;
-  set(probe, knob, value);
+  key.set(probe, value);
   try {
     validateKnobs(probe);
   } catch (const Error& e) {
@@ -54,14 +39,11 @@ void KnobPins::unpin(const std::string& knob) {
     values_.clear();
     return;
   }
-  const auto& known = pinnableKnobs();
-  if (std::find(known.begin(), known.end(), knob) == known.end())
-    throw Error("cannot unpin unknown knob '" + knob + "'");
-  values_.erase(knob);
+  values_.erase(known(knob, "unpin").name);
 }
 
 Knobs KnobPins::apply(Knobs knobs) const {
-  for (const auto& [knob, value] : values_) set(knobs, knob, value);
+  for (const auto& [knob, value] : values_) findKnob(knob)->set(knobs, value);
   return knobs;
 }
 
@@ -81,13 +63,7 @@ nlohmann::json KnobPins::toJson() const {
 KnobPins KnobPins::all(const Knobs& knobs) {
   validateKnobs(knobs);
   KnobPins pins;
-  pins.values_ = {{"csr", knobs.csr},
-                  {"icp", knobs.icpThreshold},
-                  {"pd0", knobs.pyramidIterations[0]},
-                  {"pd1", knobs.pyramidIterations[1]},
-                  {"pd2", knobs.pyramidIterations[2]},
-                  {"tr", knobs.trackingRate},
-                  {"ir", knobs.integrationRate}};
+  for (const KnobKey& key : kKnobKeys) pins.values_[key.name] = key.value(knobs);
   return pins;
 }
 

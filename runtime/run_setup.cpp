@@ -62,7 +62,7 @@ RunSummary runSummaryHeader(const std::string& frontEnd, const std::string& sequ
   s.sequence = sequence;
   s.controller = settings.name;
   s.controllerSections = settings.sections;
-  s.knobs = knobsSummary(controller.initialKnobs());
+  s.knobs = controller.initialKnobs();
   s.config = configToJson(config);
   s.config["odometry"] = odometry.toJson();
   s.threads = threads;

@@ -122,9 +122,13 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
   rec.controller = controller_->name();
   monitor_.resolve(pipeline_, frame, depthScale_, rec, motion_, motion);
   const FrameResult& r = rec.result;
-  pipeline_.finishFrame(rec.result, rec.decision.correctedPose,
-                        FrameOverrides{rec.decision.integrate, rec.decision.keepReference, rec.decision.refinedPose,
-                                       rec.odometry.fused, rec.decision.referenceCsr});
+  FrameOverrides overrides;  // by name: a member added to FrameOverrides shifts none into another's place
+  overrides.integrate = rec.decision.integrate;
+  overrides.keepReference = rec.decision.keepReference;
+  overrides.refinedPose = rec.decision.refinedPose;
+  overrides.integrateUntracked = rec.odometry.fused;
+  overrides.referenceCsr = rec.decision.referenceCsr;
+  pipeline_.finishFrame(rec.result, rec.decision.correctedPose, overrides);
   monitor_.after(frame, depthScale_, rec);
   next_ = rec.decision.next;
   nextStart_ = IcpStart{rec.decision.nextStartPose, rec.decision.nextHoldBelowConditioning};

@@ -105,6 +105,7 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     rec.state = last_ = TrackingState::relocalised;
     if (keptMapPrepare_) {  // localised in the kept map: from now on as without a store
       keptMapPrepare_ = nullptr;
+      keptMapLocalised_ = true;
       relocaliser_.setTryHeldPose(true);
       relocaliser_.setViewOffsets({});
       relocaliser_.setConfirmFrames(config_.relocaliseConfirmFrames);
@@ -162,6 +163,7 @@ void TrackingMonitor::after(const DepthFrame& frame, double depthScale, FrameRec
     relocaliser_.noteTracked(rec.result.pairAgreement);
   }
   rec.keyframes = relocaliser_.keyframes().size();
+  rec.keptMap = localisingInKeptMap() ? KeptMap::localising : keptMapLocalised_ ? KeptMap::localised : KeptMap::none;
 }
 
 }  // namespace sb

@@ -38,7 +38,7 @@ class TrackingMonitor {
   // follows the wheels (odometry/motion_model.h); `motion`: the frame's prediction, from the model.
   void resolve(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
                odometry::MotionModel& model, const odometry::FrameMotion& motion);
-  // After finishFrame: a good frame is offered to the keyframe database.
+  // After finishFrame: a good frame is offered to the keyframe database; rec.keptMap is set.
   void after(const DepthFrame& frame, double depthScale, FrameRecord& rec);
 
   const Relocaliser& relocaliser() const { return relocaliser_; }
@@ -80,6 +80,7 @@ class TrackingMonitor {
   static constexpr int kKeptMapConfirmFrames = 15;          // 0.5 s at 30 Hz
   static constexpr double kKeptMapOdometryToleranceM = 0.05;
   KeptMapPrepare keptMapPrepare_;  // set while localising in a kept map
+  bool keptMapLocalised_ = false;  // a kept map's candidate was confirmed: poses are in the store's frame
   std::optional<Eigen::Isometry3d> keptAnchor_;  // the pending candidate moved by the wheels since it was found
   double keptAnchorDistanceM_ = 0.0;
 };

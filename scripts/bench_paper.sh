@@ -15,7 +15,7 @@
 #   --jobs N   runs in parallel (default 2), each with one worker thread
 #   --quick    2-setting dse and profile grids instead of the full ones (with --frames: a smoke test)
 #   --plan     print the sequences and how many runs remain, then stop
-#   --emit-plan FILE  for a cluster (README "On a cluster"): render the sequences here, then write the
+#   --emit-plan FILE  for a cluster (README "Using the tool", docs/experiments.md): render the sequences here, then write the
 #              runs of the next stage as one plan, one self-contained command per line, for Slurm
 #              (scripts/slurm_run.sbatch) or GNU parallel, and stop. Stage 1 is every dse and profile run
 #              (about 1,200 of the ~1,350); once they are all complete, the next call writes their

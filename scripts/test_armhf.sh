@@ -35,7 +35,8 @@ subset=(
   test_odometry_calibration test_wheel_faults test_navmap
   test_power_ledger test_power_meters test_power_io test_power_sampler
   test_report test_report_odometry
-  test_daemon_config test_protocol test_protocol_golden test_socket_server test_frame_report
+  test_daemon_config test_protocol test_protocol_golden test_socket_server test_socket_rate_limit
+  test_frame_report
   test_device_clock
 )
 # Known armhf failures: a test case that fails on armhf, reported to the owner of the code. Its test runs
@@ -80,6 +81,7 @@ cross-install (README, With ROS); this placeholder only says so"
   [test_ros_odometry_topic]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_tf_tree]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_tf_relocalisation]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_bag_tf]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_map_to_odom]="ROS 1 component: native builds only (see ros_component)"
   [test_cluster_reference]=$spawns [test_cluster_parallel]=$spawns [test_cluster_kill]=$spawns
   [test_cluster_slurm]="starts a Slurm cluster of the host's (amd64) daemons that run the armhf tool: $spawns"
@@ -94,6 +96,8 @@ busy host misses (1.4 s seen); the OpenNI2 code is the same natively, where it r
   [systemd_units_verify]="the host's systemd-analyze on systemd/: no armhf code, runs natively"
   [test_ctl_needed]="the host's readelf on the built slamboosterctl: no armhf code, runs natively"
   [test_layers]="reads the sources (tests/docs/check_layers.py): no armhf code, runs natively"
+  [test_doc_links]="reads the documents (tests/docs/check_links.py): no armhf code, runs natively"
+  [test_knob_names]="reads the sources (tests/docs/check_knob_names.py): no armhf code, runs natively"
   [test_summary_get]=$spawns
   [test_thread_pool_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
   [test_prefetch_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"

@@ -22,23 +22,6 @@ __kernel void integrateKernel(__global short* volume, int resolution, SbVoxelOff
     integrate(volume, resolution, offset, size, worldToCamera, depth, width, height, k, mu, maxWeight, x, y, z);
 }
 
-// The surface block list (pipeline/surface_blocks.h): logical voxel (x, y, z % B) of block `blocks[z / B]`
-// (index bx + n * (by + n * bz), n = `perSide`), B = 1 << SB_SURFACE_BLOCK_SHIFT; global (B, B, B * count).
-__kernel void integrateBlocksKernel(__global short* volume, int resolution, SbVoxelOffset offset, float size,
-                                    SbMat34 worldToCamera, __global const sb_map_t* depth, int width, int height,
-                                    SbCamera k, float mu, int maxWeight, __global const int* blocks, int count,
-                                    int perSide) {
-  const int x = get_global_id(0), y = get_global_id(1), z = get_global_id(2);
-  const int i = z >> SB_SURFACE_BLOCK_SHIFT;
-  if (i < count && x < (1 << SB_SURFACE_BLOCK_SHIFT) && y < (1 << SB_SURFACE_BLOCK_SHIFT)) {
-    const int b = blocks[i];
-    const int bx = b % perSide, by = (b / perSide) % perSide, bz = b / (perSide * perSide);
-    integrate(volume, resolution, offset, size, worldToCamera, depth, width, height, k, mu, maxWeight,
-              (bx << SB_SURFACE_BLOCK_SHIFT) + x, (by << SB_SURFACE_BLOCK_SHIFT) + y,
-              (bz << SB_SURFACE_BLOCK_SHIFT) + (z & ((1 << SB_SURFACE_BLOCK_SHIFT) - 1)));
-  }
-}
-
 // The slab that leaves a moving volume: `count` physical planes normal to `axis` from `first`, cleared.
 __kernel void clearSlabKernel(__global short* volume, int resolution, int axis, int first, int count) {
   const int u = get_global_id(0), v = get_global_id(1), w = get_global_id(2);

@@ -63,6 +63,7 @@ SB_SIMD_CLONES void bilateralInteriorRow(float* out, const float* in, int w, int
 CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize, ThreadPool& pool)
     : config_(config), full_(fullSize), pool_(pool), placement_(config.volumeResolution, config.voxelSize()) {
   validateConfig(config_);
+  taps_ = bilateralTaps(config_);
   const size_t voxels = static_cast<size_t>(config_.volumeResolution) * config_.volumeResolution * config_.volumeResolution;
   volume_.resize(2 * voxels);
   for (size_t i = 0; i < voxels; ++i) {
@@ -71,7 +72,6 @@ CpuBackend::CpuBackend(const PipelineConfig& config, const Intrinsics& fullSize,
   }
   const int blocks = config_.volumeResolution >> kSkipShift;
   blockSurfaceMask_.assign(static_cast<size_t>(blocks) * blocks * blocks, 0);
-  carve_.reset(config_.volumeResolution >> SurfaceBlocks::kShift);
   computeBlockDistance(blockSurfaceMask_, blocks, blockDistance_, pool_);
 }
 
@@ -100,10 +100,6 @@ void CpuBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr, S
     StageTimer t(times, Stage::bilateralFilter);
     const float* in = depth_.data();
     float* out = levels_[0].depth.data();
-    if (tapsCsr_ != csr) {
-      taps_ = bilateralTaps(config_, csr);
-      tapsCsr_ = csr;
-    }
     const float* g = taps_.weights.data();
     const int r = taps_.radius;
     const float sigma = config_.bilateralRangeSigma;
@@ -279,8 +275,6 @@ void CpuBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
     // The skipping grid is kept in logical blocks: it moves with the volume, the blocks that came in are empty.
     const int moved = cornerVoxels[c.axis] - before[c.axis];
     shiftGrid(blockSurfaceMask_.data(), res >> kSkipShift, c.axis, moved / (1 << kSkipShift), 0, pool_);
-    carve_.shift(c.axis, moved / (1 << SurfaceBlocks::kShift),
-                 pool_);  // the blocks that came in: never carved
   }
   computeBlockDistance(blockSurfaceMask_, res >> kSkipShift, blockDistance_, pool_);
 }

@@ -16,12 +16,10 @@
 #include "kernels/raycast.h"
 #include "pipeline/backend.h"
 #include "pipeline/bilateral_taps.h"
-#include "pipeline/carve_schedule.h"
 #include "pipeline/config.h"
 #include "pipeline/cpu/cpu_track.h"
 #include "pipeline/integrate_cull.h"
 #include "pipeline/ray_bounds.h"
-#include "pipeline/surface_blocks.h"
 #include "pipeline/volume_placement.h"
 
 namespace sb {
@@ -59,19 +57,14 @@ class CpuBackend : public ComputeBackend {
   const Intrinsics& referenceIntrinsics() const { return referenceK_; }
   const std::vector<float>& referenceVertices() const { return referenceVertex_; }
   const std::vector<float>& referenceNormals() const { return referenceNormal_; }
-  const IntegrateCull& integrateCull() const { return cull_; }  // what the last carving integrate skipped
-  const SurfaceBlocks& surfaceBlocks() const { return surface_; }  // what the last surface integrate visited
-  const CarveSchedule& carveSchedule() const { return carve_; }    // integrate_carve_blocks: the blocks' ages
+  const IntegrateCull& integrateCull() const { return cull_; }  // what the last integrate skipped
   // Empty-space skipping surface masks, one per logical block of (1 << kSkipShift)^3 voxels, x fastest.
   const std::vector<uint8_t>& blockSurfaceMasks() const { return blockSurfaceMask_; }
 
  private:
-  // integrate's two kinds (cpu_backend_integrate.cpp): every block in view, free space carved, or only the
-  // blocks the band crosses (and, with integrate_carve_blocks, the blocks in view due for carving:
-  // pipeline/carve_schedule.h); returns the blocks visited. Both leave the skipping masks of the blocks
-  // they visit; integrate then updates the block distances.
+  // integrate's voxels (cpu_backend_integrate.cpp): every block in view, free space carved; leaves the skipping
+  // masks of the blocks it visits, integrate then updates the block distances.
   void integrateCarving(const Eigen::Isometry3f& cameraToWorld);
-  const std::vector<int32_t>& integrateSurface(const Eigen::Isometry3f& cameraToWorld, bool carveBlocks);
 
   struct Level {
     Intrinsics k;
@@ -81,8 +74,7 @@ class CpuBackend : public ComputeBackend {
   PipelineConfig config_;
   Intrinsics full_;
   ThreadPool& pool_;
-  BilateralTaps taps_;  // bilateral spatial taps at the compute size ratio tapsCsr_ (0: none yet)
-  int tapsCsr_ = 0;
+  BilateralTaps taps_;  // bilateral spatial taps
 
   Intrinsics computeK_;          // of the last preprocessed frame
   std::vector<float> depth_;     // mm2meters output (compute size, metres), used by integrate
@@ -99,10 +91,7 @@ class CpuBackend : public ComputeBackend {
   std::vector<uint8_t> blockSurfaceMask_;  // per block: where its voxels below the small-step tsdf lie
   std::vector<uint8_t> blockDistance_;     // per block: Chebyshev distance to a block with surface
   IntegrateCull cull_;                     // integrate's blocks that the current frame cannot change
-  SurfaceBlocks surface_;                  // the blocks the current frame's band crosses
-  CarveSchedule carve_;                    // per block: integrations since it was last visited whole
   RayBounds rayBounds_;                    // the last raycast's ray bounds
-  long long integrations_ = 0;             // integrate calls so far (every integrate_carve_every-th carves)
   VolumePlacement placement_;              // the moving volume's corner and cyclic offset (fixed: 0)
 };
 

@@ -1,9 +1,6 @@
 // CpuBackend's integrate (the rest of the backend: cpu_backend.cpp): every block of the view with free space
-// carved (integrateCarving, KinectFusion's integration, culled by integrate_cull.h), or only the blocks that
-// the depth's truncation band crosses (integrateSurface, pipeline/surface_blocks.h), with the blocks in view
-// due for carving when integrate_carve_blocks is set (pipeline/carve_schedule.h); config
-// integrate_carve_every says which. Both run kernels/volume.h's integrateVoxel through cpu_integrate.h's
-// rows, so a voxel either visits gets the same bits.
+// carved (integrateCarving, KinectFusion's integration, culled by integrate_cull.h), kernels/volume.h's
+// integrateVoxel through cpu_integrate.h's rows.
 #include <algorithm>
 #include <cmath>
 
@@ -55,77 +52,10 @@ void orRowSurfaceMask(const int16_t* row, int delta, int x0, int x1, int16_t bel
 
 void CpuBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) {
   StageTimer t(times, Stage::integrate);
-  const int every = config_.integrateCarveEvery;
-  const bool carveBlocks =
-      config_.integrateCarveBlocks && every > 0;  // per block (pipeline/carve_schedule.h)
-  const bool carve = !carveBlocks && every > 0 && integrations_ % every == 0;
-  ++integrations_;
-  if (carve) {
-    integrateCarving(cameraToWorld);
-    times.work.carvingIntegrations += 1;
-    times.work.integrateBlocks += static_cast<long long>(cull_.liveCount());
-  } else {
-    times.work.integrateBlocks += static_cast<long long>(integrateSurface(cameraToWorld, carveBlocks).size());
-  }
+  integrateCarving(cameraToWorld);
+  times.work.carvingIntegrations += 1;
+  times.work.integrateBlocks += static_cast<long long>(cull_.liveCount());
   computeBlockDistance(blockSurfaceMask_, config_.volumeResolution >> kSkipShift, blockDistance_, pool_);
-}
-
-const std::vector<int32_t>& CpuBackend::integrateSurface(const Eigen::Isometry3f& cameraToWorld,
-                                                         bool carveBlocks) {
-  const int res = config_.volumeResolution;
-  const float voxel = config_.voxelSize();
-  const Eigen::Isometry3f cameraToVolume = placement_.toVolumeFrame(cameraToWorld);
-  const SbMat34 w2c = toMat34(cameraToVolume.inverse().matrix());
-  const SbCamera k = toCamera(computeK_);
-  const int w = computeK_.width, h = computeK_.height;
-  // Tiles of about 8 sensor pixels a side, whatever the compute size.
-  const int tile = std::max(1, 8 * computeK_.width / full_.width);
-  surface_.build(depth_.data(), w, h, k, toMat34(cameraToVolume.matrix()), res, voxel, config_.mu, tile);
-  static_assert(SurfaceBlocks::kShift == 3 && kSkipShift == 2, "a surface block holds 2^3 skipping blocks");
-  constexpr int kSide = 1 << SurfaceBlocks::kShift;
-  const SbVoxelOffset offset = placement_.offset();  // multiples of kSide (VolumePlacement::kBlockVoxels)
-  const int seam = res - offset.x;
-  const float3 step = sbRotate(w2c, sbMakeFloat3(voxel, 0.0f, 0.0f));
-  const float mu = config_.mu;
-  const int maxWeight = config_.maxWeight;
-  const int n = surface_.perSide();
-  const int skipBlocks = res >> kSkipShift;
-  const int16_t flagBelow = surfaceTsdfBelow(config_.raycastSmallStepBelow);
-  uint8_t maskBits[8];
-  for (int faces = 0; faces < 8; ++faces) maskBits[faces] = sbSurfaceMaskBits(faces);
-  int16_t* vol = volume_.data();
-  const float* depth = depth_.data();
-  if (carveBlocks) cull_.update(pool_, depth, w, h, k, w2c, res, voxel, mu);
-  const std::vector<int32_t>& list =
-      carveBlocks ? carve_.plan(surface_, cull_, config_.integrateCarveEvery) : surface_.blocks();
-  // Every voxel of a listed block is visited, so the skipping masks of its 2^3 skipping blocks are recomputed
-  // whole (a block is written by the one chunk that holds it).
-  pool_.parallelFor(0, static_cast<int>(list.size()), 16, [&](int, int i0, int i1) {
-    for (int i = i0; i < i1; ++i) {
-      const int b = list[static_cast<size_t>(i)];
-      const int bx = b % n, by = (b / n) % n, bz = b / (n * n);
-      const int x0 = bx * kSide;
-      const int delta = x0 < seam ? offset.x : offset.x - res;
-      uint8_t mask[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // skipping blocks (x, y, z) in 0..1 at x + 2 y + 4 z
-      for (int z = bz * kSide; z < (bz + 1) * kSide; ++z)
-        for (int y = by * kSide; y < (by + 1) * kSide; ++y) {
-          const float3 base = sbTransform(w2c, sbMakeFloat3(0.5f * voxel, (y + 0.5f) * voxel, (z + 0.5f) * voxel));
-          int16_t* row = vol + 2 * (static_cast<size_t>(sbWrapVoxel(y, offset.y, res)) * res +
-                                    static_cast<size_t>(sbWrapVoxel(z, offset.z, res)) * res * res);
-          integrateRow(row, delta, x0, x0 + kSide, base, step, depth, w, h, k, mu, maxWeight);
-          const int rowFaces = ((y & 3) == 0 ? 2 : 0) + ((z & 3) == 0 ? 4 : 0);
-          // The row from x0 on, so that orRowSurfaceMask's masks[x / 4] is this row's pair of skipping blocks.
-          orRowSurfaceMask(row + 2 * x0, delta, 0, kSide, flagBelow, maskBits[rowFaces], maskBits[rowFaces + 1],
-                           &mask[2 * (((y >> 2) & 1) + 2 * ((z >> 2) & 1))]);
-        }
-      for (int c = 0; c < 8; ++c) {
-        const int sx = 2 * bx + (c & 1), sy = 2 * by + ((c >> 1) & 1), sz = 2 * bz + (c >> 2);
-        blockSurfaceMask_[static_cast<size_t>(sx) + static_cast<size_t>(skipBlocks) * (sy + static_cast<size_t>(skipBlocks) * sz)] =
-            mask[c];
-      }
-    }
-  });
-  return list;
 }
 
 void CpuBackend::integrateCarving(const Eigen::Isometry3f& cameraToWorld) {

@@ -40,7 +40,6 @@ Kernels::Kernels(const Launcher& launcher, const DeviceInfo& device, bool halfSt
   reduceFinal = createKernel(p, "reduceFinalKernel");
   initVolume = createKernel(p, "initVolumeKernel");
   integrate = createKernel(p, "integrateKernel");
-  integrateBlocks = createKernel(p, "integrateBlocksKernel");
   clearSlab = createKernel(p, "clearSlabKernel");
   surfaceMask = createKernel(p, "surfaceMaskKernel");
   raycast = createKernel(p, "raycastKernel");
@@ -92,11 +91,6 @@ OpenClBackend::State::State(const PipelineConfig& c, const Intrinsics& fullSize,
   blockMasks = createBuffer(ctx, CL_MEM_READ_WRITE, blocks * blocks * blocks, "skipping block masks");
   blockDistance = createBuffer(ctx, CL_MEM_READ_ONLY, blocks * blocks * blocks, "skipping block distances");
   blockMasksHost.resize(blocks * blocks * blocks);
-  const size_t surfaceBlocksPerSide = res >> SurfaceBlocks::kShift;
-  carve.reset(static_cast<int>(surfaceBlocksPerSide));
-  surfaceBlocks = createBuffer(ctx, CL_MEM_READ_ONLY,
-                               surfaceBlocksPerSide * surfaceBlocksPerSide * surfaceBlocksPerSide * sizeof(int32_t),
-                               "surface block list");
   const size_t tiles = size_t((full.width + RayBounds::kTile - 1) / RayBounds::kTile) *
                        size_t((full.height + RayBounds::kTile - 1) / RayBounds::kTile);
   rayBoundsBuffer = createBuffer(ctx, CL_MEM_READ_ONLY, 2 * tiles * f, "raycast ray bounds");
@@ -215,14 +209,14 @@ TrackSums OpenClBackend::State::reduceRows(const opencl::Buffer& rowsBuffer, int
   return readSums();
 }
 
-void OpenClBackend::State::useBilateralTaps(int csr) {
-  if (tapsCsr == csr) return;
-  const BilateralTaps taps = bilateralTaps(config, csr);
+void OpenClBackend::State::useBilateralTaps() {
+  if (tapsWritten) return;
+  const BilateralTaps taps = bilateralTaps(config);
   opencl::check(clEnqueueWriteBuffer(launcher.queue(), gaussian.get(), CL_TRUE, 0, taps.weights.size() * sizeof(float),
                                      taps.weights.data(), 0, nullptr, nullptr),
                 "writing the bilateral weights");
   tapsRadius = taps.radius;
-  tapsCsr = csr;
+  tapsWritten = true;
 }
 
 }  // namespace sb

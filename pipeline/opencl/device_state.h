@@ -9,12 +9,9 @@
 #include <vector>
 
 #include "core/thread_pool.h"
-#include "pipeline/carve_schedule.h"
-#include "pipeline/integrate_cull.h"
 #include "pipeline/opencl/launcher.h"
 #include "pipeline/opencl/opencl_backend.h"
 #include "pipeline/ray_bounds.h"
-#include "pipeline/surface_blocks.h"
 #include "pipeline/volume_placement.h"
 
 namespace sb {
@@ -33,7 +30,7 @@ struct Kernels {
   Program program;
   Kernel mm2meters, bilateralFilter, halfSampleRobust, depth2vertex, vertex2normal;
   Kernel track, block, reduce, reduceFinal;
-  Kernel initVolume, integrate, integrateBlocks, clearSlab, surfaceMask;
+  Kernel initVolume, integrate, clearSlab, surfaceMask;
   Kernel raycast, offsetVertex, render;
   Kernel halfToFloat, floatToHalf;
 };
@@ -52,7 +49,7 @@ struct OpenClBackend::State {
   const opencl::Kernels& variant(bool halfStorage);  // built on first use
 
   void upload(const DepthRaw& raw);  // into `raw` through a mapping
-  void useBilateralTaps(int csr);    // `gaussian` and tapsRadius for compute size ratio csr (bilateral_taps.h)
+  void useBilateralTaps();           // `gaussian` and tapsRadius (bilateral_taps.h), written once
   void read(const opencl::Buffer& buffer, void* out, size_t bytes);
   TrackSums readSums();
   // reduce + reduceFinal over `rows` track rows (kernels/track.h layout) of `rowsBuffer`; the sums read back.
@@ -75,8 +72,9 @@ struct OpenClBackend::State {
   bool half = false;
 
   opencl::Buffer raw;       // the sensor frame, CL_MEM_ALLOC_HOST_PTR
-  opencl::Buffer gaussian;  // bilateralFilter spatial weights at the compute size ratio tapsCsr
-  int tapsCsr = 0, tapsRadius = 0;
+  opencl::Buffer gaussian;  // bilateralFilter spatial weights
+  bool tapsWritten = false;
+  int tapsRadius = 0;
   opencl::Buffer depth;     // mm2meters output (compute size), read by integrate
   std::array<Level, kPyramidLevels> levels;
   opencl::Buffer trackOut, partial, sums;
@@ -91,16 +89,7 @@ struct OpenClBackend::State {
   opencl::Buffer blockMasks, blockDistance;
   std::vector<uint8_t> blockMasksHost, blockDistanceHost;
   ThreadPool skipPool{1};
-  // integrate's surface blocks (pipeline/surface_blocks.h, from the depth read back) and the raycast's bounds
-  // (pipeline/ray_bounds.h), both made on the host and written to the device.
-  SurfaceBlocks surface;
-  std::vector<float> depthHost;
-  opencl::Buffer surfaceBlocks;
-  long long integrations = 0;  // integrate calls so far (every integrate_carve_every-th carves)
-  // integrate_carve_blocks: the blocks in view (from the depth read back) and each block's age since it was
-  // last carved (pipeline/carve_schedule.h), as the CPU backend.
-  IntegrateCull cull;
-  CarveSchedule carve;
+  // The raycast's ray bounds (pipeline/ray_bounds.h), made on the host and written to the device.
   RayBounds rayBounds;
   opencl::Buffer rayBoundsBuffer;
   opencl::Buffer image;    // render output

@@ -19,6 +19,7 @@ namespace {
 const Launcher::Size3 kImageGroup{16, 8, 1};   // 128 work-items: <= 256 and a multiple of 4 (Mali-T6xx)
 const Launcher::Size3 kVolumeGroup{16, 4, 2};  // 128 work-items, x fastest (neighbouring voxels)
 const Launcher::Size3 kLinearGroup{128, 1, 1};
+constexpr int kWorkBlockShift = 3;  // StageWork::integrateBlocks counts blocks of 8^3 voxels
 
 Launcher::Size3 imageSize(const Intrinsics& k) { return {size_t(k.width), size_t(k.height), 1}; }
 
@@ -51,7 +52,7 @@ void OpenClBackend::preprocess(const DepthRaw& raw, float metresPerUnit, int csr
   const int w = s.computeK.width, h = s.computeK.height;
   q.run(Stage::mm2meters, k.mm2meters, imageSize(s.computeK), kImageGroup, s.depth, w, h, s.raw, raw.width(), csr,
         metresPerUnit);
-  s.useBilateralTaps(csr);
+  s.useBilateralTaps();
   q.run(Stage::bilateralFilter, k.bilateralFilter, imageSize(s.computeK), kImageGroup, s.levels[0].depth, s.depth, w,
         h, s.gaussian, s.tapsRadius, c.bilateralRangeSigma);
   for (int l = 1; l < kPyramidLevels; ++l) {
@@ -111,39 +112,13 @@ void OpenClBackend::integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes
   const size_t r = size_t(c.volumeResolution);
   const Eigen::Isometry3f cameraToVolume = s.placement.toVolumeFrame(cameraToWorld);
   const SbMat34 worldToCamera = toMat34(cameraToVolume.inverse().matrix());
-  // Free space carved every integrate_carve_every-th integration, else only the surface blocks (as the CPU
-  // backend); with integrate_carve_blocks, the surface blocks and the blocks in view due for carving.
-  const bool carveBlocks = c.integrateCarveBlocks && c.integrateCarveEvery > 0;
-  const bool carve = !carveBlocks && c.integrateCarveEvery > 0 && s.integrations % c.integrateCarveEvery == 0;
-  ++s.integrations;
+  // Every voxel, free space carved (KinectFusion's integration; no culling on the device).
   const int w = s.computeK.width, h = s.computeK.height;
-  if (carve) {
-    s.launcher.run(Stage::integrate, k.integrate, {r, r, r}, kVolumeGroup, s.volume, c.volumeResolution,
-                   s.placement.offset(), c.volumeSize, worldToCamera, s.depth, w, h, toCamera(s.computeK), c.mu,
-                   c.maxWeight);
-    times.work.carvingIntegrations += 1;
-    times.work.integrateBlocks += static_cast<long long>(r * r * r) >> (3 * SurfaceBlocks::kShift);
-  } else {
-    s.depthHost = s.readMap(s.depth, size_t(w) * size_t(h));
-    s.surface.build(s.depthHost.data(), w, h, toCamera(s.computeK), toMat34(cameraToVolume.matrix()),
-                    c.volumeResolution, c.voxelSize(), c.mu, std::max(1, 8 * w / s.full.width));
-    if (carveBlocks)
-      s.cull.update(s.skipPool, s.depthHost.data(), w, h, toCamera(s.computeK), worldToCamera,
-                    c.volumeResolution, c.voxelSize(), c.mu);
-    const std::vector<int32_t>& list =
-        carveBlocks ? s.carve.plan(s.surface, s.cull, c.integrateCarveEvery) : s.surface.blocks();
-    if (!list.empty()) {
-      opencl::check(clEnqueueWriteBuffer(s.launcher.queue(), s.surfaceBlocks.get(), CL_TRUE, 0,
-                                         list.size() * sizeof(int32_t), list.data(), 0, nullptr, nullptr),
-                    "writing the surface block list");
-      const size_t side = size_t(1) << SurfaceBlocks::kShift;
-      s.launcher.run(Stage::integrate, k.integrateBlocks, {side, side, side * list.size()}, {8, 8, 2}, s.volume,
-                     c.volumeResolution, s.placement.offset(), c.volumeSize, worldToCamera, s.depth, w, h,
-                     toCamera(s.computeK), c.mu, c.maxWeight, s.surfaceBlocks, static_cast<int>(list.size()),
-                     s.surface.perSide());
-    }
-    times.work.integrateBlocks += static_cast<long long>(list.size());
-  }
+  s.launcher.run(Stage::integrate, k.integrate, {r, r, r}, kVolumeGroup, s.volume, c.volumeResolution,
+                 s.placement.offset(), c.volumeSize, worldToCamera, s.depth, w, h, toCamera(s.computeK), c.mu,
+                 c.maxWeight);
+  times.work.carvingIntegrations += 1;
+  times.work.integrateBlocks += static_cast<long long>(r * r * r) >> (3 * kWorkBlockShift);
   // As the CPU backend, but only when the raycast uses it.
   if (c.emptySpaceSkipping) s.updateSkipping(Stage::integrate);
   s.volumeOnHost = false;
@@ -260,11 +235,7 @@ void OpenClBackend::moveVolume(const Eigen::Vector3i& cornerVoxels) {
   State& s = *s_;
   const int res = s.config.volumeResolution;
   bool cleared = false;
-  const Eigen::Vector3i before = s.placement.corner();
   for (const VolumePlacement::Clear& c : s.placement.moveTo(cornerVoxels)) {
-    // The carving record is kept in logical blocks: it moves with the volume, the blocks that came in are
-    // new.
-    s.carve.shift(c.axis, (cornerVoxels[c.axis] - before[c.axis]) / (1 << SurfaceBlocks::kShift), s.skipPool);
     s.launcher.run(Stage::integrate, s.kernels().clearSlab, {size_t(c.count), size_t(res), size_t(res)},
                    kVolumeGroup, s.volume, res, c.axis, c.first, c.count);
     cleared = true;

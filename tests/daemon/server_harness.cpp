@@ -93,7 +93,7 @@ void ServerHarness::publishMap(const daemon::MapReport& report) {
   mailbox_->post([this, report] { server_->publishMap(report); });
 }
 
-void ServerHarness::publishEnergy(const daemon::EnergyReport& report) {
+void ServerHarness::publishEnergy(const EnergyReport& report) {
   mailbox_->post([this, report] { server_->publishEnergy(report); });
 }
 

@@ -39,7 +39,7 @@ class ServerHarness {
   const std::string& path() const { return path_; }
   // Publishes on the event-loop thread (like the SLAM thread does through the mailbox).
   void publishFrame(const daemon::FrameReport& report);
-  void publishEnergy(const daemon::EnergyReport& report);
+  void publishEnergy(const EnergyReport& report);
   void publishMap(const daemon::MapReport& report);
   // Runs `fn` on the loop thread and waits for it.
   void sync(const std::function<void(daemon::SocketServer&)>& fn);

@@ -8,6 +8,8 @@
 #include "daemon/frame_report.h"
 #include "ros/daemon_reports.h"
 #include "runtime/frame_log_sink.h"
+#include "runtime/knob_pins.h"
+#include "report/run_summary.h"
 
 using namespace sb;
 using namespace sb::daemon;
@@ -38,6 +40,7 @@ FrameRecord sampleRecord() {
   rec.odometry.used = true;
   rec.odometry.driftM = 0.75;
   rec.odometry.fault = sb::odometry::WheelFault::kidnapped;
+  rec.keptMap = KeptMap::localised;
   return rec;
 }
 
@@ -54,13 +57,13 @@ TEST_CASE("POSE and KNOBS carry the record's values under their frames.jsonl nam
   std::vector<std::string> poseKeys;
   for (auto it = pose.begin(); it != pose.end(); ++it) poseKeys.push_back(it.key());
   CHECK(poseKeys == std::vector<std::string>{"class", "conditioning", "constrained", "corrected", "frame",
-                                             "odometry", "odometry_drift_m", "odometry_fault", "position",
+                                             "kept_map", "odometry", "odometry_drift_m", "odometry_fault", "position",
                                              "quaternion", "state",
                                              "timestamp", "tracked", "velocity", "velocity_m_per_frame",
                                              "weakest_motion"});
   // The same name, the same value, in frames.jsonl (POSE's legacy "velocity" and its odometry summary aside).
   for (const char* key : {"frame", "timestamp", "position", "quaternion", "tracked", "corrected", "state",
-                          "velocity_m_per_frame", "conditioning", "weakest_motion", "constrained"}) {
+                          "velocity_m_per_frame", "conditioning", "weakest_motion", "constrained", "kept_map"}) {
     INFO(key);
     REQUIRE(log.contains(key));
     CHECK(pose.at(key) == log.at(key));
@@ -106,6 +109,7 @@ TEST_CASE("the ROS bridge reads every POSE and KNOBS field the daemon writes", "
   CHECK(p.trackingState == TrackingState::odometry);  // one enum: the daemon's
   CHECK(p.odometry);
   CHECK(p.odometryDriftM == 0.75);
+  CHECK(p.keptMap == "localised");
   // Every state the daemon can send is one the bridge knows by name.
   for (int s = 0; s < kTrackingStateCount; ++s) {
     FrameRecord other = rec;
@@ -115,10 +119,57 @@ TEST_CASE("the ROS bridge reads every POSE and KNOBS field the daemon writes", "
   const ros_bridge::KnobsReport k = ros_bridge::parseKnobs(knobsMessage(report));
   CHECK(k.frame == 42);
   CHECK(k.controller == "adaptive");
-  CHECK(k.csr == 4);
-  CHECK(k.ir == 5);
-  CHECK(k.tr == 1);
-  CHECK(k.pd == std::array<double, 3>{10, 5, 4});
-  CHECK(k.icp == rec.result.knobs.icpThreshold);
+  CHECK(k.knobs.csr == 4);
+  CHECK(k.knobs.integrationRate == 5);
+  CHECK(k.knobs == rec.result.knobs);
   CHECK(k.computationMs == rec.result.times.computationMs());
+}
+
+// Every knob of pipeline/knobs.h's key table, moved off its default alone, through every writer and reader of a
+// knob set: a writer or reader that leaves a knob out, or names it otherwise, fails here.
+TEST_CASE("every knob of the key table survives each encoder and parser", "[daemon][protocol][ros][knobs]") {
+  REQUIRE(std::size(kKnobKeys) == 7);
+  for (const KnobKey& key : kKnobKeys) {
+    INFO(key.name);
+    Knobs k;
+    // A valid value other than the default: the next power of two, a tenth of the range, or one more.
+    const double before = key.value(k);
+    const double v = key.powerOfTwo ? before * 2 : key.isWhole() ? before + 1 : key.maximum / 10;
+    key.set(k, v);
+    REQUIRE(key.value(k) == v);
+    REQUIRE(k != Knobs{});
+    REQUIRE_NOTHROW(validateKnobs(k));
+
+    // Knob strings.
+    CHECK(parseKnobs(formatKnobs(k)) == k);
+    // The pins (?CONTROL): one knob pinned over the defaults.
+    KnobPins pins;
+    pins.pin(key.name, v);
+    CHECK(pins.apply(Knobs{}) == k);
+    CHECK(KnobPins::all(k).apply(Knobs{}) == k);
+    // frames.jsonl's knobs and next_knobs, and summary.json's knobs read back.
+    FrameRecord rec = sampleRecord();
+    rec.result.knobs = k;
+    rec.decision.next = k;
+    const nlohmann::json log = frameRecordToJson(rec);
+    CHECK(log.at("knobs") == knobsToJson(k));
+    CHECK(log.at("next_knobs") == knobsToJson(k));
+    RunSummary s;
+    s.knobs = k;
+    const RunSummary back = RunSummary::fromJson(nlohmann::json::parse(s.toJson().dump()), "summary.json");
+    REQUIRE(back.knobs);
+    CHECK(*back.knobs == k);
+    // KNOBS: the record's knobs as frames.jsonl writes them, read back by the ROS bridge.
+    const nlohmann::json message = knobsMessage(frameReport(rec, {}));
+    for (auto it = log.at("knobs").begin(); it != log.at("knobs").end(); ++it) CHECK(message.at(it.key()) == *it);
+    const ros_bridge::KnobsReport report = ros_bridge::parseKnobs(nlohmann::json::parse(message.dump()));
+    CHECK(report.knobs == k);
+    // The bridge's diagnostics name each knob as the table does.
+    const auto values = ros_bridge::knobValues(report);
+    REQUIRE(values.size() == 5);
+    CHECK(values[0] == std::pair<std::string, std::string>{"csr", std::to_string(k.csr)});
+    CHECK(values[2].first == "pd");
+    CHECK(values[2].second == std::to_string(k.pyramidIterations[0]) + "," + std::to_string(k.pyramidIterations[1]) +
+                                  "," + std::to_string(k.pyramidIterations[2]));
+  }
 }

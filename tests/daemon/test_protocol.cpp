@@ -99,7 +99,7 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   // Protocol 1.3: the frame log's name of the velocity beside the old one.
   CHECK(pose.at("velocity") == pose.at("velocity_m_per_frame"));
   // Protocol 1.4: the odometry state, whether the frame had odometry, the distance driven on it alone.
-  CHECK(versionMessage("x").at("proto_minor") == 8);
+  CHECK(versionMessage("x").at("proto_minor") == 10);
   FrameReport wheels = r;
   wheels.pose.state = sb::TrackingState::odometry;
   wheels.pose.odometry = true;
@@ -111,7 +111,7 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
         R"("pd":[10,5,4],"pinned":["csr"],"tr":1})"
         "\n");
   CHECK(versionMessage("0.1.0")["class"] == "VERSION");
-  CHECK(energyMessage(EnergyReport{})["class"] == "ENERGY");
+  CHECK(energyMessage(sb::EnergyReport{})["class"] == "ENERGY");
   CHECK(statusMessage({{"fps", 1}})["class"] == "STATUS");
   CHECK(errorMessage("x")["class"] == "ERROR");
   CHECK(watchMessage(true, true, false, true)["class"] == "WATCH");

@@ -7,6 +7,8 @@ Reads the folder table (folder, library, what it is, includes from) and the exce
 includes, why), then every `#include "..."` of the .h/.hpp/.c/.cpp/.cl files under the folders of code
 (tests/ left out). Fails (exit 1, one line per finding) on
   - an include of a folder that the including file's row does not name (nor the exceptions table for it),
+  - an include of a file that the row does not name where it allows a folder's named files only
+    ("pipeline (`knobs.h` only)"),
   - a row that names a folder listed below it, or a name that is no row,
   - a source file in no row's folder (a new folder of code missing from the table),
   - an exception that no longer happens (the table says more than the code).
@@ -37,10 +39,20 @@ def names(cell):
     return out
 
 
+def only(cell):
+    """pipeline (`knobs.h` only: ...) -> {"pipeline/": ["pipeline/knobs.h"]}: a folder a row may include from
+    for the files named alone."""
+    out = {}
+    for folder, files in re.findall(r"`?([\w/]+)`?\s*\(((?:`[^`]+`[,\s]*)+)only\b", cell):
+        folder = folder.rstrip("/") + "/"
+        out[folder] = [folder + f for f in re.findall(r"`([^`]+)`", files)]
+    return out
+
+
 def read_tables(doc):
     text = open(doc, encoding="utf-8").read()
     section = text.split("## Layers\n", 1)[1].split("\n## ", 1)[0]
-    rows, exceptions, table = [], {}, None
+    rows, exceptions, restricted, table = [], {}, {}, None
     for line in section.splitlines():
         if not line.startswith("|"):
             table = None if not line.strip() else table
@@ -53,9 +65,10 @@ def read_tables(doc):
             continue
         if table == "folder":
             rows.append((c[0].strip("`"), names(c[-1])))
+            restricted[c[0].strip("`")] = only(c[-1])
         elif table == "file":
             exceptions[c[0].strip("`")] = names(c[1])
-    return rows, exceptions
+    return rows, exceptions, restricted
 
 
 def folder_of(path, folders):
@@ -68,7 +81,7 @@ def folder_of(path, folders):
 
 def main():
     root = sys.argv[1] if len(sys.argv) > 1 else "."
-    rows, exceptions = read_tables(os.path.join(root, "docs", "architecture.md"))
+    rows, exceptions, restricted = read_tables(os.path.join(root, "docs", "architecture.md"))
     folders = [f for f, _ in rows]
     problems = []
     if len(rows) < 10:
@@ -100,6 +113,12 @@ def main():
         text = open(os.path.join(root, path), encoding="utf-8", errors="replace").read()
         for m in INCLUDE.finditer(text):
             dst = folder_of(m.group(1), folders)
+            files = restricted.get(src, {}).get(dst)
+            if files is not None and m.group(1) not in files:
+                line = text.count("\n", 0, m.start()) + 1
+                problems.append(f"{path}:{line}: includes {m.group(1)}, but {src} may include only "
+                                f"{', '.join(files)} of {dst} (docs/architecture.md, Layers)")
+                continue
             if dst is None or dst == src or dst in allowed[src]:
                 continue
             if dst in exceptions.get(path, []):

@@ -88,28 +88,14 @@ TEST_CASE("knob strings parse and impossible values are rejected clearly", "[pip
   CHECK_THROWS_WITH(sb::parseKnobs("csr"), Contains("no '='"));
 }
 
-TEST_CASE("the bilateral taps: the image's pixels by default, the sensor's with bilateral_sensor_footprint",
-          "[config][preprocess]") {
+TEST_CASE("the bilateral taps: the config's radius and sigma in the image's pixels", "[config][preprocess]") {
   sb::PipelineConfig c;  // radius 2, sigma 4
-  const sb::BilateralTaps full = sb::bilateralTaps(c, 1);
+  const sb::BilateralTaps full = sb::bilateralTaps(c);
   REQUIRE(full.radius == 2);
   REQUIRE(full.weights.size() == 5);
   CHECK(full.weights[1] == std::exp(-1.0f / 32.0f));
-  for (const int csr : {2, 4, 8}) {  // by default every compute size filters with the same taps
-    const sb::BilateralTaps t = sb::bilateralTaps(c, csr);
-    CHECK(t.radius == 2);
-    CHECK(t.weights == full.weights);
-  }
-  c.bilateralSensorFootprint = true;
-  CHECK(sb::bilateralTaps(c, 1).weights == full.weights);  // csr 1: bit for bit
-  const sb::BilateralTaps half = sb::bilateralTaps(c, 2);   // radius 1, sigma 2
-  REQUIRE(half.weights.size() == 3);
-  CHECK(half.weights[0] == std::exp(-1.0f / 8.0f));
-  CHECK(half.weights[1] == 1.0f);
-  const sb::BilateralTaps eighth = sb::bilateralTaps(c, 8);  // ceil(2 / 8) = 1, sigma 0.5
-  REQUIRE(eighth.radius == 1);
-  CHECK(eighth.weights[0] == std::exp(-1.0f / 0.5f));
+  CHECK(full.weights[2] == 1.0f);
   c.bilateralRadius = 0;  // no filter stays no filter
-  CHECK(sb::bilateralTaps(c, 4).radius == 0);
+  CHECK(sb::bilateralTaps(c).radius == 0);
 }
 

@@ -112,17 +112,6 @@ TEST_CASE("OpenCL preprocess matches the CPU backend at csr 1 and 2, float and h
       checkPreprocess(cpu, cl, half);
     }
   }
-  // The filter in sensor pixels (pipeline/bilateral_taps.h): other taps per compute size, the same on both.
-  sb::PipelineConfig sensor = config;
-  sensor.bilateralSensorFootprint = true;
-  sb::CpuBackend cpuSensor(sensor, k, pool);
-  sb::OpenClBackend clSensor(sensor, k, sb::test::openclTestDevice());
-  for (const int csr : {2, 1, 4, 2}) {
-    INFO("sensor footprint, csr " << csr);
-    cpuSensor.preprocess(raw, float(1.0 / kRoomDepthScale), csr, cpuTimes);
-    clSensor.preprocess(raw, float(1.0 / kRoomDepthScale), csr, clTimes);
-    checkPreprocess(cpuSensor, clSensor, false);
-  }
   // Every preprocessing stage was timed on the device and on the host.
   for (const sb::Stage s : {sb::Stage::mm2meters, sb::Stage::bilateralFilter, sb::Stage::halfSampleRobust,
                             sb::Stage::depth2vertex, sb::Stage::vertex2normal}) {

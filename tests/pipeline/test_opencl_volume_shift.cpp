@@ -8,8 +8,7 @@
 // bitwise equal: contracted multiply-adds on the device) (weights identical except 1e-4 of the voxels, tsdf
 // within 2/32767; raycast validity differing on <= 0.2% of the pixels, world-frame vertices within 1 mm). A
 // box read alone (readVolumeBox, a leaving slab) across the wrap is the volume read through the offset, voxel
-// for voxel, on each backend. The same with free space carved per block (integrate_carve_blocks, every 4th
-// integration per block): the record follows the move on both backends, and they carve the same blocks.
+// for voxel, on each backend.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -85,11 +84,6 @@ TEST_CASE("OpenCL moving volume: the shift is exact and the backends agree after
   config.volumeResolution = kRes;
   config.volumeSize = 4.0f;
   config.backend = sb::BackendKind::opencl;
-  // integrate_carve_blocks (pipeline/carve_schedule.h): both backends carve the same blocks, the record
-  // moves.
-  config.integrateCarveBlocks = GENERATE(false, true);
-  config.integrateCarveEvery = config.integrateCarveBlocks ? 4 : 1;
-  INFO("integrate_carve_blocks " << config.integrateCarveBlocks);
   sb::ThreadPool pool(2);
   sb::CpuBackend cpu(config, k, pool);
   sb::OpenClBackend cl(config, k, sb::test::openclTestDevice());

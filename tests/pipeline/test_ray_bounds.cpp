@@ -1,6 +1,6 @@
 // The ray bounds (pipeline/ray_bounds.h) against their definition, by brute force: no ray of a tile meets a
 // block of distance 0 before the tile's tMin, nor after its tMax (the bit-identity of the raycast with and
-// without them is test_surface_blocks.cpp's). Here with a block beside the camera, outside the view and
+// without them is test_ray_bounds_identity.cpp's). Here with a block beside the camera, outside the view and
 // across its plane, which once made every tile's bound 0.
 
 #include <catch2/catch.hpp>

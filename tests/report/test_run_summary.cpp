@@ -23,7 +23,7 @@ RunSummary sample() {
   s.sequence = "/data/seq";
   s.controller = "adaptive";
   s.controllerSections = {{"adaptive", {{"confirm_translation_m", 0.01}}}};
-  s.knobs = sb::KnobsSummary{2, 1e-5, {8, 5, 4}, 1, 2};
+  s.knobs = sb::Knobs{2, 1e-5, {8, 5, 4}, 1, 2};
   s.config = {{"volume_resolution", 64}, {"constrained_min_conditioning", 0.0003}};
   s.threads = 4;
   s.machine = sb::MachineInfo{"host", "cpu", 8, 4, "cpu", "cpu"};
@@ -74,7 +74,7 @@ TEST_CASE("RunSummary: every field survives toJson and fromJson", "[report][summ
   CHECK(back.joulesPerFrame() == 0.25);
   CHECK(back.meanWatts() == 5.0);
   CHECK(back.energy->unknownReasons.at("gap") == 2);
-  CHECK(back.knobs.pd[0] == 8);
+  CHECK(back.knobs->pyramidIterations[0] == 8);
   CHECK(back.movingVolume->cornerM[2] == 1.5625);
   CHECK(back.movingVolume->slabFilesRemoved == size_t(0));
   CHECK(back.constrainedMinConditioning() == 0.0003);

@@ -50,7 +50,20 @@ void writeOdometry(rosbag::Bag& bag, const BagSpec& spec) {
   }
   std::vector<nav_msgs::Odometry> messages = odometryMessages(spec.odometryFile, /*covariance=*/true);
   if (spec.zeroOdometryQuaternion && messages.size() > 10) messages[10].pose.pose.orientation = geometry_msgs::Quaternion();
-  for (const nav_msgs::Odometry& o : messages) bag.write("/odom", o.header.stamp + ros::Duration(kRecordDelayS), o);
+  for (const nav_msgs::Odometry& o : messages) {
+    bag.write("/odom", o.header.stamp + ros::Duration(kRecordDelayS), o);
+    if (!spec.odomTf) continue;
+    geometry_msgs::TransformStamped t;
+    t.header = o.header;
+    t.child_frame_id = o.child_frame_id;
+    t.transform.translation.x = o.pose.pose.position.x;
+    t.transform.translation.y = o.pose.pose.position.y;
+    t.transform.translation.z = o.pose.pose.position.z;
+    t.transform.rotation = o.pose.pose.orientation;
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(t);
+    bag.write("/tf", o.header.stamp + ros::Duration(kRecordDelayS), tf);
+  }
 }
 
 }  // namespace

@@ -24,6 +24,8 @@ struct BagSpec {
   // /tf_static base_link -> the depth images' frame (kBagCameraMount) unless tfStatic is false.
   std::string odometryFile;
   bool tfStatic = true;
+  // The same poses also as odom -> base_link on /tf, as a robot's bag records them (its base driver's TF).
+  bool odomTf = false;
   // Hostile orientations (issue 53 finding 4): the 10th Odometry message's, or /tf_static's mount, all zero.
   bool zeroOdometryQuaternion = false;
   bool zeroMountQuaternion = false;

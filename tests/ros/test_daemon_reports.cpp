@@ -53,7 +53,7 @@ TEST_CASE("reports with a missing or mistyped member are refused, naming it", "[
   const auto knobs = nlohmann::json::parse(
       R"({"class":"KNOBS","frame":41,"controller":"fixed","csr":2,"icp":1e-4,"pd":[6,5,4],"tr":1,"ir":1,"computation_ms":18.4})");
   const auto k = parseKnobs(knobs);
-  CHECK(k.pd[0] == 6);
+  CHECK(k.knobs.pyramidIterations[0] == 6);
   CHECK(k.computationMs == 18.4);
   const auto e = parseEnergy(nlohmann::json::parse(R"({"class":"ENERGY","frame":39,"joules":0.182,"mean_w":6.1})"));
   CHECK(e.joules == 0.182);

@@ -4,12 +4,15 @@
 // (`--frames-from 200`, fresh odometry whose frame is the base there) driving on through the U-turn run 1 never
 // saw and back along run 1's part, started with the same store. Run 2 must be localised in the store within 60
 // frames (2 s; measured 2026-12-06: frame 29), no frame before that `good`, and from then on its poses in run
-// 1's frame: against the truth through run 1's own alignment (no refit; `slambooster eval --frame-of`), no frame
-// more than 0.5 m off (measured: rmse 15.8 cm, max 21.8 cm; run 1's own ATE is 6.1 cm, and run 2 drifts 6 -> 18
-// cm through the unseen turn: the issue's 10 cm is not met, the bar here is 25 cm). A drive in another
-// building (the corridor of seed 7) given a copy of run 1's store is never localised in it (measured: 568 of
-// 568 frames lost; before the wheels' check it matched at frame 6 with a pair agreement of 0.92), and the store
-// is left byte for byte as it was.
+// 1's frame: against the truth through run 1's own frame fitted on its whole poses (no refit; `slambooster eval
+// --frame-of`, eval/trajectory_eval.h alignFrames), within the issue's 10 cm rmse and no frame more than 0.5 m
+// off (measured: rmse 6.8 cm, max 12.4 cm; run 1's own ATE is 6.1 cm, run 2 follows run 1's map: it is 2% short
+// along the corridor). Fitted on run 1's positions alone, a straight drive, the frame's rotation about the
+// corridor was free and run 2, 0.8 m beside run 1 on the way back, measured 15.8 cm. frames.jsonl says
+// `kept_map` localising before the localised frame and localised from it on (a new store's run: absent). A drive
+// in another building (the corridor of seed 7) given a copy of run 1's store is never localised in it
+// (measured: 568 of 568 frames lost; before the wheels' check it matched at frame 6 with a pair agreement of
+// 0.92), and the store is left byte for byte as it was.
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -72,6 +75,7 @@ TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run
   CHECK(s1["map_store"]["kept"] == false);
   CHECK(s1["map_store"]["slab_files"].get<size_t>() >= 2);
   CHECK(s1["map_store"]["keyframes_saved"].get<size_t>() >= 5);
+  CHECK(sb::test::readText(dir + "/out1/frames.jsonl").find("kept_map") == std::string::npos);
   fs::copy(store, foreign, fs::copy_options::recursive);
   const auto before = filesOf(foreign);
 
@@ -82,20 +86,23 @@ TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run
   REQUIRE(m["localised_frame"].is_number());
   const size_t localised = m["localised_frame"].get<size_t>();
   CHECK(localised <= 60);
-  // No frame is good before the store's surface confirmed the view.
+  // No frame is good before the store's surface confirmed the view; each frame says where it stands.
   {
     std::ifstream frames(dir + "/out2/frames.jsonl");
-    size_t goodBefore = 0;
+    size_t goodBefore = 0, saidWrong = 0;
     for (std::string line; std::getline(frames, line);) {
       const auto j = nlohmann::json::parse(line);
-      if (j.at("frame").get<size_t>() < localised && j.at("state") != "lost") ++goodBefore;
+      const bool localising = j.at("frame").get<size_t>() < localised;
+      if (localising && j.at("state") != "lost") ++goodBefore;
+      if (j.value("kept_map", std::string()) != (localising ? "localising" : "localised")) ++saidWrong;
     }
     CHECK(goodBefore == 0);
+    CHECK(saidWrong == 0);
   }
   // From the localised frame on: run 2's poses in run 1's frame (run 1's alignment to the truth, no refit).
   const sb::Trajectory est1 = sb::readTumTrajectory(dir + "/out1/trajectory.tum");
   const sb::Trajectory gt1 = sb::readTumTrajectory(dir + "/run1/groundtruth.txt");
-  const Eigen::Isometry3d frame1 = sb::computeAte(est1, gt1).alignment;
+  const Eigen::Isometry3d frame1 = sb::alignFrames(est1, gt1);
   sb::Trajectory est2 = sb::readTumTrajectory(dir + "/out2/trajectory.tum");
   const double from = m["localised_s"].get<double>();
   est2.erase(std::remove_if(est2.begin(), est2.end(), [&](const sb::TimedPose& p) { return p.timestamp < from; }),
@@ -104,7 +111,7 @@ TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run
   INFO("run 2 in run 1's frame: rmse " << ate.rmse << " m, median " << ate.median << " m, max " << ate.max
                                        << " m over " << ate.matches << " frames");
   CHECK(ate.matches + localised + 5 >= s2["frames"].get<size_t>());
-  CHECK(ate.rmse < 0.25);
+  CHECK(ate.rmse < 0.10);
   CHECK(ate.max < 0.5);
   // Mapping went on into the store.
   CHECK(m["slab_files"].get<size_t>() > s1["map_store"]["slab_files"].get<size_t>());

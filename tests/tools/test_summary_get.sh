@@ -10,11 +10,15 @@ cat > "$dir/summary.json" <<'JSON'
 {"schema_version": 1, "front_end": "run", "sequence": "/data/seq a", "controller": "adaptive", "frames": 12,
  "tracked": 11, "tracking_attempted": 12, "tracked_percent": 91.5, "computation_ms_per_frame": 7.25,
  "stage_ms_per_frame": {"track": 1.5}, "ate": {"rmse_m": 0.0418, "mean_m": 0.03, "max_m": 0.09,
- "median_m": 0.02, "unaligned_mean_m": 0.05, "matches": 12}}
+ "median_m": 0.02, "unaligned_mean_m": 0.05, "matches": 12},
+ "knobs": {"csr": 2, "icp": 1e-4, "pd": [8, 5, 4], "tr": 1, "ir": 3}}
 JSON
 got=$("$tool" summary "$dir" --get frames --get ate.rmse_m --get sequence --get stage_ms_per_frame.track) ||
   fail "known keys: exit $?"
 [ "$got" = "$(printf '12\t0.0418\t/data/seq a\t1.5')" ] || fail "known keys printed '$got'"
+# The initial knobs (an optional part: pipeline/knobs.h's Knobs) are fields of the schema.
+got=$("$tool" summary "$dir" --get knobs.csr --get knobs.ir --get knobs.pd) || fail "the knobs: exit $?"
+[ "$got" = "$(printf '2\t3\t[8,5,4]')" ] || fail "the knobs printed '$got'"
 got=$("$tool" summary "$dir/summary.json" --get computation_ms_per_frame) || fail "the file's path: exit $?"
 [ "$got" = 7.25 ] || fail "computation_ms_per_frame printed '$got'"
 if out=$("$tool" summary "$dir" --get framez 2>&1); then fail "an unknown key passed: '$out'"; fi

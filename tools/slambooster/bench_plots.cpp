@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pipeline/knobs.h"
 #include "report/run_data.h"
 #include "report/svg_writer.h"
 #include "report/trajectory_view.h"
@@ -71,7 +72,7 @@ BenchTrace benchTrace(const std::string& runDir, const std::string& reference, c
   report::LinePlot csr;
   csr.title = title + ": csr (compute size ratio)";
   csr.xLabel = "frame";
-  csr.yLabel = "csr";
+  csr.yLabel = knobKey(&Knobs::csr).name;
   std::vector<double> level;
   for (double v : f.csr) level.push_back(std::isfinite(v) && v > 0 ? std::log2(v) : NAN);
   csr.series.push_back({"", f.frame, level, "#D55E00", report::LineStyle::step, 1.8, false});

@@ -132,9 +132,9 @@ void runEval(const EvalArgs& a) {
   const std::string where = "evaluating '" + a.estimatePath + "' against '" + a.groundTruthPath + "': ";
   try {
     std::optional<Eigen::Isometry3d> frame;
-    if (a.frameOf.size() == 2) {  // the first run's frame: its own alignment, applied here unchanged
+    if (a.frameOf.size() == 2) {  // the first run's frame (fitted on its whole poses), applied here unchanged
       const Trajectory est1 = readTumTrajectory(a.frameOf[0]), gt1 = readTumTrajectory(a.frameOf[1]);
-      frame = computeAte(est1, gt1, o).alignment;
+      frame = alignFrames(est1, gt1, o);
     }
     const AteResult ate = computeAte(est, gt, o, frame ? &*frame : nullptr);
     const RpeRow frames = measureRpe(est, gt, a.rpePerSecond ? 1.0 : a.rpeDelta, false, o, !a.rpePerSecond);
@@ -160,8 +160,9 @@ void addEvalCommand(CLI::App& app) {
   sub->add_option("GT", args->groundTruthPath, "ground-truth trajectory (TUM format)")->required();
   sub->add_flag("--json", args->json, "print one JSON object instead of the table");
   sub->add_option("--frame-of", args->frameOf,
-                  "EST1 GT1: measure EST in the frame fitted on another run (EST1 against GT1) instead of fitting\n"
-                  "it: a run started in a kept map (--map-store), in the frame of the run that made the map")
+                  "EST1 GT1: measure EST in the frame fitted on another run (EST1 against GT1, whole poses: positions\n"
+                  "and orientations) instead of fitting it: a run started in a kept map (--map-store), in the frame\n"
+                  "of the run that made the map")
       ->expected(2);
   sub->add_option("--from-s", args->fromS, "only the estimate's poses at or after this time (seconds)");
   sub->add_option("--ite-csv", args->iteCsvPath,

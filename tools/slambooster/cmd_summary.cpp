@@ -49,6 +49,7 @@ void addPaths(const json& j, const std::string& prefix, std::set<std::string>& o
 // write them at their defaults.
 std::set<std::string> schemaPaths() {
   RunSummary s;
+  s.knobs.emplace();
   s.machine.emplace();
   s.daemon.emplace();
   s.ate.emplace();

@@ -20,6 +20,7 @@
 #include "core/image.h"
 #include "core/thread_pool.h"
 #include "core/trajectory.h"
+#include "drivers/tum_layout.h"
 #include "synth/builtin_trajectory.h"
 #include "synth/corridor_scene.h"
 #include "synth/drive_odometry.h"
@@ -214,13 +215,13 @@ void runSynth(SynthArgs& a) {
               o.scene.c_str(), static_cast<unsigned long long>(o.seed), o.sensor.noise ? "on" : "off",
               o.outDir.c_str(), seconds());
   if (!segments.empty()) {
-    std::ofstream csv(o.outDir + "/segments.csv");
+    const std::string csvPath = o.outDir + "/" + tum::kSegmentsFile;
+    std::ofstream csv(csvPath);
     csv << "label,begin_frame,end_frame\n";
     for (const auto& seg : segments)
       if (seg.begin < r.frames) csv << seg.label << "," << seg.begin << "," << std::min(seg.end, r.frames) << "\n";
-    if (!csv) throw Error("synth: cannot write '" + o.outDir + "/segments.csv'");
-    std::printf("synth: stress '%s': %zu segments in %s/segments.csv\n", a.stress.c_str(), segments.size(),
-                o.outDir.c_str());
+    if (!csv) throw Error("synth: cannot write '" + csvPath + "'");
+    std::printf("synth: stress '%s': %zu segments in %s\n", a.stress.c_str(), segments.size(), csvPath.c_str());
   }
   if (driveOdometry) {
     const synth::stress::DrivePath path = synth::drivePath(*stressScene, o.seed);

@@ -17,10 +17,12 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include <type_traits>
 
 #include "core/config_reader.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "drivers/tum_layout.h"
 #include "tools/slambooster/claim.h"
 
 namespace sb::cli {
@@ -175,16 +177,22 @@ std::vector<Knobs> knobGrid(const std::vector<int>& csr, const std::vector<doubl
 }
 
 std::string knobsId(const Knobs& k) {
-  std::ostringstream s;
-  s << "csr" << k.csr << "_icp" << k.icpThreshold << "_pd" << k.pyramidIterations[0] << "-" << k.pyramidIterations[1]
-    << "-" << k.pyramidIterations[2] << "_tr" << k.trackingRate << "_ir" << k.integrationRate;
+  std::ostringstream s;  // csr1_icp1e-05_pd10-5-4_tr1_ir2: each knob by its name, pd's levels joined by '-'
+  forEachKnobField(k, [&s](const char* name, const auto& value) {
+    s << (s.tellp() > 0 ? "_" : "") << name;
+    if constexpr (std::is_arithmetic_v<std::decay_t<decltype(value)>>) {
+      s << value;
+    } else {
+      for (size_t i = 0; i < value.size(); ++i) s << (i ? "-" : "") << value[i];
+    }
+  });
   return s.str();
 }
 
 std::string sequenceName(const std::string& path) {
   fs::path p(path);
   while (!p.empty() && p.filename().empty()) p = p.parent_path();
-  if (p.filename() == "depth.txt") p = p.parent_path();
+  if (p.filename() == tum::kIndexFile) p = p.parent_path();
   return p.stem().string();
 }
 

@@ -2,6 +2,9 @@
 
 #include <cstdio>
 #include <sstream>
+#include <type_traits>
+
+#include "pipeline/knobs.h"
 
 namespace sb::ctl {
 
@@ -49,18 +52,25 @@ std::string formatPose(const nlohmann::json& m) {
 }
 
 std::string formatKnobs(const nlohmann::json& m) {
-  std::string pd;
-  if (m.contains("pd") && m["pd"].is_array())
-    for (const auto& v : m["pd"]) pd += (pd.empty() ? "" : ":") + v.dump();
+  std::string knobs;  // "csr=1 icp=1e-05 pd=10:5:4 tr=1 ir=2": each knob of pipeline/knobs.h's table
+  const sb::Knobs names{};
+  sb::forEachKnobField(names, [&](const char* name, const auto& member) {
+    std::string value;
+    if constexpr (std::is_arithmetic_v<std::decay_t<decltype(member)>>) {
+      value = str(m, name);
+    } else if (m.contains(name) && m[name].is_array()) {
+      for (const auto& v : m[name]) value += (value.empty() ? "" : ":") + v.dump();
+    }
+    knobs += (knobs.empty() ? "" : " ") + std::string(name) + "=" + value;
+  });
   std::string pinned;
   if (m.contains("pinned") && m["pinned"].is_array())
     for (const auto& v : m["pinned"])
       pinned += (pinned.empty() ? "" : ",") + (v.is_string() ? v.get<std::string>() : v.dump());
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "KNOBS  frame %6s  csr=%s icp=%s pd=%s tr=%s ir=%s  %.1f ms  controller %s%s%s",
-                str(m, "frame").c_str(), str(m, "csr").c_str(), str(m, "icp").c_str(), pd.c_str(),
-                str(m, "tr").c_str(), str(m, "ir").c_str(), num(m, "computation_ms"),
+                "KNOBS  frame %6s  %s  %.1f ms  controller %s%s%s", str(m, "frame").c_str(), knobs.c_str(),
+                num(m, "computation_ms"),
                 str(m, "controller").c_str(), pinned.empty() ? "" : "  pinned ", pinned.c_str());
   return buf;
 }

@@ -103,7 +103,6 @@ TEST_CASE("CpuBackend::integrate with block culling leaves the volume bit-identi
   config.volumeResolution = kResolution;
   config.mu = kMu;
   config.maxWeight = kMaxWeight;
-  config.integrateCarveEvery = 1;  // every integration carves: the whole view, culled
   const sb::Intrinsics full = sb::test::roomIntrinsics(160, 120);
   sb::ThreadPool pool(2);
   sb::CpuBackend cpu(config, full, pool);
