@@ -71,8 +71,8 @@ struct OdometryConfig {
   // decided by the evidence of this long (a wheel slip is one step; a stall, a pick-up or wrong wheels last
   // seconds), nothing fused meanwhile; a fault ends when the wheels' steps agree with the view again for calmS.
   // 0 (the default): off, a disagreement is decided by one frame's inertia. Measured (docs/odometry.md
-  // "Faults"): on, a stall's good frames more than 0.5 m off fall from 778 to 155, but a clean drive loses 16% of
-  // its frames in the U-turn; it stays off until that is solved.
+  // "Faults"): on, a stall is held and a clean drive stays posed, but a carried robot is never relocalised; it
+  // stays off until that is solved.
   double disputeS = 0.0;                  // seconds
   double calmS = 0.5;                     // seconds
   // A frame holds the map when its pair agreement is at least this fraction of the median of the recent
