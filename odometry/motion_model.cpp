@@ -5,15 +5,11 @@
 #include <cstdio>
 #include <vector>
 
+#include "odometry/format_numbers.h"
+
 namespace sb::odometry {
 
 namespace {
-
-std::string format(const char* fmt, double a, double b) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
-  return buf;
-}
 
 // The pose a frame ends with, as the decision stands.
 const Eigen::Isometry3d& finalPose(const FrameView& view) {
@@ -107,114 +103,6 @@ void MotionModel::judge(Pipeline& pipeline, const FrameView& view, const FrameMo
   if (faults_.fault() != WheelFault::none && view.odometry.why.empty()) view.odometry.why = faults_.why();
 }
 
-void MotionModel::judgeByInertia(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion) {
-  FrameResult& r = view.result;
-  Decision& d = view.decision;
-  if (r.tracked && motion.step) {
-    // The view and the wheels are weighed first; where they disagree along a motion the view fixes, physics says
-    // who is wrong: a tracked motion that departs further from the last velocity than the wheels' (inertia), or
-    // one the platform cannot make, is the view's error (the pose follows the odometry); otherwise the wheels
-    // slipped (the tracked pose stands).
-    const Eigen::Isometry3d predicted = *motion.predicted();
-    const Eigen::Isometry3d tracked = d.refinedPose ? *d.refinedPose : r.T_camera_to_world;
-    const Fusion f =
-        fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *motion.step, config_, motion.level);
-    if (!f.rejected) {
-      view.odometry.used = true;
-      if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
-      d.refinedPose = f.pose;
-      d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
-      return;
-    }
-    view.odometry.rejected = true;
-    view.odometry.why = f.why;
-    if (d.correctedPose) return;
-    const std::string inertia = viewBreaksInertia(motion.previousPose, tracked, predicted,
-                                                  r.timestamp - motion.previousStamp, lastVelocity_, config_.slipFloorM);
-    if (!inertia.empty())
-      discardTrack(pipeline, view, motion, inertia);
-    else
-      checkPhysics(pipeline, view, motion);
-    if (!r.tracked) {
-      view.odometry.rejected = false;
-      view.odometry.why.clear();
-    }
-  } else if (r.tracked && !d.correctedPose && motion.hasPrevious) {
-    checkPhysics(pipeline, view, motion);
-  }
-}
-
-void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion,
-                                     const std::optional<OdometryStep>& wheels) {
-  FrameResult& r = view.result;
-  Decision& d = view.decision;
-  if (!held_) {
-    // The view does not fit the map where it is tracked, whether or not the wheels agree with it: a robot set
-    // down elsewhere whose view matched a look-alike near the wheels' pose, or a view that ran away. Nothing is
-    // fused; the pose follows the wheels (within the dead-reckoning budget) while the evidence gathers.
-    faults_.viewContradicted(r.timestamp);
-    discardTrack(pipeline, view, motion, "the view does not fit the map where it is tracked (pair agreement " +
-                                             format("%.2f below %.2f)", r.pairAgreement, mapAgreement_.floor()));
-    return;
-  }
-  if (!wheels) {  // a fault open and no odometry at this frame: the view alone
-    if (!d.correctedPose && motion.hasPrevious) checkPhysics(pipeline, view, motion);
-    return;
-  }
-  const Eigen::Isometry3d predicted = motion.previousPose * wheels->delta;
-  const Eigen::Isometry3d tracked = d.refinedPose ? *d.refinedPose : r.T_camera_to_world;
-  // The view's rotation since it last fixed the pose, where it fixes every rotation: the evidence of the
-  // odometry's clock (whether or not the wheels agree: a latency is what makes them disagree in a turn).
-  if (lastViewPose_ && r.quality.known && r.quality.constrained) {
-    const Eigen::AngleAxisd turn(lastViewPose_->linear().transpose() * tracked.linear());
-    timeOffset_.add(*track_, lastViewStamp_, r.timestamp, turn.axis() * turn.angle());
-  }
-  const Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *wheels, config_, motion.level);
-  if (f.rejected) {
-    // A motion the platform cannot make is the view's error (a runaway along a wall), whoever disagrees with it.
-    if (!d.correctedPose) checkPhysics(pipeline, view, motion);
-    if (!r.tracked) return;
-    // A body keeps its velocity: a view that departs further from the last velocity than the wheels' step (it
-    // slid to a look-alike of the corridor by a door's spacing) is discarded for this frame, as a wheel step that
-    // jumps is. One frame's inertia cannot decide a fault that lasts, though: after a discarded view the last
-    // velocity is the wheels', and a stall's view (tracked from the wheels' prediction each frame) is discarded
-    // again and again while the map grows at the wheels' poses. So a correction the view asks for that keeps
-    // growing frame after frame is the wheels running away: the view's pose stands (wheel_faults.h diverging).
-    // Either way a dispute opens: nothing is fused and no pose is good until the evidence decides it.
-    // A view that stands where it last fixed the pose while the wheels drove on is a stall (the robot ran into
-    // something and its wheels spin): a sudden stop is a motion a body makes, and the view is no look-alike
-    // (one would not land on the very pose it left), so inertia does not discard it; it is the evidence.
-    if (!motion.withheld && !viewStill(tracked, motion, *wheels)) {
-      const std::string inertia = viewBreaksInertia(motion.previousPose, tracked, predicted,
-                                                    r.timestamp - motion.previousStamp, lastVelocity_,
-                                                    config_.slipFloorM);
-      if (!inertia.empty() && !faults_.diverging(r.timestamp, f.disagreementM)) {
-        discardTrack(pipeline, view, motion, inertia);
-        return;
-      }
-    }
-    faults_.wheelsContradicted(r.timestamp);
-    view.odometry.rejected = true;
-    view.odometry.why = f.why;
-  } else {
-    faults_.agreed(r.timestamp);
-  }
-  if (motion.withheld) {  // slipping: the wheels are watched, not used; the view alone, as without odometry
-    if (!f.rejected && !d.correctedPose && motion.hasPrevious) checkPhysics(pipeline, view, motion);
-    return;
-  }
-  if (f.rejected) {
-    d.integrate = false;  // the frame disagrees with the wheels: it does not feed the map until that is decided
-    return;
-  }
-  view.odometry.used = true;
-  if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
-  if (motion.reported && r.quality.known && r.quality.constrained)  // a view that fixes every rotation
-    mount_.learn(motion.previousPose.linear().transpose() * tracked.linear(), *motion.reported);
-  d.refinedPose = f.pose;
-  d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
-}
-
 void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
   const FrameResult& r = view.result;
   agreement_.push_back(r.pairAgreement);
@@ -290,17 +178,6 @@ void MotionModel::deadReckon(const FrameMotion& motion) {
   odometryTimeS_ += motion.step->dt;
 }
 
-bool MotionModel::viewStill(const Eigen::Isometry3d& tracked, const FrameMotion& motion,
-                            const OdometryStep& wheels) const {
-  if (!lastViewPose_) return false;
-  // The wheels' motion since the view last fixed the pose: this step, or the whole unchecked interval.
-  const double wheelsM = std::max(wheels.distanceM(), motion.uncheckedM);
-  const double viewM = (tracked.translation() - lastViewPose_->translation()).norm();
-  const double viewDeg =
-      Eigen::AngleAxisd(lastViewPose_->linear().transpose() * tracked.linear()).angle() * 180.0 / M_PI;
-  return viewM <= kStillM && viewDeg <= kStillDeg && wheelsM >= 2.0 * kStillM;
-}
-
 void MotionModel::relocalised() {
   lastViewPose_.reset();
   odometryPose_.reset();
@@ -370,7 +247,7 @@ bool MotionModel::followOdometry(const FrameView& view, const FrameMotion& motio
   odometryTimeS_ = time;
   view.odometry.driftM = distance;
   if (distance > c.maxDistanceM || time > c.maxTimeS) {
-    view.odometry.why = format("odometry alone for %.2f m, %.1f s: beyond its bound (max_distance_m, max_time_s)",
+    view.odometry.why = formatNumbers("odometry alone for %.2f m, %.1f s: beyond its bound (max_distance_m, max_time_s)",
                                distance, time);
     return false;
   }

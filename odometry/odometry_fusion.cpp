@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "odometry/format_numbers.h"
 #include "pipeline/icp_solve.h"
 
 namespace sb::odometry {
@@ -14,12 +15,6 @@ namespace {
 constexpr double kDegPerRad = 180.0 / 3.14159265358979323846;
 
 double angleOf(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle(); }
-
-std::string format(const char* fmt, double a, double b) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
-  return buf;
-}
 
 Eigen::Isometry3d rigid(const Eigen::Isometry3d& T) {
   Eigen::Isometry3d out = Eigen::Isometry3d::Identity();
@@ -35,7 +30,7 @@ std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, d
   const auto a = track.poseAt(t0, c.maxGapS, c.maxExtrapolationS);
   const auto b = track.poseAt(t1, c.maxGapS, c.maxExtrapolationS);
   if (!a || !b) {
-    why = format("no odometry at %.3f s (newest sample %.3f s)", a ? t1 : t0, track.newestStamp().value_or(NAN));
+    why = formatNumbers("no odometry at %.3f s (newest sample %.3f s)", a ? t1 : t0, track.newestStamp().value_or(NAN));
     return std::nullopt;
   }
   OdometryStep s;
@@ -78,14 +73,14 @@ std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& 
   if (!(dt > 0)) return {};
   const Eigen::Vector3d v = (pose.translation() - previous.translation()) / dt;
   if (v.norm() > c.maxSpeedMPerS)
-    return format("moved at %.2f m/s, beyond the platform's %.2f m/s", v.norm(), c.maxSpeedMPerS);
+    return formatNumbers("moved at %.2f m/s, beyond the platform's %.2f m/s", v.norm(), c.maxSpeedMPerS);
   const double turn = angleOf(previous.linear().transpose() * pose.linear()) * kDegPerRad / dt;
   if (turn > c.maxTurnRateDegPerS)
-    return format("turned at %.0f deg/s, beyond the platform's %.0f deg/s", turn, c.maxTurnRateDegPerS);
+    return formatNumbers("turned at %.0f deg/s, beyond the platform's %.0f deg/s", turn, c.maxTurnRateDegPerS);
   if (previousVelocity) {
     const double a = (v - *previousVelocity).norm() / dt;
     if (a > c.maxAccelerationMPerS2)
-      return format("accelerated at %.1f m/s^2, beyond the platform's %.1f m/s^2", a, c.maxAccelerationMPerS2);
+      return formatNumbers("accelerated at %.1f m/s^2, beyond the platform's %.1f m/s^2", a, c.maxAccelerationMPerS2);
   }
   return {};
 }
@@ -98,7 +93,7 @@ std::string viewBreaksInertia(const Eigen::Isometry3d& previous, const Eigen::Is
   const double departView = ((tracked.translation() - from) / dt - *lastVelocity).norm() * dt;
   const double departWheels = ((predicted.translation() - from) / dt - *lastVelocity).norm() * dt;
   if (departView <= departWheels || departView < floorM) return {};
-  return format("the view departs %.3f m from the last velocity in one frame, the odometry %.3f m: the view is wrong",
+  return formatNumbers("the view departs %.3f m from the last velocity in one frame, the odometry %.3f m: the view is wrong",
                 departView, departWheels);
 }
 
@@ -160,7 +155,7 @@ Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previ
   const double gateRad = std::max(c.slipSigmas * step.sigmaRad, c.slipFloorM);  // slipFloorM as radians: 1.7 deg
   if (f.disagreementM > gateM || f.disagreementRad > gateRad) {
     f.rejected = true;
-    f.why = format("the view moves the odometry's prediction by %.3f m, %.2f deg along the motions it fixes",
+    f.why = formatNumbers("the view moves the odometry's prediction by %.3f m, %.2f deg along the motions it fixes",
                    f.disagreementM, f.disagreementRad * kDegPerRad);
     return f;
   }
