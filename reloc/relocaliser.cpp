@@ -124,14 +124,16 @@ RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Iso
     }
   }
   std::optional<TrackAttempt> best;
+  double bestAgreement = 0.0;  // of the tracked attempts, for the log
   for (const auto& start : starts) {
     const TrackAttempt a = tryPose(start);
     ++out.tries;
+    if (a.tracked) bestAgreement = std::max(bestAgreement, a.pairAgreement);
     if (acceptable(a) && (!best || better(a, *best))) best = a;
   }
   if (!best) {
-    char bar[64];
-    std::snprintf(bar, sizeof bar, " (agreement needed %.2f)", requiredAgreement());
+    char bar[96];
+    std::snprintf(bar, sizeof bar, " (best agreement %.2f, needed %.2f)", bestAgreement, requiredAgreement());
     out.why += "no candidate of " + std::to_string(starts.size()) + " passed" + bar;
     return out;
   }
