@@ -17,9 +17,11 @@ void MotionModel::judgeByInertia(Pipeline& pipeline, const FrameView& view, cons
     // slipped (the tracked pose stands).
     const Eigen::Isometry3d predicted = *motion.predicted();
     const Eigen::Isometry3d tracked = d.refinedPose ? *d.refinedPose : r.T_camera_to_world;
-    const Fusion f =
-        fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *motion.step, config_, motion.level);
+    const Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *motion.step, config_,
+                                      motion.level, takeFusedCovariance(motion));
     if (!f.rejected) {
+      fusedCovariance_ = f.covariance;
+      fusedStamp_ = r.timestamp;
       view.odometry.used = true;
       if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
       d.refinedPose = f.pose;
@@ -69,7 +71,8 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     const Eigen::AngleAxisd turn(lastViewPose_->linear().transpose() * tracked.linear());
     timeOffset_.add(*track_, lastViewStamp_, r.timestamp, turn.axis() * turn.angle());
   }
-  const Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *wheels, config_, motion.level);
+  const Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *wheels, config_, motion.level,
+                                    takeFusedCovariance(motion));
   if (f.rejected) {
     // A motion the platform cannot make is the view's error (a runaway along a wall), whoever disagrees with it.
     if (!d.correctedPose) checkPhysics(pipeline, view, motion);
@@ -108,11 +111,20 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     return;
   }
   view.odometry.used = true;
+  fusedCovariance_ = f.covariance;
+  fusedStamp_ = r.timestamp;
   if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
   if (motion.reported && r.quality.known && r.quality.constrained)  // a view that fixes every rotation
     mount_.learn(motion.previousPose.linear().transpose() * tracked.linear(), *motion.reported);
   d.refinedPose = f.pose;
   d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
+}
+
+std::optional<Matrix6> MotionModel::takeFusedCovariance(const FrameMotion& motion) {
+  std::optional<Matrix6> out;
+  if (fusedCovariance_ && motion.hasPrevious && fusedStamp_ == motion.previousStamp) out = fusedCovariance_;
+  fusedCovariance_.reset();
+  return out;
 }
 
 bool MotionModel::viewStill(const Eigen::Isometry3d& tracked, const FrameMotion& motion,

@@ -173,6 +173,11 @@ class MotionModel {
   bool held_ = false;             // the last judged frame's view held the map
   bool needsView_ = false;
   std::optional<Eigen::Vector3d> lastVelocity_;  // m/s, world frame: of the last tracked frame's motion
+  // The covariance of the last fused frame's pose and its stamp: the next frame's prior when it is that frame.
+  std::optional<Matrix6> fusedCovariance_;
+  double fusedStamp_ = 0.0;
+  // fusedCovariance_ when the frame before `motion`'s was fused (then reset: a frame not fused leaves none).
+  std::optional<Matrix6> takeFusedCovariance(const FrameMotion& motion);
   // Dead reckoning on the odometry since depth last tracked: the pose, the distance and time driven.
   std::optional<Eigen::Isometry3d> odometryPose_;
   double odometryDistanceM_ = 0.0, odometryTimeS_ = 0.0;

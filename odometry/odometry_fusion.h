@@ -11,6 +11,7 @@
 
 #include "odometry/odometry_config.h"
 #include "odometry/odometry_track.h"
+#include "pipeline/icp_solve.h"
 #include "pipeline/tracking_quality.h"
 
 namespace sb::odometry {
@@ -64,6 +65,9 @@ struct Fusion {
   double disagreementM = 0.0;   // along those motions: translation (metres) ...
   double disagreementRad = 0.0;  // ... and rotation (radians)
   std::string why;            // when rejected
+  // The fused pose's covariance (world-frame twists of icp_solve.h, a left perturbation), when fused: the next
+  // frame's prior is this plus the wheels' step noise (`priorCovariance` of fuseWithOdometry).
+  std::optional<Matrix6> covariance;
 };
 
 // The odometry's absolute tilt (tilt_sigma_deg): its camera pose and its up axis, both in the world frame.
@@ -80,9 +84,17 @@ struct Level {
 // 7.7; a fixed 5 mm 5.7 but DEFAULT's 4.5 -> 9.3; 1 mm 8.4, 10 mm 16.4).
 // With `level` the odometry's tilt is a third measurement, with its own sigma (tilt_sigma_deg). Its height is not:
 // held to the odometry's height the fused pose pitched to meet the map's floor and ran away (docs/odometry.md).
+// `previousCovariance`: the uncertainty of `previous` (Fusion::covariance of the frame before, when that frame was
+// fused): the prediction is as uncertain as the previous pose plus the step, as a Kalman filter's prior is.
+// Without it the previous pose counts as exact and the prediction as uncertain as one step: ICP registers
+// against the map (an absolute measurement) and the wheels report increments, so a wheel bias b per frame left a
+// standing error of about b (1 - K) / K, K the view's share of one frame, which for the heading of a corridor
+// seen lengthwise is small (a 0.3 deg/s gyro drift bent the map 1.4-2.3 deg, 0.25-0.5 m across at 15 m; without
+// odometry 0.04 m: docs/odometry.md). With it, K grows to the filter's steady state.
 Fusion fuseWithOdometry(const TrackingQuality& quality, const Eigen::Isometry3d& previous,
                         const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted,
                         const OdometryStep& step, const OdometryConfig& c,
-                        const std::optional<Level>& level = std::nullopt);
+                        const std::optional<Level>& level = std::nullopt,
+                        const std::optional<Matrix6>& previousCovariance = std::nullopt);
 
 }  // namespace sb::odometry

@@ -224,3 +224,38 @@ TEST_CASE("the odometry's tilt is absolute: a fused pose is drawn to it", "[odom
   off.tiltSigmaDeg = 0.0;
   CHECK(fuseWithOdometry(q, predicted, predicted, predicted, step, off, Level{odometry, up}).pose.isApprox(predicted, 1e-9));
 }
+
+TEST_CASE("a wheel bias held against a view of the map: the previous pose's covariance bounds the standing error",
+          "[odometry][fusion]") {
+  // The camera stands still, ICP finds it where it is (the map is right), and the wheels turn it 0.01 deg a frame
+  // (a 0.3 deg/s gyro drift at 30 Hz). Each frame's fusion starts from the last fused pose. Counting the previous
+  // pose as exact, the view's share of each frame stays K and the error stands at about b (1 - K) / K; with its
+  // covariance carried (a Kalman filter's prior), the share grows to the filter's steady state.
+  const OdometryConfig c;
+  const double biasRad = 0.01 * M_PI / 180.0;
+  const TrackingQuality q = view(0.01);  // a view that fixes every motion, weakly (a corridor's heading)
+  auto standing = [&](const Eigen::Vector3d& axis, bool carry) {
+    const Eigen::Isometry3d turn(Eigen::AngleAxisd(biasRad, axis));
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    std::optional<Matrix6> covariance;
+    for (int i = 0; i < 600; ++i) {
+      OdometryStep step = stepOf(turn, c);
+      const Fusion f = fuseWithOdometry(q, pose, Eigen::Isometry3d::Identity(), pose * turn, step, c, std::nullopt,
+                                        carry ? covariance : std::nullopt);
+      REQUIRE_FALSE(f.rejected);
+      REQUIRE(f.covariance);
+      pose = f.pose;
+      covariance = f.covariance;
+    }
+    return Eigen::AngleAxisd(pose.linear()).angle() / biasRad;  // in frames of bias
+  };
+  const Eigen::Vector3d up = OdometryStep{}.up, across = up.unitOrthogonal();
+  const double exact = standing(up, false), carried = standing(up, true);
+  INFO("standing heading error in frames of bias: previous pose exact " << exact << ", covariance carried " << carried);
+  // Here K is about 1/80: counted exact, 80 frames of bias (0.8 deg); carried, the filter's share is about
+  // sqrt(K) (its prior grows until the two weigh so), about 9 frames (0.09 deg).
+  CHECK(exact > 40.0);
+  CHECK(carried < exact / 5.0);
+  // A tilt bias likewise (the odometry's absolute tilt is not given here).
+  CHECK(standing(across, true) < standing(across, false) / 5.0);
+}
