@@ -8,6 +8,8 @@
 // written by both. tests/daemon/test_frame_report.cpp checks every row against both encodings.
 //
 // The rule both encoders keep: a field without a value (an empty std::optional, an empty string) is absent.
+// The readers name the fields by the table too (poseField): POSE's in ros/daemon_reports.cpp, frames.jsonl's in
+// report/frame_log.cpp.
 
 #include <array>
 #include <cstdint>
@@ -53,6 +55,9 @@ struct PoseField {
   const char* unit;       // "" for flags, names and counts
 };
 
+// POSE's name of the velocity before protocol 1.3, kept for the clients of 1.0-1.2 (a row of its own).
+inline constexpr const char* kPoseLegacyVelocity = "velocity";
+
 // Calls field(row, member) for each field, in the table's order. `P` is PoseFields or const PoseFields.
 template <typename P, typename Field>
 void forEachPoseField(P& p, Field&& field) {
@@ -64,8 +69,7 @@ void forEachPoseField(P& p, Field&& field) {
   field(PoseField{"corrected", "corrected", nullptr, nullptr, ""}, p.corrected);
   field(PoseField{"state", "state", nullptr, nullptr, ""}, p.state);
   field(PoseField{"velocity_m_per_frame", "velocity_m_per_frame", nullptr, nullptr, "m/frame"}, p.velocityMPerFrame);
-  // The velocity's POSE name before protocol 1.3, kept for the clients of 1.0-1.2.
-  field(PoseField{"velocity", nullptr, nullptr, nullptr, "m/frame"}, p.velocityMPerFrame);
+  field(PoseField{kPoseLegacyVelocity, nullptr, nullptr, nullptr, "m/frame"}, p.velocityMPerFrame);
   field(PoseField{"conditioning", "conditioning", nullptr, nullptr, ""}, p.conditioning);
   field(PoseField{"weakest_motion", "weakest_motion", nullptr, nullptr, ""}, p.weakestMotion);
   field(PoseField{"constrained", "constrained", nullptr, "conditioning", ""}, p.constrained);
@@ -73,6 +77,19 @@ void forEachPoseField(P& p, Field&& field) {
   field(PoseField{"odometry_drift_m", "drift_m", "odometry", nullptr, "m"}, p.odometryDriftM);
   field(PoseField{"odometry_fault", "fault", "odometry", nullptr, ""}, p.odometryFault);
   field(PoseField{"kept_map", "kept_map", nullptr, nullptr, ""}, p.keptMap);
+}
+
+// The row of a member (its first: the velocity's is velocity_m_per_frame): poseField(&PoseFields::timestamp).name
+// is "timestamp". Every member has a row (tests/daemon/test_frame_report.cpp).
+template <typename M>
+PoseField poseField(M PoseFields::*member) {
+  static const PoseFields fields{};
+  PoseField found{nullptr, nullptr, nullptr, nullptr, nullptr};
+  forEachPoseField(fields, [&](const PoseField& row, const auto& m) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(m)>, M>)
+      if (!found.name && &m == &(fields.*member)) found = row;
+  });
+  return found;
 }
 
 // Calls write(row, value) for each field that has a value, the value as JSON (a state by its name), in the

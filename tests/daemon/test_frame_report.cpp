@@ -3,14 +3,17 @@
 // values under their frames.jsonl names. A row one encoder leaves out or names otherwise, a field written past
 // the table, or a field the ROS bridge reads under another name (ros/daemon_reports.h), fails here.
 #include <catch2/catch.hpp>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "core/pose_fields.h"
 #include "daemon/frame_report.h"
+#include "report/frame_log.h"
 #include "ros/daemon_reports.h"
 #include "runtime/frame_log_sink.h"
 #include "runtime/knob_pins.h"
+#include "tests/support/test_data.h"
 #include "report/run_summary.h"
 
 using namespace sb;
@@ -118,6 +121,50 @@ TEST_CASE("a pose field without a value is absent from both encodings; frames.js
   CHECK(withOdometry.at("odometry").at("available") == true);
   CHECK(withOdometry.at("odometry").at("drift_m") == 0.25);
   CHECK_FALSE(withOdometry.at("odometry").contains("fault"));
+}
+
+TEST_CASE("the readers name the pose fields by the table: report/ reads frames.jsonl's, the bridge POSE's",
+          "[daemon][protocol][report][ros]") {
+  // Every member has its row (poseField finds it), each with both names where both encoders write it.
+  CHECK(poseField(&PoseFields::frame).name == std::string("frame"));
+  CHECK(poseField(&PoseFields::velocityMPerFrame).name == std::string("velocity_m_per_frame"));  // the first row
+  CHECK(poseField(&PoseFields::odometryDriftM).logObject == std::string("odometry"));
+  for (const PoseField& row :
+       {poseField(&PoseFields::timestamp), poseField(&PoseFields::position), poseField(&PoseFields::quaternion),
+        poseField(&PoseFields::tracked), poseField(&PoseFields::corrected), poseField(&PoseFields::state),
+        poseField(&PoseFields::conditioning), poseField(&PoseFields::weakestMotion),
+        poseField(&PoseFields::constrained), poseField(&PoseFields::odometry), poseField(&PoseFields::odometryFault),
+        poseField(&PoseFields::keptMap)}) {
+    REQUIRE(row.name != nullptr);
+    CHECK(row.logName != nullptr);
+  }
+
+  // report/frame_log.cpp reads frames.jsonl as frameRecordToJson writes it.
+  FrameRecord rec = sampleRecord();
+  rec.odometry.fault = sb::odometry::WheelFault::none;  // fault-free: the state stays odometry
+  const std::string path = sb::test::scratchDir("frame_report_readers") + "/frames.jsonl";
+  std::ofstream(path) << frameRecordToJson(rec).dump() << "\n";
+  const auto read = report::readFrameLog(path);
+  CHECK(read.problems.empty());
+  REQUIRE(read.log.size() == 1);
+  const PoseFields p = poseFieldsOf(rec);
+  CHECK(read.log.frame[0] == 42);
+  CHECK(read.log.timestamp[0] == 1234.5);
+  CHECK(read.log.tracked[0] == 1.0);
+  CHECK(read.log.velocity[0] == p.velocityMPerFrame);
+  CHECK(read.log.conditioning[0] == *p.conditioning);
+  CHECK(read.log.constrained[0] == 0.0);
+  CHECK(read.log.state[0] == static_cast<double>(TrackingState::odometry));
+  CHECK(read.log.triggerFrames("correction") == std::vector<double>{42});  // "corrected": true
+  for (size_t i = 0; i < 3; ++i) CHECK(read.log.pose[0][i] == p.position[i]);
+  for (size_t i = 0; i < 4; ++i) CHECK(read.log.pose[0][3 + i] == p.quaternion[i]);
+  REQUIRE(read.log.odometryColumn("drift_m"));
+  CHECK(read.log.odometryColumn("drift_m")->values[0] == 0.75);
+
+  // A POSE of a daemon before protocol 1.3 (the velocity under its older name alone) still gives the velocity.
+  nlohmann::json old = poseMessage(frameReport(rec, {}));
+  old.erase("velocity_m_per_frame");
+  CHECK(ros_bridge::parsePose(old).velocity == p.velocityMPerFrame);
 }
 
 TEST_CASE("KNOBS carries the record's values under their frames.jsonl names", "[daemon][protocol]") {
