@@ -1,7 +1,7 @@
 #pragma once
-// The one projection of a frame's record (runtime/frame_record.h) onto what the socket publishes: POSE's and
-// KNOBS's typed fields (daemon/protocol.h). The frame is encoded once, for frames.jsonl
-// (runtime/frame_log_sink.h); the socket's messages are written from these fields.
+// What the socket publishes of a frame's record (runtime/frame_record.h): POSE's fields, the pose record
+// frames.jsonl writes too (runtime/frame_log_sink.h's poseFieldsOf, core/pose_fields.h's table), and KNOBS's
+// (daemon/protocol.h).
 
 #include <string>
 #include <vector>

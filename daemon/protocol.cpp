@@ -168,25 +168,8 @@ nlohmann::json versionMessage(const std::string& release) {
 }
 
 nlohmann::json poseMessage(const FrameReport& r) {
-  const PoseFields& p = r.pose;
-  nlohmann::json j = {{"class", "POSE"},
-                      {"frame", p.frame},
-                      {"timestamp", p.timestamp},
-                      {"position", p.position},
-                      {"quaternion", p.quaternion},
-                      {"tracked", p.tracked},
-                      {"corrected", p.corrected},
-                      {"state", trackingStateName(p.state)},
-                      {"velocity_m_per_frame", p.velocityMPerFrame},
-                      // The velocity's name before protocol 1.3, kept for the clients of 1.0-1.2.
-                      {"velocity", p.velocityMPerFrame},
-                      {"constrained", p.constrained},
-                      {"odometry", p.odometry},
-                      {"odometry_drift_m", p.odometryDriftM}};
-  if (p.conditioning) j["conditioning"] = *p.conditioning;
-  if (!p.weakestMotion.empty()) j["weakest_motion"] = p.weakestMotion;
-  if (!p.odometryFault.empty()) j["odometry_fault"] = p.odometryFault;
-  if (!p.keptMap.empty()) j["kept_map"] = p.keptMap;
+  nlohmann::json j = {{"class", "POSE"}};
+  forEachPoseValue(r.pose, [&](const PoseField& row, nlohmann::json value) { j[row.name] = std::move(value); });
   return j;
 }
 

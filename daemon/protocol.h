@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "core/energy_report.h"
+#include "core/pose_fields.h"
 #include "daemon/odom_request.h"
 #include "pipeline/knobs.h"
 #include "core/tracking_state.h"
@@ -69,32 +70,8 @@ struct ParseResult {
 ParseResult parseRequest(std::string_view line);
 
 // One processed frame as the SLAM thread publishes it, typed: immutable once made (daemon/frame_report.h makes
-// it from the frame's record). POSE and KNOBS are written from these fields; their names on the wire are in
-// poseMessage and knobsMessage, and tests/daemon/test_frame_report.cpp checks each against the frames.jsonl
-// field of the same meaning, so a field renamed on either side fails a test.
-struct PoseFields {
-  uint64_t frame = 0;
-  double timestamp = 0.0;                        // seconds, the frame's capture time
-  std::array<double, 3> position{};              // T_camera_to_world translation, metres
-  std::array<double, 4> quaternion{0, 0, 0, 1};  // qx, qy, qz, qw
-  bool tracked = false;
-  bool corrected = false;
-  TrackingState state = TrackingState::good;
-  double velocityMPerFrame = 0.0;
-  std::optional<double> conditioning;  // when ICP ran
-  std::string weakestMotion;           // "tx".."rz" when ICP ran, else empty
-  bool constrained = true;             // true when the conditioning is not known
-  // Protocol 1.4, the robot's odometry (docs/odometry.md): the frame had an odometry pose at its stamp, and
-  // the distance driven on odometry alone since depth last tracked (metres; 0 unless state is odometry).
-  bool odometry = false;
-  double odometryDriftM = 0.0;
-  // Protocol 1.8: the wheels and the view disagree (odometry/wheel_faults.h); "" when they do not.
-  std::string odometryFault;
-  // Protocol 1.9: a run started with a kept map (docs/map-store.md): "localising" (the pose is in no frame
-  // of the store yet; the state is lost) or "localised" (the pose is in the store's frame); "" without one.
-  std::string keptMap;
-};
-
+// it from the frame's record). POSE is written from the pose record's table (core/pose_fields.h), the table
+// frames.jsonl's encoder is made from too; KNOBS from KnobFields, each knob by pipeline/knobs.h's table.
 struct KnobFields {
   uint64_t frame = 0;
   std::string controller;

@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "core/pose_fields.h"
 #include "core/tracking_state.h"
 #include "pipeline/knobs.h"
 
@@ -48,6 +49,13 @@ const json* find(const json& j, std::initializer_list<const char*> path) {
 
 const char* typeName(const json& j) { return j.type_name(); }
 
+// A pose field's frames.jsonl key, by the pose record's table (core/pose_fields.h), the one frames.jsonl is
+// written from.
+template <typename M>
+const char* logKey(M PoseFields::*member) {
+  return poseField(member).logName;
+}
+
 // Numeric value at `path`; NaN when absent or null; a problem when present with another type.
 double number(const json& j, std::initializer_list<const char*> path, const std::string& where, ProblemList& problems) {
   const json* v = find(j, path);
@@ -72,8 +80,8 @@ void addTrigger(FrameLog& log, const std::string& name, double frame) {
 void addPose(FrameLog& log, const json& j) {
   std::array<double, 7> pose;
   pose.fill(kNaN);
-  const json* p = find(j, {"position"});
-  const json* q = find(j, {"quaternion"});
+  const json* p = find(j, {logKey(&PoseFields::position)});
+  const json* q = find(j, {logKey(&PoseFields::quaternion)});
   if (p && q && p->is_array() && q->is_array() && p->size() == 3 && q->size() == 4) {
     for (size_t i = 0; i < 7; ++i) {
       const json& v = i < 3 ? (*p)[i] : (*q)[i - 3];
@@ -88,10 +96,11 @@ void addPose(FrameLog& log, const json& j) {
 void addOdometry(FrameLog& log, const json& j, size_t index, const std::string& where, ProblemList& problems) {
   for (auto& c : log.odometry) c.values.push_back(kNaN);
   for (auto& c : log.odometryText) c.values.emplace_back();
-  const json* o = find(j, {"odometry"});
+  const char* const odometry = poseField(&PoseFields::odometry).logObject;
+  const json* o = find(j, {odometry});
   if (!o) return;
   if (!o->is_object()) {
-    problems.add(where + ": 'odometry' should be an object, found " + typeName(*o));
+    problems.add(where + ": '" + odometry + "' should be an object, found " + typeName(*o));
     return;
   }
   log.recordsOdometry = true;
@@ -119,17 +128,17 @@ void addOdometry(FrameLog& log, const json& j, size_t index, const std::string& 
 
 void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemList& problems) {
   const size_t index = log.size();
-  double frame = number(j, {"frame"}, where, problems);
+  double frame = number(j, {logKey(&PoseFields::frame)}, where, problems);
   log.frame.push_back(std::isfinite(frame) ? frame : static_cast<double>(index));
-  log.timestamp.push_back(number(j, {"timestamp"}, where, problems));
+  log.timestamp.push_back(number(j, {logKey(&PoseFields::timestamp)}, where, problems));
   log.csr.push_back(number(j, {"knobs", knobKey(&Knobs::csr).name}, where, problems));
   log.icp.push_back(number(j, {"knobs", knobKey(&Knobs::icpThreshold).name}, where, problems));
   const json* pd = find(j, {"knobs", kIterationsKnob});
   log.pd0.push_back(pd && pd->is_array() && !pd->empty() && (*pd)[0].is_number() ? (*pd)[0].get<double>() : kNaN);
   log.computationMs.push_back(number(j, {"computation_ms"}, where, problems));
-  log.tracked.push_back(number(j, {"tracked"}, where, problems));
+  log.tracked.push_back(number(j, {logKey(&PoseFields::tracked)}, where, problems));
   log.trackingAttempted.push_back(number(j, {"tracking_attempted"}, where, problems));
-  log.velocity.push_back(number(j, {"velocity_m_per_frame"}, where, problems));
+  log.velocity.push_back(number(j, {logKey(&PoseFields::velocityMPerFrame)}, where, problems));
   double joules = number(j, {"joules"}, where, problems);
   if (!std::isfinite(joules)) joules = number(j, {"energy_j"}, where, problems);
   log.joules.push_back(joules);
@@ -149,10 +158,10 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   }
 
   log.level.push_back(number(j, {"level"}, where, problems));
-  log.conditioning.push_back(number(j, {"conditioning"}, where, problems));
-  log.constrained.push_back(number(j, {"constrained"}, where, problems));
+  log.conditioning.push_back(number(j, {logKey(&PoseFields::conditioning)}, where, problems));
+  log.constrained.push_back(number(j, {logKey(&PoseFields::constrained)}, where, problems));
   log.state.push_back(kNaN);
-  if (const json* state = find(j, {"state"})) {
+  if (const json* state = find(j, {logKey(&PoseFields::state)})) {
     if (state->is_string())
       if (const auto s = trackingStateFromName(state->get<std::string>())) log.state.back() = static_cast<double>(*s);
     if (!std::isfinite(log.state.back()))
@@ -167,7 +176,7 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
       problems.add(where + ": 'triggers' should be a list of names, found " + typeName(*triggers));
     }
   }
-  if (const json* corrected = find(j, {"corrected"}); corrected && corrected->is_boolean()) {
+  if (const json* corrected = find(j, {logKey(&PoseFields::corrected)}); corrected && corrected->is_boolean()) {
     log.recordsTriggers = true;
     if (corrected->get<bool>()) addTrigger(log, "correction", log.frame.back());
   }

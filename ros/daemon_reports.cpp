@@ -5,6 +5,7 @@
 #include <type_traits>
 
 #include "core/error.h"
+#include "core/pose_fields.h"
 
 namespace sb::ros_bridge {
 
@@ -62,21 +63,31 @@ TrackingState trackingStateOf(const PoseReport& pose) {
 
 PoseReport parsePose(const nlohmann::json& j) {
   constexpr const char* cls = "POSE";
+  // Each member by its name in the pose record's table (core/pose_fields.h), the one POSE is written from.
+  const auto name = [](auto member) { return poseField(member).name; };
+  const auto text = [&](const char* key) -> std::optional<std::string> {
+    const auto it = j.find(key);
+    return it != j.end() && it->is_string() ? std::optional<std::string>(it->get<std::string>()) : std::nullopt;
+  };
   PoseReport p;
   p.frame = frameOf(j, cls);
-  p.timestamp = number(j, cls, "timestamp");
-  p.position = numbers<3>(j, cls, "position");
-  p.quaternion = numbers<4>(j, cls, "quaternion");
-  p.tracked = flag(j, cls, "tracked");
-  if (j.contains("corrected")) p.corrected = flag(j, cls, "corrected");
-  if (j.contains("velocity")) p.velocity = number(j, cls, "velocity");
-  if (j.contains("constrained")) p.constrained = flag(j, cls, "constrained");
-  if (j.contains("conditioning")) p.conditioning = number(j, cls, "conditioning");
-  if (const auto it = j.find("weakest_motion"); it != j.end() && it->is_string()) p.weakestMotion = *it;
-  if (const auto it = j.find("state"); it != j.end() && it->is_string()) p.state = it->get<std::string>();
-  if (j.contains("odometry")) p.odometry = flag(j, cls, "odometry");
-  if (j.contains("odometry_drift_m")) p.odometryDriftM = number(j, cls, "odometry_drift_m");
-  if (const auto it = j.find("kept_map"); it != j.end() && it->is_string()) p.keptMap = it->get<std::string>();
+  p.timestamp = number(j, cls, name(&PoseFields::timestamp));
+  p.position = numbers<3>(j, cls, name(&PoseFields::position));
+  p.quaternion = numbers<4>(j, cls, name(&PoseFields::quaternion));
+  p.tracked = flag(j, cls, name(&PoseFields::tracked));
+  if (const char* k = name(&PoseFields::corrected); j.contains(k)) p.corrected = flag(j, cls, k);
+  // The velocity under its name since protocol 1.3, else under the older one.
+  if (const char* k = name(&PoseFields::velocityMPerFrame); j.contains(k))
+    p.velocity = number(j, cls, k);
+  else if (j.contains(kPoseLegacyVelocity))
+    p.velocity = number(j, cls, kPoseLegacyVelocity);
+  if (const char* k = name(&PoseFields::constrained); j.contains(k)) p.constrained = flag(j, cls, k);
+  if (const char* k = name(&PoseFields::conditioning); j.contains(k)) p.conditioning = number(j, cls, k);
+  p.weakestMotion = text(name(&PoseFields::weakestMotion)).value_or("");
+  p.state = text(name(&PoseFields::state));
+  if (const char* k = name(&PoseFields::odometry); j.contains(k)) p.odometry = flag(j, cls, k);
+  if (const char* k = name(&PoseFields::odometryDriftM); j.contains(k)) p.odometryDriftM = number(j, cls, k);
+  p.keptMap = text(name(&PoseFields::keptMap)).value_or("");
   p.trackingState = trackingStateOf(p);
   return p;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // What the ROS bridge reads from slamboosterd's socket (docs/protocol.md): POSE, KNOBS and ENERGY reports as
 // typed structs. No ROS here, so the parsing is tested on its own. Unknown members are ignored (the protocol's
-// rule); a missing optional member keeps its default.
+// rule); a missing optional member keeps its default. POSE's members are read by their names in the pose
+// record's table (core/pose_fields.h), the table the daemon writes POSE from; KNOBS's knobs by pipeline/knobs.h's.
 
 #include <array>
 #include <nlohmann/json_fwd.hpp>

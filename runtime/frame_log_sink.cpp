@@ -2,33 +2,51 @@
 
 #include <Eigen/Geometry>
 
+#include "core/pose_fields.h"
+
 namespace sb {
+
+PoseFields poseFieldsOf(const FrameRecord& rec) {
+  const FrameResult& r = rec.result;
+  PoseFields p;
+  p.frame = r.frame;
+  p.timestamp = r.timestamp;
+  // The final pose, T_camera_to_world in the volume frame (metres; quaternion qx, qy, qz, qw, TUM order): what
+  // trajectory.tum records, and for a lost frame the pose it holds.
+  const Eigen::Vector3d t = r.T_camera_to_world.translation();
+  const Eigen::Quaterniond q(r.T_camera_to_world.rotation());
+  p.position = {t.x(), t.y(), t.z()};
+  p.quaternion = {q.x(), q.y(), q.z(), q.w()};
+  p.tracked = r.tracked;
+  p.corrected = r.poseOverridden;
+  p.state = rec.state;
+  p.velocityMPerFrame = r.velocity;
+  if (r.quality.known) {
+    p.conditioning = r.quality.conditioning;
+    p.weakestMotion = weakDirectionName(r.quality.weakest);
+    p.constrained = r.quality.constrained;
+  }
+  p.odometry = rec.odometry.available;
+  p.odometryDriftM = rec.odometry.driftM;
+  if (rec.odometry.fault != odometry::WheelFault::none) p.odometryFault = odometry::wheelFaultName(rec.odometry.fault);
+  if (rec.keptMap != KeptMap::none) p.keptMap = keptMapName(rec.keptMap);
+  return p;
+}
 
 nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   const FrameResult& r = rec.result;
   nlohmann::json stages = nlohmann::json::object();
   for (int s = 0; s < kStageCount; ++s) stages[stageName(static_cast<Stage>(s))] = r.times.ms[s];
-  // The final pose, T_camera_to_world in the volume frame (metres; quaternion qx, qy, qz, qw, TUM order): what
-  // trajectory.tum records, and for a lost frame the pose it holds.
-  const Eigen::Vector3d t = r.T_camera_to_world.translation();
-  const Eigen::Quaterniond q(r.T_camera_to_world.rotation());
-  nlohmann::json j = {{"frame", r.frame},
-                      {"timestamp", r.timestamp},
-                      {"position", {t.x(), t.y(), t.z()}},
-                      {"quaternion", {q.x(), q.y(), q.z(), q.w()}},
-                      {"knobs", knobsToJson(r.knobs)},
+  // The pose record's fields (frame, timestamp, pose, state ...) are written last, by its table.
+  nlohmann::json j = {{"knobs", knobsToJson(r.knobs)},
                       {"ms", stages},
                       {"computation_ms", r.times.computationMs()},
                       {"tracking_attempted", r.trackingAttempted},
-                      {"tracked", r.tracked},
-                      {"state", trackingStateName(rec.state)},
                       {"integrated", r.integrated},
                       {"icp_iterations", r.icpIterations},
                       {"residual_m", r.residual},
                       {"inliers", r.inlierFraction},
-                      {"velocity_m_per_frame", r.velocity},
                       {"tracked_velocity_m_per_frame", rec.trackedVelocity},
-                      {"corrected", r.poseOverridden},
                       {"controller", rec.controller},
                       {"controller_ms", rec.controllerMs},
                       {"triggers", triggerNames(rec.decision.triggers)},
@@ -44,12 +62,7 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
     j["icp_level_iterations"] = {r.icpLevelIterations[0], r.icpLevelIterations[1], r.icpLevelIterations[2]};
     j["icp_update_norm"] = r.icpUpdateNorm;
   }
-  if (r.quality.known) {
-    j["conditioning"] = r.quality.conditioning;
-    j["icp_conditioning"] = r.quality.icpConditioning;
-    j["weakest_motion"] = weakDirectionName(r.quality.weakest);
-    j["constrained"] = r.quality.constrained;
-  }
+  if (r.quality.known) j["icp_conditioning"] = r.quality.icpConditioning;
   if (r.trackingAttempted) j["pair_agreement"] = r.pairAgreement;
   if (rec.relocalising)
     j["relocalisation"] = {{"tries", rec.relocalisation.tries},
@@ -57,12 +70,10 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                            {"why", rec.relocalisation.why}};
   if (rec.keyframeAdded) j["keyframe_added"] = true;
   j["keyframes"] = rec.keyframes;
-  if (rec.keptMap != KeptMap::none) j["kept_map"] = keptMapName(rec.keptMap);
   const FrameOdometry& o = rec.odometry;
   if (o.available || !o.why.empty()) {  // only in runs with odometry: others keep their frames.jsonl
-    j["odometry"] = {{"available", o.available}, {"used", o.used}, {"rejected", o.rejected}, {"drift_m", o.driftM}};
+    j["odometry"] = {{"used", o.used}, {"rejected", o.rejected}};  // with the table's available, drift_m, fault
     if (o.fused) j["odometry"]["fused"] = true;
-    if (o.fault != odometry::WheelFault::none) j["odometry"]["fault"] = odometry::wheelFaultName(o.fault);
     if (o.calibration) {  // the learnt errors so far (report.html plots them over the run)
       j["odometry"]["scale_error"] = o.calibration->scale;
       j["odometry"]["yaw_scale_error"] = o.calibration->yawScale;
@@ -85,6 +96,13 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
     for (int s = 0; s < kStageCount; ++s) device[stageName(static_cast<Stage>(s))] = r.times.deviceMs[s];
     j["device_ms"] = device;
   }
+  forEachPoseValue(poseFieldsOf(rec), [&](const PoseField& row, nlohmann::json value) {
+    if (!row.logName || (row.logWith && !j.contains(row.logWith))) return;  // POSE's alone, or not in this line
+    if (!row.logObject)
+      j[row.logName] = std::move(value);
+    else if (const auto object = j.find(row.logObject); object != j.end())
+      (*object)[row.logName] = std::move(value);
+  });
   return j;
 }
 

@@ -1,8 +1,9 @@
 #pragma once
 // The per-frame log, frames.jsonl: one JSON object per frame with the knobs it ran with, stage times (ms,
 // classic stage names), tracking result, final pose, velocity, the controller's triggers and next knobs.
-// frameRecordToJson is the one encoder of a frame: the daemon's POSE and KNOBS messages are typed projections
-// of the same record (daemon/frame_report.h), each field under its frames.jsonl name. Each line is
+// frameRecordToJson is the one encoder of a frame: its pose fields are written by the pose record's table
+// (core/pose_fields.h), from poseFieldsOf, as the daemon's POSE is (daemon/frame_report.h); KNOBS carries the
+// knobs by pipeline/knobs.h's table, each field under its frames.jsonl name. Each line is
 // written as its frame ends (RotatingFile: a crash loses at most the frame in hand; a failed write throws).
 // With a segment store the log is rotated (frames-000001.jsonl, ...; core/rotating_file.h).
 
@@ -15,6 +16,11 @@
 #include "runtime/output_sink.h"
 
 namespace sb {
+
+struct PoseFields;  // core/pose_fields.h
+
+// The frame's pose record (core/pose_fields.h): the one projection of a record that frames.jsonl and POSE write.
+PoseFields poseFieldsOf(const FrameRecord& record);
 
 // One frames.jsonl object (see the file comment); also what the daemon publishes (daemon/protocol.h).
 nlohmann::json frameRecordToJson(const FrameRecord& record);

@@ -1,14 +1,19 @@
-// The socket's projection of a frame's record (daemon/frame_report.h): POSE and KNOBS are written from typed
-// fields, and every field that also appears in frames.jsonl (runtime/frame_log_sink.h, the frame's one
-// encoding) carries the same value under the same name there. A field renamed on either side, or a field the
-// ROS bridge reads under another name (ros/daemon_reports.h), fails here.
+// The pose record's table (core/pose_fields.h): both encoders, frames.jsonl's (runtime/frame_log_sink.h) and
+// POSE's (daemon/protocol.h), write every row under its names with the same value; KNOBS carries the record's
+// values under their frames.jsonl names. A row one encoder leaves out or names otherwise, a field written past
+// the table, or a field the ROS bridge reads under another name (ros/daemon_reports.h), fails here.
 #include <catch2/catch.hpp>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 
+#include "core/pose_fields.h"
 #include "daemon/frame_report.h"
+#include "report/frame_log.h"
 #include "ros/daemon_reports.h"
 #include "runtime/frame_log_sink.h"
 #include "runtime/knob_pins.h"
+#include "tests/support/test_data.h"
 #include "report/run_summary.h"
 
 using namespace sb;
@@ -46,35 +51,126 @@ FrameRecord sampleRecord() {
 
 }  // namespace
 
-TEST_CASE("POSE and KNOBS carry the record's values under their frames.jsonl names", "[daemon][protocol]") {
-  const FrameRecord rec = sampleRecord();
-  const FrameReport report = frameReport(rec, {"csr"});
-  const nlohmann::json pose = poseMessage(report);
-  const nlohmann::json knobs = knobsMessage(report);
+TEST_CASE("every row of the pose table is written by both encoders, under its POSE and frames.jsonl names",
+          "[daemon][protocol]") {
+  const FrameRecord rec = sampleRecord();  // every pose field has a value
+  const nlohmann::json pose = poseMessage(frameReport(rec, {"csr"}));
   const nlohmann::json log = frameRecordToJson(rec);
 
   // POSE's fields, every one: a field added to POSE must be named here (and in docs/protocol.md).
-  std::vector<std::string> poseKeys;
-  for (auto it = pose.begin(); it != pose.end(); ++it) poseKeys.push_back(it.key());
-  CHECK(poseKeys == std::vector<std::string>{"class", "conditioning", "constrained", "corrected", "frame",
-                                             "kept_map", "odometry", "odometry_drift_m", "odometry_fault", "position",
-                                             "quaternion", "state",
-                                             "timestamp", "tracked", "velocity", "velocity_m_per_frame",
-                                             "weakest_motion"});
-  // The same name, the same value, in frames.jsonl (POSE's legacy "velocity" and its odometry summary aside).
-  for (const char* key : {"frame", "timestamp", "position", "quaternion", "tracked", "corrected", "state",
-                          "velocity_m_per_frame", "conditioning", "weakest_motion", "constrained", "kept_map"}) {
-    INFO(key);
-    REQUIRE(log.contains(key));
-    CHECK(pose.at(key) == log.at(key));
-  }
+  std::set<std::string> poseKeys;
+  for (auto it = pose.begin(); it != pose.end(); ++it) poseKeys.insert(it.key());
+  CHECK(poseKeys == std::set<std::string>{"class", "conditioning", "constrained", "corrected", "frame", "kept_map",
+                                          "odometry", "odometry_drift_m", "odometry_fault", "position", "quaternion",
+                                          "state", "timestamp", "tracked", "velocity", "velocity_m_per_frame",
+                                          "weakest_motion"});
+  // Each row: in POSE under its name, in frames.jsonl under its log name (in its object), the same value. A field
+  // written past the table, or a row one encoder leaves out or names otherwise, fails here.
+  std::set<std::string> rows{"class"}, logKeys;
+  const PoseFields fields = poseFieldsOf(rec);
+  forEachPoseField(fields, [&](const PoseField& row, const auto&) {
+    INFO(row.name);
+    CHECK(rows.insert(row.name).second);  // each POSE name once
+    REQUIRE(row.unit != nullptr);
+    REQUIRE(pose.contains(row.name));
+    if (!row.logName) return;
+    const nlohmann::json& object = row.logObject ? log.at(row.logObject) : log;
+    REQUIRE(object.contains(row.logName));
+    CHECK(object.at(row.logName) == pose.at(row.name));
+    logKeys.insert(row.logObject ? std::string(row.logObject) + "." + row.logName : row.logName);
+  });
+  CHECK(rows == poseKeys);
+  // frames.jsonl's names of the rows (report/ and the scripts read them): a row renamed in the table fails here.
+  CHECK(logKeys == std::set<std::string>{"conditioning", "constrained", "corrected", "frame", "kept_map",
+                                         "odometry.available", "odometry.drift_m", "odometry.fault", "position",
+                                         "quaternion", "state", "timestamp", "tracked", "velocity_m_per_frame",
+                                         "weakest_motion"});
+  // The values themselves, where a projection could drop them.
   CHECK(pose.at("velocity") == log.at("velocity_m_per_frame"));
-  CHECK(pose.at("odometry") == log.at("odometry").at("available"));
-  CHECK(pose.at("odometry_drift_m") == log.at("odometry").at("drift_m"));
-  CHECK(pose.at("odometry_fault") == log.at("odometry").at("fault"));
-  CHECK(pose.at("odometry_fault") == "kidnapped");
+  CHECK(log.at("odometry").at("fault") == "kidnapped");
   CHECK(pose.at("state") == "odometry");
+  CHECK(pose.at("kept_map") == "localised");
+  CHECK(pose.at("constrained") == false);
+  CHECK(pose.at("odometry_drift_m") == 0.75);
+}
 
+TEST_CASE("a pose field without a value is absent from both encodings; frames.jsonl's conditions hold",
+          "[daemon][protocol]") {
+  FrameRecord rec = sampleRecord();
+  rec.result.quality.known = false;  // ICP did not run: no conditioning, weakest motion, constrained in the log
+  rec.odometry = FrameOdometry{};    // a run without odometry: no odometry object in the log
+  rec.keptMap = KeptMap::none;
+  const nlohmann::json pose = poseMessage(frameReport(rec, {}));
+  const nlohmann::json log = frameRecordToJson(rec);
+  for (const char* key : {"conditioning", "weakest_motion", "odometry_fault", "kept_map"}) {
+    INFO(key);
+    CHECK_FALSE(pose.contains(key));
+  }
+  CHECK(pose.at("constrained") == true);  // POSE: true when the conditioning is not known
+  CHECK(pose.at("odometry") == false);
+  CHECK(pose.at("odometry_drift_m") == 0.0);
+  for (const char* key : {"conditioning", "weakest_motion", "constrained", "kept_map", "odometry"}) {
+    INFO(key);
+    CHECK_FALSE(log.contains(key));
+  }
+  // Odometry without a fault: the object with the table's available and drift_m, no fault.
+  rec.odometry.available = true;
+  rec.odometry.driftM = 0.25;
+  const nlohmann::json withOdometry = frameRecordToJson(rec);
+  REQUIRE(withOdometry.contains("odometry"));
+  CHECK(withOdometry.at("odometry").at("available") == true);
+  CHECK(withOdometry.at("odometry").at("drift_m") == 0.25);
+  CHECK_FALSE(withOdometry.at("odometry").contains("fault"));
+}
+
+TEST_CASE("the readers name the pose fields by the table: report/ reads frames.jsonl's, the bridge POSE's",
+          "[daemon][protocol][report][ros]") {
+  // Every member has its row (poseField finds it), each with both names where both encoders write it.
+  CHECK(poseField(&PoseFields::frame).name == std::string("frame"));
+  CHECK(poseField(&PoseFields::velocityMPerFrame).name == std::string("velocity_m_per_frame"));  // the first row
+  CHECK(poseField(&PoseFields::odometryDriftM).logObject == std::string("odometry"));
+  for (const PoseField& row :
+       {poseField(&PoseFields::timestamp), poseField(&PoseFields::position), poseField(&PoseFields::quaternion),
+        poseField(&PoseFields::tracked), poseField(&PoseFields::corrected), poseField(&PoseFields::state),
+        poseField(&PoseFields::conditioning), poseField(&PoseFields::weakestMotion),
+        poseField(&PoseFields::constrained), poseField(&PoseFields::odometry), poseField(&PoseFields::odometryFault),
+        poseField(&PoseFields::keptMap)}) {
+    REQUIRE(row.name != nullptr);
+    CHECK(row.logName != nullptr);
+  }
+
+  // report/frame_log.cpp reads frames.jsonl as frameRecordToJson writes it.
+  FrameRecord rec = sampleRecord();
+  rec.odometry.fault = sb::odometry::WheelFault::none;  // fault-free: the state stays odometry
+  const std::string path = sb::test::scratchDir("frame_report_readers") + "/frames.jsonl";
+  std::ofstream(path) << frameRecordToJson(rec).dump() << "\n";
+  const auto read = report::readFrameLog(path);
+  CHECK(read.problems.empty());
+  REQUIRE(read.log.size() == 1);
+  const PoseFields p = poseFieldsOf(rec);
+  CHECK(read.log.frame[0] == 42);
+  CHECK(read.log.timestamp[0] == 1234.5);
+  CHECK(read.log.tracked[0] == 1.0);
+  CHECK(read.log.velocity[0] == p.velocityMPerFrame);
+  CHECK(read.log.conditioning[0] == *p.conditioning);
+  CHECK(read.log.constrained[0] == 0.0);
+  CHECK(read.log.state[0] == static_cast<double>(TrackingState::odometry));
+  CHECK(read.log.triggerFrames("correction") == std::vector<double>{42});  // "corrected": true
+  for (size_t i = 0; i < 3; ++i) CHECK(read.log.pose[0][i] == p.position[i]);
+  for (size_t i = 0; i < 4; ++i) CHECK(read.log.pose[0][3 + i] == p.quaternion[i]);
+  REQUIRE(read.log.odometryColumn("drift_m"));
+  CHECK(read.log.odometryColumn("drift_m")->values[0] == 0.75);
+
+  // A POSE of a daemon before protocol 1.3 (the velocity under its older name alone) still gives the velocity.
+  nlohmann::json old = poseMessage(frameReport(rec, {}));
+  old.erase("velocity_m_per_frame");
+  CHECK(ros_bridge::parsePose(old).velocity == p.velocityMPerFrame);
+}
+
+TEST_CASE("KNOBS carries the record's values under their frames.jsonl names", "[daemon][protocol]") {
+  const FrameRecord rec = sampleRecord();
+  const nlohmann::json knobs = knobsMessage(frameReport(rec, {"csr"}));
+  const nlohmann::json log = frameRecordToJson(rec);
   std::vector<std::string> knobKeys;
   for (auto it = knobs.begin(); it != knobs.end(); ++it) knobKeys.push_back(it.key());
   CHECK(knobKeys == std::vector<std::string>{"class", "computation_ms", "controller", "csr", "frame", "icp", "ir",
