@@ -15,9 +15,7 @@
 #   - the bridge (build/ros/slambooster_ros) with ~odom_topic /odom and ~push_socket: it hands the depth and the
 #     odometry to the daemon and publishes map -> odom, ~odometry and ~map (the grid, in slambooster_grid);
 #   - the daemon (build/daemon/slamboosterd) with the push source, source.odometry=socket (the odometry comes
-#     from the bridge, as on a robot) and a navigation grid. The grid's "up" is given as the mount (1.2 m, level)
-#     in the navmap settings: the daemon makes no grid with "up": "none" even when odometry arrives
-#     (daemon/map_publisher.cpp drops the map at the pass's start; `slambooster run` keeps it);
+#     from the bridge, as on a robot) and a navigation grid whose up the robot's odometry says ("up": "none");
 #   - Xvfb (1024x768) and rviz with docs/ros-rviz.rviz (fixed frame map).
 # It waits until the daemon has processed the whole drive and the bridge's grid has content, lets rviz draw,
 # grabs the screen (xwd), converts it to PNG (ImageMagick) and shrinks it (pngquant, optipng when present).
@@ -82,8 +80,8 @@ work = sys.argv[1]
 c = json.load(open(work + "/drive/calibration.json"))
 json.dump({"volume_resolution": 128, "knobs": "csr=1,ir=1", "volume_size_m": c["volume_size_m"],
            "initial_position": c["volume_initial_position"]}, open(work + "/pipeline.json", "w"))
-json.dump({"up": "mount", "mount_height_m": 1.2, "mount_pitch_deg": 0.0, "resolution_m": 0.1},
-          open(work + "/navmap.json", "w"))
+# Up from the robot's odometry; 0.1 m cells, no finer than the volume's 9 cm voxels (finer ones leave stripes).
+json.dump({"up": "none", "resolution_m": 0.1}, open(work + "/navmap.json", "w"))
 EOF
 DEPTH_SCALE=$($PY -c "import json; print(json.load(open('$WORK/drive/calibration.json'))['depth_scale'])")
 
