@@ -9,12 +9,14 @@
 
 namespace sb::daemon {
 
-MapPublisher::MapPublisher(const OutputConfig& output, const PipelineConfig& pipeline, const SequenceInfo& sequence)
+MapPublisher::MapPublisher(const OutputConfig& output, const PipelineConfig& pipeline, const SequenceInfo& sequence,
+                           bool odometry)
     : settings_(navmap::loadNavMapConfig(output.navmap).forVoxel(double(pipeline.volumeSize) /
                                                                   pipeline.volumeResolution)),
       period_(output.navmapPeriodS),
       pipeline_(pipeline),
-      sequence_(sequence) {
+      sequence_(sequence),
+      odometry_(odometry) {
   settings_.validate(double(pipeline.volumeSize) / pipeline.volumeResolution);
 }
 
@@ -22,9 +24,11 @@ std::shared_ptr<MapSink> MapPublisher::startPass(uint32_t pass) {
   pass_ = pass;
   sink_ = std::make_shared<navmap::NavMapSink>(settings_, pipeline_, sequence_.intrinsics, sequence_.depthScale);
   lastWrite_ = std::chrono::steady_clock::now();
-  if (settings_.up == "none") {
+  if (settings_.up == "none" && !odometry_) {
     spdlog::warn("navmap: {}", sink_->why());
     sink_.reset();
+  } else if (settings_.up == "none") {
+    spdlog::info("navmap: up from the robot's odometry, at the first good frame that has it");
   }
   return sink_;
 }

@@ -22,11 +22,14 @@ class MapPublisher {
  public:
   using Publish = std::function<void(MapReport)>;  // called on the SLAM thread; must not block
 
-  // Reads the settings file output.navmap (throws sb::Error naming it and the key).
-  MapPublisher(const OutputConfig& output, const PipelineConfig& pipeline, const SequenceInfo& sequence);
+  // Reads the settings file output.navmap (throws sb::Error naming it and the key). `odometry`: the robot's
+  // odometry may come (source.odometry not "none"); with "up": "none" it then says which way is up.
+  MapPublisher(const OutputConfig& output, const PipelineConfig& pipeline, const SequenceInfo& sequence,
+               bool odometry);
   void setPublish(Publish publish) { publish_ = std::move(publish); }
 
-  // The sink of a new pass (nullptr and a log line saying why when nothing says which way is up).
+  // The sink of a new pass (nullptr and a log line saying why when nothing can say which way is up: "up":
+  // "none" and no odometry; with odometry the grid starts at the first good frame that has it).
   std::shared_ptr<MapSink> startPass(uint32_t pass);
   // After each frame of the pass: at the period, the files and the grid.
   void afterFrame(Run& run, uint64_t frame);
@@ -36,6 +39,7 @@ class MapPublisher {
   std::chrono::duration<double> period_;
   PipelineConfig pipeline_;
   SequenceInfo sequence_;
+  bool odometry_;
   Publish publish_;
   std::shared_ptr<navmap::NavMapSink> sink_;
   uint32_t pass_ = 0;

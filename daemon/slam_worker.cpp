@@ -68,7 +68,8 @@ SlamWorker::SlamWorker(const DaemonConfig& config, const SequenceInfo& sequence,
   context_.baseKnobs = pipelineConfig_.knobs;
   settings_ = loadControllerSettings(config.slam, context_);
   stats_.controller = settings_.name;
-  if (!config.output.navmap.empty()) maps_ = std::make_unique<MapPublisher>(config.output, pipelineConfig_, sequence);
+  if (!config.output.navmap.empty())
+    maps_ = std::make_unique<MapPublisher>(config.output, pipelineConfig_, sequence, config.source.odometry != "none");
 }
 
 SlamWorker::~SlamWorker() {

@@ -1,5 +1,7 @@
 #include "ros/map_to_odom.h"
 
+#include <cmath>
+
 namespace sb::ros_bridge {
 
 Eigen::Isometry3d cameraInMap(const PoseReport& pose) {
@@ -36,6 +38,10 @@ std::string describe(const MapOdomStep& step) {
              ": no robot odometry at the frame's stamp";
   }
   return "?";
+}
+
+int64_t forwardStampNs(int64_t frameStampNs, double toleranceS) {
+  return frameStampNs + std::llround(toleranceS * 1e9) + kForwardOffsetNs;
 }
 
 }  // namespace sb::ros_bridge

@@ -48,4 +48,12 @@ class MapToOdom {
 // For diagnostics: "updated", "held since frame N: lost", "held since frame N: no odometry at the stamp".
 std::string describe(const MapOdomStep& step);
 
+// The stamp (nanoseconds) of a frame's forward-dated map -> odom: `toleranceS` and kForwardOffsetNs after the
+// frame's. tf2 ignores a second transform at a stamp it holds, so this must never be a later frame's own
+// stamp: on a regular clock stamp + tolerance often is (30 Hz and 0.1 s: frame k + 3), give or take the
+// nanosecond that converting seconds to a ROS stamp loses (rospy truncates: 0.533333 s is 533332999 ns,
+// 0.633333 s is 633333000 ns). One microsecond is beyond that rounding and nothing to a lookup.
+inline constexpr int64_t kForwardOffsetNs = 1000;
+int64_t forwardStampNs(int64_t frameStampNs, double toleranceS);
+
 }  // namespace sb::ros_bridge

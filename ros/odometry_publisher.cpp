@@ -162,10 +162,9 @@ void OdometryPublisher::publishMapToOdom(const PoseReport& pose, const ros::Time
   out[0].transform = toTransform(step->mapToOdom);
   if (config_.transformToleranceS > 0) {  // for a lookup at "now" between frames (as AMCL, slam_toolbox)
     out.push_back(out[0]);
-    // One nanosecond past the tolerance: on a regular clock stamp + tolerance is often a later frame's own
-    // stamp (30 Hz frames and 0.1 s: frame k + 3), and tf2 ignores a second transform at a stamp it holds, so
-    // that frame's exact map -> odom would be lost to this one.
-    out[1].header.stamp = stamp + ros::Duration(config_.transformToleranceS) + ros::Duration(0, 1);
+    // Never a later frame's own stamp (ros/map_to_odom.h), whose exact map -> odom tf2 would then ignore.
+    out[1].header.stamp.fromNSec(static_cast<uint64_t>(
+        forwardStampNs(static_cast<int64_t>(stamp.toNSec()), config_.transformToleranceS)));
   }
   tf_.sendTransform(out);
 }

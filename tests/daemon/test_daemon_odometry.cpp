@@ -8,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -116,6 +117,27 @@ TEST_CASE("odometry: run, the daemon's replay and the socket give the run the sa
     REQUIRE(d.wait(120) == 0);
     INFO(d.log());
     sameAsRun(tmp.path + "/d", "socket");
+  }
+  // The navigation map with "up": "none": the robot's odometry says which way is up, as in `slambooster run`
+  // (the daemon dropped the map at the pass's start before: no grid on a robot unless the mount was given).
+  SECTION("output.navmap up none: the grid's frame from the odometry, none without it") {
+    const std::string settings = tmp.path + "/navmap.json";
+    std::ofstream(settings) << R"({"up": "none"})";
+    for (const std::string odometry : {"auto", "none"}) {
+      INFO("source.odometry " << odometry);
+      const std::string out = tmp.path + "/map-" + odometry;
+      auto args = driveDaemonArgs(tmp.path + "/s.sock", out, odometry, "fast");
+      args.insert(args.end(), {"--set", "output.navmap=" + settings});
+      ChildProcess d(args, {}, tmp.path + "/log-" + odometry + ".txt");
+      REQUIRE(d.wait(60) == 0);
+      INFO(d.log());
+      const bool grid = std::ifstream(out + "/map.pgm").good();
+      CHECK(grid == (odometry == "auto"));
+      if (!grid) continue;
+      std::ifstream frame(out + "/map_frame.json");
+      const std::string text((std::istreambuf_iterator<char>(frame)), std::istreambuf_iterator<char>());
+      CHECK(text.find("odometry") != std::string::npos);
+    }
   }
   SECTION("source.odometry none: ?ODOM refused") {
     auto args = driveDaemonArgs(tmp.path + "/s.sock", tmp.path + "/d", "none", "recorded");
