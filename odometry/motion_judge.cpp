@@ -20,8 +20,7 @@ void MotionModel::judgeByInertia(Pipeline& pipeline, const FrameView& view, cons
     const Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *motion.step, config_,
                                       motion.level, takeFusedCovariance(motion));
     if (!f.rejected) {
-      fusedCovariance_ = f.covariance;
-      fusedStamp_ = r.timestamp;
+      keepFusedCovariance(f, r.timestamp);
       view.odometry.used = true;
       if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
       d.refinedPose = f.pose;
@@ -111,8 +110,7 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     return;
   }
   view.odometry.used = true;
-  fusedCovariance_ = f.covariance;
-  fusedStamp_ = r.timestamp;
+  keepFusedCovariance(f, r.timestamp);
   if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
   if (motion.reported && r.quality.known && r.quality.constrained)  // a view that fixes every rotation
     mount_.learn(motion.previousPose.linear().transpose() * tracked.linear(), *motion.reported);
@@ -125,6 +123,11 @@ std::optional<Matrix6> MotionModel::takeFusedCovariance(const FrameMotion& motio
   if (fusedCovariance_ && motion.hasPrevious && fusedStamp_ == motion.previousStamp) out = fusedCovariance_;
   fusedCovariance_.reset();
   return out;
+}
+
+void MotionModel::keepFusedCovariance(const Fusion& fused, double stamp) {
+  fusedCovariance_ = fused.covariance;
+  fusedStamp_ = stamp;
 }
 
 bool MotionModel::viewStill(const Eigen::Isometry3d& tracked, const FrameMotion& motion,

@@ -178,6 +178,7 @@ class MotionModel {
   double fusedStamp_ = 0.0;
   // fusedCovariance_ when the frame before `motion`'s was fused (then reset: a frame not fused leaves none).
   std::optional<Matrix6> takeFusedCovariance(const FrameMotion& motion);
+  void keepFusedCovariance(const Fusion& fused, double stamp);  // a frame fused at `stamp`
   // Dead reckoning on the odometry since depth last tracked: the pose, the distance and time driven.
   std::optional<Eigen::Isometry3d> odometryPose_;
   double odometryDistanceM_ = 0.0, odometryTimeS_ = 0.0;

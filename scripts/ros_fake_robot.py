@@ -68,24 +68,30 @@ def compose(a, b):
 
 def parse_pose(values, what):
     if len(values) != 7:
-        sys.exit(f"ros_fake_base: {what}: expected 'x y z qx qy qz qw', got {values!r}")
+        sys.exit(f"ros_fake_robot: {what}: expected 'x y z qx qy qz qw', got {values!r}")
     v = [float(x) for x in values]
     return ((v[0], v[1], v[2]), (v[3], v[4], v[5], v[6]))
 
 
-def read_odometry(path):
-    samples = []
+def read_rows(path, width, expected, what):
+    """The rows of a TUM-style list: fields split, comments and blank lines skipped; each row has `width` fields."""
+    rows = []
     with open(path) as f:
         for number, line in enumerate(f, 1):
             fields = line.split()
             if not fields or fields[0].startswith('#'):
                 continue
-            if len(fields) != 8:
-                sys.exit(f"ros_fake_base: {path}:{number}: expected 't tx ty tz qx qy qz qw', got {line.strip()!r}")
-            samples.append((float(fields[0]), parse_pose(fields[1:], f"{path}:{number}")))
-    if not samples:
-        sys.exit(f"ros_fake_base: {path} has no samples: give a sequence's odometry.txt")
-    return samples
+            if len(fields) != width:
+                sys.exit(f"ros_fake_robot: {path}:{number}: expected '{expected}', got {line.strip()!r}")
+            rows.append((number, fields))
+    if not rows:
+        sys.exit(f"ros_fake_robot: {path} lists no {what}")
+    return rows
+
+
+def read_odometry(path):
+    return [(float(fields[0]), parse_pose(fields[1:], f"{path}:{number}"))
+            for number, fields in read_rows(path, 8, 't tx ty tz qx qy qz qw', "samples: give a sequence's odometry.txt")]
 
 
 def transform(parent, child, stamp, pose):
@@ -99,18 +105,8 @@ def transform(parent, child, stamp, pose):
 
 
 def read_depth_list(sequence):
-    frames = []
-    with open(os.path.join(sequence, 'depth.txt')) as f:
-        for number, line in enumerate(f, 1):
-            fields = line.split()
-            if not fields or fields[0].startswith('#'):
-                continue
-            if len(fields) != 2:
-                sys.exit(f"ros_fake_robot: {sequence}/depth.txt:{number}: expected 'timestamp filename'")
-            frames.append((float(fields[0]), os.path.join(sequence, fields[1])))
-    if not frames:
-        sys.exit(f"ros_fake_robot: {sequence}/depth.txt lists no frames")
-    return frames
+    return [(float(fields[0]), os.path.join(sequence, fields[1]))
+            for _, fields in read_rows(os.path.join(sequence, 'depth.txt'), 2, 'timestamp filename', 'frames')]
 
 
 def depth_message(path, stamp, depth_scale, frame_id):
