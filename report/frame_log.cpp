@@ -10,7 +10,7 @@
 #include "core/input_file.h"
 #include "core/pose_fields.h"
 #include "core/tracking_state.h"
-#include "pipeline/knobs.h"
+#include "pipeline/knob_fields.h"
 
 namespace sb::report {
 
@@ -54,6 +54,12 @@ const char* typeName(const json& j) { return j.type_name(); }
 template <typename M>
 const char* logKey(M PoseFields::*member) {
   return poseField(member).logName;
+}
+
+// A knob record field's frames.jsonl key, by the knob record's table (pipeline/knob_fields.h).
+template <typename M>
+const char* logKey(M KnobFields::*member) {
+  return knobRecordField(member).logName;
 }
 
 // Numeric value at `path`; NaN when absent or null; a problem when present with another type.
@@ -131,11 +137,12 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   double frame = number(j, {logKey(&PoseFields::frame)}, where, problems);
   log.frame.push_back(std::isfinite(frame) ? frame : static_cast<double>(index));
   log.timestamp.push_back(number(j, {logKey(&PoseFields::timestamp)}, where, problems));
-  log.csr.push_back(number(j, {"knobs", knobKey(&Knobs::csr).name}, where, problems));
-  log.icp.push_back(number(j, {"knobs", knobKey(&Knobs::icpThreshold).name}, where, problems));
-  const json* pd = find(j, {"knobs", kIterationsKnob});
+  const char* const knobs = logKey(&KnobFields::knobs);
+  log.csr.push_back(number(j, {knobs, knobKey(&Knobs::csr).name}, where, problems));
+  log.icp.push_back(number(j, {knobs, knobKey(&Knobs::icpThreshold).name}, where, problems));
+  const json* pd = find(j, {knobs, kIterationsKnob});
   log.pd0.push_back(pd && pd->is_array() && !pd->empty() && (*pd)[0].is_number() ? (*pd)[0].get<double>() : kNaN);
-  log.computationMs.push_back(number(j, {"computation_ms"}, where, problems));
+  log.computationMs.push_back(number(j, {logKey(&KnobFields::computationMs)}, where, problems));
   log.tracked.push_back(number(j, {logKey(&PoseFields::tracked)}, where, problems));
   log.trackingAttempted.push_back(number(j, {"tracking_attempted"}, where, problems));
   log.velocity.push_back(number(j, {logKey(&PoseFields::velocityMPerFrame)}, where, problems));

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include "core/pose_fields.h"
+#include "pipeline/knob_fields.h"
 
 namespace sb {
 
@@ -33,21 +34,28 @@ PoseFields poseFieldsOf(const FrameRecord& rec) {
   return p;
 }
 
+KnobFields knobFieldsOf(const FrameRecord& rec) {
+  KnobFields k;
+  k.frame = rec.result.frame;
+  k.controller = rec.controller;
+  k.computationMs = rec.result.times.computationMs();
+  k.knobs = rec.result.knobs;
+  return k;  // pinned: the daemon's pins (daemon/frame_report.h); frames.jsonl has knobs_pinned instead
+}
+
 nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   const FrameResult& r = rec.result;
   nlohmann::json stages = nlohmann::json::object();
   for (int s = 0; s < kStageCount; ++s) stages[stageName(static_cast<Stage>(s))] = r.times.ms[s];
-  // The pose record's fields (frame, timestamp, pose, state ...) are written last, by its table.
-  nlohmann::json j = {{"knobs", knobsToJson(r.knobs)},
-                      {"ms", stages},
-                      {"computation_ms", r.times.computationMs()},
+  // The knob record's fields (knobs, controller, computation_ms) and the pose record's (frame, timestamp, pose,
+  // state ...) are written by their tables, below.
+  nlohmann::json j = {{"ms", stages},
                       {"tracking_attempted", r.trackingAttempted},
                       {"integrated", r.integrated},
                       {"icp_iterations", r.icpIterations},
                       {"residual_m", r.residual},
                       {"inliers", r.inlierFraction},
                       {"tracked_velocity_m_per_frame", rec.trackedVelocity},
-                      {"controller", rec.controller},
                       {"controller_ms", rec.controllerMs},
                       {"triggers", triggerNames(rec.decision.triggers)},
                       {"half_wish", rec.decision.halfPrecision},
@@ -57,6 +65,9 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                       {"knobs_pinned", rec.knobsPinned},
                       {"t_start_mono_ns", rec.startMonoNs},
                       {"t_end_mono_ns", rec.endMonoNs}};
+  forEachKnobRecordValue(knobFieldsOf(rec), [&](const KnobRecordField& row, nlohmann::json value) {
+    if (row.logName) j[row.logName] = std::move(value);  // KNOBS's alone (the pins): not in frames.jsonl
+  });
   if (rec.decision.level >= 0) j["level"] = rec.decision.level;
   if (r.trackingAttempted) {
     j["icp_level_iterations"] = {r.icpLevelIterations[0], r.icpLevelIterations[1], r.icpLevelIterations[2]};
