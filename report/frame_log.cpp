@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/frame_log_fields.h"
 #include "core/input_file.h"
 #include "core/pose_fields.h"
 #include "core/tracking_state.h"
@@ -60,6 +61,12 @@ const char* logKey(M PoseFields::*member) {
 template <typename M>
 const char* logKey(M KnobFields::*member) {
   return knobRecordField(member).logName;
+}
+
+// A tracking or controller field's frames.jsonl key, by core/frame_log_fields.h's table.
+template <typename M>
+const char* logKey(M FrameLogFields::*member) {
+  return frameLogField(member).logName;
 }
 
 // Numeric value at `path`; NaN when absent or null; a problem when present with another type.
@@ -144,7 +151,7 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   log.pd0.push_back(pd && pd->is_array() && !pd->empty() && (*pd)[0].is_number() ? (*pd)[0].get<double>() : kNaN);
   log.computationMs.push_back(number(j, {logKey(&KnobFields::computationMs)}, where, problems));
   log.tracked.push_back(number(j, {logKey(&PoseFields::tracked)}, where, problems));
-  log.trackingAttempted.push_back(number(j, {"tracking_attempted"}, where, problems));
+  log.trackingAttempted.push_back(number(j, {logKey(&FrameLogFields::trackingAttempted)}, where, problems));
   log.velocity.push_back(number(j, {logKey(&PoseFields::velocityMPerFrame)}, where, problems));
   double joules = number(j, {"joules"}, where, problems);
   if (!std::isfinite(joules)) joules = number(j, {"energy_j"}, where, problems);
@@ -164,7 +171,7 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
     }
   }
 
-  log.level.push_back(number(j, {"level"}, where, problems));
+  log.level.push_back(number(j, {logKey(&FrameLogFields::level)}, where, problems));
   log.conditioning.push_back(number(j, {logKey(&PoseFields::conditioning)}, where, problems));
   log.constrained.push_back(number(j, {logKey(&PoseFields::constrained)}, where, problems));
   log.state.push_back(kNaN);
@@ -174,13 +181,14 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
     if (!std::isfinite(log.state.back()))
       problems.add(where + ": 'state' should be good, weak, lost, relocalised or odometry, found " + state->dump());
   }
-  if (const json* triggers = find(j, {"triggers"})) {
+  const char* const triggersKey = logKey(&FrameLogFields::triggers);
+  if (const json* triggers = find(j, {triggersKey})) {
     log.recordsTriggers = true;
     if (triggers->is_array()) {
       for (const auto& t : *triggers)
         if (t.is_string()) addTrigger(log, t.get<std::string>(), log.frame.back());
     } else {
-      problems.add(where + ": 'triggers' should be a list of names, found " + typeName(*triggers));
+      problems.add(where + ": '" + triggersKey + "' should be a list of names, found " + typeName(*triggers));
     }
   }
   if (const json* corrected = find(j, {logKey(&PoseFields::corrected)}); corrected && corrected->is_boolean()) {

@@ -1,12 +1,15 @@
 // The pose record's table (core/pose_fields.h) and the knob record's (pipeline/knob_fields.h): both encoders of
 // each, frames.jsonl's (runtime/frame_log_sink.h) and POSE's or KNOBS's (daemon/protocol.h), write every row
 // under its names with the same value. A row one encoder leaves out or names otherwise, a field written past the
-// table, or a field the ROS bridge reads under another name (ros/daemon_reports.h), fails here.
+// table, or a field the ROS bridge reads under another name (ros/daemon_reports.h), fails here; so does a
+// frames.jsonl key in none of the tables (core/frame_log_fields.h has the tracking and controller fields) nor
+// among the objects still written by hand.
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "core/frame_log_fields.h"
 #include "core/pose_fields.h"
 #include "daemon/frame_report.h"
 #include "pipeline/knob_fields.h"
@@ -152,6 +155,7 @@ TEST_CASE("the readers name the pose fields by the table: report/ reads frames.j
   CHECK(read.log.frame[0] == 42);
   CHECK(read.log.timestamp[0] == 1234.5);
   CHECK(read.log.tracked[0] == 1.0);
+  CHECK(read.log.trackingAttempted[0] == 1.0);
   CHECK(read.log.velocity[0] == p.velocityMPerFrame);
   CHECK(read.log.conditioning[0] == *p.conditioning);
   CHECK(read.log.constrained[0] == 0.0);
@@ -219,6 +223,70 @@ TEST_CASE("every row of the knob table is written by both encoders, under its KN
   CHECK(log.at("computation_ms") == rec.result.times.computationMs());
   CHECK(log.at("frame") == 42);
   CHECK_FALSE(log.contains("pinned"));  // KNOBS's alone: frames.jsonl says knobs_pinned (a flag)
+}
+
+TEST_CASE("every row of the tracking and controller table is in frames.jsonl; every key of a line is a table's",
+          "[daemon][report]") {
+  FrameRecord rec = sampleRecord();  // every field has a value
+  rec.result.icpIterations = 12;
+  rec.decision.level = 2;
+  rec.decision.reason = "steady";
+  rec.decision.triggers = 1u;
+  rec.relocalising = true;
+  rec.relocalisation.tries = 3;
+  rec.relocalisation.confirmed = 1;
+  rec.relocalisation.why = "candidate held";
+  rec.keyframeAdded = true;
+  rec.keyframes = 7;
+  rec.implausible = "faster than the platform";
+  const nlohmann::json log = frameRecordToJson(rec);
+  const FrameLogFields fields = frameLogFieldsOf(rec);
+  const PoseFields pose = poseFieldsOf(rec);
+  const KnobFields knobs = knobFieldsOf(rec);
+  std::set<std::string> keys, tables;
+  forEachFrameLogField(fields, [&](const FrameLogField& row, const auto&) {
+    INFO(row.logName);
+    REQUIRE(row.unit != nullptr);
+    const nlohmann::json& object = row.logObject ? log.at(row.logObject) : log;
+    REQUIRE(object.contains(row.logName));  // a row the writer skips fails here
+    CHECK(keys.insert(row.logObject ? std::string(row.logObject) + "." + row.logName : row.logName).second);
+    tables.insert(row.logObject ? row.logObject : row.logName);
+  });
+  // frames.jsonl's names of the rows (report/ and the scripts read them): a row renamed in the table fails here.
+  CHECK(keys == std::set<std::string>{"controller_ms", "half_wish", "icp_conditioning", "icp_iterations",
+                                      "icp_level_iterations", "icp_update_norm", "implausible", "inliers",
+                                      "integrated", "keyframe_added", "keyframes", "knobs_pinned", "level",
+                                      "pair_agreement", "reason", "relocalisation.confirmed", "relocalisation.tries",
+                                      "relocalisation.why", "residual_m", "tracked_velocity_m_per_frame",
+                                      "tracking_attempted", "triggers"});
+  CHECK(log.at("relocalisation") == nlohmann::json{{"tries", 3}, {"confirmed", 1}, {"why", "candidate held"}});
+  CHECK(log.at("level") == 2);
+  CHECK(log.at("triggers") == triggerNames(1u));
+  CHECK(log.at("keyframes") == 7);
+  CHECK(frameLogField(&FrameLogFields::relocalisationWhy).logObject == std::string("relocalisation"));
+  // Every key of the line is a row of one of the three tables or one of the objects still written by hand.
+  forEachPoseField(pose, [&](const PoseField& row, const auto&) {
+    if (row.logName) tables.insert(row.logObject ? row.logObject : row.logName);
+  });
+  forEachKnobRecordField(knobs, [&](const KnobRecordField& row, const auto&) {
+    if (row.logName) tables.insert(row.logName);
+  });
+  const std::set<std::string> byHand{"ms",   "device_ms", "half",          "next_knobs",   "retracked_from",
+                                     "work", "odometry",  "t_start_mono_ns", "t_end_mono_ns"};
+  for (auto it = log.begin(); it != log.end(); ++it) {
+    INFO(it.key());
+    CHECK((tables.count(it.key()) || byHand.count(it.key())));
+  }
+  // Without values: absent.
+  FrameRecord plain = sampleRecord();
+  plain.result.trackingAttempted = false;
+  plain.result.quality.known = false;
+  const nlohmann::json bare = frameRecordToJson(plain);
+  for (const char* key : {"icp_level_iterations", "icp_update_norm", "icp_conditioning", "pair_agreement", "level",
+                          "reason", "relocalisation", "keyframe_added", "implausible"}) {
+    INFO(key);
+    CHECK_FALSE(bare.contains(key));
+  }
 }
 
 TEST_CASE("the ROS bridge reads every POSE and KNOBS field the daemon writes", "[daemon][protocol][ros]") {
