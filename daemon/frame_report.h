@@ -1,7 +1,7 @@
 #pragma once
 // What the socket publishes of a frame's record (runtime/frame_record.h): POSE's fields, the pose record
-// frames.jsonl writes too (runtime/frame_log_sink.h's poseFieldsOf, core/pose_fields.h's table), and KNOBS's
-// (daemon/protocol.h).
+// frames.jsonl writes too (runtime/frame_log_sink.h's poseFieldsOf, core/pose_fields.h's table), and KNOBS's,
+// the knob record frames.jsonl writes too (knobFieldsOf, pipeline/knob_fields.h's table) with the daemon's pins.
 
 #include <string>
 #include <vector>

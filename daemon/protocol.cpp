@@ -174,13 +174,13 @@ nlohmann::json poseMessage(const FrameReport& r) {
 }
 
 nlohmann::json knobsMessage(const FrameReport& r) {
-  const KnobFields& k = r.knobs;
-  nlohmann::json j = {{"class", "KNOBS"},
-                      {"pinned", r.pinned},
-                      {"frame", k.frame},
-                      {"controller", k.controller},
-                      {"computation_ms", k.computationMs}};
-  j.update(knobsToJson(k.knobs));  // each knob under its frames.jsonl name (pipeline/knobs.h's table)
+  nlohmann::json j = {{"class", "KNOBS"}};
+  forEachKnobRecordValue(r.knobs, [&](const KnobRecordField& row, nlohmann::json value) {
+    if (row.name)
+      j[row.name] = std::move(value);
+    else
+      j.update(value);  // the knob set: each knob a member, under its name in pipeline/knobs.h's key table
+  });
   return j;
 }
 

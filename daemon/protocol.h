@@ -17,7 +17,7 @@
 #include "core/energy_report.h"
 #include "core/pose_fields.h"
 #include "daemon/odom_request.h"
-#include "pipeline/knobs.h"
+#include "pipeline/knob_fields.h"
 #include "core/tracking_state.h"
 
 namespace sb::daemon {
@@ -70,19 +70,11 @@ struct ParseResult {
 ParseResult parseRequest(std::string_view line);
 
 // One processed frame as the SLAM thread publishes it, typed: immutable once made (daemon/frame_report.h makes
-// it from the frame's record). POSE is written from the pose record's table (core/pose_fields.h), the table
-// frames.jsonl's encoder is made from too; KNOBS from KnobFields, each knob by pipeline/knobs.h's table.
-struct KnobFields {
-  uint64_t frame = 0;
-  std::string controller;
-  double computationMs = 0.0;
-  Knobs knobs;
-};
-
+// it from the frame's record). POSE is written from the pose record's table (core/pose_fields.h), KNOBS from
+// the knob record's (pipeline/knob_fields.h): the tables frames.jsonl's encoder is made from too.
 struct FrameReport {
   PoseFields pose;
-  KnobFields knobs;
-  std::vector<std::string> pinned;  // knobs pinned over the controller's choice
+  KnobFields knobs;  // with the knobs pinned over the controller's choice
 };
 
 // The navigation grid (navmap/) as the SLAM thread last wrote it: immutable once made.

@@ -7,10 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/frame_log_fields.h"
 #include "core/input_file.h"
 #include "core/pose_fields.h"
 #include "core/tracking_state.h"
-#include "pipeline/knobs.h"
+#include "pipeline/knob_fields.h"
 
 namespace sb::report {
 
@@ -54,6 +55,18 @@ const char* typeName(const json& j) { return j.type_name(); }
 template <typename M>
 const char* logKey(M PoseFields::*member) {
   return poseField(member).logName;
+}
+
+// A knob record field's frames.jsonl key, by the knob record's table (pipeline/knob_fields.h).
+template <typename M>
+const char* logKey(M KnobFields::*member) {
+  return knobRecordField(member).logName;
+}
+
+// A tracking or controller field's frames.jsonl key, by core/frame_log_fields.h's table.
+template <typename M>
+const char* logKey(M FrameLogFields::*member) {
+  return frameLogField(member).logName;
 }
 
 // Numeric value at `path`; NaN when absent or null; a problem when present with another type.
@@ -131,13 +144,14 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
   double frame = number(j, {logKey(&PoseFields::frame)}, where, problems);
   log.frame.push_back(std::isfinite(frame) ? frame : static_cast<double>(index));
   log.timestamp.push_back(number(j, {logKey(&PoseFields::timestamp)}, where, problems));
-  log.csr.push_back(number(j, {"knobs", knobKey(&Knobs::csr).name}, where, problems));
-  log.icp.push_back(number(j, {"knobs", knobKey(&Knobs::icpThreshold).name}, where, problems));
-  const json* pd = find(j, {"knobs", kIterationsKnob});
+  const char* const knobs = logKey(&KnobFields::knobs);
+  log.csr.push_back(number(j, {knobs, knobKey(&Knobs::csr).name}, where, problems));
+  log.icp.push_back(number(j, {knobs, knobKey(&Knobs::icpThreshold).name}, where, problems));
+  const json* pd = find(j, {knobs, kIterationsKnob});
   log.pd0.push_back(pd && pd->is_array() && !pd->empty() && (*pd)[0].is_number() ? (*pd)[0].get<double>() : kNaN);
-  log.computationMs.push_back(number(j, {"computation_ms"}, where, problems));
+  log.computationMs.push_back(number(j, {logKey(&KnobFields::computationMs)}, where, problems));
   log.tracked.push_back(number(j, {logKey(&PoseFields::tracked)}, where, problems));
-  log.trackingAttempted.push_back(number(j, {"tracking_attempted"}, where, problems));
+  log.trackingAttempted.push_back(number(j, {logKey(&FrameLogFields::trackingAttempted)}, where, problems));
   log.velocity.push_back(number(j, {logKey(&PoseFields::velocityMPerFrame)}, where, problems));
   double joules = number(j, {"joules"}, where, problems);
   if (!std::isfinite(joules)) joules = number(j, {"energy_j"}, where, problems);
@@ -157,7 +171,7 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
     }
   }
 
-  log.level.push_back(number(j, {"level"}, where, problems));
+  log.level.push_back(number(j, {logKey(&FrameLogFields::level)}, where, problems));
   log.conditioning.push_back(number(j, {logKey(&PoseFields::conditioning)}, where, problems));
   log.constrained.push_back(number(j, {logKey(&PoseFields::constrained)}, where, problems));
   log.state.push_back(kNaN);
@@ -167,13 +181,14 @@ void addFrame(FrameLog& log, const json& j, const std::string& where, ProblemLis
     if (!std::isfinite(log.state.back()))
       problems.add(where + ": 'state' should be good, weak, lost, relocalised or odometry, found " + state->dump());
   }
-  if (const json* triggers = find(j, {"triggers"})) {
+  const char* const triggersKey = logKey(&FrameLogFields::triggers);
+  if (const json* triggers = find(j, {triggersKey})) {
     log.recordsTriggers = true;
     if (triggers->is_array()) {
       for (const auto& t : *triggers)
         if (t.is_string()) addTrigger(log, t.get<std::string>(), log.frame.back());
     } else {
-      problems.add(where + ": 'triggers' should be a list of names, found " + typeName(*triggers));
+      problems.add(where + ": '" + triggersKey + "' should be a list of names, found " + typeName(*triggers));
     }
   }
   if (const json* corrected = find(j, {logKey(&PoseFields::corrected)}); corrected && corrected->is_boolean()) {

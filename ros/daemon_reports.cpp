@@ -1,11 +1,13 @@
 #include "ros/daemon_reports.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 #include <type_traits>
 
 #include "core/error.h"
-#include "core/pose_fields.h"
 
 namespace sb::ros_bridge {
 
@@ -44,68 +46,90 @@ std::array<double, N> numbers(const nlohmann::json& j, const char* cls, const ch
   return out;
 }
 
-uint64_t frameOf(const nlohmann::json& j, const char* cls) {
-  const auto& v = member(j, cls, "frame");
-  if (!v.is_number_unsigned()) throw Error(std::string(cls) + " report: 'frame' is not a frame number: " + v.dump());
+uint64_t frameOf(const nlohmann::json& j, const char* cls, const char* key = "frame") {
+  const auto& v = member(j, cls, key);
+  if (!v.is_number_unsigned())
+    throw Error(std::string(cls) + " report: '" + key + "' is not a frame number: " + v.dump());
   return v.get<uint64_t>();
+}
+
+// The string at `key`, when there is one (a member of another type is ignored, as a missing one).
+std::optional<std::string> text(const nlohmann::json& j, const char* key) {
+  const auto it = j.find(key);
+  return it != j.end() && it->is_string() ? std::optional<std::string>(it->get<std::string>()) : std::nullopt;
+}
+
+// Reads `member` from the message's member `key` by the member's type; a string of another type is ignored.
+template <typename T>
+void read(const nlohmann::json& j, const char* cls, const char* key, T& member) {
+  if constexpr (std::is_same_v<T, uint64_t>) {
+    member = frameOf(j, cls, key);
+  } else if constexpr (std::is_same_v<T, bool>) {
+    member = flag(j, cls, key);
+  } else if constexpr (std::is_same_v<T, double> || std::is_same_v<T, std::optional<double>>) {
+    member = number(j, cls, key);
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    if (auto s = text(j, key)) member = std::move(*s);
+  } else {  // std::array<double, N>
+    member = numbers<std::tuple_size_v<T>>(j, cls, key);
+  }
 }
 
 }  // namespace
 
-TrackingState trackingStateOf(const PoseReport& pose) {
-  if (pose.state) {
-    return trackingStateFromName(*pose.state).value_or(TrackingState::lost);
-  }
-  if (!pose.tracked) return TrackingState::lost;
-  if (pose.corrected || pose.constrained == false) return TrackingState::weak;
-  return TrackingState::good;
-}
-
 PoseReport parsePose(const nlohmann::json& j) {
   constexpr const char* cls = "POSE";
-  // Each member by its name in the pose record's table (core/pose_fields.h), the one POSE is written from.
-  const auto name = [](auto member) { return poseField(member).name; };
-  const auto text = [&](const char* key) -> std::optional<std::string> {
-    const auto it = j.find(key);
-    return it != j.end() && it->is_string() ? std::optional<std::string>(it->get<std::string>()) : std::nullopt;
-  };
   PoseReport p;
-  p.frame = frameOf(j, cls);
-  p.timestamp = number(j, cls, name(&PoseFields::timestamp));
-  p.position = numbers<3>(j, cls, name(&PoseFields::position));
-  p.quaternion = numbers<4>(j, cls, name(&PoseFields::quaternion));
-  p.tracked = flag(j, cls, name(&PoseFields::tracked));
-  if (const char* k = name(&PoseFields::corrected); j.contains(k)) p.corrected = flag(j, cls, k);
-  // The velocity under its name since protocol 1.3, else under the older one.
-  if (const char* k = name(&PoseFields::velocityMPerFrame); j.contains(k))
-    p.velocity = number(j, cls, k);
-  else if (j.contains(kPoseLegacyVelocity))
-    p.velocity = number(j, cls, kPoseLegacyVelocity);
-  if (const char* k = name(&PoseFields::constrained); j.contains(k)) p.constrained = flag(j, cls, k);
-  if (const char* k = name(&PoseFields::conditioning); j.contains(k)) p.conditioning = number(j, cls, k);
-  p.weakestMotion = text(name(&PoseFields::weakestMotion)).value_or("");
-  p.state = text(name(&PoseFields::state));
-  if (const char* k = name(&PoseFields::odometry); j.contains(k)) p.odometry = flag(j, cls, k);
-  if (const char* k = name(&PoseFields::odometryDriftM); j.contains(k)) p.odometryDriftM = number(j, cls, k);
-  p.keptMap = text(name(&PoseFields::keptMap)).value_or("");
-  p.trackingState = trackingStateOf(p);
+  // Each member under its POSE name in the pose record's table (core/pose_fields.h), the one POSE is written
+  // from; a member read under an earlier row (the velocity under its 1.3 name) keeps that value.
+  const std::set<const void*> required = {&p.frame, &p.timestamp, &p.position, &p.quaternion, &p.tracked};
+  std::set<const void*> done;
+  std::optional<std::string> state;  // the daemon's own state string when it sends one
+  forEachPoseField(p, [&](const PoseField& row, auto& member) {
+    using T = std::decay_t<decltype(member)>;
+    if (!j.contains(row.name) && !required.count(&member)) return;
+    if (!done.insert(&member).second) return;
+    if constexpr (std::is_same_v<T, TrackingState>)
+      state = text(j, row.name);
+    else
+      read(j, cls, row.name, member);
+  });
+  if (state)
+    p.state = trackingStateFromName(*state).value_or(TrackingState::lost);
+  else
+    p.state = !p.tracked ? TrackingState::lost
+              : p.corrected || !p.constrained ? TrackingState::weak
+                                              : TrackingState::good;
   return p;
 }
 
 KnobsReport parseKnobs(const nlohmann::json& j) {
   constexpr const char* cls = "KNOBS";
   KnobsReport k;
-  k.frame = frameOf(j, cls);
-  if (const auto it = j.find("controller"); it != j.end() && it->is_string()) k.controller = *it;
-  forEachKnobField(k.knobs, [&](const char* name, auto& member) {
-    if constexpr (std::is_arithmetic_v<std::decay_t<decltype(member)>>) {
-      member = static_cast<std::decay_t<decltype(member)>>(number(j, cls, name));
-    } else {
-      const auto levels = numbers<std::tuple_size_v<std::decay_t<decltype(member)>>>(j, cls, name);
-      for (size_t i = 0; i < levels.size(); ++i) member[i] = static_cast<int>(levels[i]);
+  // Each member under its KNOBS name in the knob record's table (pipeline/knob_fields.h), the one KNOBS is
+  // written from: the frame and every knob are required, the others keep their defaults when absent.
+  forEachKnobRecordField(k, [&](const KnobRecordField& row, auto& member) {
+    using T = std::decay_t<decltype(member)>;
+    if constexpr (std::is_same_v<T, Knobs>) {
+      forEachKnobField(member, [&](const char* name, auto& knob) {  // pipeline/knobs.h's table
+        if constexpr (std::is_arithmetic_v<std::decay_t<decltype(knob)>>) {
+          knob = static_cast<std::decay_t<decltype(knob)>>(number(j, cls, name));
+        } else {
+          const auto levels = numbers<std::tuple_size_v<std::decay_t<decltype(knob)>>>(j, cls, name);
+          for (size_t i = 0; i < levels.size(); ++i) knob[i] = static_cast<int>(levels[i]);
+        }
+      });
+    } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+      const auto it = j.find(row.name);
+      if (it == j.end()) return;
+      const auto isName = [](const nlohmann::json& n) { return n.is_string(); };
+      if (!it->is_array() || !std::all_of(it->begin(), it->end(), isName))
+        throw Error(std::string(cls) + " report: '" + row.name + "' is not a list of knob names: " + it->dump());
+      member = it->template get<std::vector<std::string>>();
+    } else if (j.contains(row.name) || std::is_same_v<T, uint64_t>) {
+      read(j, cls, row.name, member);
     }
   });
-  if (j.contains("computation_ms")) k.computationMs = number(j, cls, "computation_ms");
   return k;
 }
 

@@ -130,7 +130,7 @@ void OdometryPublisher::onPose(const PoseReport& pose) {
     }
   }
   std_msgs::String state;
-  state.data = trackingStateName(pose.trackingState);
+  state.data = trackingStateName(pose.state);
   state_.publish(state);
   lastPose_ = pose;
 }
@@ -141,10 +141,10 @@ void OdometryPublisher::publishMapToOdom(const PoseReport& pose, const ros::Time
   std::string why;
   // A lost frame's pose is not used: no need to wait for the odometry at its stamp.
   const std::optional<Eigen::Isometry3d> cameraInOdom =
-      pose.trackingState == TrackingState::lost
+      pose.state == TrackingState::lost
           ? std::nullopt
           : wheels_->cameraInOdom(robot, stamp, kOdometryWaitS, why);
-  const std::optional<MapOdomStep> step = mapToOdom_.onFrame(pose.frame, pose.trackingState, cameraInMap, cameraInOdom);
+  const std::optional<MapOdomStep> step = mapToOdom_.onFrame(pose.frame, pose.state, cameraInMap, cameraInOdom);
   if (!step) {
     mapToOdomNote_ = "none yet: " + (why.empty() ? std::string("no tracked frame") : why);
     return;
@@ -180,15 +180,15 @@ void OdometryPublisher::publishDiagnostics(const KnobsReport* knobs) {
   s.name = kDiagnosticName;
   s.hardware_id = config_.socketPath;
   const PoseReport& p = *lastPose_;
-  s.level = levelOf(p.trackingState);
-  s.message = trackingStateName(p.trackingState);
-  if (p.trackingState == TrackingState::lost && mapToOdomNote_.rfind("held", 0) == 0)
+  s.level = levelOf(p.state);
+  s.message = trackingStateName(p.state);
+  if (p.state == TrackingState::lost && mapToOdomNote_.rfind("held", 0) == 0)
     s.message += "; " + tfEdge_ + " " + mapToOdomNote_ + " (the robot moves on its odometry)";
   s.values.push_back(keyValue("frame", std::to_string(p.frame)));
-  s.values.push_back(keyValue("state", trackingStateName(p.trackingState)));
+  s.values.push_back(keyValue("state", trackingStateName(p.state)));
   s.values.push_back(keyValue("tracked", p.tracked ? "true" : "false"));
   s.values.push_back(keyValue("corrected", p.corrected ? "true" : "false"));
-  if (p.constrained) s.values.push_back(keyValue("constrained", *p.constrained ? "true" : "false"));
+  s.values.push_back(keyValue("constrained", p.constrained ? "true" : "false"));
   if (p.conditioning) s.values.push_back(keyValue("conditioning", number(*p.conditioning)));
   if (!p.weakestMotion.empty()) s.values.push_back(keyValue("weakest_motion", p.weakestMotion));
   if (!p.keptMap.empty()) s.values.push_back(keyValue("kept_map", p.keptMap));  // docs/map-store.md

@@ -21,7 +21,7 @@ Covariance6 poseCovariance(const PoseReport& pose, const CovarianceConfig& confi
   Eigen::Matrix<double, 6, 1> sigma;
   const auto fill = [&](const StateSigma& s) { sigma << s.positionM, s.positionM, s.positionM,
                                                         s.rotationRad, s.rotationRad, s.rotationRad; };
-  switch (pose.trackingState) {
+  switch (pose.state) {
     case TrackingState::good: fill(config.good); break;
     case TrackingState::relocalised: fill(config.relocalised); break;
     case TrackingState::lost: fill(config.lost); break;

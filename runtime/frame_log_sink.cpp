@@ -2,7 +2,9 @@
 
 #include <Eigen/Geometry>
 
+#include "core/frame_log_fields.h"
 #include "core/pose_fields.h"
+#include "pipeline/knob_fields.h"
 
 namespace sb {
 
@@ -33,43 +35,67 @@ PoseFields poseFieldsOf(const FrameRecord& rec) {
   return p;
 }
 
+KnobFields knobFieldsOf(const FrameRecord& rec) {
+  KnobFields k;
+  k.frame = rec.result.frame;
+  k.controller = rec.controller;
+  k.computationMs = rec.result.times.computationMs();
+  k.knobs = rec.result.knobs;
+  return k;  // pinned: the daemon's pins (daemon/frame_report.h); frames.jsonl has knobs_pinned instead
+}
+
+FrameLogFields frameLogFieldsOf(const FrameRecord& rec) {
+  const FrameResult& r = rec.result;
+  FrameLogFields f;
+  f.trackingAttempted = r.trackingAttempted;
+  f.integrated = r.integrated;
+  f.icpIterations = r.icpIterations;
+  f.residualM = r.residual;
+  f.inliers = r.inlierFraction;
+  f.trackedVelocityMPerFrame = rec.trackedVelocity;
+  if (r.trackingAttempted) {
+    f.icpLevelIterations = r.icpLevelIterations;
+    f.icpUpdateNorm = r.icpUpdateNorm;
+    f.pairAgreement = r.pairAgreement;
+  }
+  if (r.quality.known) f.icpConditioning = r.quality.icpConditioning;
+  f.controllerMs = rec.controllerMs;
+  f.triggers = triggerNames(rec.decision.triggers);
+  f.halfWish = rec.decision.halfPrecision;
+  f.knobsPinned = rec.knobsPinned;
+  if (rec.decision.level >= 0) f.level = rec.decision.level;
+  f.reason = rec.decision.reason;
+  if (rec.relocalising) {
+    f.relocalisationTries = rec.relocalisation.tries;
+    f.relocalisationConfirmed = rec.relocalisation.confirmed;
+    f.relocalisationWhy = rec.relocalisation.why;
+  }
+  if (rec.keyframeAdded) f.keyframeAdded = true;
+  f.keyframes = rec.keyframes;
+  f.implausible = rec.implausible;
+  return f;
+}
+
 nlohmann::json frameRecordToJson(const FrameRecord& rec) {
   const FrameResult& r = rec.result;
   nlohmann::json stages = nlohmann::json::object();
   for (int s = 0; s < kStageCount; ++s) stages[stageName(static_cast<Stage>(s))] = r.times.ms[s];
-  // The pose record's fields (frame, timestamp, pose, state ...) are written last, by its table.
-  nlohmann::json j = {{"knobs", knobsToJson(r.knobs)},
-                      {"ms", stages},
-                      {"computation_ms", r.times.computationMs()},
-                      {"tracking_attempted", r.trackingAttempted},
-                      {"integrated", r.integrated},
-                      {"icp_iterations", r.icpIterations},
-                      {"residual_m", r.residual},
-                      {"inliers", r.inlierFraction},
-                      {"tracked_velocity_m_per_frame", rec.trackedVelocity},
-                      {"controller", rec.controller},
-                      {"controller_ms", rec.controllerMs},
-                      {"triggers", triggerNames(rec.decision.triggers)},
-                      {"half_wish", rec.decision.halfPrecision},
+  // The records' fields are written by their tables: the tracking and controller record's (ICP, the
+  // controller, the relocaliser, keyframes) first, the knob record's (knobs, controller, computation_ms) and
+  // the pose record's (frame, timestamp, pose, state ...) last. Written here: the objects of stage times, half
+  // precision, the odometry's verdict, the work counts and the knob sets beside the frame's own.
+  nlohmann::json j = {{"ms", stages},
                       {"half", {{"requested", rec.halfRequested}, {"supported", rec.halfSupported},
                                 {"applied", rec.halfApplied}}},
                       {"next_knobs", knobsToJson(rec.decision.next)},
-                      {"knobs_pinned", rec.knobsPinned},
                       {"t_start_mono_ns", rec.startMonoNs},
                       {"t_end_mono_ns", rec.endMonoNs}};
-  if (rec.decision.level >= 0) j["level"] = rec.decision.level;
-  if (r.trackingAttempted) {
-    j["icp_level_iterations"] = {r.icpLevelIterations[0], r.icpLevelIterations[1], r.icpLevelIterations[2]};
-    j["icp_update_norm"] = r.icpUpdateNorm;
-  }
-  if (r.quality.known) j["icp_conditioning"] = r.quality.icpConditioning;
-  if (r.trackingAttempted) j["pair_agreement"] = r.pairAgreement;
-  if (rec.relocalising)
-    j["relocalisation"] = {{"tries", rec.relocalisation.tries},
-                           {"confirmed", rec.relocalisation.confirmed},
-                           {"why", rec.relocalisation.why}};
-  if (rec.keyframeAdded) j["keyframe_added"] = true;
-  j["keyframes"] = rec.keyframes;
+  forEachFrameLogValue(frameLogFieldsOf(rec), [&](const FrameLogField& row, nlohmann::json value) {
+    (row.logObject ? j[row.logObject] : j)[row.logName] = std::move(value);
+  });
+  forEachKnobRecordValue(knobFieldsOf(rec), [&](const KnobRecordField& row, nlohmann::json value) {
+    if (row.logName) j[row.logName] = std::move(value);  // KNOBS's alone (the pins): not in frames.jsonl
+  });
   const FrameOdometry& o = rec.odometry;
   if (o.available || !o.why.empty()) {  // only in runs with odometry: others keep their frames.jsonl
     j["odometry"] = {{"used", o.used}, {"rejected", o.rejected}};  // with the table's available, drift_m, fault
@@ -81,7 +107,6 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
     }
     if (!o.why.empty()) j["odometry"]["why"] = o.why;
   }
-  if (!rec.implausible.empty()) j["implausible"] = rec.implausible;
   if (r.retracked) j["retracked_from"] = knobsToJson(r.firstKnobs);
   // Issue 43: the work behind integrate's and raycast's times.
   const StageWork& w = r.times.work;
@@ -89,7 +114,6 @@ nlohmann::json frameRecordToJson(const FrameRecord& rec) {
                {"carving", w.carvingIntegrations > 0},
                {"raycast_samples_per_pixel", w.raycastPixels ? double(w.raycastSamples) / double(w.raycastPixels) : 0.0},
                {"raycast_lookups_per_pixel", w.raycastPixels ? double(w.raycastLookups) / double(w.raycastPixels) : 0.0}};
-  if (!rec.decision.reason.empty()) j["reason"] = rec.decision.reason;
   // Device (OpenCL profiling event) times per stage, beside the host times; absent on the cpu backend.
   if (r.times.deviceMs != decltype(r.times.deviceMs){}) {
     nlohmann::json device = nlohmann::json::object();

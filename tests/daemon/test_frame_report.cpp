@@ -1,14 +1,18 @@
-// The pose record's table (core/pose_fields.h): both encoders, frames.jsonl's (runtime/frame_log_sink.h) and
-// POSE's (daemon/protocol.h), write every row under its names with the same value; KNOBS carries the record's
-// values under their frames.jsonl names. A row one encoder leaves out or names otherwise, a field written past
-// the table, or a field the ROS bridge reads under another name (ros/daemon_reports.h), fails here.
+// The pose record's table (core/pose_fields.h) and the knob record's (pipeline/knob_fields.h): both encoders of
+// each, frames.jsonl's (runtime/frame_log_sink.h) and POSE's or KNOBS's (daemon/protocol.h), write every row
+// under its names with the same value. A row one encoder leaves out or names otherwise, a field written past the
+// table, or a field the ROS bridge reads under another name (ros/daemon_reports.h), fails here; so does a
+// frames.jsonl key in none of the tables (core/frame_log_fields.h has the tracking and controller fields) nor
+// among the objects still written by hand.
 #include <catch2/catch.hpp>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "core/frame_log_fields.h"
 #include "core/pose_fields.h"
 #include "daemon/frame_report.h"
+#include "pipeline/knob_fields.h"
 #include "report/frame_log.h"
 #include "ros/daemon_reports.h"
 #include "runtime/frame_log_sink.h"
@@ -151,6 +155,7 @@ TEST_CASE("the readers name the pose fields by the table: report/ reads frames.j
   CHECK(read.log.frame[0] == 42);
   CHECK(read.log.timestamp[0] == 1234.5);
   CHECK(read.log.tracked[0] == 1.0);
+  CHECK(read.log.trackingAttempted[0] == 1.0);
   CHECK(read.log.velocity[0] == p.velocityMPerFrame);
   CHECK(read.log.conditioning[0] == *p.conditioning);
   CHECK(read.log.constrained[0] == 0.0);
@@ -164,26 +169,124 @@ TEST_CASE("the readers name the pose fields by the table: report/ reads frames.j
   // A POSE of a daemon before protocol 1.3 (the velocity under its older name alone) still gives the velocity.
   nlohmann::json old = poseMessage(frameReport(rec, {}));
   old.erase("velocity_m_per_frame");
-  CHECK(ros_bridge::parsePose(old).velocity == p.velocityMPerFrame);
+  CHECK(ros_bridge::parsePose(old).velocityMPerFrame == p.velocityMPerFrame);
 }
 
-TEST_CASE("KNOBS carries the record's values under their frames.jsonl names", "[daemon][protocol]") {
+TEST_CASE("every row of the knob table is written by both encoders, under its KNOBS and frames.jsonl names",
+          "[daemon][protocol]") {
   const FrameRecord rec = sampleRecord();
   const nlohmann::json knobs = knobsMessage(frameReport(rec, {"csr"}));
   const nlohmann::json log = frameRecordToJson(rec);
-  std::vector<std::string> knobKeys;
-  for (auto it = knobs.begin(); it != knobs.end(); ++it) knobKeys.push_back(it.key());
-  CHECK(knobKeys == std::vector<std::string>{"class", "computation_ms", "controller", "csr", "frame", "icp", "ir",
-                                             "pd", "pinned", "tr"});
-  for (const char* key : {"frame", "controller", "computation_ms"}) {
-    INFO(key);
-    CHECK(knobs.at(key) == log.at(key));
-  }
-  for (const char* key : {"csr", "icp", "pd", "tr", "ir"}) {
-    INFO(key);
-    CHECK(knobs.at(key) == log.at("knobs").at(key));
-  }
+  // KNOBS's fields, every one: a field added to KNOBS must be named here (and in docs/protocol.md).
+  std::set<std::string> knobsKeys;
+  for (auto it = knobs.begin(); it != knobs.end(); ++it) knobsKeys.insert(it.key());
+  CHECK(knobsKeys == std::set<std::string>{"class", "computation_ms", "controller", "csr", "frame", "icp", "ir",
+                                           "pd", "pinned", "tr"});
+  // Each row: in KNOBS under its name (the knob set: each knob a member), in frames.jsonl under its log name,
+  // the same value. A field written past the table, or a row one encoder leaves out or names otherwise, fails.
+  std::set<std::string> rows{"class"}, logKeys;
+  const KnobFields fields = frameReport(rec, {"csr"}).knobs;
+  forEachKnobRecordField(fields, [&](const KnobRecordField& row, const auto&) {
+    INFO((row.name ? row.name : "(the knob set)"));
+    REQUIRE(row.unit != nullptr);
+    nlohmann::json value;
+    if (row.name) {
+      CHECK(rows.insert(row.name).second);  // each KNOBS name once
+      REQUIRE(knobs.contains(row.name));
+      value = knobs.at(row.name);
+    } else {
+      value = nlohmann::json::object();
+      Knobs names;
+      forEachKnobField(names, [&](const char* name, const auto&) {  // pipeline/knobs.h's names: csr .. ir
+        CHECK(rows.insert(name).second);
+        REQUIRE(knobs.contains(name));
+        value[name] = knobs.at(name);
+      });
+    }
+    if (!row.logName) return;
+    REQUIRE(log.contains(row.logName));
+    CHECK(log.at(row.logName) == value);
+    logKeys.insert(row.logName);
+  });
+  CHECK(rows == knobsKeys);
+  // frames.jsonl's names of the rows (report/ and the scripts read them): a row renamed in the table fails here.
+  CHECK(logKeys == std::set<std::string>{"computation_ms", "controller", "frame", "knobs"});
+  // Every member has its row (knobRecordField finds it), the values where a projection could drop them.
+  CHECK(knobRecordField(&KnobFields::frame).name == std::string("frame"));
+  CHECK(knobRecordField(&KnobFields::controller).logName == std::string("controller"));
+  CHECK(knobRecordField(&KnobFields::computationMs).unit == std::string("ms"));
+  CHECK(knobRecordField(&KnobFields::knobs).logName == std::string("knobs"));
+  CHECK(knobRecordField(&KnobFields::pinned).name == std::string("pinned"));
   CHECK(knobs.at("pinned") == nlohmann::json{"csr"});
+  CHECK(knobs.at("controller") == "adaptive");
+  CHECK(knobs.at("csr") == 4);
+  CHECK(log.at("computation_ms") == rec.result.times.computationMs());
+  CHECK(log.at("frame") == 42);
+  CHECK_FALSE(log.contains("pinned"));  // KNOBS's alone: frames.jsonl says knobs_pinned (a flag)
+}
+
+TEST_CASE("every row of the tracking and controller table is in frames.jsonl; every key of a line is a table's",
+          "[daemon][report]") {
+  FrameRecord rec = sampleRecord();  // every field has a value
+  rec.result.icpIterations = 12;
+  rec.decision.level = 2;
+  rec.decision.reason = "steady";
+  rec.decision.triggers = 1u;
+  rec.relocalising = true;
+  rec.relocalisation.tries = 3;
+  rec.relocalisation.confirmed = 1;
+  rec.relocalisation.why = "candidate held";
+  rec.keyframeAdded = true;
+  rec.keyframes = 7;
+  rec.implausible = "faster than the platform";
+  const nlohmann::json log = frameRecordToJson(rec);
+  const FrameLogFields fields = frameLogFieldsOf(rec);
+  const PoseFields pose = poseFieldsOf(rec);
+  const KnobFields knobs = knobFieldsOf(rec);
+  std::set<std::string> keys, tables;
+  forEachFrameLogField(fields, [&](const FrameLogField& row, const auto&) {
+    INFO(row.logName);
+    REQUIRE(row.unit != nullptr);
+    const nlohmann::json& object = row.logObject ? log.at(row.logObject) : log;
+    REQUIRE(object.contains(row.logName));  // a row the writer skips fails here
+    CHECK(keys.insert(row.logObject ? std::string(row.logObject) + "." + row.logName : row.logName).second);
+    tables.insert(row.logObject ? row.logObject : row.logName);
+  });
+  // frames.jsonl's names of the rows (report/ and the scripts read them): a row renamed in the table fails here.
+  CHECK(keys == std::set<std::string>{"controller_ms", "half_wish", "icp_conditioning", "icp_iterations",
+                                      "icp_level_iterations", "icp_update_norm", "implausible", "inliers",
+                                      "integrated", "keyframe_added", "keyframes", "knobs_pinned", "level",
+                                      "pair_agreement", "reason", "relocalisation.confirmed", "relocalisation.tries",
+                                      "relocalisation.why", "residual_m", "tracked_velocity_m_per_frame",
+                                      "tracking_attempted", "triggers"});
+  CHECK(log.at("relocalisation") == nlohmann::json{{"tries", 3}, {"confirmed", 1}, {"why", "candidate held"}});
+  CHECK(log.at("level") == 2);
+  CHECK(log.at("triggers") == triggerNames(1u));
+  CHECK(log.at("keyframes") == 7);
+  CHECK(frameLogField(&FrameLogFields::relocalisationWhy).logObject == std::string("relocalisation"));
+  // Every key of the line is a row of one of the three tables or one of the objects still written by hand.
+  forEachPoseField(pose, [&](const PoseField& row, const auto&) {
+    if (row.logName) tables.insert(row.logObject ? row.logObject : row.logName);
+  });
+  forEachKnobRecordField(knobs, [&](const KnobRecordField& row, const auto&) {
+    if (row.logName) tables.insert(row.logName);
+  });
+  const std::set<std::string> byHand{"ms",   "device_ms", "half",          "next_knobs",   "retracked_from",
+                                     "work", "odometry",  "t_start_mono_ns", "t_end_mono_ns"};
+  for (auto it = log.begin(); it != log.end(); ++it) {
+    INFO(it.key());
+    CHECK((tables.count(it.key()) || byHand.count(it.key())));
+  }
+  // Without values: absent.
+  FrameRecord plain = sampleRecord();
+  plain.result.trackingAttempted = false;
+  plain.result.quality.known = false;
+  const nlohmann::json bare = frameRecordToJson(plain);
+  for (const char* key : {"icp_level_iterations", "icp_update_norm", "icp_conditioning", "pair_agreement", "level",
+                          "reason", "relocalisation", "keyframe_added", "implausible"}) {
+    INFO(key);
+    CHECK_FALSE(bare.contains(key));
+  }
 }
 
 TEST_CASE("the ROS bridge reads every POSE and KNOBS field the daemon writes", "[daemon][protocol][ros]") {
@@ -196,29 +299,37 @@ TEST_CASE("the ROS bridge reads every POSE and KNOBS field the daemon writes", "
   CHECK(p.quaternion == report.pose.quaternion);
   CHECK(p.tracked);
   CHECK(p.corrected);
-  CHECK(p.velocity == Approx(0.031));
-  REQUIRE(p.constrained);
-  CHECK(*p.constrained == false);
+  CHECK(p.velocityMPerFrame == Approx(0.031));
+  CHECK(p.constrained == false);
   REQUIRE(p.conditioning);
   CHECK(*p.conditioning == 0.0021);
   CHECK(p.weakestMotion == "tz");
-  CHECK(p.trackingState == TrackingState::odometry);  // one enum: the daemon's
+  CHECK(p.state == TrackingState::odometry);  // one enum: the daemon's
   CHECK(p.odometry);
   CHECK(p.odometryDriftM == 0.75);
+  CHECK(p.odometryFault == "kidnapped");
   CHECK(p.keptMap == "localised");
   // Every state the daemon can send is one the bridge knows by name.
   for (int s = 0; s < kTrackingStateCount; ++s) {
     FrameRecord other = rec;
     other.state = static_cast<TrackingState>(s);
-    CHECK(ros_bridge::parsePose(poseMessage(frameReport(other, {}))).trackingState == other.state);
+    CHECK(ros_bridge::parsePose(poseMessage(frameReport(other, {}))).state == other.state);
   }
-  const ros_bridge::KnobsReport k = ros_bridge::parseKnobs(knobsMessage(report));
+  const FrameReport pinned = frameReport(rec, {"csr", "tr"});
+  const ros_bridge::KnobsReport k = ros_bridge::parseKnobs(knobsMessage(pinned));
   CHECK(k.frame == 42);
+  CHECK(k.pinned == std::vector<std::string>{"csr", "tr"});
   CHECK(k.controller == "adaptive");
   CHECK(k.knobs.csr == 4);
   CHECK(k.knobs.integrationRate == 5);
   CHECK(k.knobs == rec.result.knobs);
   CHECK(k.computationMs == rec.result.times.computationMs());
+  // Whole records: what the bridge read, written again, is what the daemon wrote (every row of both tables).
+  FrameReport back;
+  back.pose = p;
+  back.knobs = k;
+  CHECK(poseMessage(back) == poseMessage(report));
+  CHECK(knobsMessage(back) == knobsMessage(pinned));
 }
 
 // Every knob of pipeline/knobs.h's key table, moved off its default alone, through every writer and reader of a

@@ -76,7 +76,7 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   r.knobs.frame = 7;
   r.knobs.controller = "fixed";
   r.knobs.knobs.integrationRate = 2;
-  r.pinned = {"csr"};
+  r.knobs.pinned = {"csr"};
   CHECK(toLine(poseMessage(r)) ==
         R"({"class":"POSE","constrained":true,"corrected":false,"frame":7,"odometry":false,"odometry_drift_m":0.0,)"
         R"("position":[1.0,2.0,3.0],"quaternion":[0.0,0.0,0.0,1.0],"state":"good","timestamp":1.5,"tracked":true,)"

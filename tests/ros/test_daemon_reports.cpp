@@ -21,24 +21,24 @@ nlohmann::json pose() {
 
 TEST_CASE("POSE: the state member wins; without it the state comes from tracked/constrained", "[ros]") {
   auto j = pose();
-  CHECK(parsePose(j).trackingState == TrackingState::good);
+  CHECK(parsePose(j).state == TrackingState::good);
   j["state"] = "relocalised";
-  CHECK(parsePose(j).trackingState == TrackingState::relocalised);
+  CHECK(parsePose(j).state == TrackingState::relocalised);
   j["state"] = "weak";
-  CHECK(parsePose(j).trackingState == TrackingState::weak);
+  CHECK(parsePose(j).state == TrackingState::weak);
   j["state"] = "something new";  // a state this bridge does not know must not look certain
-  CHECK(parsePose(j).trackingState == TrackingState::lost);
+  CHECK(parsePose(j).state == TrackingState::lost);
   j.erase("state");
   j["constrained"] = false;
-  CHECK(parsePose(j).trackingState == TrackingState::weak);
+  CHECK(parsePose(j).state == TrackingState::weak);
   j["tracked"] = false;
-  CHECK(parsePose(j).trackingState == TrackingState::lost);
+  CHECK(parsePose(j).state == TrackingState::lost);
   auto old = pose();  // protocol 1.0: no quality members at all
   old.erase("constrained");
   old.erase("conditioning");
   old.erase("weakest_motion");
   const auto p = parsePose(old);
-  CHECK(p.trackingState == TrackingState::good);
+  CHECK(p.state == TrackingState::good);
   CHECK(p.frame == 41);
   CHECK(p.position[2] == 1.62);
 }
@@ -68,14 +68,14 @@ TEST_CASE("the covariance says what the state says, in the parent frame", "[ros]
   CHECK(good[0] == Approx(1e-4));
   CHECK(good[35] == Approx(1e-4));
 
-  p.trackingState = TrackingState::lost;
+  p.state = TrackingState::lost;
   const auto lost = poseCovariance(p, c);
   CHECK(lost[0] == Approx(1e6));
   CHECK(lost[14] == Approx(1e6));
 
   // Weak along the camera's z (forward); the camera is turned 90 degrees about the world's y axis, so its z
   // points along the world's -x: the uncertainty must be on the world's x, not z.
-  p.trackingState = TrackingState::weak;
+  p.state = TrackingState::weak;
   p.weakestMotion = "tz";
   const double h = std::sqrt(0.5);
   p.quaternion = {0, -h, 0, h};
