@@ -294,6 +294,7 @@ nlohmann::json Daemon::status() {
                       {"threads", s.threads},
                       {"pass", s.pass},
                       {"output_dir", s.outputDir}};
+  if (!s.keptMap.empty()) j["kept_map"] = s.keptMap;  // protocol 1.11
   if (const std::string e = p.capture.error(); !e.empty()) j["error"] = e;
   if (!s.error.empty()) j["error"] = s.error;
   if (!p.meterError.empty()) j["meter_error"] = p.meterError;

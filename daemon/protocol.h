@@ -36,7 +36,8 @@ constexpr int kProtoMajor = 1;
 // 9: ?MAP and ?CLOUD rate-limited per connection (issue 53): the same reply at most once a second, sooner an
 // ERROR carrying retry_after_s, the connection's next requests held that long (daemon/socket_server.h).
 // 10: POSE carries kept_map in a run started with a kept map (docs/map-store.md): localising, localised.
-constexpr int kProtoMinor = 10;
+// 11: STATUS carries kept_map, as the last frame's POSE (a pass started with a kept map; absent otherwise).
+constexpr int kProtoMinor = 11;
 // Deepest nesting accepted in a request argument (?CONTROL={"pin":{...}} needs 2).
 constexpr int kMaxRequestDepth = 8;
 // Longest controller name accepted in ?CONTROL (replies quote it; they must stay short).

@@ -279,6 +279,7 @@ void SlamWorker::countFrame(Passes& p, const FrameRecord& record) {
     stats_.lostFrames += lost;
     stats_.relocalisations += record.state == TrackingState::relocalised;
     stats_.trackingState = trackingStateName(record.state);
+    stats_.keptMap = record.keptMap == KeptMap::none ? std::string() : keptMapName(record.keptMap);
     const FrameOdometry& o = record.odometry;
     stats_.odometryFrames += o.available;
     stats_.odometryMissing += !o.available && !o.why.empty();

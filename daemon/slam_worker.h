@@ -40,6 +40,9 @@ struct WorkerStats {
   // was lost (stretches of lost frames) and times it relocalised.
   std::string trackingState = "good";
   uint64_t lostFrames = 0, lostStretches = 0, relocalisations = 0;
+  // A pass started with a kept map (output.map_store, docs/map-store.md): "localising" or "localised", as the
+  // last frame's POSE says; empty otherwise (no store, or a pass that makes a new one).
+  std::string keptMap;
   // The robot's odometry (docs/odometry.md), all passes: frames that had it, frames that did not (in a run with
   // odometry), steps rejected as slips, frames posed by it alone; why the last frame had none.
   uint64_t odometryFrames = 0, odometryMissing = 0, odometryRejected = 0, odometryOnlyFrames = 0;

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -86,7 +87,45 @@ TEST_CASE("slamboosterd: a controller switched by ?CONTROL stays in force for th
   const std::string summary = passDirectory(out, next) + "/summary.json";
   REQUIRE(sb::test::waitForPath(summary, 60));
   CHECK(sb::readRunSummary(summary).controller == "accurate");
-  CHECK(ctlJson(socket, "status")["controller"] == "accurate");
+  const nlohmann::json status = ctlJson(socket, "status");
+  CHECK(status["controller"] == "accurate");
+  CHECK_FALSE(status.contains("kept_map"));  // no map store: as POSE, STATUS says nothing of one
   d.signal(SIGTERM);
   CHECK(d.wait(30) == 0);
+}
+
+TEST_CASE("slamboosterd: STATUS says kept_map in a pass started with a kept map", "[daemon][system]") {
+  // Protocol 1.11: before, POSE, frames.jsonl and the ROS diagnostics said it and STATUS did not. A looping
+  // replay with output.map_store: pass 1 makes the store, every later pass starts in it.
+  TempDir tmp;
+  const std::string socket = tmp.path + "/s.sock", out = tmp.path + "/out", store = tmp.path + "/store";
+  auto args = daemonArgs(socket, out, "fast", "loop");
+  args.insert(args.end(), {"--set", "output.report=false", "--set", "output.map_store=" + store});
+  ChildProcess d(args, {}, tmp.path + "/log.txt");
+  REQUIRE(sb::test::waitForPath(socket, 20));
+  INFO(d.log());
+  // Pass 2 started in the kept map and ended: its frames said kept_map; the pass after it does too.
+  REQUIRE(sb::test::waitForPath(passDirectory(out, 3), 90));
+  const nlohmann::json status = ctlJson(socket, "status");
+  INFO(status.dump());
+  REQUIRE(status.contains("kept_map"));
+  CHECK((status["kept_map"] == "localising" || status["kept_map"] == "localised"));
+  d.signal(SIGTERM);
+  CHECK(d.wait(30) == 0);
+  // Pass 1 made the store: none of its frames was in a kept map; pass 2's were.
+  for (int pass : {1, 2}) {
+    std::ifstream log(passDirectory(out, pass) + "/frames.jsonl");
+    REQUIRE(log);
+    std::string line, last;
+    size_t said = 0, frames = 0;
+    while (std::getline(log, line)) {
+      const nlohmann::json j = nlohmann::json::parse(line);
+      if (!j.contains("frame")) continue;
+      ++frames;
+      said += j.contains("kept_map");
+    }
+    INFO("pass " << pass);
+    CHECK(frames > 0);
+    CHECK(said == (pass == 1 ? 0 : frames));
+  }
 }

@@ -99,7 +99,7 @@ TEST_CASE("every message carries its class; encodings are stable", "[daemon][pro
   // Protocol 1.3: the frame log's name of the velocity beside the old one.
   CHECK(pose.at("velocity") == pose.at("velocity_m_per_frame"));
   // Protocol 1.4: the odometry state, whether the frame had odometry, the distance driven on it alone.
-  CHECK(versionMessage("x").at("proto_minor") == 10);
+  CHECK(versionMessage("x").at("proto_minor") == 11);
   FrameReport wheels = r;
   wheels.pose.state = sb::TrackingState::odometry;
   wheels.pose.odometry = true;

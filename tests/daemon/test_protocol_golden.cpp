@@ -104,7 +104,7 @@ void runScript(const fs::path& script) {
   // Nothing unexpected may come before the reply to this sentinel.
   client.send("?VERSION;\n");
   CHECK(client.readLine() ==
-        R"({"class":"VERSION","proto_major":1,"proto_minor":10,"release":"test-release"})");
+        R"({"class":"VERSION","proto_major":1,"proto_minor":11,"release":"test-release"})");
 }
 
 }  // namespace
