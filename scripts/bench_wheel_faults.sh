@@ -41,7 +41,7 @@ declare -A spec=(
   [wrong-reversed]="41|--odom-wrong reversed,4.5,10"
   [wrong-zero]="42|--odom-wrong zero,13,10"
   [wrong-gyro]="43|--odom-wrong gyro,8.5,10,20"
-  [wrong-scaled]="44|--odom-wrong scaled,22,10,2"
+  [wrong-scaled]="44|--odom-wrong scaled,6,10,2"
   [wrong-stall]="45|--odom-stall 11,10,1.0"
 )
 cases=("$@")
