@@ -3,13 +3,14 @@
 # U-turn) with one fault each, run by DEFAULT and adaptive with defaults as a new user would
 # (`slambooster run SEQ --controller C`), and per run: the share of frames posed, the ATE over them with the
 # estimate anchored at the first frame as a robot's map frame is (no alignment), the worst error, and the count
-# of `good` frames more than 0.5 m from the truth (scripts/pose_honesty.py). Each case has its own seed and fault
-# time/size; CASES picks some (default all). WIDTH: 320 (default) or 640. CONFIG: a settings file given to every run
+# of `good` frames more than 0.5 m and 0.3 m from the truth (scripts/pose_honesty.py; the 0.3 m count from its
+# per-frame CSV, RUN.frames.csv), and the first `lost` frame (the dead-reckoning budget ran out; - when none). Each
+# case has its own seed and fault time/size; the arguments pick some (default the first set). WIDTH: 320 (default) or 640. CONFIG: a settings file given to every run
 # (e.g. {"odometry": {"dispute_s": 0.3}} for the fault watch). RUNS: the controllers (default "default adaptive").
 #
 # usage: scripts/bench_wheel_faults.sh [BUILD_DIR] [OUT] [CASE...]
-#   cases: plain covered stall carried latency mount, and the second set plain2 covered2 stall2 carried2 latency2
-#   mount2
+#   cases: plain covered stall carried latency mount, the second set plain2 covered2 stall2 carried2 latency2
+#   mount2, and the attack's wrong wheels for 10 s wrong-reversed wrong-zero wrong-gyro wrong-scaled wrong-stall
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}
@@ -35,11 +36,19 @@ declare -A spec=(
   [carried2]="34|--odom-carried 20,6"
   [latency2]="35|--odom-latency 0.07"
   [mount2]="36|--odom-mount-error -1,1.5,1,0.03,-0.02,0.01"
+  # Issue 52's attack: grossly wrong wheels for 10 s while the truth drives on (the drive lasts about 40 s), and a
+  # still camera while the wheels read 1 m/s.
+  [wrong-reversed]="41|--odom-wrong reversed,4.5,10"
+  [wrong-zero]="42|--odom-wrong zero,13,10"
+  [wrong-gyro]="43|--odom-wrong gyro,8.5,10,20"
+  [wrong-scaled]="44|--odom-wrong scaled,6,10,2"
+  [wrong-stall]="45|--odom-stall 11,10,1.0"
 )
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=(plain covered stall carried latency mount)
 mkdir -p "$out"
-printf '%-9s %-9s %7s %9s %8s %9s  %s\n' case run posed ATE_anch_cm worst_m 'good>0.5m' states
+printf '%-14s %-9s %7s %9s %8s %9s %9s %10s  %s\n' case run posed ATE_anch_cm worst_m 'good>0.5m' 'good>0.3m' \
+  first_lost states
 for c in "${cases[@]}"; do
   [ -n "${spec[$c]+x}" ] || { echo "bench_wheel_faults: unknown case $c" >&2; exit 1; }
   IFS='|' read -r seed fault <<< "${spec[$c]}"
@@ -53,12 +62,16 @@ for c in "${cases[@]}"; do
     extra=()
     [ -z "${CONFIG:-}" ] || extra=(--config "$CONFIG")
     "$bin" run "$seq" --out "$dir" --controller "$run" --quiet "${extra[@]}" > "$dir.log" 2>&1
-    python3 "$root/scripts/pose_honesty.py" "$dir" "$seq/groundtruth.txt" > "$dir.honesty.json"
-    python3 - "$c" "$run" "$dir.honesty.json" <<'PY'
-import json, sys
+    python3 "$root/scripts/pose_honesty.py" "$dir" "$seq/groundtruth.txt" --per-frame "$dir.frames.csv" \
+      > "$dir.honesty.json"
+    python3 - "$c" "$run" "$dir.honesty.json" "$dir.frames.csv" <<'PY'
+import csv, json, sys
 h = json.load(open(sys.argv[3]))
-print('%-9s %-9s %6.1f%% %9.2f %8.2f %9d  %s' % (sys.argv[1], sys.argv[2], 100 * h['posed_share'],
-      100 * (h['ate_posed_m'] or 0), h['worst_m'], h['good_off'], h['states']))
+rows = list(csv.DictReader(open(sys.argv[4])))
+off03 = sum(1 for r in rows if r['state'] == 'good' and float(r['error_m']) > 0.3)
+lost = [int(r['frame']) for r in rows if r['state'] == 'lost']
+print('%-14s %-9s %6.1f%% %9.2f %8.2f %9d %9d %10s  %s' % (sys.argv[1], sys.argv[2], 100 * h['posed_share'],
+      100 * (h['ate_posed_m'] or 0), h['worst_m'], h['good_off'], off03, lost[0] if lost else '-', h['states']))
 PY
   done
 done

@@ -101,10 +101,11 @@ Trajectory driveOdometry(const stress::DrivePath& path, double endS, const Odome
     const double dyaw = std::atan2(d.linear()(1, 0), d.linear()(0, 0));
     const double dt = t - previousT, step = std::hypot(dx, dy);
     double mx = (1.0 + e.scale) * dx + e.noiseMPerSqrtM * std::sqrt(step) * normal(rng);
-    const double my = (1.0 + e.scale) * dy + e.noiseMPerSqrtM * std::sqrt(step) * normal(rng);
-    const double myaw = (1.0 + e.yawScale) * dyaw + yawBias * dt + yawNoise * std::sqrt(dt) * normal(rng);
+    double my = (1.0 + e.scale) * dy + e.noiseMPerSqrtM * std::sqrt(step) * normal(rng);
+    double myaw = (1.0 + e.yawScale) * dyaw + yawBias * dt + yawNoise * std::sqrt(dt) * normal(rng);
     if (e.slipAtS >= 0.0 && e.slipAtS >= previousT && e.slipAtS < t) mx += e.slipM;  // the wheels spin
     if (clock.stalled(t)) mx += (1.0 + e.scale) * faults.stallSpeedMps * dt;  // and spin on against the obstacle
+    faults.applyWrongWheels(t, dt, mx, my, myaw);  // after the draws: the noise's stream stays the same
     odom.x += std::cos(odom.yaw) * mx - std::sin(odom.yaw) * my;
     odom.y += std::sin(odom.yaw) * mx + std::cos(odom.yaw) * my;
     odom.yaw += myaw;

@@ -42,8 +42,8 @@ struct OdometryErrors {
 // The drive's odometry from `startS` (0: the drive's start) up to `endS` seconds (at least one sample at or
 // after it). The odometry frame is the base at `startS` (a robot started there). `seed` and `startS` seed the
 // noise and the stamps' offset: a part started later draws noise of its own. `faults` (drive_faults.h): the
-// truth's stall or carry as the wheels read it (a stall's spin, a carry's stillness), the stamps' latency and the
-// mount the odometry assumes.
+// truth's stall or carry as the wheels read it (a stall's spin, a carry's stillness), the stamps' latency, the
+// mount the odometry assumes and the wrong wheels within their window.
 Trajectory driveOdometry(const stress::DrivePath& path, double endS, const OdometryErrors& errors,
                          uint64_t seed, double startS = 0.0, const DriveFaults& faults = {});
 

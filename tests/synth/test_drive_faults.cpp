@@ -1,6 +1,6 @@
 // The faults of a synthetic drive's base (synth/drive_faults.h): a stall holds the truth while the wheels spin on,
 // a carry jumps the truth back while the wheels read nothing, a latency shifts the stamps, a mount error turns the
-// camera the odometry reports.
+// camera the odometry reports; wrong wheels change the odometry's steps within their window and nothing else.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -12,6 +12,7 @@
 #include "synth/drive_odometry.h"
 #include "tests/synth/exact_odometry.h"
 #include "synth/stress_drive.h"
+#include "synth/stress_moves.h"
 
 using namespace sb;
 using namespace sb::synth;
@@ -25,6 +26,13 @@ Eigen::Vector3d odometryAt(const Trajectory& odometry, double t) {
   for (const TimedPose& p : odometry)
     if (std::abs(p.timestamp - t) < std::abs(best->timestamp - t)) best = &p;
   return best->T_camera_to_world.translation();
+}
+
+// One sample's planar step as the wheels read it: the base's motion from sample k-1 to k (forward, left, turn).
+Eigen::Vector3d step(const Trajectory& odometry, size_t k, const Eigen::Isometry3d& mount) {
+  const Eigen::Isometry3d d = (odometry[k - 1].T_camera_to_world * mount.inverse()).inverse() *
+                              (odometry[k].T_camera_to_world * mount.inverse());
+  return {d.translation().x(), d.translation().y(), std::atan2(d.linear()(1, 0), d.linear()(0, 0))};
 }
 
 }  // namespace
@@ -91,4 +99,77 @@ TEST_CASE("a latency shifts the stamps; a mount error turns the reported camera;
   bad.stallAtS = 1.0;
   bad.carriedAtS = 2.0;
   CHECK_THROWS_AS(bad.validate(), Error);
+}
+
+TEST_CASE("wrong wheels change the odometry's steps within their window only, and never the truth",
+          "[synth][faults]") {
+  const Scene scene = generateCorridor(0);
+  const stress::DrivePath path = drivePath(scene, 0);
+  const Eigen::Isometry3d mount = path.cameraToBase();
+  constexpr double kAtS = 5.0, kForS = 2.0, kEndS = 10.0, kGyroDegps = 20.0, kScale = 2.0;
+  const OdometryErrors errors;  // the cheap base's errors and noise: the window must not change their stream
+  const Trajectory plain = driveOdometry(path, kEndS, errors, 7);
+  for (const WrongWheels kind : {WrongWheels::Reversed, WrongWheels::Zero, WrongWheels::Gyro, WrongWheels::Scaled}) {
+    INFO(wrongWheelsName(kind));
+    DriveFaults f;
+    f.wrong = kind;
+    f.wrongAtS = kAtS;
+    f.wrongS = kForS;
+    f.wrongValue = kind == WrongWheels::Gyro ? kGyroDegps : kScale;
+    CHECK_FALSE(f.changesTruth());  // cmd_synth moves the truth only for a fault that changes it
+    const DriveClock clock(path, f);
+    for (double t = 0.0; t <= kEndS; t += 0.25) CHECK(clock.at(t) == t);
+    CHECK(f.describe().find("wheels " + wrongWheelsName(kind)) != std::string::npos);
+
+    const Trajectory wrong = driveOdometry(path, kEndS, errors, 7, 0.0, f);
+    REQUIRE(wrong.size() == plain.size());
+    size_t inside = 0;
+    double drivenM = 0.0;
+    for (size_t k = 0; k < plain.size(); ++k) {
+      const double t = plain[k].timestamp;
+      REQUIRE(wrong[k].timestamp == t);
+      if (t <= kAtS) {  // before the window: the very same samples
+        CHECK((wrong[k].T_camera_to_world.matrix() - plain[k].T_camera_to_world.matrix()).norm() < 1e-12);
+        continue;
+      }
+      const Eigen::Vector3d p = step(plain, k, mount), w = step(wrong, k, mount);
+      if (t > kAtS + kForS) {  // after it: the same steps from where the wrong ones left the odometry
+        CHECK((w - p).norm() < 1e-9);
+        continue;
+      }
+      ++inside;
+      drivenM += std::abs(p.x());
+      const double dt = t - plain[k - 1].timestamp;
+      Eigen::Vector3d expected = p;
+      if (kind == WrongWheels::Reversed) expected = -p;
+      if (kind == WrongWheels::Zero) expected.setZero();
+      if (kind == WrongWheels::Gyro) expected.z() += kGyroDegps * stress::kDegToRad * dt;
+      if (kind == WrongWheels::Scaled) expected = kScale * p;
+      CHECK((w - expected).norm() < 1e-9);
+    }
+    CHECK(inside == Approx(kForS * errors.rateHz).margin(1.0));
+    CHECK(drivenM > 1.0);  // the robot drives through the window, so each kind's steps differ from the plain ones
+  }
+}
+
+TEST_CASE("--odom-wrong reads KIND,AT,SECONDS[,VALUE] and refuses what it cannot mean", "[synth][faults]") {
+  DriveFaults f;
+  parseWrongWheelsOption("gyro,5,2", f);
+  CHECK(f.wrong == WrongWheels::Gyro);
+  CHECK(f.wrongAtS == 5.0);
+  CHECK(f.wrongS == 2.0);
+  CHECK(f.wrongValue == 20.0);
+  parseWrongWheelsOption("scaled,1.5,10,3", f);
+  CHECK(f.wrong == WrongWheels::Scaled);
+  CHECK(f.wrongValue == 3.0);
+  parseWrongWheelsOption("scaled,1.5,10", f);
+  CHECK(f.wrongValue == 2.0);
+  parseWrongWheelsOption("zero,0,10", f);
+  CHECK(f.wrong == WrongWheels::Zero);
+  for (const char* bad : {"reversed,1,2,3", "sideways,1,2", "zero,-1,2", "zero,1,0", "zero,1", "zero,a,2",
+                          "gyro,1,2,500", "scaled,1,2,nan", "reversed,1,2,", ""}) {
+    INFO(bad);
+    DriveFaults g;
+    CHECK_THROWS_AS(parseWrongWheelsOption(bad, g), Error);
+  }
 }

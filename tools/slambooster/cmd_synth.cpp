@@ -70,6 +70,7 @@ struct SynthArgs {
   synth::OdometryErrors odometry;  // --stress drive: odometry.txt
   synth::DriveFaults faults;       // --stress drive: the base's faults (synth/drive_faults.h)
   std::vector<double> stall, carried, mountError;  // their options as given
+  std::string wrong;                               // --odom-wrong KIND,AT,SECONDS[,VALUE]
   std::vector<double> cover;                       // --cover AT,SECONDS
   bool noOdometry = false;
   // --frames-from / --frames-to: a part of the trajectory (frames [from, to) of it; to 0: its end), e.g. two
@@ -123,6 +124,7 @@ void applyFaultOptions(SynthArgs& a) {
     f.carriedBackM = a.carried[1];
   }
   for (size_t i = 0; i < a.mountError.size(); ++i) f.mountError[i] = a.mountError[i];
+  if (!a.wrong.empty()) synth::parseWrongWheelsOption(a.wrong, f);
   if ((!a.stall.empty() && !(a.stall[0] >= 0.0)) || (!a.carried.empty() && !(a.carried[0] >= 0.0)))
     throw Error("synth: --odom-stall and --odom-carried start at a time of at least 0 s");
   try {
@@ -195,8 +197,8 @@ void runSynth(SynthArgs& a) {
   }
   applyFaultOptions(a);
   if ((a.faults.changesTruth() || !a.faults.describe().empty()) && !driveOdometry)
-    throw Error("synth: --odom-stall, --odom-carried, --odom-latency and --odom-mount-error need --stress drive "
-                "with its odometry");
+    throw Error("synth: --odom-stall, --odom-carried, --odom-latency, --odom-mount-error and --odom-wrong need "
+                "--stress drive with its odometry");
   if (a.faults.changesTruth()) {  // the truth stands through a stall, or jumps back at a carry
     const synth::stress::DrivePath path = synth::drivePath(*stressScene, o.seed);
     const synth::DriveClock clock(path, a.faults);
@@ -384,6 +386,11 @@ void addSynthCommand(CLI::App& app) {
                   "degrees (about the optical z, x, y axes) and moved by these metres (camera frame)")
       ->expected(3, 6)
       ->delimiter(',')
+      ->group(faultGroup);
+  sub->add_option("--odom-wrong", args->wrong,
+                  "KIND,AT,SECONDS[,VALUE]: the odometry alone is wrong for SECONDS from AT s (the truth drives on): "
+                  "reversed (each step read backwards), zero (no motion read), gyro (a further turn drift of VALUE "
+                  "deg/s, default 20), scaled (each step times VALUE, default 2)")
       ->group(faultGroup);
   sub->add_flag("--overwrite", o.overwrite, "Replace the contents of a non-empty --out directory");
   sub->callback([args] { runSynth(*args); });
