@@ -20,6 +20,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/field_row.h"
+
 namespace sb {
 
 struct FrameLogFields {
@@ -89,13 +91,8 @@ void forEachFrameLogField(F& f, Field&& field) {
 // (tests/daemon/test_frame_report.cpp).
 template <typename M>
 FrameLogField frameLogField(M FrameLogFields::*member) {
-  static const FrameLogFields fields{};
-  FrameLogField found{nullptr, nullptr, nullptr};
-  forEachFrameLogField(fields, [&](const FrameLogField& row, const auto& m) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(m)>, M>)
-      if (!found.logName && &m == &(fields.*member)) found = row;
-  });
-  return found;
+  return fieldRowOf<FrameLogField>(member,
+                                   [](const FrameLogFields& r, auto&& visit) { forEachFrameLogField(r, visit); });
 }
 
 // Calls write(row, value) for each field that has a value, the value as JSON, in the table's order.

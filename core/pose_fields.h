@@ -18,6 +18,7 @@
 #include <string>
 #include <type_traits>
 
+#include "core/field_row.h"
 #include "core/tracking_state.h"
 
 namespace sb {
@@ -83,13 +84,7 @@ void forEachPoseField(P& p, Field&& field) {
 // is "timestamp". Every member has a row (tests/daemon/test_frame_report.cpp).
 template <typename M>
 PoseField poseField(M PoseFields::*member) {
-  static const PoseFields fields{};
-  PoseField found{nullptr, nullptr, nullptr, nullptr, nullptr};
-  forEachPoseField(fields, [&](const PoseField& row, const auto& m) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(m)>, M>)
-      if (!found.name && &m == &(fields.*member)) found = row;
-  });
-  return found;
+  return fieldRowOf<PoseField>(member, [](const PoseFields& r, auto&& visit) { forEachPoseField(r, visit); });
 }
 
 // Calls write(row, value) for each field that has a value, the value as JSON (a state by its name), in the

@@ -19,6 +19,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/field_row.h"
 #include "pipeline/knobs.h"
 
 namespace sb {
@@ -53,13 +54,8 @@ void forEachKnobRecordField(K& k, Field&& field) {
 // (tests/daemon/test_frame_report.cpp).
 template <typename M>
 KnobRecordField knobRecordField(M KnobFields::*member) {
-  static const KnobFields fields{};
-  KnobRecordField found{nullptr, nullptr, nullptr};
-  forEachKnobRecordField(fields, [&](const KnobRecordField& row, const auto& m) {
-    if constexpr (std::is_same_v<std::decay_t<decltype(m)>, M>)
-      if (!found.unit && &m == &(fields.*member)) found = row;
-  });
-  return found;
+  return fieldRowOf<KnobRecordField>(member,
+                                     [](const KnobFields& r, auto&& visit) { forEachKnobRecordField(r, visit); });
 }
 
 // Calls write(row, value) for each field, the value as JSON (the knob set by knobsToJson), in the table's order:
