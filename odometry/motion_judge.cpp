@@ -75,7 +75,10 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
   if (f.rejected) {
     // A motion the platform cannot make is the view's error (a runaway along a wall), whoever disagrees with it.
     if (!d.correctedPose) checkPhysics(pipeline, view, motion);
-    if (!r.tracked) return;
+    if (!r.tracked) {
+      faults_.interrupt();
+      return;
+    }
     // A body keeps its velocity: a view that departs further from the last velocity than the wheels' step (it
     // slid to a look-alike of the corridor by a door's spacing) is discarded for this frame, as a wheel step that
     // jumps is. One frame's inertia cannot decide a fault that lasts, though: after a discarded view the last

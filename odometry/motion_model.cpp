@@ -123,14 +123,17 @@ void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
   }
   const double dt = r.timestamp - motion.previousStamp;
   if (motion.hasPrevious && dt > 0)
-    lastVelocity_ = (finalPose(view).translation() - motion.previousPose.translation()) / dt;
+    lastVelocity_ = velocityBetween(motion.previousPose, finalPose(view), dt);
   else
     lastVelocity_.reset();
 }
 
 bool MotionModel::follow(const FrameView& view, const FrameMotion& motion) {
   const FrameResult& r = view.result;
-  if (view.implausible.empty()) lastVelocity_.reset();
+  if (view.implausible.empty()) {  // depth failed to track (not a discarded view)
+    lastVelocity_.reset();
+    faults_.interrupt();
+  }
   // A track that failed while the model was in view and the view disagreed with it: the robot is not where the
   // wheels say (evidence of a kidnap); one that failed on a blind or new view says nothing.
   if (faultsOn() && motion.step && r.trackingAttempted && r.inlierFraction > 0.0 && view.implausible.empty() &&
@@ -197,7 +200,9 @@ void MotionModel::checkPhysics(Pipeline& pipeline, const FrameView& view, const 
   FrameResult& r = view.result;
   const OdometryConfig& c = config_;
   const double dt = r.timestamp - motion.previousStamp;
-  const std::string why = implausibleMotion(c, motion.previousPose, r.T_camera_to_world, dt, lastVelocity_);
+  std::optional<Eigen::Vector3d> lastLinear;
+  if (lastVelocity_) lastLinear = lastVelocity_->linear;
+  const std::string why = implausibleMotion(c, motion.previousPose, r.T_camera_to_world, dt, lastLinear);
   if (why.empty()) return;
   // The estimate catching up (the view agrees as well as before, within ICP's reach): it stands.
   const double excess =
@@ -222,7 +227,7 @@ void MotionModel::discardTrack(Pipeline& pipeline, const FrameView& view, const 
   Decision& d = view.decision;
   // The pose goes on at the last plausible velocity (held without one), the rotation held.
   Eigen::Isometry3d extrapolated = motion.previousPose;
-  if (lastVelocity_ && dt > 0) extrapolated.translation() += *lastVelocity_ * dt;
+  if (lastVelocity_ && dt > 0) extrapolated.translation() += lastVelocity_->linear * dt;
   d.correctedPose = extrapolated;
   d.refinedPose.reset();
   d.integrate = false;
@@ -233,7 +238,7 @@ void MotionModel::discardTrack(Pipeline& pipeline, const FrameView& view, const 
 void MotionModel::movedBy(const FrameView& view, const FrameMotion& motion) {
   const double dt = view.result.timestamp - motion.previousStamp;
   if (view.decision.correctedPose && dt > 0)
-    lastVelocity_ = (view.decision.correctedPose->translation() - motion.previousPose.translation()) / dt;
+    lastVelocity_ = velocityBetween(motion.previousPose, *view.decision.correctedPose, dt);
 }
 
 bool MotionModel::followOdometry(const FrameView& view, const FrameMotion& motion) {

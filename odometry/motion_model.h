@@ -172,7 +172,7 @@ class MotionModel {
   FaultWatch faults_;
   bool held_ = false;             // the last judged frame's view held the map
   bool needsView_ = false;
-  std::optional<Eigen::Vector3d> lastVelocity_;  // m/s, world frame: of the last tracked frame's motion
+  std::optional<Velocity> lastVelocity_;  // of the last frame's motion (tracked, or moved by the wheels)
   // The covariance of the last fused frame's pose and its stamp: the next frame's prior when it is that frame.
   std::optional<Matrix6> fusedCovariance_;
   double fusedStamp_ = 0.0;

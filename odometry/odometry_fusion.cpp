@@ -85,16 +85,35 @@ std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& 
   return {};
 }
 
+Velocity velocityBetween(const Eigen::Isometry3d& previous, const Eigen::Isometry3d& pose, double dt) {
+  Velocity v;
+  v.linear = (pose.translation() - previous.translation()) / dt;
+  const Eigen::AngleAxisd turn(previous.linear().transpose() * pose.linear());
+  v.angular = turn.axis() * turn.angle() / dt;
+  return v;
+}
+
 std::string viewBreaksInertia(const Eigen::Isometry3d& previous, const Eigen::Isometry3d& tracked,
-                              const Eigen::Isometry3d& predicted, double dt,
-                              const std::optional<Eigen::Vector3d>& lastVelocity, double floorM) {
-  if (!lastVelocity || !(dt > 0)) return {};
+                              const Eigen::Isometry3d& predicted, double dt, const std::optional<Velocity>& last,
+                              double floorM) {
+  if (!last || !(dt > 0)) return {};
   const Eigen::Vector3d& from = previous.translation();
-  const double departView = ((tracked.translation() - from) / dt - *lastVelocity).norm() * dt;
-  const double departWheels = ((predicted.translation() - from) / dt - *lastVelocity).norm() * dt;
-  if (departView <= departWheels || departView < floorM) return {};
-  return formatNumbers("the view departs %.3f m from the last velocity in one frame, the odometry %.3f m: the view is wrong",
-                departView, departWheels);
+  const double departView = ((tracked.translation() - from) / dt - last->linear).norm() * dt;
+  const double departWheels = ((predicted.translation() - from) / dt - last->linear).norm() * dt;
+  if (departView > departWheels && departView >= floorM)
+    return formatNumbers("the view departs %.3f m from the last velocity in one frame, the odometry %.3f m: the view is wrong",
+                         departView, departWheels);
+  // The turn the last turn rate carries on to, and how far each side's orientation is from it.
+  const double rate = last->angular.norm();
+  const Eigen::Matrix3d kept =
+      previous.linear() *
+      (rate > 0 ? Eigen::AngleAxisd(rate * dt, last->angular / rate).toRotationMatrix() : Eigen::Matrix3d::Identity());
+  const double turnView = angleOf(kept.transpose() * tracked.linear());
+  const double turnWheels = angleOf(kept.transpose() * predicted.linear());
+  if (turnView > turnWheels && turnView >= floorM && departWheels <= std::max(departView, floorM))
+    return formatNumbers("the view turns %.2f deg from the last turn rate in one frame, the odometry %.2f deg: the view is wrong",
+                         turnView * kDegPerRad, turnWheels * kDegPerRad);
+  return {};
 }
 
 Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previous, const Eigen::Isometry3d& tracked,

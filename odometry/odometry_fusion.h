@@ -43,15 +43,28 @@ void widenNoise(OdometryStep& step, const OdometryStep& since);
 Eigen::Isometry3d levelled(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& odometry,
                            const Eigen::Vector3d& up);
 
+// A body's velocity between two frames: `linear` m/s in the world frame, `angular` the rotation vector per second
+// in the earlier frame's camera axes (a robot's turn about its up axis keeps it).
+struct Velocity {
+  Eigen::Vector3d linear = Eigen::Vector3d::Zero();
+  Eigen::Vector3d angular = Eigen::Vector3d::Zero();
+};
+// The velocity that takes `previous` to `pose` in `dt` > 0 seconds.
+Velocity velocityBetween(const Eigen::Isometry3d& previous, const Eigen::Isometry3d& pose, double dt);
+
 // Of a view and wheels that disagree (the view's pose `tracked`, the wheels' `predicted`, both from `previous`
 // `dt` seconds ago), why the view is the wrong one, or "" when it is not shown to be: a body keeps its velocity
-// (`lastVelocity`, m/s, world frame), so of the two motions the one that departs further from it within the frame
-// is wrong. A wheel slip is the wheels' jump; a view that matched the model elsewhere (a runaway) is the view's.
-// A departure of the view below `floorM` (metres in one frame) is within what tracking shows anyway. No last
-// velocity or dt <= 0: "".
+// (`last`), so of the two motions the one that departs further from it within the frame is wrong. A wheel slip is
+// the wheels' jump; a view that matched the model elsewhere (a runaway) is the view's. Both the translation and
+// the turn: a body keeps its turn rate as it keeps its speed, and a view facing a wall at a U-turn can swing
+// 7-12 degrees in one frame from the turn the wheels report while its position moves a few centimetres (a
+// held-out drive: taken as the wheels slipping, the run was lost). A departure of the view below `floorM` (metres
+// in one frame; the same number as radians for the turn, 1.7 deg at 0.03) is within what tracking shows anyway.
+// The view's turn is judged the wrong one only where the wheels' translation does not depart further than the
+// view's. No last velocity or dt <= 0: "".
 std::string viewBreaksInertia(const Eigen::Isometry3d& previous, const Eigen::Isometry3d& tracked,
-                              const Eigen::Isometry3d& predicted, double dt,
-                              const std::optional<Eigen::Vector3d>& lastVelocity, double floorM);
+                              const Eigen::Isometry3d& predicted, double dt, const std::optional<Velocity>& last,
+                              double floorM);
 
 // Why a camera motion from `previous` to `pose` in `dt` seconds is one the platform cannot make (speed, turn
 // rate, or acceleration against `previousVelocity`, m/s in the world frame), or "" when it can. dt <= 0: "".

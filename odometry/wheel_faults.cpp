@@ -88,6 +88,7 @@ void FaultWatch::wheelsContradicted(double stamp) {
 
 void FaultWatch::viewContradicted(double stamp) {
   calm_ = 0;
+  rising_ = 0;
   if (fault_ == WheelFault::kidnapped) return;
   if (fault_ == WheelFault::slipping) fault_ = WheelFault::none;  // neither side is trusted now: decide again
   begin(stamp);

@@ -103,7 +103,8 @@ TEST_CASE("of a view and wheels that disagree, the one that breaks inertia is wr
   const OdometryConfig c;
   const Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
   const double dt = 1.0 / 30;
-  const Eigen::Vector3d creeping(0, 0, 0.2);  // m/s: the robot setting off
+  Velocity creeping;  // the robot setting off
+  creeping.linear = Eigen::Vector3d(0, 0, 0.2);
   // The view ran away 0.12 m in one frame, the wheels went on at 7 mm: the view is wrong.
   CHECK_THAT(viewBreaksInertia(start, moved(0, 0, 0.12), moved(0, 0, 0.007), dt, creeping, c.slipFloorM),
              Catch::Contains("the view is wrong") && Catch::Contains("0.113 m"));
@@ -119,6 +120,29 @@ TEST_CASE("of a view and wheels that disagree, the one that breaks inertia is wr
   // Without a last velocity or time, not judged.
   CHECK(viewBreaksInertia(start, moved(0, 0, 0.3), moved(0, 0, 0.007), dt, std::nullopt, c.slipFloorM).empty());
   CHECK(viewBreaksInertia(start, moved(0, 0, 0.3), moved(0, 0, 0.007), 0.0, creeping, c.slipFloorM).empty());
+}
+
+TEST_CASE("a body keeps its turn rate: a view that swings against it in one frame is wrong", "[odometry][physics]") {
+  const OdometryConfig c;
+  const double dt = 1.0 / 30;
+  const auto yawed = [](double deg, double z) {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(deg * M_PI / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(0, 0, z);
+    return T;
+  };
+  const Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+  // An in-place U-turn at 60 deg/s (2 deg a frame): the wheels turn on, the view facing the end wall swings 9 deg.
+  const Velocity turning = velocityBetween(yawed(-2, 0), start, dt);
+  CHECK(turning.angular.norm() == Approx(60 * M_PI / 180).epsilon(1e-9));
+  CHECK_THAT(viewBreaksInertia(start, yawed(9, 0.005), yawed(2, 0), dt, turning, c.slipFloorM),
+             Catch::Contains("the view turns 7.00 deg from the last turn rate") && Catch::Contains("0.00 deg"));
+  // A gyro running away (the wheels turn 2 deg more than the turn goes on), the view keeps the turn: not the view's.
+  CHECK(viewBreaksInertia(start, yawed(2, 0), yawed(4, 0), dt, turning, c.slipFloorM).empty());
+  // The view stops turning within tracking's noise of a frame (1 deg from the turn's 2): not judged.
+  CHECK(viewBreaksInertia(start, yawed(1, 0), yawed(2, 0), dt, turning, c.slipFloorM).empty());
+  // The wheels jumped 0.4 m as the view swung: the wheels' jump is the larger departure, the turn is not judged.
+  CHECK(viewBreaksInertia(start, yawed(9, 0), yawed(2, 0.4), dt, turning, c.slipFloorM).empty());
 }
 
 TEST_CASE("a motion the platform cannot make is named; one it can is not", "[odometry][physics]") {

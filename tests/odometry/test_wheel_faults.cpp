@@ -69,6 +69,15 @@ TEST_CASE("a stall: the view's correction of the wheels keeps growing; a view's 
   // A view that slid to a look-alike, discarded each frame from the wheels' prediction: bounded corrections.
   const double corrections[] = {0.035, 0.042, 0.051, 0.056, 0.050, 0.052};
   for (int i = 0; i < 6; ++i) CHECK_FALSE(jump.diverging(i * kFrameS, corrections[i]));
+  // Rising corrections with frames between them the view could not hold (a view swinging at a U-turn's end wall,
+  // discarded as a motion the platform cannot make): no run, however they grow.
+  FaultWatch swing(0.3, 0.5);
+  CHECK_FALSE(swing.diverging(0.0, 0.2));
+  CHECK_FALSE(swing.diverging(kFrameS, 0.52));
+  swing.interrupt();
+  CHECK_FALSE(swing.diverging(9 * kFrameS, 0.556));
+  CHECK_FALSE(swing.diverging(10 * kFrameS, 0.6));
+  CHECK(swing.diverging(11 * kFrameS, 1.5));  // three in a row from 0.556: 2.7 times
 }
 
 TEST_CASE("the map's agreement: a fraction of the recent median", "[odometry][faults]") {
