@@ -93,7 +93,10 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
       const std::string inertia = viewBreaksInertia(motion.previousPose, tracked, predicted,
                                                     r.timestamp - motion.previousStamp, lastVelocity_,
                                                     config_.slipFloorM);
-      if (!inertia.empty() && !faults_.diverging(r.timestamp, f.disagreementM)) {
+      const double dt = r.timestamp - motion.previousStamp;
+      const bool withinReach = (tracked.translation() - motion.previousPose.translation()).norm() <=
+                               (lastVelocity_ ? lastVelocity_->linear.norm() * dt : 0.0) + config_.slipFloorM;
+      if (!inertia.empty() && !faults_.diverging(r.timestamp, f.disagreementM, withinReach)) {
         discardTrack(pipeline, view, motion, inertia);
         return;
       }

@@ -58,14 +58,14 @@ void FaultWatch::begin(double stamp) {
   wheelsAgainst_ = viewAgainst_ = 0;
 }
 
-bool FaultWatch::diverging(double stamp, double correctionM) {
+bool FaultWatch::diverging(double stamp, double correctionM, bool withinReach) {
   calm_ = 0;
   begin(stamp);
   if (why_.empty()) why_ = "the wheels and the view disagree: undecided";
   if (rising_ > 0 && correctionM > lastCorrectionM_) {
     ++rising_;
   } else {
-    rising_ = 1;
+    rising_ = withinReach ? 1 : 0;
     firstCorrectionM_ = correctionM;
   }
   lastCorrectionM_ = correctionM;

@@ -79,7 +79,11 @@ class FaultWatch {
   // The frames must follow one another: a frame between them whose view was discarded as a motion the platform
   // cannot make, or failed to track (`interrupt`), ends the run (a held-out U-turn: corrections of 0.52 and 0.56 m
   // eight frames apart, the view swinging 20 m/s in between, were taken for a stall's growth and the view stood).
-  bool diverging(double stamp, double correctionM);
+  // And the run starts only where the view is `withinReach` of the previous pose (no farther than the body's speed
+  // carries it in the frame, plus the slip floor): a stall's view stops where the robot stood, a look-alike's lands
+  // ahead (a held-out U-turn: the view 0.46 m from the last pose in one frame, then held there while its corrections
+  // of the wheels rose from a few centimetres to 0.18 m, was taken for a stall and the pose jumped 0.26 m).
+  bool diverging(double stamp, double correctionM, bool withinReach = true);
   void interrupt() { rising_ = 0; }
   // A frame where the two agree (the view holds the map and the wheels' step agrees with it).
   void agreed(double stamp);

@@ -78,6 +78,15 @@ TEST_CASE("a stall: the view's correction of the wheels keeps growing; a view's 
   CHECK_FALSE(swing.diverging(9 * kFrameS, 0.556));
   CHECK_FALSE(swing.diverging(10 * kFrameS, 0.6));
   CHECK(swing.diverging(11 * kFrameS, 1.5));  // three in a row from 0.556: 2.7 times
+  // A view that landed beyond the body's reach (a look-alike 0.46 m ahead) and held there: its rising corrections
+  // are no stall's; one within reach starts the run.
+  FaultWatch lookAlike(0.3, 0.5);
+  CHECK_FALSE(lookAlike.diverging(0.0, 0.05, false));
+  CHECK_FALSE(lookAlike.diverging(kFrameS, 0.1, false));
+  CHECK_FALSE(lookAlike.diverging(2 * kFrameS, 0.18, false));
+  CHECK_FALSE(lookAlike.diverging(3 * kFrameS, 0.033, true));
+  CHECK_FALSE(lookAlike.diverging(4 * kFrameS, 0.066, false));
+  CHECK(lookAlike.diverging(5 * kFrameS, 0.099, false));
 }
 
 TEST_CASE("the map's agreement: a fraction of the recent median", "[odometry][faults]") {
