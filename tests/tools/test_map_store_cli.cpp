@@ -13,6 +13,7 @@
 // in another building (the corridor of seed 7) given a copy of run 1's store is never localised in it
 // (measured: 568 of 568 frames lost; before the wheels' check it matched at frame 6 with a pair agreement of
 // 0.92), and the store is left byte for byte as it was.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -42,13 +43,35 @@ void synth(const std::string& args) {
   REQUIRE(r.exitCode == 0);
 }
 
-nlohmann::json run(const std::string& sequence, const std::string& store, const std::string& out) {
+nlohmann::json run(const std::string& sequence, const std::string& store, const std::string& out,
+                   const std::string& extra = "") {
   fs::remove_all(out);
   const auto r = runCommand(kTool + " run " + sequence + " --controller default --volume-size 5 --threads 2 --quiet"
-                            " --map-store " + store + " --out " + out);
+                            " --map-store " + store + " --out " + out + extra);
   INFO(r.output);
   REQUIRE(r.exitCode == 0);
   return readJson(out + "/summary.json");
+}
+
+// Frames whose relocalisation had an acceptable attempt (a candidate found, held, or the one relocalised) and the
+// most held in a row, from frames.jsonl.
+struct Evidence {
+  size_t frames = 0;
+  int mostHeld = 0;
+};
+Evidence evidenceOf(const std::string& out) {
+  Evidence e;
+  std::ifstream frames(out + "/frames.jsonl");
+  for (std::string line; std::getline(frames, line);) {
+    const auto j = nlohmann::json::parse(line);
+    if (!j.contains("relocalisation")) continue;
+    const std::string why = j["relocalisation"].value("why", std::string());
+    if (why.find("candidate found") != std::string::npos || why.find("held") != std::string::npos ||
+        why.find("relocalised") != std::string::npos)
+      ++e.frames;
+    e.mostHeld = std::max(e.mostHeld, j["relocalisation"].value("confirmed", 0));
+  }
+  return e;
 }
 
 std::map<std::string, std::string> filesOf(const std::string& dir) {
@@ -122,6 +145,36 @@ TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run
   CHECK(s3["map_store"]["localised_frame"].is_null());
   CHECK(s3["tracking_state"]["frames"].value("good", 0) == 0);
   CHECK(filesOf(foreign) == before);  // nothing written into a store the run was never localised in
+}
+
+// Another building's corridor end looks like the kept one's: two side walls meeting an end wall, the only views on
+// this drive that fix every motion and pair at the relocaliser's bar (2.1-2.9 m before the wall), and the wheels
+// move a candidate there as they move the robot (docs/map-store.md, Not done). Measured 2026-12-06: the corridor
+// of seed 7 from frame 150 had 17 frames with an acceptable attempt against the right restart's 16, and was refused
+// only because they held 11 in a row, not 15; seed 3 from frame 200, 14 frames, 12 in a row. This pins that both
+// stay refused, and that they still reach the bar (else the case tests nothing): a confirmation that counted
+// agreeing frames over a window instead of in a row would localise the first in the wrong building.
+TEST_CASE("other buildings pairing at the bar as long as the right place: never localised",
+          "[tools][map_store][system]") {
+  const std::string dir = sb::test::scratchDir("map_store_cli_ends");
+  synth(" --frames-to 330 --out " + dir + "/run1");
+  synth(" --frames-from 150 --frames-to 260 --seed 7 --out " + dir + "/seed7");
+  synth(" --frames-from 200 --frames-to 320 --seed 3 --out " + dir + "/seed3");
+  const std::string store = dir + "/store";
+  fs::remove_all(store);
+  run(dir + "/run1", store, dir + "/out1");
+  const auto before = filesOf(store);
+  for (const char* other : {"seed7", "seed3"}) {
+    const nlohmann::json s = run(dir + "/" + other, store, dir + "/out-" + other);
+    const Evidence e = evidenceOf(dir + "/out-" + other);
+    INFO(other << ": " << s["map_store"].dump() << ", " << e.frames << " frames with an acceptable attempt, "
+               << e.mostHeld << " held in a row");
+    CHECK(s["map_store"]["localised_frame"].is_null());
+    CHECK(s["tracking_state"]["frames"].value("good", 0) == 0);
+    CHECK(e.frames >= 10);   // measured 17 and 14
+    CHECK(e.mostHeld >= 8);  // measured 11 and 12
+  }
+  CHECK(filesOf(store) == before);
 }
 
 TEST_CASE("a store of another voxel size is refused naming its format.json, and left as it was",
