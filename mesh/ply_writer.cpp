@@ -66,13 +66,12 @@ std::string header(const Mesh& mesh, PlyFormat format) {
   return header(mesh.vertices.size(), mesh.triangles.size(), !mesh.normals.empty(), format);
 }
 
-// The reason of a failed write, as the error to throw (DiskFullError when the disk is full).
-[[noreturn]] void throwWriteError(const std::string& what, int error) {
-  const std::string message =
-      what + ": " + std::strerror(error ? error : EIO) +
-      "; the previous file (if any) is left as it was (free disk space and run again)";
-  if (error == ENOSPC || error == EDQUOT) throw DiskFullError(message);  // the caller may make room
-  throw Error(message);
+// The reason of a failed write of `file` (the PLY being made), as the error to throw (DiskFullError when the
+// disk is full: the caller may make room).
+[[noreturn]] void throwWriteError(const std::string& what, int error, const std::string& file) {
+  throwWriteFailure(what + ": " + std::strerror(error ? error : EIO) +
+                        "; the previous file (if any) is left as it was (free disk space and run again)",
+                    file, error ? error : EIO);
 }
 
 // The body goes out in pieces of about this many bytes: a mesh is never held twice (as triangles and bytes).
@@ -132,7 +131,7 @@ void writePly(const std::string& path, const Mesh& mesh, PlyFormat format) {
     int error = errno;  // the failed write's reason (the stream keeps only a flag)
     out.flush();
     if (!error) error = errno;
-    if (!out || std::ferror(file)) throwWriteError("writePly: writing '" + path + "' failed", error);
+    if (!out || std::ferror(file)) throwWriteError("writePly: writing '" + path + "' failed", error, path);
   });
 }
 
@@ -165,7 +164,7 @@ PlyPieceWriter::~PlyPieceWriter() = default;  // the files aside are removed by 
 void PlyPieceWriter::put(std::FILE* file, const std::string& bytes, const std::string& name) {
   errno = 0;
   if (std::fwrite(bytes.data(), 1, bytes.size(), file) != bytes.size())
-    throwWriteError("writePly: writing '" + name + "' failed", errno);
+    throwWriteError("writePly: writing '" + name + "' failed", errno, path_);
 }
 
 void PlyPieceWriter::add(const Mesh& piece) {
@@ -215,7 +214,7 @@ void PlyPieceWriter::finish() {
     std::FILE* file = aside->stream();
     errno = 0;
     const bool failed = std::fflush(file) != 0 || std::ferror(file);
-    if (failed) throwWriteError("writePly: writing '" + aside->path() + "' failed", errno);
+    if (failed) throwWriteError("writePly: writing '" + aside->path() + "' failed", errno, path_);
   }
   TemporaryFile target(dir_.get(), dirPath_, name_, ".tmp");
   std::FILE* out = target.stream();
@@ -230,7 +229,8 @@ void PlyPieceWriter::finish() {
     if (std::ferror(in)) throw Error("writePly: cannot read back '" + aside->path() + "': " + std::strerror(errno));
   }
   errno = 0;
-  if (std::fflush(out) != 0 || std::ferror(out)) throwWriteError("writePly: writing '" + path_ + "' failed", errno);
+  if (std::fflush(out) != 0 || std::ferror(out))
+    throwWriteError("writePly: writing '" + path_ + "' failed", errno, path_);
   target.commit();
   verticesFile_.reset();
   facesFile_.reset();

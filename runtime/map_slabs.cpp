@@ -124,6 +124,11 @@ void MapSlabs::add(std::shared_ptr<const VolumeSlab> slab) {
   work_.notify_one();
 }
 
+void MapSlabs::check() {
+  std::lock_guard lock(mutex_);
+  rethrowLocked();
+}
+
 void MapSlabs::drain() {
   std::unique_lock lock(mutex_);
   room_.wait(lock, [&] { return pending_ == 0; });

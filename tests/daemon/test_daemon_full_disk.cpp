@@ -101,6 +101,7 @@ TEST_CASE(
     const std::string error = summary.value("error", "");
     CHECK(error.find("slab-") != std::string::npos);
     CHECK(error.find("No space left on device") != std::string::npos);
+    CHECK(summary.value("error_file", "").rfind("map_slabs/slab-", 0) == 0);  // which output (issue 53)
     for (const auto& entry : fs::directory_iterator(disk.dir + "/out/map_slabs")) {
       INFO(entry.path());
       CHECK(entry.path().extension() == ".ply");  // no temporary left
