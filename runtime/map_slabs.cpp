@@ -235,10 +235,11 @@ void MapSlabs::write(const VolumeSlab& slab, ThreadPool& serial) {
     if (triangles > 0) ply.finish();
   };
   if (options_.store) {
-    // Room before the write (issue 44 M3): at its peak a slab takes its file's size plus a chunk (PlyPieceWriter
-    // puts the file together from its end, cutting the files aside as it goes; issue 53 finding 8: it took
-    // twice the file before), so the store frees the largest slab so far plus a margin first; a full disk
-    // during the write (a larger slab than any before) still removes the oldest and writes again.
+    // Room before the write (issue 44 M3): at its peak a slab takes its file's size plus a chunk
+    // (PlyPieceWriter puts the file together from its end, cutting the files aside as it goes; issue 53
+    // finding 8: it took twice the file before), so the store frees the largest slab so far plus a margin
+    // first; a full disk during the write (a larger slab than any before) still removes the oldest and writes
+    // again.
     options_.store->makeRoom(largestSlabBytes_ + kSlabWriteMarginBytes);
     options_.store->writeMakingRoom(writeFile);  // a full disk: the oldest slab or segment goes, then again
   } else {

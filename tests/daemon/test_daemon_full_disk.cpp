@@ -65,9 +65,9 @@ Pass runOn(const std::string& disk, const std::string& drive, const std::string&
     }
   });
   std::vector<std::string> args{kDaemon, "--input", drive, "--out", disk + "/out", "--socket",
-                                tmp.path + "/s.sock", "--pacing", "fast", "--at-end", "exit", "--controller",
-                                "default", "--set", "slam.pipeline_config=" + pipeline, "--set", "slam.threads=2",
-                                "--set", "output.mesh=true"};
+                                tmp.path + "/s.sock", "--pacing", "fast", "--at-end", "exit"};
+  args.insert(args.end(), {"--controller", "default", "--set", "slam.pipeline_config=" + pipeline, "--set",
+                           "slam.threads=2", "--set", "output.mesh=true"});
   args.insert(args.end(), more.begin(), more.end());
   sb::test::ChildProcess d(args, {}, disk + "-log.txt");
   pass.code = d.wait(240);

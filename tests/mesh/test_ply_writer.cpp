@@ -146,8 +146,9 @@ TEST_CASE("PLY errors name the file", "[mesh][ply]") {
   }
 }
 
-TEST_CASE("a mesh written in pieces takes its file's size on disk, not twice; a full disk leaves the old file",
-          "[mesh][ply][disk]") {
+TEST_CASE(
+    "a mesh written in pieces takes its file's size on disk, not twice; a full disk leaves the old file",
+    "[mesh][ply][disk]") {
   // Issue 53 (finding 8): PlyPieceWriter kept the vertices and faces aside whole while it copied them under
   // the header into the file, so a write took twice the file on disk (a 9.5 MB map slab did not fit in
   // 13 MiB free). A real small disk: a tmpfs (root only).
@@ -192,8 +193,8 @@ TEST_CASE("a mesh written in pieces takes its file's size on disk, not twice; a 
     std::FILE* f = std::fopen((dir + "/filler").c_str(), "ab");
     REQUIRE(f);
     const std::string block(4096, 'x');
-    while (freeBytes() > leave + block.size() && std::fwrite(block.data(), 1, block.size(), f) == block.size() &&
-           std::fflush(f) == 0) {
+    while (freeBytes() > leave + block.size() &&
+           std::fwrite(block.data(), 1, block.size(), f) == block.size() && std::fflush(f) == 0) {
     }
     std::fclose(f);
   };
@@ -204,13 +205,14 @@ TEST_CASE("a mesh written in pieces takes its file's size on disk, not twice; a 
   };
   const auto names = [&] {
     std::vector<std::string> out;
-    for (const auto& e : std::filesystem::directory_iterator(dir)) out.push_back(e.path().filename().string());
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+      out.push_back(e.path().filename().string());
     std::sort(out.begin(), out.end());
     return out;
   };
   std::ofstream(dir + "/filler").close();
 
-  // Half the file free: the write fails for lack of space, the file before stays whole, nothing is left aside.
+  // Half the file free: the write fails for lack of space, the file before stays whole, nothing left aside.
   fillTo(size / 2);
   CHECK_THROWS_AS(write(), sb::DiskFullError);
   CHECK(readAll(dir + "/map.ply") == "the last good file");
