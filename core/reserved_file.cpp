@@ -15,7 +15,7 @@ ReservedFile::ReservedFile(const std::string& target, uint64_t bytes)
     : target_(target), file_(std::make_unique<TemporaryFile>(target, ".reserve")) {
   const int error = ::posix_fallocate(file_->fd(), 0, static_cast<off_t>(bytes));  // returns the error
   if (error != 0)
-    throwWriteFailure("cannot keep " + std::to_string(bytes) + " bytes aside on disk for the last write of '" +
+    throwWriteFailure("cannot keep " + std::to_string(bytes) + " bytes aside for the last write of '" +
                           target + "' ('" + file_->path() + "'): " + std::strerror(error) +
                           " (free disk space and start again)",
                       target, error);
@@ -39,12 +39,13 @@ void ReservedFile::replaceTarget(std::string_view content) {
   const int fd = file_->fd();
   size_t done = 0;
   while (done < content.size()) {
-    const ssize_t n = ::pwrite(fd, content.data() + done, content.size() - done, static_cast<off_t>(done));
+    const ssize_t n =
+        ::pwrite(fd, content.data() + done, content.size() - done, static_cast<off_t>(done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       const int error = n < 0 ? errno : ENOSPC;
-      throwWriteFailure("writing '" + target_ + "' into the room kept aside for it ('" + file_->path() + "', " +
-                            std::to_string(bytes_) + " bytes, " + std::to_string(content.size()) +
+      throwWriteFailure("writing '" + target_ + "' into the room kept aside for it ('" + file_->path() +
+                            "', " + std::to_string(bytes_) + " bytes, " + std::to_string(content.size()) +
                             " needed) failed: " + std::strerror(error) + "; '" + target_ +
                             "' keeps what it had (free disk space)",
                         target_, error);

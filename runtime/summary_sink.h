@@ -9,7 +9,7 @@
 //
 // The last summary of a run (the one that says "complete", true or false) is written even on a full disk
 // (issue 53 finding 8): room for it is kept aside from the start (core/reserved_file.h,
-// "summary.json.reserve.<random>", kSummaryReserveBytes and at least twice the largest summary written so far),
+// "summary.json.reserve.<random>": kSummaryReserveBytes, grown to twice the largest summary written so far),
 // and when its rewrite fails the summary goes into that room instead. The per-frame snapshots never use it.
 
 #include <array>

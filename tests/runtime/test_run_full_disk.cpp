@@ -98,13 +98,6 @@ void fillDisk(const std::string& dir) {
   REQUIRE(freeBytes(dir) == 0);
 }
 
-size_t dataLines(const std::string& path) {
-  std::ifstream in(path);
-  size_t n = 0;
-  for (std::string line; std::getline(in, line);) n += !line.empty() && line[0] != '#';
-  return n;
-}
-
 // A run of the synthetic room into `disk`/out; after the first frame where `first` is the file whose next
 // line meets the full disk first, the disk is filled and the next frame must fail. Returns the summary.
 nlohmann::json runUntilFull(const std::string& disk, const std::string& first) {
@@ -147,8 +140,8 @@ nlohmann::json runUntilFull(const std::string& disk, const std::string& first) {
                        : first == "frames.jsonl" ? trajectoryFits && framesFails
                                                  : trajectoryFits && framesFits;  // summary.json: a new file
       if (!now) continue;
-      INFO("after frame " << i << ": " << trajRoom << " bytes left in trajectory.tum's last page, " << framesRoom
-                          << " in frames.jsonl's");
+      INFO("after frame " << i << ": " << trajRoom << " bytes left in trajectory.tum's last page, "
+                          << framesRoom << " in frames.jsonl's");
       fillDisk(disk);
       CHECK_THROWS_AS(run.step(frame(i + 1)), sb::Error);
       filled = true;
@@ -162,7 +155,7 @@ nlohmann::json runUntilFull(const std::string& disk, const std::string& first) {
   CHECK(names == std::vector<std::string>{"frames.jsonl", "summary.json", "trajectory.tum"});
   const nlohmann::json summary = sb::test::readJson(out + "/summary.json");
   // The frames the summary counts are those frames.jsonl holds (the frame that failed there is not).
-  CHECK(summary.value("frames", size_t(0)) == dataLines(frames));
+  CHECK(summary.value("frames", size_t(0)) == sb::test::dataLines(frames));
   return summary;
 }
 
