@@ -31,8 +31,7 @@ class DiskFullError : public WriteError {
 
 // The error of a write of `file` that failed with `errnum`: DiskFullError for ENOSPC and EDQUOT, else
 // WriteError.
-[[noreturn]] inline void throwWriteFailure(const std::string& what, const std::string& file,
-                                           int errnum) {
+[[noreturn]] inline void throwWriteFailure(const std::string& what, const std::string& file, int errnum) {
   if (errnum == ENOSPC || errnum == EDQUOT) throw DiskFullError(what, file);
   throw WriteError(what, file);
 }

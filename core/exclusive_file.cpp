@@ -171,8 +171,8 @@ void TemporaryFile::commit() {
     stream_ = nullptr;
     if (failed || closeError) {
       const int error = failed ? writeError : closeError;
-      throwWriteFailure("writing '" + path_ + "' failed: " + std::strerror(error), join(dirPath_, targetName_),
-                        error);
+      throwWriteFailure("writing '" + path_ + "' failed: " + std::strerror(error),
+                        join(dirPath_, targetName_), error);
     }
   }
   if (::renameat(dir_.get(), name_.c_str(), dir_.get(), targetName_.c_str()) != 0)

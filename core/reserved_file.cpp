@@ -39,8 +39,7 @@ void ReservedFile::replaceTarget(std::string_view content) {
   const int fd = file_->fd();
   size_t done = 0;
   while (done < content.size()) {
-    const ssize_t n =
-        ::pwrite(fd, content.data() + done, content.size() - done, static_cast<off_t>(done));
+    const ssize_t n = ::pwrite(fd, content.data() + done, content.size() - done, static_cast<off_t>(done));
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       const int error = n < 0 ? errno : ENOSPC;
@@ -54,9 +53,9 @@ void ReservedFile::replaceTarget(std::string_view content) {
   }
   if (::ftruncate(fd, static_cast<off_t>(content.size())) != 0) {
     const int error = errno;
-    throwWriteFailure("cannot cut '" + file_->path() + "' to the length of '" + target_ +
-                          "': " + std::strerror(error),
-                      target_, error);
+    throwWriteFailure(
+        "cannot cut '" + file_->path() + "' to the length of '" + target_ + "': " + std::strerror(error),
+        target_, error);
   }
   try {
     file_->commit();

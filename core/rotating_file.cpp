@@ -198,7 +198,8 @@ int RotatingFile::writeOnce(std::string_view data) {
 void RotatingFile::sync() {
   if (::fsync(fd_.get()) != 0) {
     const int error = errno;
-    throwWriteFailure("cannot sync " + what_ + " '" + path_ + "' to disk: " + std::strerror(error), path_, error);
+    throwWriteFailure("cannot sync " + what_ + " '" + path_ + "' to disk: " + std::strerror(error), path_,
+                      error);
   }
 }
 

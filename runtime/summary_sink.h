@@ -1,11 +1,12 @@
 #pragma once
 // summary.json of a run (report/run_summary.h RunSummary, written whole): what ran (set by the run setup),
 // frame counts, % tracked, mean computation time and stage times per frame, controller cost, corrections and
-// trigger counts, time per knob setting, and the ATE against the sequence's ground truth when it has one (the trajectory read back from its file at each flush: memory does
-// not grow with the run). Rewritten atomically (temporary file + rename) after every frame
-// (without the ATE) and on every flush (with it), so a reader never sees half a file and a killed run keeps
-// a summary of every frame but at most the one in hand. With the segment store of rotated outputs, a rewrite
-// that fails because the disk is full removes the oldest segment and writes again (the service goes on).
+// trigger counts, time per knob setting, and the ATE against the sequence's ground truth when it has one (the
+// trajectory read back from its file at each flush: memory does not grow with the run). Rewritten atomically
+// (temporary file + rename) after every frame (without the ATE) and on every flush (with it), so a reader
+// never sees half a file and a killed run keeps a summary of every frame but at most the one in hand. With
+// the segment store of rotated outputs, a rewrite that fails because the disk is full removes the oldest
+// segment and writes again (the service goes on).
 //
 // The last summary of a run (the one that says "complete", true or false) is written even on a full disk
 // (issue 53 finding 8): room for it is kept aside from the start (core/reserved_file.h,
@@ -22,11 +23,11 @@
 
 #include "core/reserved_file.h"
 #include "core/segment_store.h"
+#include "core/tracking_state.h"
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
 #include "report/run_summary.h"
 #include "runtime/output_sink.h"
-#include "core/tracking_state.h"
 
 namespace sb {
 

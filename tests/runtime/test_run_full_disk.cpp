@@ -136,7 +136,7 @@ nlohmann::json runUntilFull(const std::string& disk, const std::string& first) {
       const bool trajectoryFails = trajRoom + kMargin <= trajShortest;
       const bool framesFits = framesRoom >= framesLongest + kMargin;
       const bool framesFails = framesRoom + kMargin <= framesShortest;
-      const bool now = first == "trajectory.tum"  ? trajectoryFails
+      const bool now = first == "trajectory.tum" ? trajectoryFails
                        : first == "frames.jsonl" ? trajectoryFits && framesFails
                                                  : trajectoryFits && framesFits;  // summary.json: a new file
       if (!now) continue;
