@@ -171,9 +171,8 @@ void TemporaryFile::commit() {
     stream_ = nullptr;
     if (failed || closeError) {
       const int error = failed ? writeError : closeError;
-      const std::string message = "writing '" + path_ + "' failed: " + std::strerror(error);
-      if (error == ENOSPC || error == EDQUOT) throw DiskFullError(message);
-      throw Error(message);
+      throwWriteFailure("writing '" + path_ + "' failed: " + std::strerror(error),
+                        join(dirPath_, targetName_), error);
     }
   }
   if (::renameat(dir_.get(), name_.c_str(), dir_.get(), targetName_.c_str()) != 0)

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <map>
 
+#include "core/disk_full.h"
 #include "core/error.h"
 #include "core/exclusive_file.h"
 
@@ -117,7 +118,7 @@ void RotatingFile::openSegment() {
   try {
     fd_ = createReplacing(path_);  // a symlink or hard link of that name is replaced, never written through
   } catch (const Error& e) {
-    throw Error("cannot write " + what_ + ": " + e.what());
+    throw WriteError("cannot write " + what_ + ": " + e.what(), path_);
   }
   size_ = 0;
   opened_ = std::chrono::steady_clock::now();
@@ -170,9 +171,10 @@ void RotatingFile::write(std::string_view data) {
         continue;
       }
     }
-    throw Error("writing " + what_ + " '" + path_ + "' failed: " + std::strerror(error) +
-                "; the file keeps the lines before it (free disk space" +
-                (store_ ? ", or lower output.rotation.keep_mib" : "") + ", and run again)");
+    throwWriteFailure("writing " + what_ + " '" + path_ + "' failed: " + std::strerror(error) +
+                          "; the file keeps the lines before it (free disk space" +
+                          (store_ ? ", or lower output.rotation.keep_mib" : "") + ", and run again)",
+                      path_, error);
   }
 }
 
@@ -194,8 +196,11 @@ int RotatingFile::writeOnce(std::string_view data) {
 }
 
 void RotatingFile::sync() {
-  if (::fsync(fd_.get()) != 0)
-    throw Error("cannot sync " + what_ + " '" + path_ + "' to disk: " + std::strerror(errno));
+  if (::fsync(fd_.get()) != 0) {
+    const int error = errno;
+    throwWriteFailure("cannot sync " + what_ + " '" + path_ + "' to disk: " + std::strerror(error), path_,
+                      error);
+  }
 }
 
 }  // namespace sb

@@ -2,7 +2,9 @@
 // A mesh in pieces, for meshes that need not be held whole (a slab of the moving volume's map, written as it
 // is extracted): extractMeshPieces hands the mesh of extractMesh over in z order, piece by piece, and
 // PlyPieceWriter writes the pieces as one PLY, byte for byte writePly's file of the whole mesh, holding only
-// a piece at a time (the vertices and the faces go to two files aside, joined under the header at the end).
+// a piece at a time (the vertices and the faces go to two files aside, joined under the header at the end,
+// from the file's end backwards with the files aside cut as they are copied: on disk the write takes the
+// file's size plus 64 KiB at its peak, not twice the file).
 
 #include <cstddef>
 #include <cstdio>
@@ -41,7 +43,9 @@ class PlyPieceWriter {
   void add(const Mesh& piece);
   size_t vertices() const { return vertices_; }
   size_t triangles() const { return triangles_; }
-  // Writes `path` (header, vertices, faces); throws as add().
+  // Writes `path` (header, vertices, faces), taking at most the file's size plus 64 KiB on disk at any time
+  // (with the files aside; on a file system with sparse files). Throws as add(); once called, whether it
+  // succeeded or not, the writer takes no more pieces and its files aside are gone.
   void finish();
 
  private:

@@ -313,6 +313,7 @@ json RunSummary::toJson() const {
   if (meshSlabs) j["mesh_slabs"] = *meshSlabs;
   if (complete) j["complete"] = *complete;
   if (!error.empty()) j["error"] = error;
+  if (!errorFile.empty()) j["error_file"] = errorFile;
   return j;
 }
 
@@ -371,6 +372,7 @@ RunSummary RunSummary::fromJson(const json& j, const std::string& where) {
   if (f.find("mesh_slabs")) f.count("mesh_slabs", s.meshSlabs.emplace());
   if (f.find("complete")) f.boolean("complete", s.complete.emplace());
   f.string("error", s.error);
+  f.string("error_file", s.errorFile);
   return s;
 }
 

@@ -157,6 +157,9 @@ struct RunSummary {
   std::optional<size_t> meshTriangles, meshSlabs;  // mesh.ply (and the slabs it merged)
   std::optional<bool> complete;                    // every output on disk; absent while the run goes on
   std::string error;                               // why the run ended early or an output failed
+  // The output whose write failed first ("error_file": relative to the run's directory when inside it, e.g.
+  // "frames.jsonl", "map_slabs/slab-000003.ply"); "" when the run did not end on a write.
+  std::string errorFile;
 
   double joulesPerFrame() const { return energy ? energy->joulesPerFrame : NAN; }  // NaN without a meter
   double meanWatts() const { return energy ? energy->meanWatts : NAN; }

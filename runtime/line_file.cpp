@@ -15,7 +15,7 @@ LineFile::LineFile(const std::string& path, std::string what) : path_(path), wha
   try {
     fd_ = createReplacing(path);
   } catch (const Error& e) {
-    throw Error("cannot write " + what_ + ": " + e.what());
+    throw WriteError("cannot write " + what_ + ": " + e.what(), path);
   }
 }
 
@@ -33,8 +33,7 @@ void LineFile::append(std::string_view lines) {
       (void)!::ftruncate(fd_.get(), size_);  // drop the part line: the file stays whole lines
       const std::string message = "writing " + what_ + " '" + path_ + "' failed: " + std::strerror(error) +
                                   "; the file keeps the lines before it (free disk space and run again)";
-      if (error == ENOSPC || error == EDQUOT) throw DiskFullError(message);
-      throw Error(message);
+      throwWriteFailure(message, path_, error);
     }
     done += static_cast<size_t>(n);
   }

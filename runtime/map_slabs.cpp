@@ -36,6 +36,10 @@ constexpr int kWorkerNice = 10;  // the worker's nice above the SLAM thread's
 constexpr const char* kPrefix = "slab-";
 constexpr const char* kSuffix = ".ply";
 constexpr const char* kFolder = "map_slabs";  // inside the run's directory, never a symlink (issue 44 S2)
+// A slab's write takes its file's size and at most this more on disk (PlyPieceWriter's 64 KiB chunk, the
+// header, the file system's blocks of its three files): MapSlabs::write makes room for the largest slab so
+// far plus this before each write.
+constexpr uint64_t kSlabWriteMarginBytes = 1ull << 20;
 
 // The number of a slab file's name (slab-NNNNNN.ply), 0 for any other name.
 size_t slabNumber(const std::string& name) {
@@ -122,6 +126,11 @@ void MapSlabs::add(std::shared_ptr<const VolumeSlab> slab) {
   queue_.push_back(std::move(slab));
   if (!worker_.joinable()) worker_ = std::thread([this] { workerLoop(); });
   work_.notify_one();
+}
+
+void MapSlabs::check() {
+  std::lock_guard lock(mutex_);
+  rethrowLocked();
 }
 
 void MapSlabs::drain() {
@@ -226,10 +235,12 @@ void MapSlabs::write(const VolumeSlab& slab, ThreadPool& serial) {
     if (triangles > 0) ply.finish();
   };
   if (options_.store) {
-    // Room before the write (issue 44 M3): at its peak a slab takes about twice its file's size (the vertices
-    // and faces aside, then the file), so the store frees twice the largest slab so far first; a full disk
-    // during the write still removes the oldest and writes again.
-    options_.store->makeRoom(2 * largestSlabBytes_);
+    // Room before the write (issue 44 M3): at its peak a slab takes its file's size plus a chunk
+    // (PlyPieceWriter puts the file together from its end, cutting the files aside as it goes; issue 53
+    // finding 8: it took twice the file before), so the store frees the largest slab so far plus a margin
+    // first; a full disk during the write (a larger slab than any before) still removes the oldest and writes
+    // again.
+    options_.store->makeRoom(largestSlabBytes_ + kSlabWriteMarginBytes);
     options_.store->writeMakingRoom(writeFile);  // a full disk: the oldest slab or segment goes, then again
   } else {
     writeFile();

@@ -83,6 +83,10 @@ class MapSlabs : private AttachedFiles {
   void add(std::shared_ptr<const VolumeSlab> slab);
   void add(VolumeSlab&& slab) { add(std::make_shared<const VolumeSlab>(std::move(slab))); }
   void add(const VolumeSlab& slab) { add(VolumeSlab(slab)); }
+  // Throws the sb::Error of a slab the worker failed to write, once (as add and drain do); returns at once
+  // otherwise. The run asks after every frame: the first failed write ends the pass at that frame, not at
+  // the next slab (issue 53 finding 8).
+  void check();
   // Waits until every slab added is written (or found empty: a slab without surface writes no file).
   void drain();
   // Writes `path` from the slabs kept and `finalVolume` (world frame), after drain(); returns its triangles.

@@ -11,6 +11,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/disk_full.h"
 #include "core/error.h"
 #include "core/png_io.h"
 #include "mesh/marching_cubes.h"
@@ -30,6 +31,15 @@ void syncFile(const std::string& path) {
   const int failed = fsync(fd);
   close(fd);
   if (failed != 0) throw Error("cannot sync '" + path + "' to disk: " + std::strerror(errno));
+}
+
+// A failed write's file as summary.json's "error_file": relative to the run's directory when inside it.
+std::string outputName(const Error& e, const std::string& dir) {
+  const auto* write = dynamic_cast<const WriteError*>(&e);
+  if (!write || write->file().empty()) return "";
+  const std::filesystem::path relative = std::filesystem::path(write->file()).lexically_relative(dir);
+  if (relative.empty() || *relative.begin() == "..") return write->file();
+  return relative.generic_string();
 }
 
 }  // namespace
@@ -133,19 +143,31 @@ FrameRecord Run::step(const DepthFrame& frame) {
   }
   try {
     FrameRecord rec = runner_.step(frame);
+    if (mapSlabs_) mapSlabs_->check();  // a slab the worker failed to write ends the run here
     if (mapStore_) stepMapStore(rec);
     if (mapSink_) mapSink_->onFrame(rec, frame, *pipeline_);
     if (energy_) record(energy_->add(rec));
     return rec;
   } catch (const Error& e) {
-    // A bad frame or a failed write (a full disk under a map slab) ends the run: summary.json says why, for
-    // both front ends (best effort: the disk may be full).
+    // A bad frame or the first failed write, whichever output it was (trajectory, frames.jsonl, summary.json,
+    // a map slab, energy.jsonl), ends the run: summary.json says so for both front ends ("complete": false,
+    // "error", "error_file"), written into the room kept aside for it when the disk is full (issue 53
+    // finding 8: it kept the last frame's snapshot, without "complete", when frames.jsonl met the full disk).
     RunSummary& summary = outputs_.summary->header();
     summary.error = e.what();
+    summary.errorFile = outputName(e, dir_);
+    if (mapSlabs_) {
+      try {
+        mapSlabs_->check();  // the slab worker's own failure meanwhile, said too
+      } catch (const Error& slab) {
+        summary.error += std::string("; and ") + slab.what();
+      }
+    }
     summary.complete = false;
     try {
       flush();
-    } catch (const Error&) {
+    } catch (const Error& unsaid) {
+      throw Error(summary.error + "; and summary.json could not say so: " + unsaid.what());
     }
     throw;
   }
@@ -179,10 +201,11 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
   // with "complete": false and every failure in "error", and the first failure is thrown after it.
   std::vector<std::string> failures;
   if (!end.error.empty()) failures.push_back(end.error);
-  const auto attempt = [&failures](const std::function<void()>& write) {
+  const auto attempt = [&](const std::function<void()>& write) {
     try {
       write();
     } catch (const Error& e) {
+      if (failures.empty()) summary.errorFile = outputName(e, dir_);  // the file of "error"'s first failure
       failures.push_back(e.what());
     }
   };

@@ -1,6 +1,7 @@
 #include "runtime/summary_sink.h"
 
 #include <fcntl.h>
+#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <stdexcept>
 #include <thread>
 
+#include "core/disk_full.h"
 #include "core/error.h"
 #include "core/exclusive_file.h"
 #include "runtime/frame_log_sink.h"
@@ -115,7 +117,15 @@ SummarySink::SummarySink(const std::string& path, const std::string& groundTruth
     : path_(path),
       groundTruthPath_(groundTruthPath),
       segments_(std::move(segments)),
-      header_(std::move(header)) {}
+      header_(std::move(header)) {
+  // The room for the last summary, taken now: a disk that cannot hold it is said at the start (with rotation,
+  // the oldest segments give way first, as for every write).
+  const auto keepRoom = [&] { reserve_ = std::make_unique<ReservedFile>(path_, kSummaryReserveBytes); };
+  if (segments_)
+    segments_->writeMakingRoom(keepRoom);
+  else
+    keepRoom();
+}
 
 void SummarySink::onFrame(const FrameRecord& record) {
   stats_.add(record);
@@ -142,7 +152,7 @@ void SummarySink::flush() {
   write(summary_);
 }
 
-void SummarySink::write(const RunSummary& summary) const {
+void SummarySink::write(const RunSummary& summary) {
   // Whole or not at all: a new temporary file (core/exclusive_file.h) renamed over the old one (which stays
   // as it was on failure).
   const std::string text =
@@ -158,8 +168,23 @@ void SummarySink::write(const RunSummary& summary) const {
     else
       writeTemporary();
   } catch (const Error& e) {
-    throw Error(std::string(e.what()) + "; '" + path_ + "' keeps the previous summary");
+    const std::string message = std::string(e.what()) + "; '" + path_ + "' keeps the previous summary";
+    if (!summary.complete || !reserve_) {
+      if (dynamic_cast<const DiskFullError*>(&e)) throw DiskFullError(message, path_);
+      throw WriteError(message, path_);
+    }
+    // The last summary: into the room kept aside (whatever the failure: it needs no new block).
+    try {
+      reserve_->replaceTarget(text);
+    } catch (const Error& reserved) {
+      throw WriteError(message + "; and from the room kept aside: " + reserved.what(), path_);
+    }
+    reserve_.reset();
+    spdlog::warn("summary.json: the last summary was written into the room kept aside for it ({})", e.what());
+    return;
   }
+  // Twice the largest summary so far kept aside (best effort: on a full disk the room kept stays as it was).
+  if (reserve_ && 2 * uint64_t(text.size()) > reserve_->bytes()) reserve_->grow(2 * uint64_t(text.size()));
 }
 
 }  // namespace sb

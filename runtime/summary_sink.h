@@ -1,11 +1,17 @@
 #pragma once
 // summary.json of a run (report/run_summary.h RunSummary, written whole): what ran (set by the run setup),
 // frame counts, % tracked, mean computation time and stage times per frame, controller cost, corrections and
-// trigger counts, time per knob setting, and the ATE against the sequence's ground truth when it has one (the trajectory read back from its file at each flush: memory does
-// not grow with the run). Rewritten atomically (temporary file + rename) after every frame
-// (without the ATE) and on every flush (with it), so a reader never sees half a file and a killed run keeps
-// a summary of every frame but at most the one in hand. With the segment store of rotated outputs, a rewrite
-// that fails because the disk is full removes the oldest segment and writes again (the service goes on).
+// trigger counts, time per knob setting, and the ATE against the sequence's ground truth when it has one (the
+// trajectory read back from its file at each flush: memory does not grow with the run). Rewritten atomically
+// (temporary file + rename) after every frame (without the ATE) and on every flush (with it), so a reader
+// never sees half a file and a killed run keeps a summary of every frame but at most the one in hand. With
+// the segment store of rotated outputs, a rewrite that fails because the disk is full removes the oldest
+// segment and writes again (the service goes on).
+//
+// The last summary of a run (the one that says "complete", true or false) is written even on a full disk
+// (issue 53 finding 8): room for it is kept aside from the start (core/reserved_file.h,
+// "summary.json.reserve.<random>": kSummaryReserveBytes, grown to twice the largest summary written so far),
+// and when its rewrite fails the summary goes into that room instead. The per-frame snapshots never use it.
 
 #include <array>
 #include <functional>
@@ -15,12 +21,13 @@
 #include <optional>
 #include <string>
 
+#include "core/reserved_file.h"
 #include "core/segment_store.h"
+#include "core/tracking_state.h"
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
 #include "report/run_summary.h"
 #include "runtime/output_sink.h"
-#include "core/tracking_state.h"
 
 namespace sb {
 
@@ -56,12 +63,17 @@ MachineInfo thisMachine(unsigned threadsUsed, const std::string& backend, const 
 // "unknown" when none).
 std::string cpuModel();
 
+// The room kept aside for the last summary at the least (SummarySink; it grows to twice the largest summary
+// written: summaries are 2-10 KB).
+constexpr uint64_t kSummaryReserveBytes = uint64_t(16) << 10;
+
 class SummarySink final : public OutputSink {
  public:
   // `groundTruthPath`: TUM trajectory to compute the ATE against ("" = none). `header`: what ran (sequence,
   // controller, config, machine ...); header() may set more later (energy, completion). The counts and the
   // ATE are the sink's. `segments`: the retention that makes room on a full disk (nullptr: a full disk fails
-  // the write).
+  // the write). Keeps kSummaryReserveBytes aside beside `path` (throws sb::DiskFullError naming summary.json
+  // when the disk cannot hold them: said at the start rather than at the end).
   SummarySink(const std::string& path, const std::string& groundTruthPath, RunSummary header,
               std::shared_ptr<SegmentStore> segments = nullptr);
   void onFrame(const FrameRecord& record) override;
@@ -80,11 +92,14 @@ class SummarySink final : public OutputSink {
   const RunSummary& summary() const { return summary_; }
 
  private:
-  void write(const RunSummary& summary) const;
+  // Writes `summary` (temporary file + rename); the last one (`complete` set) into the room kept aside when
+  // the disk refuses it. Throws sb::WriteError naming summary.json.
+  void write(const RunSummary& summary);
 
   std::string path_;
   std::string groundTruthPath_;
   std::shared_ptr<SegmentStore> segments_;
+  std::unique_ptr<ReservedFile> reserve_;  // for the last summary; null once used
   std::optional<Trajectory> groundTruth_;
   RunSummary header_;
   RunStats stats_;

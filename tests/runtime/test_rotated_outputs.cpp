@@ -168,9 +168,11 @@ TEST_CASE("a full disk is a DiskFullError; summary.json's rewrite then removes t
   CHECK_FALSE(std::filesystem::exists(dir + "/frames-000001.jsonl"));
   CHECK(sb::test::readJson(summaryPath)["frames"] == 1);
 
-  // Without a segment store (a replay) the full disk is the caller's error, naming the file.
-  fill(dir + "/filler");
+  // Without a segment store (a replay) the full disk is the caller's error, naming the file. The room for the
+  // last summary is kept from the start (issue 53 finding 8): a disk already full refuses the sink itself.
   sb::SummarySink alone(summaryPath, "", {});
+  fill(dir + "/filler");
+  CHECK_THROWS_AS(sb::SummarySink(dir + "/other.json", "", {}), sb::DiskFullError);
   CHECK_THROWS_WITH(alone.onFrame(sb::FrameRecord{}),
                     Catch::Contains("summary.json.tmp") && Catch::Contains("keeps the previous summary"));
   CHECK(sb::test::readJson(summaryPath)["frames"] == 1);

@@ -154,7 +154,9 @@ LoopEnd runFrames(const RunOptions& o, FrameSource& source, Run& run, size_t tot
     }
   } catch (const Error& e) {
     if (progress) std::cerr << "\n";
-    run.summary().header().error = e.what();
+    // Run::step said why already (with the output that failed and a slab's failure meanwhile); a frame the
+    // source could not read is said here.
+    if (run.summary().header().error.empty()) run.summary().header().error = e.what();
     run.summary().header().complete = false;
     try {
       run.flush();
