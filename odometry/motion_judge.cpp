@@ -84,7 +84,9 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     // jumps is. One frame's inertia cannot decide a fault that lasts, though: after a discarded view the last
     // velocity is the wheels', and a stall's view (tracked from the wheels' prediction each frame) is discarded
     // again and again while the map grows at the wheels' poses. So a correction the view asks for that keeps
-    // growing frame after frame is the wheels running away: the view's pose stands (wheel_faults.h diverging).
+    // growing frame after frame is the wheels running away: the view's pose stands (wheel_faults.h diverging); and
+    // one that stays the same frame after frame is the view moving as the wheels do from where the map puts the
+    // camera (the way back meeting the way out's map, offset by drift): the view's pose stands too (steady).
     // Either way a dispute opens: nothing is fused and no pose is good until the evidence decides it.
     // A view that stands where it last fixed the pose while the wheels drove on is a stall (the robot ran into
     // something and its wheels spin): a sudden stop is a motion a body makes, and the view is no look-alike
@@ -96,7 +98,8 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
       const double dt = r.timestamp - motion.previousStamp;
       const bool withinReach = (tracked.translation() - motion.previousPose.translation()).norm() <=
                                (lastVelocity_ ? lastVelocity_->linear.norm() * dt : 0.0) + config_.slipFloorM;
-      if (!inertia.empty() && !faults_.diverging(r.timestamp, f.disagreementM, withinReach)) {
+      if (!inertia.empty() && !faults_.diverging(r.timestamp, f.disagreementM, withinReach) &&
+          !steadyCorrection(r.timestamp, tracked, predicted, motion, *wheels)) {
         discardTrack(pipeline, view, motion, inertia);
         return;
       }
@@ -134,6 +137,18 @@ std::optional<Matrix6> MotionModel::takeFusedCovariance(const FrameMotion& motio
 void MotionModel::keepFusedCovariance(const Fusion& fused, double stamp) {
   fusedCovariance_ = fused.covariance;
   fusedStamp_ = stamp;
+}
+
+bool MotionModel::steadyCorrection(double stamp, const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted,
+                                   const FrameMotion& motion, const OdometryStep& wheels) {
+  // Where the view puts the camera against where the wheels do: the camera centre's offset and the turn, both in
+  // the world frame (a map offset by drift keeps both while the robot drives on).
+  Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();
+  correction.linear() = tracked.linear() * predicted.linear().transpose();
+  correction.translation() = tracked.translation() - predicted.translation();
+  // As far as the wheels' pose may be off the map: the tolerance a relocalisation is held to (vet).
+  const double reachM = config_.relocaliseToleranceM + config_.noisePerM * motion.uncheckedM;
+  return faults_.steady(stamp, correction, kStillM + wheels.sigmaM, correction.translation().norm() <= reachM);
 }
 
 bool MotionModel::viewStill(const Eigen::Isometry3d& tracked, const FrameMotion& motion,

@@ -156,6 +156,10 @@ class MotionModel {
   void judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion,
                           const std::optional<OdometryStep>& wheels);
 
+  // The view at `stamp` corrects the wheels' prediction as it did on the frames before (wheel_faults.h steady):
+  // its pose stands.
+  bool steadyCorrection(double stamp, const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted,
+                        const FrameMotion& motion, const OdometryStep& wheels);
   // The view stands where it last fixed the pose (within kStillM, kStillDeg: a tracked view's noise is
   // millimetres) while the wheels moved at least twice that since: a stall's signature.
   bool viewStill(const Eigen::Isometry3d& tracked, const FrameMotion& motion, const OdometryStep& wheels) const;

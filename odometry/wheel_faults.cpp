@@ -72,9 +72,32 @@ bool FaultWatch::diverging(double stamp, double correctionM, bool withinReach) {
   return rising_ >= kMinFrames && correctionM >= kGrowth * firstCorrectionM_;
 }
 
+bool FaultWatch::steady(double stamp, const Eigen::Isometry3d& correction, double toleranceM, bool withinReach) {
+  calm_ = 0;
+  begin(stamp);
+  if (why_.empty()) why_ = "the wheels and the view disagree: undecided";
+  const bool same =
+      steady_ && (correction.translation() - steady_->translation()).norm() <= toleranceM &&
+      Eigen::AngleAxisd(steady_->linear().transpose() * correction.linear()).angle() <= kSteadyDeg * M_PI / 180.0;
+  if (same) {
+    ++steadyFrames_;
+  } else if (withinReach) {
+    steadyFrames_ = 1;
+    steadySince_ = stamp;
+  } else {
+    steadyFrames_ = 0;
+  }
+  if (steadyFrames_ == 1)
+    steady_ = correction;
+  else if (steadyFrames_ == 0)
+    steady_.reset();
+  return steadyFrames_ >= kMinFrames && stamp - steadySince_ >= decideS_;
+}
+
 void FaultWatch::wheelsContradicted(double stamp) {
   calm_ = 0;
   rising_ = 0;
+  steady_.reset();
   if (fault_ == WheelFault::slipping || fault_ == WheelFault::kidnapped) return;
   begin(stamp);
   ++wheelsAgainst_;
@@ -89,6 +112,7 @@ void FaultWatch::wheelsContradicted(double stamp) {
 void FaultWatch::viewContradicted(double stamp) {
   calm_ = 0;
   rising_ = 0;
+  steady_.reset();
   if (fault_ == WheelFault::kidnapped) return;
   if (fault_ == WheelFault::slipping) fault_ = WheelFault::none;  // neither side is trusted now: decide again
   begin(stamp);
@@ -106,6 +130,7 @@ bool FaultWatch::concludeKidnapped() {
 
 void FaultWatch::agreed(double stamp) {
   rising_ = 0;
+  steady_.reset();
   if (fault_ == WheelFault::none) return;
   if (calm_ == 0) calmSince_ = stamp;
   ++calm_;
@@ -119,6 +144,7 @@ void FaultWatch::expire(double stamp) {
 void FaultWatch::reset() {
   fault_ = WheelFault::none;
   wheelsAgainst_ = viewAgainst_ = calm_ = rising_ = 0;
+  steady_.reset();
   why_.clear();
 }
 

@@ -12,7 +12,9 @@
 //     whole map, where a candidate the view confirms wins over the wheels.
 // Until one side has the evidence the dispute is `disputed` and no pose is `good`.
 
+#include <Eigen/Geometry>
 #include <deque>
+#include <optional>
 #include <string>
 
 namespace sb::odometry {
@@ -84,7 +86,21 @@ class FaultWatch {
   // ahead (a held-out U-turn: the view 0.46 m from the last pose in one frame, then held there while its corrections
   // of the wheels rose from a few centimetres to 0.18 m, was taken for a stall and the pose jumped 0.26 m).
   bool diverging(double stamp, double correctionM, bool withinReach = true);
-  void interrupt() { rising_ = 0; }
+  // A frame where the view breaks the body's inertia by correcting the wheels' prediction by `correction` (the
+  // camera centre's offset and the turn from the wheels' pose to the view's, world frame) without it growing: one such frame is the view jumping, but
+  // the same correction frame after frame is the view moving exactly as the wheels do from a pose the map puts
+  // elsewhere (the way back meeting the way out's map, offset by the drift between: a held-out U-turn, the view
+  // correcting the wheels by 0.05 m on every frame for 3.5 s, each discarded as a jump, until the dispute was
+  // taken for a kidnap). A look-alike or a runaway does not hold one correction while the robot drives: its
+  // correction moves with every step. True when the correction has stayed within `toleranceM` (the view's noise
+  // plus the step's) and kSteadyDeg of the last on frames in a row for the decision time, at least kMinFrames: the
+  // view's pose stands. The run starts only where the correction is `withinReach` (as far as the wheels' pose may
+  // be off the map: the relocaliser's tolerance, odometry_config.h).
+  bool steady(double stamp, const Eigen::Isometry3d& correction, double toleranceM, bool withinReach);
+  void interrupt() {
+    rising_ = 0;
+    steady_.reset();
+  }
   // A frame where the two agree (the view holds the map and the wheels' step agrees with it).
   void agreed(double stamp);
   // A dispute still undecided with no evidence for either side for kStaleDecisions times the decision time (the
@@ -115,6 +131,10 @@ class FaultWatch {
   int rising_ = 0;           // frames in a row whose inertia-breaking correction grew
   double firstCorrectionM_ = 0.0, lastCorrectionM_ = 0.0;
   double calmSince_ = 0.0;
+  static constexpr double kSteadyDeg = 0.5;
+  std::optional<Eigen::Isometry3d> steady_;  // the first correction of a steady run
+  double steadySince_ = 0.0;                 // the run's first frame
+  int steadyFrames_ = 0;
   std::string why_;
 };
 

@@ -89,6 +89,49 @@ TEST_CASE("a stall: the view's correction of the wheels keeps growing; a view's 
   CHECK(lookAlike.diverging(5 * kFrameS, 0.099, false));
 }
 
+namespace {
+// A correction from the wheels' pose to the view's: the camera centre moved by `offset`, turned by `yawDeg`.
+Eigen::Isometry3d correction(const Eigen::Vector3d& offset, double yawDeg) {
+  Eigen::Isometry3d c(Eigen::AngleAxisd(yawDeg * kDeg, Eigen::Vector3d::UnitY()));
+  c.translation() = offset;
+  return c;
+}
+}  // namespace
+
+TEST_CASE("a view that corrects the wheels by the same offset frame after frame holds the map; one that moves does not",
+          "[odometry][faults]") {
+  // The way back meets the way out's map, offset by the drift between (a held-out U-turn: 0.04, -0.01, 0.03 m and
+  // 2.4-2.6 deg on every frame, the millimetres of ICP's noise between them): after the decision time the view stands.
+  FaultWatch back(0.3, 0.5);
+  const Eigen::Vector3d offset(0.040, -0.005, 0.028);
+  const double jitter[] = {0.0, 0.004, -0.003, 0.006, -0.005, 0.002, 0.004, -0.006, 0.003, 0.0};
+  for (int i = 0; i < 9; ++i) {
+    const Eigen::Vector3d noise(0.002, jitter[i], -jitter[i] / 2);
+    CHECK_FALSE(back.steady(i * kFrameS, correction(offset + noise, 2.4 + 0.02 * i), 0.011, true));
+  }
+  CHECK(back.steady(0.31, correction(offset, 2.6), 0.011, true));  // 0.3 s of one correction
+  CHECK(back.fault() == WheelFault::disputed);
+
+  // A look-alike discarded frame after frame from the wheels' prediction: its correction moves with the robot's
+  // steps (0.05 -> 0.18 m over a second), never one offset.
+  FaultWatch lookAlike(0.3, 0.5);
+  for (int i = 0; i < 30; ++i)
+    CHECK_FALSE(lookAlike.steady(i * kFrameS, correction({0.05 + 0.0045 * i, 0.0, 0.0}, 0.0), 0.011, true));
+  // A turn that keeps changing (a view swinging at an end wall) is no steady correction either.
+  FaultWatch swing(0.3, 0.5);
+  for (int i = 0; i < 30; ++i)
+    CHECK_FALSE(swing.steady(i * kFrameS, correction({0.02, 0.0, 0.0}, (i % 2 ? 1.0 : -1.0) * 2.0), 0.011, true));
+  // Beyond the reach of the wheels' error (a place a door's spacing away), however steady: no run starts.
+  FaultWatch far(0.3, 0.5);
+  for (int i = 0; i < 30; ++i) CHECK_FALSE(far.steady(i * kFrameS, correction({1.2, 0.0, 0.0}, 0.0), 0.011, false));
+  // A run broken by a frame the view could not hold starts again.
+  FaultWatch broken(0.3, 0.5);
+  for (int i = 0; i < 8; ++i) CHECK_FALSE(broken.steady(i * kFrameS, correction(offset, 2.5), 0.011, true));
+  broken.interrupt();
+  for (int i = 8; i < 17; ++i) CHECK_FALSE(broken.steady(i * kFrameS, correction(offset, 2.5), 0.011, true));
+  CHECK(broken.steady(8 * kFrameS + 0.31, correction(offset, 2.5), 0.011, true));
+}
+
 TEST_CASE("the map's agreement: a fraction of the recent median", "[odometry][faults]") {
   MapAgreement agreement(0.5);
   CHECK(agreement.holds(0.0));  // no history: nothing to hold against
