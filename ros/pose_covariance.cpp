@@ -21,6 +21,7 @@ Covariance6 poseCovariance(const PoseReport& pose, const CovarianceConfig& confi
   Eigen::Matrix<double, 6, 1> sigma;
   const auto fill = [&](const StateSigma& s) { sigma << s.positionM, s.positionM, s.positionM,
                                                         s.rotationRad, s.rotationRad, s.rotationRad; };
+  fill(config.lost);  // a state this switch does not know says the least
   switch (pose.state) {
     case TrackingState::good: fill(config.good); break;
     case TrackingState::relocalised: fill(config.relocalised); break;
