@@ -4,7 +4,9 @@
 // it: `lost` means "stop trusting the pose".
 //   good         tracked, and the view constrains every motion (tracking quality)
 //   weak         tracked, but some motion is fixed by noise rather than by the geometry (e.g. a blank wall), or
-//                the tracked motion is one the platform cannot make (docs/odometry.md "Honest without it")
+//                the tracked motion is one the platform cannot make (docs/odometry.md "Honest without it"), or
+//                the view does not fit the map where it was tracked (its pair agreement far under the recent
+//                good frames'; then not fused, and a run of them is lost)
 //   lost         not tracked: the pose is the last good one (or the controller's bounded extrapolation for the
 //                first lost_after_failed_frames - 1 failures); nothing is fused
 //   relocalised  the relocaliser accepted a pose for this frame (reloc/relocaliser.h); the next frames track

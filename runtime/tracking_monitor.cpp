@@ -28,11 +28,33 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
   }
   model.judge(pipeline, view, motion);
   if (r.tracked) {
-    failedInARow_ = 0;
     implausibleInARow_ = 0;
     model.viewFixed(view, motion);
+    if (!goodAgreement_) goodAgreement_.emplace(model.config().mapAgreementFraction);
+    const double coverage = odometry::modelCoverage(r.inlierFraction, r.pairAgreement);
+    if (!goodAgreement_->holds(r.pairAgreement) && goodAgreement_->covered(coverage)) {
+      // The view does not fit the map where it was tracked: a failed track that passed the residual and inlier
+      // tests. Not good and not fused (fused, it would rewrite the map around the wrong pose until the view
+      // agreed with it); lost_after_failed_frames of them in a row (failed tracks included) and the relocaliser
+      // decides, whose bar a look-alike does not reach.
+      rec.state = last_ = TrackingState::weak;
+      d.integrate = false;
+      d.keepReference = true;
+      if (++failedInARow_ >= config_.lostAfterFailedFrames) {
+        recovering_ = true;
+        relocaliser_.reset();
+        d.nextStartPose.reset();
+        d.correctedPose.reset();
+      }
+      return;
+    }
+    failedInARow_ = 0;
     // While the wheels and the view dispute the motion the pose is the view's, but not yet `good`.
     const bool weak = (r.quality.known && !r.quality.constrained) || model.fault() == odometry::WheelFault::disputed;
+    if (!weak) {
+      goodAgreement_->add(r.pairAgreement);
+      goodAgreement_->addCoverage(coverage);
+    }
     rec.state = last_ = weak ? TrackingState::weak : TrackingState::good;
     return;
   }

@@ -70,6 +70,12 @@ class TrackingMonitor {
   PipelineConfig config_;
   FernEncoder encoder_;
   Relocaliser relocaliser_;
+  // The pair agreement and model coverage (odometry/wheel_faults.h) of the recent good frames. A tracked frame
+  // agreeing with under map_agreement_fraction of their median, where the model covers as much of the view as
+  // usual, is tracked in the wrong place: ICP settled on the surfaces that look alike (a depth-only kidnap to a
+  // look-alike stretch of corridor: 0.28 where the frames before had 0.70; issue 53 finding 7). A frame that
+  // sees what the model does not hold yet (less coverage) says nothing of the place.
+  std::optional<odometry::MapAgreement> goodAgreement_;  // made on the first tracked frame, from the model's config
   int failedInARow_ = 0;
   bool recovering_ = false;
   TrackingState last_ = TrackingState::good;  // of the last frame with a tracking attempt

@@ -63,7 +63,7 @@ declare -A not_armhf=(
   [test_eval_cli]=$spawns [test_energy_cli]=$spawns [test_slambooster_cli]=$spawns [test_dse_cli]=$spawns [test_run_report]=$spawns
   [test_slamboosterd]=$spawns [soak_daemon_short]=$spawns [soak_daemon_disk_full]=$spawns [test_openni2_record]=$spawns [test_openni2_daemon]=$spawns
   [test_adaptive_cli]=$spawns [test_matrix_cli]=$spawns [test_run_reliability]=$spawns [test_daemon_hostile]=$spawns
-  [test_relocalisation_cli]=$spawns [test_sequences_cli]=$spawns [test_hostile_inputs]=$spawns
+  [test_relocalisation_cli]=$spawns [test_kidnap_lookalike_cli]=$spawns [test_sequences_cli]=$spawns [test_hostile_inputs]=$spawns
   [test_daemon_failures]=$spawns [test_moving_volume_cli]=$spawns [test_daemon_summary]=$spawns
   [test_output_symlinks]=$spawns [test_daemon_odometry]=$spawns [test_push_source]=$spawns [test_daemon_symlinks]=$spawns
   [test_daemon_full_disk]=$spawns [test_odometry_runaway_cli]=$spawns [test_odometry_tracking_rate_cli]=$spawns
