@@ -54,6 +54,10 @@ struct RelocaliserParams {
   size_t agreementWindowFrames = 300;  // good frames whose agreement sets the bar (not a config key)
 };
 
+// The agreement an attempt is judged on: within the sensor's noise at each pair's range when the pipeline
+// counted it (TrackAttempt::agreementInNoise, pipeline/pair_noise.h), else tracking's pair agreement.
+inline double evidenceAgreement(const TrackAttempt& a) { return a.agreementInNoise.value_or(a.pairAgreement); }
+
 // One ICP run of the frame in hand from a start pose (Pipeline::trackFrom, bound to the frame).
 using TryPose = std::function<TrackAttempt(const Eigen::Isometry3d& start)>;
 
