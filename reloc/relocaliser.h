@@ -55,7 +55,10 @@ struct RelocaliserParams {
 };
 
 // The agreement an attempt is judged on: within the sensor's noise at each pair's range when the pipeline
-// counted it (TrackAttempt::agreementInNoise, pipeline/pair_noise.h), else tracking's pair agreement.
+// counted it (TrackAttempt::agreementInNoise, pipeline/pair_noise.h), else tracking's pair agreement. The bar
+// from the tracked frames (requiredAgreement) stays in tracking's measure (noteTracked is given
+// FrameResult::pairAgreement), which within the noise is never higher: with the noise on, a kidnap's candidate is
+// judged more leniently than with it off (not measured; the noise is off by default).
 inline double evidenceAgreement(const TrackAttempt& a) { return a.agreementInNoise.value_or(a.pairAgreement); }
 
 // One ICP run of the frame in hand from a start pose (Pipeline::trackFrom, bound to the frame).
