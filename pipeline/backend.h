@@ -8,9 +8,11 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <optional>
 
 #include "core/error.h"
 #include "core/image.h"
+#include "pipeline/pair_noise.h"
 #include "pipeline/stages.h"
 
 namespace sb {
@@ -70,6 +72,16 @@ class ComputeBackend : public BackendVolume {
   // [7..27] the blocks' J^T J, [28] the number of blocks holding an inlier, [0..6] 0. block 1 gives track's
   // J^T J. Throws sb::Error when no track ran since the last preprocess or raycast.
   virtual TrackSums blockSums(int block, StageTimes& times) = 0;
+
+  // The pairs of the last track call (the same correspondences) tested with tolerances widened to the depth
+  // sensor's noise at each pixel's range (pipeline/pair_noise.h): what a relocaliser's far view can check.
+  // nullopt where a backend does not count them (the OpenCL backend, today): the relocaliser then judges
+  // tracking's pair agreement. Throws sb::Error when no track ran since the last preprocess or raycast.
+  virtual std::optional<PairCounts> pairsInNoise(const DepthNoiseModel& model, StageTimes& times) {
+    (void)model;
+    (void)times;
+    return std::nullopt;
+  }
 
   // integrate: fuses the last preprocessed frame's depth (compute size, unfiltered) seen from cameraToWorld.
   virtual void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) = 0;

@@ -45,6 +45,8 @@ const std::vector<FloatField>& floatFields() {
       {"raycast_small_step_below_tsdf", &PipelineConfig::raycastSmallStepBelow, 0.0, 1.0},
       {"render_ambient", &PipelineConfig::renderAmbient, 0.0, 1.0},
       {"relocalise_min_pair_agreement", &PipelineConfig::relocaliseMinPairAgreement, 0.0, 1.0},
+      {"depth_noise_disparity_px", &PipelineConfig::depthNoiseDisparityPx, 0.0, 10.0},
+      {"depth_noise_baseline_m", &PipelineConfig::depthNoiseBaselineM, 0.001, 10.0},
       {"relocalise_agreement_margin", &PipelineConfig::relocaliseAgreementMargin, 0.0, 1.0},
       {"relocalise_min_conditioning", &PipelineConfig::relocaliseMinConditioning, 0.0, 1.0},
       {"relocalise_max_motion_m", &PipelineConfig::relocaliseMaxMotion, 0.0, 10.0},

@@ -57,6 +57,12 @@ struct PipelineConfig {
   // A candidate's ICP must pass the tracked tests, be constrained, and agree with this share of the pairs for
   // which the model has a surface (TrackAttempt::pairAgreement).
   float relocaliseMinPairAgreement = 0.87f;
+  // The depth sensor's noise (pipeline/pair_noise.h): its disparity noise in its image's pixels (noise and
+  // quantisation) and its baseline. When the noise is given (> 0) a relocalisation candidate's agreement counts
+  // each pair within that noise at its range (TrackAttempt::agreementInNoise) instead of tracking's fixed tests.
+  // 0: off (tracking's pair agreement).
+  float depthNoiseDisparityPx = 0.0f;
+  float depthNoiseBaselineM = 0.075f;
   // ... and at least the 90th percentile of the agreement of the last 300 good frames less this
   // (reloc/relocaliser.h; 1: off).
   float relocaliseAgreementMargin = 0.015f;

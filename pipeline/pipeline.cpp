@@ -103,7 +103,7 @@ void Pipeline::track(const DepthFrame& frame, double depthScale, FrameResult& r)
 }
 
 TrackAttempt Pipeline::icp(const Knobs& knobs, const Eigen::Isometry3d& start, StageTimes& times,
-                           std::array<int, 3>& levelIterations) {
+                           std::array<int, 3>& levelIterations, bool inNoise) {
   TrackAttempt a;
   a.start = start;
   Eigen::Isometry3d estimate = start;
@@ -130,6 +130,11 @@ TrackAttempt Pipeline::icp(const Knobs& knobs, const Eigen::Isometry3d& start, S
   a.residual = inliers > 0 ? std::sqrt(last[0] / inliers) : 0.0;
   const double pairs = inliers + last[29] + last[30];
   a.pairAgreement = pairs > 0 ? inliers / pairs : 0.0;
+  if (inNoise && lastLevel >= 0 && config_.depthNoiseDisparityPx > 0.0f) {
+    const DepthNoiseModel noise{config_.depthNoiseDisparityPx, config_.depthNoiseBaselineM, intrinsics_.fx};
+    if (const std::optional<PairCounts> counts = backend_->pairsInNoise(noise, times))
+      a.agreementInNoise = counts->agreement();
+  }
   a.tracked = inliers > 0 && a.residual <= config_.trackedMaxResidual &&
               a.inlierFraction >= config_.trackedMinInliers && estimate.matrix().allFinite();
   if (lastLevel >= 0) {
@@ -168,7 +173,7 @@ TrackAttempt Pipeline::trackFrom(const DepthFrame& frame, double depthScale, con
   referenceCsr_ = knobs.csr;
   referenceStale_ = false;
   std::array<int, 3> levelIterations{};
-  return icp(knobs, start, r.times, levelIterations);
+  return icp(knobs, start, r.times, levelIterations, /*inNoise=*/true);
 }
 
 void Pipeline::adoptAttempt(const TrackAttempt& a, FrameResult& r) {

@@ -60,6 +60,10 @@ struct TrackAttempt {
   double residual = 0.0;       // metres, as FrameResult
   double inlierFraction = 0.0;
   double pairAgreement = 0.0;
+  // The share of the same pairs agreeing within the depth sensor's noise at each pixel's range
+  // (pipeline/pair_noise.h), when the config gives the sensor's noise (depth_noise_disparity_px) and the backend
+  // counts it: the evidence the relocaliser judges (reloc/relocaliser.h); unset: it judges pairAgreement.
+  std::optional<double> agreementInNoise;
   int icpIterations = 0;
   double icpUpdateNorm = 0.0;  // of the last update
   TrackingQuality quality;
@@ -152,9 +156,10 @@ class Pipeline {
   void checkInput(const DepthFrame& frame, double depthScale, const Knobs& knobs) const;
   void track(const DepthFrame& frame, double depthScale, FrameResult& result);
   bool runIcp(const Knobs& knobs, FrameResult& result);
-  // ICP of the frame in hand at `knobs` from `start` against the current reference maps.
+  // ICP of the frame in hand at `knobs` from `start` against the current reference maps; `inNoise`: also
+  // TrackAttempt::agreementInNoise (a relocalisation attempt).
   TrackAttempt icp(const Knobs& knobs, const Eigen::Isometry3d& start, StageTimes& times,
-                   std::array<int, 3>& levelIterations);
+                   std::array<int, 3>& levelIterations, bool inNoise = false);
 
   PipelineConfig config_;
   Intrinsics intrinsics_;

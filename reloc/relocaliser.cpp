@@ -23,14 +23,19 @@ bool near(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double metres,
 
 // The better of two acceptable attempts: more of the pairs agreeing, then the smaller residual.
 bool better(const TrackAttempt& a, const TrackAttempt& b) {
-  if (a.pairAgreement != b.pairAgreement) return a.pairAgreement > b.pairAgreement;
+  const double ea = evidenceAgreement(a), eb = evidenceAgreement(b);
+  if (ea != eb) return ea > eb;
   return a.residual < b.residual;
 }
 
 std::string describe(const TrackAttempt& a) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, "residual %.4f m, inliers %.2f, agreement %.2f, conditioning %.2g", a.residual,
-                a.inlierFraction, a.pairAgreement, a.quality.conditioning);
+  char buf[160];
+  if (a.agreementInNoise)
+    std::snprintf(buf, sizeof buf, "residual %.4f m, inliers %.2f, agreement %.2f (%.2f within the noise), conditioning %.2g",
+                  a.residual, a.inlierFraction, a.pairAgreement, *a.agreementInNoise, a.quality.conditioning);
+  else
+    std::snprintf(buf, sizeof buf, "residual %.4f m, inliers %.2f, agreement %.2f, conditioning %.2g", a.residual,
+                  a.inlierFraction, a.pairAgreement, a.quality.conditioning);
   return buf;
 }
 
@@ -76,7 +81,7 @@ double Relocaliser::requiredAgreement() const {
 
 bool Relocaliser::acceptable(const TrackAttempt& a) const {
   return a.tracked && a.quality.known && a.quality.constrained && a.quality.conditioning >= params_.minConditioning &&
-         a.pairAgreement >= requiredAgreement() &&
+         evidenceAgreement(a) >= requiredAgreement() &&
          a.T_camera_to_world.matrix().allFinite();
 }
 
@@ -128,7 +133,7 @@ RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Iso
   for (const auto& start : starts) {
     const TrackAttempt a = tryPose(start);
     ++out.tries;
-    if (a.tracked) bestAgreement = std::max(bestAgreement, a.pairAgreement);
+    if (a.tracked) bestAgreement = std::max(bestAgreement, evidenceAgreement(a));
     if (acceptable(a) && (!best || better(a, *best))) best = a;
   }
   if (!best) {

@@ -54,6 +54,14 @@ struct RelocaliserParams {
   size_t agreementWindowFrames = 300;  // good frames whose agreement sets the bar (not a config key)
 };
 
+// The agreement an attempt is judged on: within the sensor's noise at each pair's range when the pipeline
+// counted it (TrackAttempt::agreementInNoise, pipeline/pair_noise.h), else tracking's pair agreement. The bar
+// from the tracked frames (requiredAgreement) stays in tracking's measure (noteTracked is given
+// FrameResult::pairAgreement), which within the noise is never higher: with the noise on, a kidnap's candidate is
+// judged more leniently than with it off (the synthetic kidnaps of tests/tools/test_relocalisation_cli.cpp, 320x240:
+// the same frame relocalised and the same ATE with it on as off; the noise is off by default).
+inline double evidenceAgreement(const TrackAttempt& a) { return a.agreementInNoise.value_or(a.pairAgreement); }
+
 // One ICP run of the frame in hand from a start pose (Pipeline::trackFrom, bound to the frame).
 using TryPose = std::function<TrackAttempt(const Eigen::Isometry3d& start)>;
 

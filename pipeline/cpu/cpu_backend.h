@@ -37,6 +37,7 @@ class CpuBackend : public ComputeBackend {
   TrackSums track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                   StageTimes& times) override;
   TrackSums blockSums(int block, StageTimes& times) override;  // runs the last track pass again, in blocks
+  std::optional<PairCounts> pairsInNoise(const DepthNoiseModel& model, StageTimes& times) override;
   void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) override;
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
@@ -81,6 +82,7 @@ class CpuBackend : public ComputeBackend {
   std::array<Level, kPyramidLevels> levels_;
 
   TrackInputs lastTrack_;  // of the last track call, for blockSums
+  int lastTrackLevel_ = 0;  // its input level
   bool hasTrack_ = false;  // lastTrack_'s maps are unchanged since (no preprocess or raycast)
 
   Intrinsics referenceK_;

@@ -44,6 +44,7 @@ TrackSums CpuBackend::track(int level, const Eigen::Isometry3f& cameraToWorld, c
   args.distanceThreshold = config_.icpDistanceThreshold;
   args.normalThreshold = config_.icpNormalThreshold;
   lastTrack_ = args;
+  lastTrackLevel_ = level;
   hasTrack_ = true;
   const int chunks = ThreadPool::chunkCount(0, args.height, kRowsPerChunk);
   std::vector<TrackSums> partial(chunks);

@@ -9,6 +9,7 @@
 
 #include "kernels/common.h"
 #include "pipeline/backend.h"
+#include "pipeline/pair_noise.h"
 
 namespace sb {
 
@@ -58,5 +59,9 @@ void reduceBandBlocks(const TrackBand& band, int width, int block, TrackSums& su
 // The largest float s with sqrtf(s) <= distance: sqrtf(s) > distance exactly when s > this (for s >= 0), so
 // track() can compare squared lengths without a square root and reject the same pairs.
 float squaredDistanceLimit(float distance);
+
+// The pairs of a track pass tested with tolerances widened to the sensor's noise at each input pixel's depth
+// (pipeline/pair_noise.h), by the scalar kernel (kernels/track.h's track()); `levelFocalPx`: the input level's fx.
+PairCounts countPairsInNoise(const TrackInputs& in, const DepthNoiseModel& model, double levelFocalPx);
 
 }  // namespace sb

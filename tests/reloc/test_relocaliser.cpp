@@ -79,6 +79,32 @@ TEST_CASE("The acceptance rule: tracked, constrained and agreeing with the model
   CHECK_FALSE(r.acceptable(unknown));
 }
 
+TEST_CASE("When the pipeline counted the pairs within the sensor's noise, that agreement is the evidence",
+          "[reloc][relocaliser]") {
+  const sb::Relocaliser r(sb::RelocaliserParams{});
+  auto attemptAt = [](double agreement, std::optional<double> inNoise) {
+    sb::TrackAttempt a;
+    a.tracked = true;
+    a.residual = 0.01;
+    a.inlierFraction = 0.6;
+    a.pairAgreement = agreement;
+    a.agreementInNoise = inNoise;
+    a.quality.known = true;
+    a.quality.constrained = true;
+    a.quality.conditioning = 0.01;
+    return a;
+  };
+  // A far view placed right: tracking's fixed tests fail its far pairs on noise (0.81), within the noise 0.99
+  // (the 12 m corridor drive, adaptive's restart, frames 15-29).
+  CHECK(r.acceptable(attemptAt(0.81, 0.99)));
+  CHECK_FALSE(r.acceptable(attemptAt(0.81, std::nullopt)));
+  // Within the noise is never a second chance: a view whose pairs disagree beyond the noise is refused however
+  // tracking's tests counted them.
+  CHECK_FALSE(r.acceptable(attemptAt(0.95, 0.70)));
+  CHECK(sb::evidenceAgreement(attemptAt(0.81, 0.99)) == 0.99);
+  CHECK(sb::evidenceAgreement(attemptAt(0.81, std::nullopt)) == 0.81);
+}
+
 TEST_CASE("A keyframe's pose that fits is accepted after holding over consecutive frames", "[reloc][relocaliser]") {
   sb::Relocaliser r(params());
   REQUIRE(r.harvest(code(0), at(0.0), 10));   // a view of the start
