@@ -118,6 +118,7 @@ void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
     odometryDistanceM_ = odometryTimeS_ = 0.0;
   }
   if (held_) {  // the view fixed this pose (whether or not the wheels agreed): a stall is judged frame to frame
+    afterBlank_ = false;
     lastViewPose_ = finalPose(view);
     lastViewStamp_ = r.timestamp;
   }
@@ -182,6 +183,7 @@ void MotionModel::deadReckon(const FrameMotion& motion) {
 }
 
 void MotionModel::relocalised() {
+  afterBlank_ = false;
   lastViewPose_.reset();
   odometryPose_.reset();
   odometryDistanceM_ = odometryTimeS_ = 0.0;
@@ -266,7 +268,11 @@ bool MotionModel::followOdometry(const FrameView& view, const FrameMotion& motio
   view.odometry.fused = view.result.trackingAttempted && view.result.inlierFraction > 0.0 &&
                         view.implausible.empty() &&
                         (!faultsOn() || ((faults_.fault() == WheelFault::none || faults_.unsupported()) &&
-                                         mapAgreement_.holds(view.result.pairAgreement)));
+                                         (afterBlank_ ? mapAgreement_.uncontradicted(
+                                                            view.result.pairAgreement,
+                                                            modelCoverage(view.result.inlierFraction,
+                                                                          view.result.pairAgreement))
+                                                      : mapAgreement_.holds(view.result.pairAgreement))));
   d.integrate = view.odometry.fused;
   d.keepReference = false;
   d.nextStartPose.reset();

@@ -43,6 +43,12 @@ class MapAgreement {
   // the robot drives into it, 0.55 -> 0.3 -> 0.1 on a held-out drive) says nothing of where the camera is.
   void addCoverage(double coverage);
   bool covered(double coverage) const;
+  // A view the map does not contradict: it holds the map, or the model covers less of it than usual (a part of the
+  // map seen only from afar, or not at all). One that fails to fit a model covering it as usual is the evidence of a
+  // kidnap.
+  bool uncontradicted(double pairAgreement, double coverage) const {
+    return holds(pairAgreement) || !covered(coverage);
+  }
   static constexpr double kCoveredFraction = 0.8;
 
  private:

@@ -143,6 +143,19 @@ TEST_CASE("the map's agreement: a fraction of the recent median", "[odometry][fa
   CHECK(agreement.floor() == Approx(0.3).margin(1e-9));
 }
 
+TEST_CASE("a view the map does not contradict: it holds the map, or the model covers less of it than usual",
+          "[odometry][faults]") {
+  MapAgreement map(0.5);
+  for (int i = 0; i < 90; ++i) {
+    map.add(0.67);
+    map.addCoverage(0.57);
+  }
+  CHECK(map.uncontradicted(0.6, 0.55));        // it holds the map
+  CHECK(map.uncontradicted(0.32, 0.34));       // after a cover: the region ahead mapped only from afar
+  CHECK_FALSE(map.covered(0.34));
+  CHECK_FALSE(map.uncontradicted(0.25, 0.55));  // a model as whole as usual, and the view elsewhere
+}
+
 TEST_CASE("the mount's tilt error from the turns: learnt after enough turning, zero without error",
           "[odometry][mount]") {
   // The true mount turns the camera about its up axis (-y in the optical frame); the assumed one is pitched 2
