@@ -81,25 +81,42 @@ std::map<std::string, std::string> filesOf(const std::string& dir) {
   return files;
 }
 
+// The first run (frames 0-329 of the drive) with a new store, made once for the cases that restart in it: its
+// directory holds run1/ (the sequence), out1/ (the run) and store/, which no case writes into (each works on a copy).
+const std::string& firstRun() {
+  static const std::string dir = [] {
+    const std::string d = sb::test::scratchDir("map_store_cli_run1");
+    synth(" --frames-to 330 --out " + d + "/run1");
+    run(d + "/run1", d + "/store", d + "/out1");
+    return d;
+  }();
+  return dir;
+}
+
+// A copy of the first run's store at `to`, for a case to continue or to be refused.
+void copyFirstStore(const std::string& to) {
+  fs::remove_all(to);
+  fs::copy(firstRun() + "/store", to, fs::copy_options::recursive);
+}
+
 }  // namespace
 
 TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run's frame; another building never",
           "[tools][map_store][system]") {
   const std::string dir = sb::test::scratchDir("map_store_cli");
-  synth(" --frames-to 330 --out " + dir + "/run1");
   synth(" --frames-from 200 --out " + dir + "/run2");
   synth(" --frames-from 200 --seed 7 --out " + dir + "/other");
+  const std::string first = firstRun();
   const std::string store = dir + "/store", foreign = dir + "/store-copy";
-  fs::remove_all(store);
-  fs::remove_all(foreign);
+  copyFirstStore(store);
+  copyFirstStore(foreign);
 
-  const nlohmann::json s1 = run(dir + "/run1", store, dir + "/out1");
+  const nlohmann::json s1 = readJson(first + "/out1/summary.json");
   INFO("run 1: " << s1["map_store"].dump() << ", ATE " << s1["ate"]["rmse_m"]);
   CHECK(s1["map_store"]["kept"] == false);
   CHECK(s1["map_store"]["slab_files"].get<size_t>() >= 2);
   CHECK(s1["map_store"]["keyframes_saved"].get<size_t>() >= 5);
-  CHECK(sb::test::readText(dir + "/out1/frames.jsonl").find("kept_map") == std::string::npos);
-  fs::copy(store, foreign, fs::copy_options::recursive);
+  CHECK(sb::test::readText(first + "/out1/frames.jsonl").find("kept_map") == std::string::npos);
   const auto before = filesOf(foreign);
 
   const nlohmann::json s2 = run(dir + "/run2", store, dir + "/out2");
@@ -123,8 +140,8 @@ TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run
     CHECK(saidWrong == 0);
   }
   // From the localised frame on: run 2's poses in run 1's frame (run 1's alignment to the truth, no refit).
-  const sb::Trajectory est1 = sb::readTumTrajectory(dir + "/out1/trajectory.tum");
-  const sb::Trajectory gt1 = sb::readTumTrajectory(dir + "/run1/groundtruth.txt");
+  const sb::Trajectory est1 = sb::readTumTrajectory(first + "/out1/trajectory.tum");
+  const sb::Trajectory gt1 = sb::readTumTrajectory(first + "/run1/groundtruth.txt");
   const Eigen::Isometry3d frame1 = sb::alignFrames(est1, gt1);
   sb::Trajectory est2 = sb::readTumTrajectory(dir + "/out2/trajectory.tum");
   const double from = m["localised_s"].get<double>();
@@ -157,12 +174,10 @@ TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run
 TEST_CASE("other buildings pairing at the bar as long as the right place: never localised",
           "[tools][map_store][system]") {
   const std::string dir = sb::test::scratchDir("map_store_cli_ends");
-  synth(" --frames-to 330 --out " + dir + "/run1");
   synth(" --frames-from 150 --frames-to 260 --seed 7 --out " + dir + "/seed7");
   synth(" --frames-from 200 --frames-to 320 --seed 3 --out " + dir + "/seed3");
   const std::string store = dir + "/store";
-  fs::remove_all(store);
-  run(dir + "/run1", store, dir + "/out1");
+  copyFirstStore(store);
   const auto before = filesOf(store);
   for (const char* other : {"seed7", "seed3"}) {
     const nlohmann::json s = run(dir + "/" + other, store, dir + "/out-" + other);
