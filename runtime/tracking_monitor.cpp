@@ -172,7 +172,7 @@ void TrackingMonitor::keptMapVerdict(RelocaliseOutcome& out, const odometry::Fra
   if (out.confirmed == 1 || !keptAnchor_ || !motion.step) {  // a new candidate (or no wheels): its own anchor
     keptAnchor_ = pose;
     keptAnchorDistanceM_ = 0.0;
-    if (out.confirmed == 1) keptConfirmRelaxed_ = false;
+    if (out.confirmed == 1) keptConfirmRelaxed_ = keptPathShort_ = false;
   } else {
     keptAnchor_ = *keptAnchor_ * motion.step->delta;
     keptAnchorDistanceM_ += motion.step->distanceM();
@@ -189,23 +189,28 @@ void TrackingMonitor::keptMapVerdict(RelocaliseOutcome& out, const odometry::Fra
   keptConfirmRelaxed_ =
       keptConfirmRelaxed_ || out.attempt->quality.conditioning < relocaliser_.params().minConditioning;
   // The path the wheels drove behind it (none without wheels: then the relocaliser's frames alone, at its own
-  // conditioning, decide), once per candidate: when it has held kKeptMapPathConfirmFrames frames over a path
-  // long enough to judge, or when the relocaliser would accept it.
+  // conditioning, decide): judged when the candidate has held kKeptMapPathConfirmFrames frames over a path long
+  // enough (once), and when the relocaliser would accept it.
   const bool wheels = motion.step.has_value() && keptHistory_.size() > 1;
-  const bool judge = wheels && out.confirmed >= kKeptMapPathConfirmFrames && keptHistory_.pathM() >= kKeptMapPathMinM;
+  const bool judge = wheels && !keptPathShort_ && out.confirmed >= kKeptMapPathConfirmFrames &&
+                     keptHistory_.pathM() >= kKeptMapPathMinM;
   if (!(judge || (out.accepted && (wheels || keptConfirmRelaxed_)))) return;
   const PathTest test{kKeptMapPathAgreement, odometry.noisePerM};
   const PathVerdict path = keptHistory_.check(pose, test, tryView);
   if (path.refused()) {
     refuseKeptCandidate(out, "; refused: an earlier view does not fit the kept surface where the wheels put it: " +
                                  path.why);
-  } else if (path.pathM < kKeptMapPathMinM) {
-    refuseKeptCandidate(out, "; refused: too little of the path behind it is covered by the kept surface: " +
-                                 path.why);
-  } else {
+  } else if (path.pathM >= kKeptMapPathMinM) {
     out.why += "; accepted: the path behind it fits: " + path.why;
     out.accepted = true;
     relocaliser_.reset();
+  } else if (!out.accepted) {
+    keptPathShort_ = true;  // too little of it covered yet: confirmed on, judged again when it would be accepted
+  } else if (keptConfirmRelaxed_) {
+    refuseKeptCandidate(out, "; refused: confirmed at tracking's conditioning, and too little of the path behind it "
+                             "is covered by the kept surface to vouch for it: " + path.why);
+  } else {  // a robot that has hardly moved: the relocaliser's frames at its own conditioning, as without wheels
+    out.why += "; the path behind it is short (" + path.why + ")";
   }
 }
 
@@ -215,7 +220,7 @@ void TrackingMonitor::refuseKeptCandidate(RelocaliseOutcome& out, const std::str
   out.confirmed = 0;
   relocaliser_.reset();
   keptAnchor_.reset();
-  keptConfirmRelaxed_ = false;
+  keptConfirmRelaxed_ = keptPathShort_ = false;
 }
 
 void TrackingMonitor::startInKeptMap(const std::vector<Keyframe>& keyframes, KeptMapPrepare prepare,

@@ -94,7 +94,9 @@ class TrackingMonitor {
   // The path check (kept_map_history.h): a candidate carried by the wheels is judged once it has held
   // kKeptMapPathConfirmFrames frames over at least kKeptMapPathMinM of the wheels' path (or when the relocaliser
   // would accept it): accepted when the kept surface covers earlier views back to kKeptMapPathMinM and each covered
-  // one agrees within the sensor's noise at least kKeptMapPathAgreement, in place; else refused. Three sigmas
+  // one agrees within the sensor's noise at least kKeptMapPathAgreement, in place; refused when one does not, or
+  // when it was confirmed at tracking's conditioning over too short a covered path (a robot that has hardly
+  // moved is confirmed as without wheels: 15 frames at the relocaliser's conditioning). Three sigmas
   // of the sensor's noise fail a right pair rarely (0.3% a test for Gaussian noise): a view placed right fails
   // little more than what the kept surface smooths (its edges), a view placed in another building fails
   // wherever its surfaces are not the kept ones. The sensor's disparity noise when the config gives none:
@@ -109,6 +111,7 @@ class TrackingMonitor {
   double keptAnchorDistanceM_ = 0.0;
   KeptMapHistory keptHistory_;  // the views and the wheels' path while localising in a kept map
   bool keptConfirmRelaxed_ = false;  // the pending candidate's confirming frames were held at tracking's bar
+  bool keptPathShort_ = false;       // its path was judged too short to decide: judged again when accepted
 };
 
 }  // namespace sb
