@@ -103,7 +103,7 @@ void Pipeline::track(const DepthFrame& frame, double depthScale, FrameResult& r)
 }
 
 TrackAttempt Pipeline::icp(const Knobs& knobs, const Eigen::Isometry3d& start, StageTimes& times,
-                           std::array<int, 3>& levelIterations, bool inNoise) {
+                           std::array<int, 3>& levelIterations, const DepthNoiseModel* noise) {
   TrackAttempt a;
   a.start = start;
   Eigen::Isometry3d estimate = start;
@@ -130,9 +130,8 @@ TrackAttempt Pipeline::icp(const Knobs& knobs, const Eigen::Isometry3d& start, S
   a.residual = inliers > 0 ? std::sqrt(last[0] / inliers) : 0.0;
   const double pairs = inliers + last[29] + last[30];
   a.pairAgreement = pairs > 0 ? inliers / pairs : 0.0;
-  if (inNoise && lastLevel >= 0 && config_.depthNoiseDisparityPx > 0.0f) {
-    const DepthNoiseModel noise{config_.depthNoiseDisparityPx, config_.depthNoiseBaselineM, intrinsics_.fx};
-    if (const std::optional<PairCounts> counts = backend_->pairsInNoise(noise, times))
+  if (noise && noise->on() && lastLevel >= 0) {
+    if (const std::optional<PairCounts> counts = backend_->pairsInNoise(*noise, times))
       a.agreementInNoise = counts->agreement();
   }
   a.tracked = inliers > 0 && a.residual <= config_.trackedMaxResidual &&
@@ -173,7 +172,22 @@ TrackAttempt Pipeline::trackFrom(const DepthFrame& frame, double depthScale, con
   referenceCsr_ = knobs.csr;
   referenceStale_ = false;
   std::array<int, 3> levelIterations{};
-  return icp(knobs, start, r.times, levelIterations, /*inNoise=*/true);
+  const DepthNoiseModel noise = sensorNoise();
+  return icp(knobs, start, r.times, levelIterations, &noise);
+}
+
+TrackAttempt Pipeline::trackOtherFrom(const DepthFrame& other, double depthScale, const Knobs& knobs,
+                                      const Eigen::Isometry3d& start, const DepthNoiseModel& noise, FrameResult& r) {
+  if (!awaitingFinish_) throw Error("Pipeline::trackOtherFrom called without a preceding trackFrame");
+  checkInput(other, depthScale, knobs);
+  backend_->preprocess(other.depth, static_cast<float>(1.0 / depthScale), knobs.csr, r.times);
+  preprocessedCsr_ = 0;  // the backend no longer holds the frame in hand: its next trackFrom preprocesses it again
+  backend_->raycast(start.cast<float>(), knobs.csr, r.times);
+  referencePose_ = start;
+  referenceCsr_ = knobs.csr;
+  referenceStale_ = false;
+  std::array<int, 3> levelIterations{};
+  return icp(knobs, start, r.times, levelIterations, &noise);
 }
 
 void Pipeline::adoptAttempt(const TrackAttempt& a, FrameResult& r) {

@@ -23,6 +23,7 @@
 #include "pipeline/backend.h"
 #include "pipeline/config.h"
 #include "pipeline/knobs.h"
+#include "pipeline/pair_noise.h"
 #include "pipeline/tracking_quality.h"
 #include "pipeline/volume_window.h"
 
@@ -125,6 +126,16 @@ class Pipeline {
   // sb::Error like retrackFrame.
   TrackAttempt trackFrom(const DepthFrame& frame, double depthScale, const Knobs& knobs,
                          const Eigen::Isometry3d& start, FrameResult& result);
+  // The same for a view other than the frame in hand (one seen earlier: a kept map's check of the path the wheels
+  // drove, runtime/kept_map_history.h), with its agreement counted within `noise` (TrackAttempt::agreementInNoise;
+  // unset when the backend does not count it). The frame in hand's preprocessing is dropped: its next trackFrom
+  // redoes it; the frame's result and the pipeline's pose are unchanged. Throws sb::Error like trackFrom.
+  TrackAttempt trackOtherFrom(const DepthFrame& other, double depthScale, const Knobs& knobs,
+                              const Eigen::Isometry3d& start, const DepthNoiseModel& noise, FrameResult& result);
+  // The depth sensor's noise as the config gives it (depth_noise_disparity_px; off when 0).
+  DepthNoiseModel sensorNoise() const {
+    return {config_.depthNoiseDisparityPx, config_.depthNoiseBaselineM, intrinsics_.fx};
+  }
   // Makes an attempt (of this frame's trackFrom) the frame's tracking result: its pose becomes the frame's.
   void adoptAttempt(const TrackAttempt& attempt, FrameResult& result);
   // Discards the frame in hand's tracking: not tracked, the pose stays the previous frame's final pose.
@@ -156,10 +167,10 @@ class Pipeline {
   void checkInput(const DepthFrame& frame, double depthScale, const Knobs& knobs) const;
   void track(const DepthFrame& frame, double depthScale, FrameResult& result);
   bool runIcp(const Knobs& knobs, FrameResult& result);
-  // ICP of the frame in hand at `knobs` from `start` against the current reference maps; `inNoise`: also
+  // ICP of the frame in hand at `knobs` from `start` against the current reference maps; `noise` (when on): also
   // TrackAttempt::agreementInNoise (a relocalisation attempt).
   TrackAttempt icp(const Knobs& knobs, const Eigen::Isometry3d& start, StageTimes& times,
-                   std::array<int, 3>& levelIterations, bool inNoise = false);
+                   std::array<int, 3>& levelIterations, const DepthNoiseModel* noise = nullptr);
 
   PipelineConfig config_;
   Intrinsics intrinsics_;

@@ -79,8 +79,8 @@ double Relocaliser::requiredAgreement() const {
   return std::max(params_.minPairAgreement, *p90 - params_.agreementMargin);
 }
 
-bool Relocaliser::acceptable(const TrackAttempt& a) const {
-  return a.tracked && a.quality.known && a.quality.constrained && a.quality.conditioning >= params_.minConditioning &&
+bool Relocaliser::acceptable(const TrackAttempt& a, double minConditioning) const {
+  return a.tracked && a.quality.known && a.quality.constrained && a.quality.conditioning >= minConditioning &&
          evidenceAgreement(a) >= requiredAgreement() &&
          a.T_camera_to_world.matrix().allFinite();
 }
@@ -99,7 +99,8 @@ RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Iso
   if (pending_) {
     const TrackAttempt a = tryPose(*pending_);
     ++out.tries;
-    if (acceptable(a) && near(a.T_camera_to_world, *pending_, params_.maxMotionM, params_.maxRotationDeg)) {
+    if (acceptable(a, confirmConditioning_.value_or(params_.minConditioning)) &&
+        near(a.T_camera_to_world, *pending_, params_.maxMotionM, params_.maxRotationDeg)) {
       pending_ = a.T_camera_to_world;
       out.confirmed = ++confirmed_;
       out.attempt = a;

@@ -101,17 +101,23 @@ class Relocaliser {
   void setViewOffsets(std::vector<double> offsetsM) { viewOffsetsM_ = std::move(offsetsM); }
   // Consecutive frames a candidate must hold from now on (a kept map asks more than a kidnap); >= 1.
   void setConfirmFrames(int frames) { params_.confirmFrames = frames < 1 ? 1 : frames; }
+  // The conditioning a candidate's confirming frames need (each frame after the one that found it), from now on:
+  // lower than minConditioning where something else fixes what the view leaves nearly free (a kept map's
+  // candidate carried by the wheels, runtime/tracking_monitor.h); unset: minConditioning, as a found candidate.
+  void setConfirmConditioning(std::optional<double> conditioning) { confirmConditioning_ = conditioning; }
   // KeyframeDatabase::setMaxSpacing: keyframes also by distance (a map kept across runs).
   void setKeyframeSpacing(double metres) { keyframes_.setMaxSpacing(metres); }
   // Forgets a pending candidate (tracking went on without relocalisation).
   void reset() { pending_.reset(); confirmed_ = 0; }
 
   // The acceptance rule for one attempt (without the agreement over frames).
-  bool acceptable(const TrackAttempt& attempt) const;
+  bool acceptable(const TrackAttempt& attempt) const { return acceptable(attempt, params_.minConditioning); }
   const KeyframeDatabase& keyframes() const { return keyframes_; }
   const RelocaliserParams& params() const { return params_; }
 
  private:
+  bool acceptable(const TrackAttempt& attempt, double minConditioning) const;
+
   RelocaliserParams params_;
   KeyframeDatabase keyframes_;
   std::optional<Eigen::Isometry3d> pending_;  // the candidate being confirmed: its pose at the last frame
@@ -119,6 +125,7 @@ class Relocaliser {
   int confirmed_ = 0;
   bool tryHeldPose_ = true;
   std::vector<double> viewOffsetsM_;
+  std::optional<double> confirmConditioning_;
 };
 
 }  // namespace sb

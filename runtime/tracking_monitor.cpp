@@ -113,9 +113,24 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
       return model.vet(pipeline.trackFrom(frame, depthScale, knobs, start, r));
     };
     const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
+    if (keptMapPrepare_) {
+      keptHistory_.add(frame, motion.step ? std::optional<Eigen::Isometry3d>(motion.step->delta) : std::nullopt);
+      // Carried by the wheels, a candidate's confirming frames need tracking's conditioning only: the path behind
+      // it is checked before it is accepted (keptMapVerdict), and a view nearing an end wall leaves the sideways
+      // motion nearly free where the wheels hold it.
+      relocaliser_.setConfirmConditioning(motion.step ? std::optional<double>(config_.constrainedMinConditioning)
+                                                      : std::nullopt);
+    }
     // The odometry's dead-reckoned pose is the first candidate when there is one, else the held pose.
     rec.relocalisation = relocaliser_.relocalise(code, model.deadReckoned().value_or(pipeline.pose()), tryPose);
-    if (keptMapPrepare_) keptMapVerdict(rec.relocalisation, motion, model.config());
+    if (keptMapPrepare_) {
+      DepthNoiseModel noise = pipeline.sensorNoise();
+      if (!noise.on()) noise.disparityNoisePx = kKeptMapPathDisparityNoisePx;
+      const TryView tryView = [&](const DepthFrame& view, const Eigen::Isometry3d& start) {
+        return pipeline.trackOtherFrom(view, depthScale, knobs, start, noise, r);
+      };
+      keptMapVerdict(rec.relocalisation, motion, model.config(), tryView);
+    }
   } else {
     rec.relocalisation.why = "relocalisation is off";
   }
@@ -137,7 +152,9 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
       relocaliser_.setTryHeldPose(true);
       relocaliser_.setViewOffsets({});
       relocaliser_.setConfirmFrames(config_.relocaliseConfirmFrames);
+      relocaliser_.setConfirmConditioning(std::nullopt);
       keptAnchor_.reset();
+      keptHistory_.clear();
     }
   } else {
     r.tracked = false;
@@ -146,7 +163,7 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
 }
 
 void TrackingMonitor::keptMapVerdict(RelocaliseOutcome& out, const odometry::FrameMotion& motion,
-                                     const odometry::OdometryConfig& odometry) {
+                                     const odometry::OdometryConfig& odometry, const TryView& tryView) {
   if (out.confirmed == 0 || !out.attempt) {
     keptAnchor_.reset();
     return;
@@ -155,21 +172,55 @@ void TrackingMonitor::keptMapVerdict(RelocaliseOutcome& out, const odometry::Fra
   if (out.confirmed == 1 || !keptAnchor_ || !motion.step) {  // a new candidate (or no wheels): its own anchor
     keptAnchor_ = pose;
     keptAnchorDistanceM_ = 0.0;
-    return;
+    if (out.confirmed == 1) keptConfirmRelaxed_ = keptPathShort_ = false;
+  } else {
+    keptAnchor_ = *keptAnchor_ * motion.step->delta;
+    keptAnchorDistanceM_ += motion.step->distanceM();
+    const double off = (pose.translation() - keptAnchor_->translation()).norm();
+    const double tolerance = kKeptMapOdometryToleranceM + odometry.noisePerM * keptAnchorDistanceM_;
+    if (off > tolerance) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "; refused: the wheels put the camera %.3f m from it after %.2f m", off,
+                    keptAnchorDistanceM_);
+      refuseKeptCandidate(out, buf);
+      return;
+    }
   }
-  keptAnchor_ = *keptAnchor_ * motion.step->delta;
-  keptAnchorDistanceM_ += motion.step->distanceM();
-  const double off = (pose.translation() - keptAnchor_->translation()).norm();
-  const double tolerance = kKeptMapOdometryToleranceM + odometry.noisePerM * keptAnchorDistanceM_;
-  if (off <= tolerance) return;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "; refused: the wheels put the camera %.3f m from it after %.2f m", off,
-                keptAnchorDistanceM_);
-  out.why += buf;
+  keptConfirmRelaxed_ =
+      keptConfirmRelaxed_ || out.attempt->quality.conditioning < relocaliser_.params().minConditioning;
+  // The path the wheels drove behind it (none without wheels: then the relocaliser's frames alone, at its own
+  // conditioning, decide): judged when the candidate has held kKeptMapPathConfirmFrames frames over a path long
+  // enough (once), and when the relocaliser would accept it.
+  const bool wheels = motion.step.has_value() && keptHistory_.size() > 1;
+  const bool judge = wheels && !keptPathShort_ && out.confirmed >= kKeptMapPathConfirmFrames &&
+                     keptHistory_.pathM() >= kKeptMapPathMinM;
+  if (!(judge || (out.accepted && (wheels || keptConfirmRelaxed_)))) return;
+  const PathTest test{kKeptMapPathAgreement, odometry.noisePerM};
+  const PathVerdict path = keptHistory_.check(pose, test, tryView);
+  if (path.refused()) {
+    refuseKeptCandidate(out, "; refused: an earlier view does not fit the kept surface where the wheels put it: " +
+                                 path.why);
+  } else if (path.pathM >= kKeptMapPathMinM) {
+    out.why += "; accepted: the path behind it fits: " + path.why;
+    out.accepted = true;
+    relocaliser_.reset();
+  } else if (!out.accepted) {
+    keptPathShort_ = true;  // too little of it covered yet: confirmed on, judged again when it would be accepted
+  } else if (keptConfirmRelaxed_) {
+    refuseKeptCandidate(out, "; refused: confirmed at tracking's conditioning, and too little of the path behind it "
+                             "is covered by the kept surface to vouch for it: " + path.why);
+  } else {  // a robot that has hardly moved: the relocaliser's frames at its own conditioning, as without wheels
+    out.why += "; the path behind it is short (" + path.why + ")";
+  }
+}
+
+void TrackingMonitor::refuseKeptCandidate(RelocaliseOutcome& out, const std::string& why) {
+  out.why += why;
   out.accepted = false;
   out.confirmed = 0;
   relocaliser_.reset();
   keptAnchor_.reset();
+  keptConfirmRelaxed_ = keptPathShort_ = false;
 }
 
 void TrackingMonitor::startInKeptMap(const std::vector<Keyframe>& keyframes, KeptMapPrepare prepare,

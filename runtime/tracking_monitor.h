@@ -23,6 +23,7 @@
 #include "reloc/relocaliser.h"
 #include "odometry/motion_model.h"
 #include "runtime/frame_record.h"
+#include "runtime/kept_map_history.h"
 
 namespace sb {
 
@@ -50,9 +51,11 @@ class TrackingMonitor {
   // volume); false: not this frame (the try fails without ICP). Each keyframe is also tried from
   // `offsetsM` along its view (a robot restarted on a path it drove, between two keyframes). A candidate must
   // hold kKeptMapConfirmFrames frames and, with odometry, move as the wheels do while it holds (within
-  // kKeptMapOdometryToleranceM plus noise_per_m of the distance): another building's corridor can match a view
-  // as well as the right place, but not the motion. Once a candidate is confirmed the run is localised: its
-  // poses are in the store's frame and the monitor is as without a store.
+  // kKeptMapOdometryToleranceM plus noise_per_m of the distance). With odometry the path the wheels drove behind
+  // it decides instead of the count (kept_map_history.h, the constants below): another building's corridor end can
+  // match a view as well as the right place, and move as the wheels do, but what the robot saw on its way there
+  // does not fit the kept surface; its confirming frames then need only tracking's conditioning. Once a candidate
+  // is confirmed the run is localised: its poses are in the store's frame and the monitor is as without a store.
   using KeptMapPrepare = std::function<bool(const Eigen::Isometry3d&)>;
   void startInKeptMap(const std::vector<Keyframe>& keyframes, KeptMapPrepare prepare,
                       const std::vector<double>& offsetsM = {});
@@ -63,9 +66,12 @@ class TrackingMonitor {
  private:
   void relocalise(Pipeline& pipeline, const DepthFrame& frame, double depthScale, FrameRecord& rec,
                   odometry::MotionModel& model, const odometry::FrameMotion& motion);
-  // A kept map's verdict on the relocaliser's outcome: the candidate's motion against the wheels'.
+  // A kept map's verdict on the relocaliser's outcome: the candidate's motion against the wheels', and before it
+  // is accepted the path the wheels drove behind it against the kept surface (kept_map_history.h).
   void keptMapVerdict(RelocaliseOutcome& outcome, const odometry::FrameMotion& motion,
-                      const odometry::OdometryConfig& odometry);
+                      const odometry::OdometryConfig& odometry, const TryView& tryView);
+  // Refuses the pending candidate (why: the reason, appended).
+  void refuseKeptCandidate(RelocaliseOutcome& outcome, const std::string& why);
 
   PipelineConfig config_;
   FernEncoder encoder_;
@@ -85,10 +91,27 @@ class TrackingMonitor {
   int implausibleInARow_ = 0;
   static constexpr int kKeptMapConfirmFrames = 15;          // 0.5 s at 30 Hz
   static constexpr double kKeptMapOdometryToleranceM = 0.05;
+  // The path check (kept_map_history.h): a candidate carried by the wheels is judged once it has held
+  // kKeptMapPathConfirmFrames frames over at least kKeptMapPathMinM of the wheels' path (or when the relocaliser
+  // would accept it): accepted when the kept surface covers earlier views back to kKeptMapPathMinM and each covered
+  // one agrees within the sensor's noise at least kKeptMapPathAgreement, in place; refused when one does not, or
+  // when it was confirmed at tracking's conditioning over too short a covered path (a robot that has hardly
+  // moved is confirmed as without wheels: 15 frames at the relocaliser's conditioning). Three sigmas
+  // of the sensor's noise fail a right pair rarely (0.3% a test for Gaussian noise): a view placed right fails
+  // little more than what the kept surface smooths (its edges), a view placed in another building fails
+  // wherever its surfaces are not the kept ones. The sensor's disparity noise when the config gives none:
+  // the synthetic sensor's and about a Kinect v1's in its own image (pipeline/pair_noise.h).
+  static constexpr double kKeptMapPathAgreement = 0.95;
+  static constexpr double kKeptMapPathMinM = 1.0;
+  static constexpr int kKeptMapPathConfirmFrames = 5;
+  static constexpr double kKeptMapPathDisparityNoisePx = 0.062;
   KeptMapPrepare keptMapPrepare_;  // set while localising in a kept map
   bool keptMapLocalised_ = false;  // a kept map's candidate was confirmed: poses are in the store's frame
   std::optional<Eigen::Isometry3d> keptAnchor_;  // the pending candidate moved by the wheels since it was found
   double keptAnchorDistanceM_ = 0.0;
+  KeptMapHistory keptHistory_;  // the views and the wheels' path while localising in a kept map
+  bool keptConfirmRelaxed_ = false;  // the pending candidate's confirming frames were held at tracking's bar
+  bool keptPathShort_ = false;       // its path was judged too short to decide: judged again when accepted
 };
 
 }  // namespace sb
