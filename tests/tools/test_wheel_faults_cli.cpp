@@ -72,9 +72,11 @@ TEST_CASE("a stall with spinning wheels: the view holds, the wheels are slipping
   const auto truth = sb::test::tumPositions(dir + "/drive/groundtruth.txt");
   REQUIRE(truth.size() == kFrames);
   std::ofstream(dir + "/watch.json") << R"({"odometry": {"dispute_s": 0.3}})";
+  std::ofstream(dir + "/unwatched.json") << R"({"odometry": {"dispute_s": 0}})";
   const std::string knobs = " --controller default --threads 1 --volume-size 5 --quiet";
 
-  const auto off = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/off" + knobs);
+  const auto off = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/off --config " + dir + "/unwatched.json" +
+                              knobs);
   INFO(off.output);
   REQUIRE(off.exitCode == 0);
   const Verdict without = judge(dir + "/off", truth);
