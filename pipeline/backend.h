@@ -82,6 +82,9 @@ class ComputeBackend : public BackendVolume {
     (void)times;
     return std::nullopt;
   }
+  // Whether pairsInNoise counts them (a kept map's check of the path behind a candidate needs it,
+  // runtime/kept_map_history.h: tracking's agreement does not separate a right place from a look-alike there).
+  virtual bool countsPairsInNoise() const { return false; }
 
   // integrate: fuses the last preprocessed frame's depth (compute size, unfiltered) seen from cameraToWorld.
   virtual void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) = 0;

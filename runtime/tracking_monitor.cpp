@@ -114,12 +114,17 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     };
     const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
     if (keptMapPrepare_) {
-      keptHistory_.add(frame, motion.step ? std::optional<Eigen::Isometry3d>(motion.step->delta) : std::nullopt);
+      // The path check needs the wheels and pairs counted within the sensor's noise: on a backend that does not
+      // count them (the OpenCL backend, today) tracking's agreement refused the right building's earlier views
+      // (0.67 on the PoCL device, where the noise gives 0.99), and without the check the relaxed confirmation below
+      // would take another building's end wall; there the relocaliser's frames alone decide, as without wheels.
+      const bool pathCheck = motion.step && pipeline.backend().countsPairsInNoise();
+      keptHistory_.add(frame, pathCheck ? std::optional<Eigen::Isometry3d>(motion.step->delta) : std::nullopt);
       // Carried by the wheels, a candidate's confirming frames need tracking's conditioning only: the path behind
       // it is checked before it is accepted (keptMapVerdict), and a view nearing an end wall leaves the sideways
       // motion nearly free where the wheels hold it.
-      relocaliser_.setConfirmConditioning(motion.step ? std::optional<double>(config_.constrainedMinConditioning)
-                                                      : std::nullopt);
+      relocaliser_.setConfirmConditioning(pathCheck ? std::optional<double>(config_.constrainedMinConditioning)
+                                                    : std::nullopt);
     }
     // The odometry's dead-reckoned pose is the first candidate when there is one, else the held pose.
     rec.relocalisation = relocaliser_.relocalise(code, model.deadReckoned().value_or(pipeline.pose()), tryPose);

@@ -38,6 +38,7 @@ class CpuBackend : public ComputeBackend {
                   StageTimes& times) override;
   TrackSums blockSums(int block, StageTimes& times) override;  // runs the last track pass again, in blocks
   std::optional<PairCounts> pairsInNoise(const DepthNoiseModel& model, StageTimes& times) override;
+  bool countsPairsInNoise() const override { return true; }
   void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) override;
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
