@@ -6,7 +6,7 @@
 # of `good` frames more than 0.5 m and 0.3 m from the truth (scripts/pose_honesty.py; the 0.3 m count from its
 # per-frame CSV, RUN.frames.csv), and the first `lost` frame (the dead-reckoning budget ran out; - when none). Each
 # case has its own seed and fault time/size; the arguments pick some (default the first set). WIDTH: 320 (default) or 640. CONFIG: a settings file given to every run
-# (e.g. {"odometry": {"dispute_s": 0.3}} for the fault watch). RUNS: the controllers (default "default adaptive").
+# (e.g. {"odometry": {"dispute_s": 0}} for the fault watch off; on, 0.3, by default). RUNS: the controllers (default "default adaptive").
 #
 # usage: scripts/bench_wheel_faults.sh [BUILD_DIR] [OUT] [CASE...]
 #   cases: plain covered stall carried latency mount, the second set plain2 covered2 stall2 carried2 latency2
