@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "odometry/wheel_faults.h"
+
 namespace sb {
 
 void KeptMapHistory::add(const DepthFrame& frame, const std::optional<Eigen::Isometry3d>& step) {
@@ -36,7 +38,7 @@ PathVerdict KeptMapHistory::check(const Eigen::Isometry3d& candidate, const Path
     const Eigen::Isometry3d pose = toCandidate * it->wheels;
     const TrackAttempt a = tryView(it->frame, pose);
     ++v.views;
-    const double coverage = a.pairAgreement > 0.0 ? a.inlierFraction / a.pairAgreement : 0.0;
+    const double coverage = odometry::modelCoverage(a.inlierFraction, a.pairAgreement);
     const double agreement = a.agreementInNoise.value_or(a.pairAgreement);
     const double moved = (a.T_camera_to_world.translation() - pose.translation()).norm();
     const double tolerance = kPlaceM + kSigmas * test.noisePerM * backM;
