@@ -74,9 +74,10 @@ class ComputeBackend : public BackendVolume {
   virtual TrackSums blockSums(int block, StageTimes& times) = 0;
 
   // The pairs of the last track call (the same correspondences) tested with tolerances widened to the depth
-  // sensor's noise at each pixel's range (pipeline/pair_noise.h): what a relocaliser's far view can check.
-  // nullopt where a backend does not count them (the OpenCL backend, today): the relocaliser then judges
-  // tracking's pair agreement. Throws sb::Error when no track ran since the last preprocess or raycast.
+  // sensor's noise at each pixel's range (pipeline/pair_noise.h): what a relocaliser's far view can check. Both
+  // backends count them with the CPU backend's countPairsInNoise (the OpenCL backend on its maps read back).
+  // nullopt where a backend does not count them (this default): the relocaliser then judges tracking's pair
+  // agreement. Throws sb::Error when no track ran since the last preprocess or raycast.
   virtual std::optional<PairCounts> pairsInNoise(const DepthNoiseModel& model, StageTimes& times) {
     (void)model;
     (void)times;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/thread_pool.h"
+#include "kernels/common.h"
 #include "pipeline/opencl/launcher.h"
 #include "pipeline/opencl/opencl_backend.h"
 #include "pipeline/ray_bounds.h"
@@ -80,6 +81,8 @@ struct OpenClBackend::State {
   opencl::Buffer trackOut, partial, sums;
   opencl::Buffer blockOut;                   // blockKernel's rows (as many as pixels: block 1 at most)
   Intrinsics trackK;                         // the level of the last track call
+  int trackLevel = 0;                        // its pyramid level
+  SbMat34 trackCameraToWorld{}, trackWorldToRefPixel{};  // its transforms (kernels/track.h's track())
   bool hasTrack = false;                     // trackOut holds a track since the last preprocess or raycast
   opencl::Buffer referenceVertex, referenceNormal;
   opencl::Buffer volume;

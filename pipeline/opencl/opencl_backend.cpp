@@ -79,11 +79,13 @@ TrackSums OpenClBackend::track(int level, const Eigen::Isometry3f& cameraToWorld
       cameraMatrix(s.referenceK) * referencePose.inverse().matrix().topRows<3>();
   const opencl::Kernels& k = s.kernels();
   Launcher& q = s.launcher;
+  s.trackCameraToWorld = toMat34(cameraToWorld.matrix());
+  s.trackWorldToRefPixel = toMat34(projection);
   q.run(Stage::track, k.track, imageSize(in.k), kImageGroup, s.trackOut, in.vertex, in.normal, in.k.width,
         in.k.height, s.referenceVertex, s.referenceNormal, s.referenceK.width, s.referenceK.height,
-        toMat34(cameraToWorld.matrix()), toMat34(projection), s.config.icpDistanceThreshold,
-        s.config.icpNormalThreshold);
+        s.trackCameraToWorld, s.trackWorldToRefPixel, s.config.icpDistanceThreshold, s.config.icpNormalThreshold);
   s.trackK = in.k;
+  s.trackLevel = level;
   s.hasTrack = true;
   const TrackSums sums = s.reduceRows(s.trackOut, in.k.width * in.k.height);
   q.finish(times, start);

@@ -29,6 +29,10 @@ class OpenClBackend : public ComputeBackend {
   TrackSums track(int level, const Eigen::Isometry3f& cameraToWorld, const Eigen::Isometry3f& referencePose,
                   StageTimes& times) override;
   TrackSums blockSums(int block, StageTimes& times) override;
+  // The last track's maps read back (as float) and counted on the host by the CPU backend's countPairsInNoise
+  // (opencl_pair_noise.cpp): one definition of the widened tests; once per view a relocaliser checks.
+  std::optional<PairCounts> pairsInNoise(const DepthNoiseModel& model, StageTimes& times) override;
+  bool countsPairsInNoise() const override { return true; }
   void integrate(const Eigen::Isometry3f& cameraToWorld, StageTimes& times) override;
   void raycast(const Eigen::Isometry3f& cameraToWorld, int csr, StageTimes& times) override;
   Image<uint8_t> render(const Eigen::Vector3f& lightPosition, StageTimes& times) override;
