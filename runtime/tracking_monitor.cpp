@@ -114,10 +114,10 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
     };
     const FernCode code = encoder_.encode(frame.depth, 1.0 / depthScale);
     if (keptMapPrepare_) {
-      // The path check needs the wheels and pairs counted within the sensor's noise: on a backend that does not
-      // count them (the OpenCL backend, today) tracking's agreement refused the right building's earlier views
-      // (0.67 on the PoCL device, where the noise gives 0.99), and without the check the relaxed confirmation below
-      // would take another building's end wall; there the relocaliser's frames alone decide, as without wheels.
+      // The path check needs the wheels and pairs counted within the sensor's noise (both backends count them):
+      // tracking's agreement alone refused the right building's earlier views (0.67 on the PoCL device, where the
+      // noise gives 0.99), and without the check the relaxed confirmation below would take another building's end
+      // wall; on a backend that does not count them the relocaliser's frames alone decide, as without wheels.
       const bool pathCheck = motion.step && pipeline.backend().countsPairsInNoise();
       keptHistory_.add(frame, pathCheck ? std::optional<Eigen::Isometry3d>(motion.step->delta) : std::nullopt);
       // Carried by the wheels, a candidate's confirming frames need tracking's conditioning only: the path behind
