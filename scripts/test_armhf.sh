@@ -103,6 +103,7 @@ busy host misses (1.4 s seen); the OpenNI2 code is the same natively, where it r
   [test_prefetch_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
   [test_power_sampler_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
   [test_block_distance_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
+  [test_committed_votes_tsan]="not built in a cross build (TSan does not run under qemu-arm); runs natively"
 )
 
 # The executable a test runs (a few tests share one, with different Catch2 filters).
