@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "core/image.h"
@@ -84,6 +85,21 @@ inline Eigen::Isometry3d motion(const Eigen::Vector3d& t, double degrees, const 
   m.linear() = Eigen::AngleAxisd(degrees * M_PI / 180.0, axis.normalized()).toRotationMatrix();
   m.translation() = t;
   return m;
+}
+
+// The room seen from `pose` with +-3 mm of deterministic noise and a hole every 37th pixel (the OpenCL tests' input).
+inline DepthRaw noisyRoom(const Eigen::Isometry3d& pose, const Intrinsics& k) {
+  DepthRaw raw = renderRoom(Room{}, pose, k).depth;
+  uint32_t state = 12345;
+  for (size_t i = 0; i < raw.size(); ++i) {
+    state = state * 1664525u + 1013904223u;
+    uint16_t& v = raw.pixels()[i];
+    if (i % 37 == 0)
+      v = 0;
+    else if (v > 0)
+      v = static_cast<uint16_t>(int(v) + int((state >> 8) % 61) - 30);
+  }
+  return raw;
 }
 
 }  // namespace sb::test

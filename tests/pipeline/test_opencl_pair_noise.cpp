@@ -19,25 +19,7 @@
 #include "tests/pipeline/test_opencl_support.h"
 
 using sb::test::kRoomDepthScale;
-
-namespace {
-
-// The room with +-3 mm of deterministic noise and a hole every 37th pixel (as test_opencl_stages.cpp).
-sb::DepthRaw noisyRoom(const Eigen::Isometry3d& pose, const sb::Intrinsics& k) {
-  sb::DepthRaw raw = sb::test::renderRoom(sb::test::Room{}, pose, k).depth;
-  uint32_t state = 12345;
-  for (size_t i = 0; i < raw.size(); ++i) {
-    state = state * 1664525u + 1013904223u;
-    uint16_t& v = raw.pixels()[i];
-    if (i % 37 == 0)
-      v = 0;
-    else if (v > 0)
-      v = static_cast<uint16_t>(int(v) + int((state >> 8) % 61) - 30);
-  }
-  return raw;
-}
-
-}  // namespace
+using sb::test::noisyRoom;
 
 TEST_CASE("OpenCL pairsInNoise counts the CPU backend's pairs within the sensor's noise",
           "[opencl][track][pair_noise]") {
