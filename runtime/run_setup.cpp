@@ -28,12 +28,24 @@ PipelineConfig pipelineConfigFor(const SequenceInfo& info, const nlohmann::json&
   if (info.volumeSize) c.volumeSize = static_cast<float>(*info.volumeSize);
   if (info.volumeInitialPosition)
     for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
-  if (!pipelineKeys.is_null() && !pipelineKeys.empty()) c = parseConfig(pipelineKeys, c, where);
+  const bool keys = !pipelineKeys.is_null() && !pipelineKeys.empty();
+  c.volumeHinted.size = info.volumeSize && !(keys && pipelineKeys.contains("volume_size_m"));
+  c.volumeHinted.position = info.volumeInitialPosition && !(keys && pipelineKeys.contains("initial_position"));
+  if (keys) c = parseConfig(pipelineKeys, c, where);
   return c;
 }
 
 void finishPipelineConfig(PipelineConfig& c, const std::string& where) {
   if (c.volumeMode == VolumeMode::automatic) c.volumeMode = VolumeMode::moving;
+  // A sequence's hints size a fixed volume to hold the whole path; a moving volume that took them would spread
+  // its voxels over it (a corridor drive's 20.5 m cube: 8 cm voxels at 256^3, against the sensor's centimetres),
+  // and tracking against so coarse a model drifts (docs/moving-volume.md "The sequence's hints").
+  if (c.movesVolume()) {
+    const PipelineConfig defaults;
+    if (c.volumeHinted.size) c.volumeSize = defaults.volumeSize;
+    if (c.volumeHinted.position) c.initialPosition = defaults.initialPosition;
+  }
+  c.volumeHinted = {};
   try {
     validateConfig(c);
   } catch (const Error& e) {

@@ -35,6 +35,39 @@ TEST_CASE("run setup: the sequence's hints, then the file; automatic becomes mov
   CHECK_THROWS_WITH(sb::finishPipelineConfig(c, "run options"), Contains("run options: "));
 }
 
+TEST_CASE("run setup: a moving volume keeps its own side and first position, a fixed one takes the hints",
+          "[runtime][setup]") {
+  // A corridor drive's hints: a 20.5 m cube holding the whole path. Taken by a moving volume they spread its 256
+  // voxels 8 cm apart, and tracking drifted (docs/moving-volume.md "The sequence's hints").
+  sb::SequenceInfo info;
+  info.volumeSize = 20.5;
+  info.volumeInitialPosition = std::array<double, 3>{0.52, 0.53, 0.09};
+  const sb::PipelineConfig defaults;
+  sb::PipelineConfig moving = sb::pipelineConfigFor(info, nlohmann::json::object(), "f.json");
+  sb::finishPipelineConfig(moving, "f.json");
+  CHECK(moving.volumeMode == sb::VolumeMode::moving);
+  CHECK(moving.volumeSize == defaults.volumeSize);
+  CHECK(moving.initialPosition == defaults.initialPosition);
+
+  sb::PipelineConfig fixed = sb::pipelineConfigFor(info, {{"volume_mode", "fixed"}}, "f.json");
+  sb::finishPipelineConfig(fixed, "f.json");
+  CHECK(fixed.volumeSize == 20.5f);
+  CHECK(fixed.initialPosition[2] == Approx(0.09));
+
+  // What a file (or a flag, which clears the mark) says stands, moving or not.
+  sb::PipelineConfig chosen =
+      sb::pipelineConfigFor(info, {{"volume_size_m", 8.0}, {"initial_position", {0.5, 0.5, 0.2}}}, "f.json");
+  sb::finishPipelineConfig(chosen, "f.json");
+  CHECK(chosen.volumeSize == 8.0f);
+  CHECK(chosen.initialPosition[2] == Approx(0.2));
+  sb::PipelineConfig flagged = sb::pipelineConfigFor(info, nlohmann::json::object(), "f.json");
+  flagged.volumeSize = 12.0f;
+  flagged.volumeHinted.size = false;
+  sb::finishPipelineConfig(flagged, "run options");
+  CHECK(flagged.volumeSize == 12.0f);
+  CHECK(flagged.initialPosition == defaults.initialPosition);
+}
+
 TEST_CASE("run setup: the front end's controller name wins or yields", "[runtime][setup]") {
   const sb::ControllerContext context{};
   const nlohmann::json section = {{"name", "step"}};

@@ -96,9 +96,15 @@ RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
   PipelineConfig c = pipelineConfigFor(info, file.pipeline, o.configPath);
   if (!o.preset.empty()) c.knobs = knobPreset(o.preset);
   if (!o.knobs.empty()) c.knobs = parseKnobs(o.knobs, c.knobs);
-  if (o.volumeSize) c.volumeSize = static_cast<float>(*o.volumeSize);
+  if (o.volumeSize) {
+    c.volumeSize = static_cast<float>(*o.volumeSize);
+    c.volumeHinted.size = false;
+  }
   if (o.volumeResolution) c.volumeResolution = *o.volumeResolution;
-  if (!o.initialPosition.empty()) c.initialPosition = parsePosition(o.initialPosition);
+  if (!o.initialPosition.empty()) {
+    c.initialPosition = parsePosition(o.initialPosition);
+    c.volumeHinted.position = false;
+  }
   // The product follows the camera unless the config or --fixed-volume says otherwise (docs/moving-volume.md).
   if (o.fixedVolume) c.volumeMode = VolumeMode::fixed;
   finishPipelineConfig(c, "run options");
