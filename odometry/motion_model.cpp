@@ -60,12 +60,14 @@ FrameMotion MotionModel::predict(const Eigen::Isometry3d& previousPose, double p
     motion.step.reset();
     return motion;
   }
-  if (firstFix_ && out.cameraToOdom) {  // the odometry's absolute tilt
-    Eigen::Isometry3d E = Eigen::Isometry3d::Identity();
+  double turnRad = 0.0;  // the base's turn since the anchor: a mount error tilts the odometry's camera by its chord
+  if (const TiltAnchor* anchor = out.cameraToOdom ? nearestAnchor(*out.cameraToOdom, turnRad) : nullptr) {
+    Eigen::Isometry3d E = Eigen::Isometry3d::Identity();  // the odometry's absolute tilt
     E.linear() = mount_.correction();
-    const Eigen::Isometry3d worldFromOdometry = firstFix_->first * E * firstFix_->second.inverse();
+    const Eigen::Isometry3d worldFromOdometry = anchor->pose * E * anchor->cameraToOdom.inverse();
     motion.level = Level{worldFromOdometry * *out.cameraToOdom * E.inverse(),
-                         worldFromOdometry.linear() * Eigen::Vector3d::UnitZ()};
+                         worldFromOdometry.linear() * Eigen::Vector3d::UnitZ(),
+                         levelSigmaRad(c.tiltSigmaDeg, mount_.sigmaDeg(c.mountSigmaDeg), turnRad)};
   }
   if (viewStamp_ && !previousViewFixed_) {
     // The last frame's pose was not the view's (skipped by the tracking rate, dead reckoning in state odometry,
@@ -194,8 +196,42 @@ void MotionModel::finished(const Eigen::Isometry3d& pose, double stamp, bool vie
   previousViewFixed_ = viewFixed;
   if (viewFixed) viewStamp_ = stamp;
   if (!firstStamp_) firstStamp_ = stamp;
-  // The odometry frame in the world frame, from the first frame the view fixed with an odometry pose.
-  if (!firstFix_ && viewFixed && odometry.cameraToOdom) firstFix_.emplace(pose, *odometry.cameraToOdom);
+  // The odometry frame in the world frame, from the first frame the view fixed with an odometry pose, and again
+  // from one the view fixed where the base has turned beyond every anchor's reach.
+  double turnRad = 0.0;
+  if (!odometry.cameraToOdom) return;
+  const bool steady = headingSteady(stamp, *odometry.cameraToOdom);
+  if (viewFixed && anchors_.size() < kMaxAnchors && (anchors_.empty() || steady) &&
+      !nearestAnchor(*odometry.cameraToOdom, turnRad))
+    anchors_.push_back(TiltAnchor{pose, *odometry.cameraToOdom});
+}
+
+bool MotionModel::headingSteady(double stamp, const Eigen::Isometry3d& cameraToOdom) {
+  recentHeading_.emplace_back(stamp, cameraToOdom.linear());
+  while (!recentHeading_.empty() && recentHeading_.front().first < stamp - kSteadyS) recentHeading_.pop_front();
+  if (recentHeading_.front().first > stamp - 0.9 * kSteadyS) return false;  // not a whole window yet
+  const double turn = Eigen::AngleAxisd(recentHeading_.front().second.transpose() * cameraToOdom.linear()).angle();
+  return turn <= kSteadyTurnDeg * M_PI / 180.0;
+}
+
+double MotionModel::maxAnchorTurnRad() const {
+  // The turn at which a mount off by its sigma tilts the odometry's camera by tilt_sigma_deg: 2 sin(turn / 2) e.
+  const double mountDeg = mount_.sigmaDeg(config_.mountSigmaDeg);
+  if (config_.tiltSigmaDeg <= 0.0 || mountDeg <= 0.5 * config_.tiltSigmaDeg) return M_PI;
+  return 2.0 * std::asin(config_.tiltSigmaDeg / (2.0 * mountDeg));
+}
+
+const MotionModel::TiltAnchor* MotionModel::nearestAnchor(const Eigen::Isometry3d& cameraToOdom,
+                                                          double& turnRad) const {
+  const TiltAnchor* best = nullptr;
+  for (const TiltAnchor& a : anchors_) {
+    const double turn = Eigen::AngleAxisd(a.cameraToOdom.linear().transpose() * cameraToOdom.linear()).angle();
+    if (!best || turn < turnRad) {
+      best = &a;
+      turnRad = turn;
+    }
+  }
+  return best && turnRad <= maxAnchorTurnRad() ? best : nullptr;
 }
 
 void MotionModel::checkPhysics(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion) {
@@ -264,8 +300,10 @@ bool MotionModel::followOdometry(const FrameView& view, const FrameMotion& motio
   // A covered lens or a blank view: nothing fused. When the view is back but the model in it is too sparse to
   // track against (the volume moved on while the camera was blind, the region ahead was never mapped), the
   // frame is fused at the odometry's pose, within its drift bound: the map's weights keep what it held, the
-  // holes fill, and the next frame tracks against it.
-  view.odometry.fused = view.result.trackingAttempted && view.result.inlierFraction > 0.0 &&
+  // holes fill, and the next frame tracks against it. Also where the model in view is empty (no pair at all):
+  // that was once taken for a blank view, and a volume that had shifted into unmapped space while the lens was
+  // covered stayed empty until the budget ran out (a held-out drive, `adaptive`: lost 0.5 s after the cover).
+  view.odometry.fused = view.result.trackingAttempted && !blank_ &&
                         view.implausible.empty() &&
                         (!faultsOn() || ((faults_.fault() == WheelFault::none || faults_.unsupported()) &&
                                          (afterBlank_ ? mapAgreement_.uncontradicted(

@@ -29,6 +29,7 @@ void MountCalibration::learn(const Eigen::Matrix3d& viewStep, const OdometryStep
   const double scatter = std::max(0.0, diffSquares_ / weights_ - mean.squaredNorm());
   const double samples = weights_ * weights_ / weightSquares_;
   const double standardError = std::sqrt(scatter / samples);
+  standardError_ = standardError;
   correction_ = mean.norm() >= kSignificance * standardError
                     ? Eigen::Quaterniond::FromTwoVectors(wheelSum_.normalized(), viewSum_.normalized()).toRotationMatrix()
                     : Eigen::Matrix3d::Identity();
@@ -41,6 +42,11 @@ OdometryStep MountCalibration::correct(const OdometryStep& raw) const {
   out.delta = E * raw.delta * E.inverse();
   out.up = correction_ * raw.up;
   return out;
+}
+
+double MountCalibration::sigmaDeg(double priorDeg) const {
+  if (turnRad_ < kMinTurnDeg * kDegToRad) return priorDeg;
+  return std::min(priorDeg, kSignificance * standardError_ / kDegToRad);
 }
 
 double MountCalibration::errorDeg() const { return Eigen::AngleAxisd(correction_).angle() / kDegToRad; }

@@ -32,6 +32,9 @@ class MountCalibration {
   // The correction's angle (degrees) and the turning seen (degrees).
   double errorDeg() const;
   double turnSeenDeg() const { return turnRad_ * 180.0 / 3.14159265358979323846; }
+  // How far the mount's tilt may still be off (degrees): `priorDeg` (odometry_config.h mount_sigma_deg) until
+  // kMinTurnDeg of turning is seen, then the significance bound of what was learnt, at most `priorDeg`.
+  double sigmaDeg(double priorDeg) const;
 
  private:
   static constexpr double kMinStepDeg = 0.5;   // per frame: below, the axis is ICP's noise
@@ -43,6 +46,7 @@ class MountCalibration {
   Eigen::Vector3d diffSum_ = Eigen::Vector3d::Zero();
   double diffSquares_ = 0.0, weights_ = 0.0, weightSquares_ = 0.0;
   double turnRad_ = 0.0;
+  double standardError_ = 0.0;  // radians: of the mean axis difference, once kMinTurnDeg is seen
   Eigen::Matrix3d correction_ = Eigen::Matrix3d::Identity();
 };
 

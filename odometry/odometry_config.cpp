@@ -35,6 +35,7 @@ constexpr Key kKeys[] = {
     {"max_gap_s", &OdometryConfig::maxGapS, 0.001, 100.0},
     {"calibration_window_m", &OdometryConfig::calibrationWindowM, 0.0, 1e6},
     {"tilt_sigma_deg", &OdometryConfig::tiltSigmaDeg, 0.0, 90.0},
+    {"mount_sigma_deg", &OdometryConfig::mountSigmaDeg, 0.0, 45.0},
     {"dispute_s", &OdometryConfig::disputeS, 0.0, 60.0},
     {"calm_s", &OdometryConfig::calmS, 0.0, 60.0},
     {"map_agreement_fraction", &OdometryConfig::mapAgreementFraction, 0.0, 1.0},

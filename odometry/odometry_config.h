@@ -67,6 +67,13 @@ struct OdometryConfig {
   // with this sigma (the floor's bumps and the suspension: not a drift), so the tilt error stays bounded instead of
   // growing with the distance driven, and with it the height error a tilted heading drives. 0: off.
   double tiltSigmaDeg = 0.5;              // degrees, about the axes square to up
+  // ... but only as good as the camera mount the odometry assumes: a mount off by e about the axes square to up
+  // tilts the odometry's camera by 2 sin(psi / 2) e once the base has turned by psi from where the tilt was
+  // anchored (a U-turn: twice the mount's error). Until the mount is learnt (odometry/mount_calibration.h) the
+  // tilt's sigma grows with that chord times this (a mount measured by hand: a degree or two off). Held to
+  // tilt_sigma_deg alone, a mount 2.5 degrees off rolled the map 4.5 degrees in a U-turn whose view left the roll
+  // free, and the way back climbed 1.2 m (docs/odometry.md "The mount's tilt"). 0: the mount is taken as exact.
+  double mountSigmaDeg = 2.0;             // degrees
   // Faults (odometry/wheel_faults.h): a disagreement between the wheels and a view that fixes the motion is
   // decided by the evidence of this long (a wheel slip is one step; a stall, a pick-up or wrong wheels last
   // seconds), nothing fused meanwhile; a fault ends when the wheels' steps agree with the view again for calmS.

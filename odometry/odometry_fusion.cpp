@@ -57,6 +57,11 @@ void widenNoise(OdometryStep& step, const OdometryStep& since) {
   step.sigmaRad = std::max(step.sigmaRad, since.sigmaRad);
 }
 
+double levelSigmaRad(double tiltSigmaDeg, double mountSigmaDeg, double turnRad) {
+  const double chord = 2.0 * std::abs(std::sin(0.5 * turnRad));
+  return std::hypot(tiltSigmaDeg, chord * mountSigmaDeg) / kDegPerRad;
+}
+
 Eigen::Isometry3d levelled(const Eigen::Isometry3d& predicted, const Eigen::Isometry3d& odometry,
                            const Eigen::Vector3d& up) {
   const Eigen::Vector3d a = predicted.linear().transpose() * up;  // up in the camera frame, as predicted
@@ -168,7 +173,7 @@ Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previ
     const Eigen::Vector3d& u = level->up;
     const Twist toLevel = basis.solve(transformToTwist(rigid(levelled(predicted, level->odometry, u) *
                                                              predicted.inverse())));
-    const double tiltRad = c.tiltSigmaDeg / kDegPerRad;
+    const double tiltRad = level->sigmaRad > 0.0 ? level->sigmaRad : c.tiltSigmaDeg / kDegPerRad;
     Matrix6 info = Matrix6::Zero();
     info.bottomRightCorner<3, 3>() = (Eigen::Matrix3d::Identity() - u * u.transpose()) * s * s / (tiltRad * tiltRad);
     if (toLevel.allFinite()) {

@@ -87,7 +87,13 @@ struct Fusion {
 struct Level {
   Eigen::Isometry3d odometry = Eigen::Isometry3d::Identity();
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  double sigmaRad = 0.0;  // the tilt's sigma at this frame (tiltSigma, widened by the mount's: levelSigmaRad)
 };
+
+// The absolute tilt's sigma (radians) once the base has turned by `turnRad` from the frame the tilt was anchored
+// at: tilt_sigma_deg and, added in quadrature, the mount's tilt error `mountSigmaDeg` times the chord
+// 2 sin(turn / 2) (odometry_config.h mount_sigma_deg).
+double levelSigmaRad(double tiltSigmaDeg, double mountSigmaDeg, double turnRad);
 
 // `previous`: the last frame's final pose; `tracked`: this frame's ICP result; `predicted` = previous *
 // step.delta; `quality`: the tracked frame's (its structure and basis). Without a known structure the view

@@ -83,11 +83,11 @@ struct PipelineConfig {
   int volumeResolution = 256;                           // voxels per side (multiple of 8)
   float volumeSize = 5.0f;                              // metres, side of the cube
   std::array<float, 3> initialPosition{0.5f, 0.5f, 0.3f};  // first camera position, fractions of the side
-  // Whether volumeSize / initialPosition hold the sequence's hints (a cube that holds the whole path, for a fixed
-  // volume: 20.5 m for a corridor drive) that no file or flag overrode. A moving volume follows the camera and
-  // keeps its own side and first position (runtime/run_setup.h, finishPipelineConfig).
+  // Whether volumeSize holds the sequence's hint (a cube that holds the whole path, for a fixed volume: 20.5 m for
+  // a corridor drive) that no file or flag overrode. A moving volume follows the camera and keeps its own side
+  // (runtime/run_setup.h, finishPipelineConfig); the hint's first position (fractions of the side) it keeps.
   struct VolumeHinted {
-    bool size = false, position = false;
+    bool size = false;
   } volumeHinted;
   float mu = 0.1f;                                      // metres: TSDF truncation distance
   int maxWeight = 100;                                  // maximum TSDF weight (frames)

@@ -30,7 +30,6 @@ PipelineConfig pipelineConfigFor(const SequenceInfo& info, const nlohmann::json&
     for (int i = 0; i < 3; ++i) c.initialPosition[i] = static_cast<float>((*info.volumeInitialPosition)[i]);
   const bool keys = !pipelineKeys.is_null() && !pipelineKeys.empty();
   c.volumeHinted.size = info.volumeSize && !(keys && pipelineKeys.contains("volume_size_m"));
-  c.volumeHinted.position = info.volumeInitialPosition && !(keys && pipelineKeys.contains("initial_position"));
   if (keys) c = parseConfig(pipelineKeys, c, where);
   return c;
 }
@@ -40,11 +39,7 @@ void finishPipelineConfig(PipelineConfig& c, const std::string& where) {
   // A sequence's hints size a fixed volume to hold the whole path; a moving volume that took them would spread
   // its voxels over it (a corridor drive's 20.5 m cube: 8 cm voxels at 256^3, against the sensor's centimetres),
   // and tracking against so coarse a model drifts (docs/moving-volume.md "The sequence's hints").
-  if (c.movesVolume()) {
-    const PipelineConfig defaults;
-    if (c.volumeHinted.size) c.volumeSize = defaults.volumeSize;
-    if (c.volumeHinted.position) c.initialPosition = defaults.initialPosition;
-  }
+  if (c.movesVolume() && c.volumeHinted.size) c.volumeSize = PipelineConfig{}.volumeSize;
   c.volumeHinted = {};
   try {
     validateConfig(c);

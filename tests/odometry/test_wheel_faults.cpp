@@ -3,7 +3,11 @@
 // error from the axes of the turns; the odometry's clock from the changes of turn rate.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <memory>
+#include <string>
+#include <utility>
 
+#include "odometry/motion_model.h"
 #include "odometry/mount_calibration.h"
 #include "odometry/time_offset.h"
 #include "odometry/wheel_faults.h"
@@ -174,8 +178,13 @@ TEST_CASE("the mount's tilt error from the turns: learnt after enough turning, z
     exact.delta.linear() = view;
     exact.up = up;
     clean.learn(view, exact);
-    if (i == 25) CHECK(mount.errorDeg() == 0.0);  // 78 degrees seen: not yet
+    if (i == 25) {  // 78 degrees seen: not yet, and the mount's tilt is as uncertain as configured
+      CHECK(mount.errorDeg() == 0.0);
+      CHECK(mount.sigmaDeg(2.0) == 2.0);
+    }
   }
+  CHECK(mount.sigmaDeg(2.0) < 0.5);  // learnt: its tilt now known to a fraction of the configured sigma
+  CHECK(clean.sigmaDeg(2.0) < 0.5);  // and known to be right
   CHECK(mount.turnSeenDeg() == Approx(180.0));
   CHECK(mount.errorDeg() == Approx(2.0).margin(0.01));
   CHECK(clean.errorDeg() < 1e-6);
@@ -273,4 +282,43 @@ TEST_CASE("a dispute nothing can decide is dropped; one with fresh evidence is n
     watch.expire(2.0 + i * kFrameS);
   }
   CHECK(watch.fault() == WheelFault::disputed);
+}
+
+TEST_CASE("after a covered lens, a view back in front of an empty model is fused at the wheels' pose",
+          "[odometry][faults]") {
+  // The moving volume followed the wheels' pose while the lens was covered and shifted into space nothing mapped:
+  // the view, back, pairs with nothing (inliers 0). It was taken for a blank frame and never fused, so the model
+  // stayed empty and the run was lost when the dead-reckoning budget ran out. A blank frame is not fused.
+  OdometryConfig c;
+  auto track = std::make_shared<OdometryTrack>();
+  for (int i = 0; i <= 300; ++i) {  // 3 s at 1 m/s along the camera's z
+    OdometrySample s;
+    s.timestamp = i * 0.01;
+    s.T_camera_to_odom.translation() = Eigen::Vector3d(0, 0, s.timestamp);
+    track->add(s);
+  }
+  MotionModel model(c);
+  model.setTrack(track);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  double stamp = 0.0;
+  auto frame = [&](bool blank, double inliers) {
+    FrameOdometry out;
+    const double next = stamp + kFrameS;
+    const FrameMotion motion = model.predict(pose, stamp, true, next, out);
+    sb::FrameResult r;
+    r.timestamp = next;
+    r.trackingAttempted = true;  // tracked and failed: no pair agreed
+    r.inlierFraction = inliers;
+    sb::Decision d;
+    std::string implausible;
+    const FrameView view{r, d, out, implausible};
+    model.depthSeen(blank);
+    REQUIRE(model.follow(view, motion));
+    pose = *d.correctedPose;
+    stamp = next;
+    model.finished(pose, stamp, false, out);
+    return std::make_pair(out.fused, d.integrate.value_or(true));  // unset: the controller's word, to integrate
+  };
+  for (int i = 0; i < 10; ++i) CHECK(frame(true, 0.0) == std::make_pair(false, false));  // covered
+  CHECK(frame(false, 0.0) == std::make_pair(true, true));  // back, the model in view empty: fused
 }

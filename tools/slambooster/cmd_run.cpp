@@ -101,10 +101,7 @@ RunSetup buildSetup(const RunOptions& o, const SequenceInfo& info) {
     c.volumeHinted.size = false;
   }
   if (o.volumeResolution) c.volumeResolution = *o.volumeResolution;
-  if (!o.initialPosition.empty()) {
-    c.initialPosition = parsePosition(o.initialPosition);
-    c.volumeHinted.position = false;
-  }
+  if (!o.initialPosition.empty()) c.initialPosition = parsePosition(o.initialPosition);
   // The product follows the camera unless the config or --fixed-volume says otherwise (docs/moving-volume.md).
   if (o.fixedVolume) c.volumeMode = VolumeMode::fixed;
   finishPipelineConfig(c, "run options");
