@@ -1,14 +1,15 @@
 #pragma once
-// Two numbers into a message (the odometry's "why" strings).
+// Numbers into a message (the odometry's "why" strings).
 
 #include <cstdio>
 #include <string>
 
 namespace sb::odometry {
 
-inline std::string formatNumbers(const char* fmt, double a, double b) {
-  char buf[160];
-  std::snprintf(buf, sizeof buf, fmt, a, b);
+template <typename... Numbers>
+std::string formatNumbers(const char* fmt, Numbers... numbers) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, fmt, static_cast<double>(numbers)...);
   return buf;
 }
 

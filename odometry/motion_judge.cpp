@@ -70,11 +70,22 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     const Eigen::AngleAxisd turn(lastViewPose_->linear().transpose() * tracked.linear());
     timeOffset_.add(*track_, lastViewStamp_, r.timestamp, turn.axis() * turn.angle());
   }
-  const Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *wheels, config_, motion.level,
-                                    takeFusedCovariance(motion));
+  Fusion f = fuseWithOdometry(r.quality, motion.previousPose, tracked, predicted, *wheels, config_, motion.level,
+                              takeFusedCovariance(motion));
+  if (!f.rejected) {  // each frame within the gate, but the same error frame after frame: contradicted all the same
+    const Eigen::AngleAxisd turn(f.viewed.linear() * predicted.linear().transpose());
+    const std::string sustained =
+        corrections_.add(r.timestamp, f.viewed.translation() - predicted.translation(), turn.axis() * turn.angle(),
+                         wheels->sigmaM, wheels->sigmaRad, config_.slipSigmas, config_.slipFloorM, config_.slipFloorM);
+    if (!sustained.empty()) {
+      f.rejected = true;
+      f.why = sustained;
+    }
+  }
   if (f.rejected) {
     // A motion the platform cannot make is the view's error (a runaway along a wall), whoever disagrees with it.
-    if (!d.correctedPose) checkPhysics(pipeline, view, motion);
+    // The view tracked from its own prediction was held to the platform's physics from the view's last pose.
+    if (!d.correctedPose && !viewPredicted_) checkPhysics(pipeline, view, motion);
     if (!r.tracked) {
       faults_.interrupt();
       return;
@@ -91,7 +102,9 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     // A view that stands where it last fixed the pose while the wheels drove on is a stall (the robot ran into
     // something and its wheels spin): a sudden stop is a motion a body makes, and the view is no look-alike
     // (one would not land on the very pose it left), so inertia does not discard it; it is the evidence.
-    if (!motion.withheld && !viewStill(tracked, motion, *wheels)) {
+    // The view tracked from its own prediction holds the map better than from the wheels': it kept the body's
+    // inertia as the view measured it, and the wheels' prediction is what departed from it.
+    if (!motion.withheld && !viewPredicted_ && !viewStill(tracked, motion, *wheels)) {
       const std::string inertia = viewBreaksInertia(motion.previousPose, tracked, predicted,
                                                     r.timestamp - motion.previousStamp, lastVelocity_,
                                                     config_.slipFloorM);
@@ -125,6 +138,65 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     mount_.learn(motion.previousPose.linear().transpose() * tracked.linear(), *motion.reported);
   d.refinedPose = f.pose;
   d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
+}
+
+std::optional<Eigen::Isometry3d> MotionModel::viewPrediction(double stamp) const {
+  const double dt = stamp - lastViewStamp_;
+  if (!lastViewPose_ || !viewVelocity_ || !(dt > 0) || dt > kViewPredictionS) return std::nullopt;
+  Eigen::Isometry3d pose = *lastViewPose_;
+  pose.translation() += viewVelocity_->linear * dt;
+  const double turn = viewVelocity_->angular.norm() * dt;
+  if (turn > 0) pose.linear() = pose.linear() * Eigen::AngleAxisd(turn, viewVelocity_->angular.normalized()).matrix();
+  return pose;
+}
+
+bool MotionModel::trackFromViewMotion(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion) {
+  FrameResult& r = view.result;
+  if (!view.trackFrom || !motion.step || !r.trackingAttempted) return false;
+  const std::optional<Eigen::Isometry3d> own = viewPrediction(r.timestamp);
+  if (!own) return false;
+  // Wheels that go wrong (reversed, a gyro's bias, a stall) carry the frames they predict away from where the
+  // body's inertia takes it, and ICP from there settles where the view fixes least (along a corridor) or fails: the
+  // view then seems to agree with them, or to be lost, while its own motion of the frames before would have
+  // tracked it. So a frame in doubt is tracked from both predictions, and the map decides between them.
+  const Eigen::Isometry3d wheels = *motion.predicted();
+  const double apartM = (own->translation() - wheels.translation()).norm();
+  const double apartDeg = Eigen::AngleAxisd(own->linear().transpose() * wheels.linear()).angle() * 180.0 / M_PI;
+  const bool doubt = !r.tracked || !mapAgreement_.holds(r.pairAgreement) || faults_.fault() != WheelFault::none;
+  if (!doubt && apartM <= kPredictionsApartM && apartDeg <= kPredictionsApartDeg) return false;
+  const TrackAttempt ownTrack = view.trackFrom(*own);
+  view.decision.keepReference = false;  // the reference now shows the view's prediction
+  // The map decides where it tells the two apart. Where it cannot (both hold it within the margin: a corridor's
+  // axis, along which ICP leaves either prediction in place) and the two dispute the motion, the body's inertia as
+  // the view measured it does: a held-out drive with wheels reading zero while the robot drove on had the view stop
+  // with them, agreeing with the map as well (0.87 against 0.88), and its velocity then stopped the view's
+  // prediction too.
+  const double margin = config_.jumpAgreementMargin;
+  const bool wheelsHold = r.tracked && mapAgreement_.holds(r.pairAgreement);
+  const bool ownHolds = ownTrack.tracked && mapAgreement_.holds(ownTrack.pairAgreement);
+  // The two tracks apart: ICP left each near its start (within a few centimetres of each other it converged, and the
+  // better agreement stands).
+  const Eigen::Isometry3d& wheelsTrack = r.T_camera_to_world;
+  const bool tracksApart =
+      (ownTrack.T_camera_to_world.translation() - wheelsTrack.translation()).norm() > config_.slipFloorM ||
+      Eigen::AngleAxisd(ownTrack.T_camera_to_world.linear().transpose() * wheelsTrack.linear()).angle() >
+          config_.slipFloorM;
+  const bool adopt = ownHolds && (!wheelsHold || ownTrack.pairAgreement >= r.pairAgreement + margin ||
+                                  (faults_.fault() != WheelFault::none && tracksApart &&
+                                   ownTrack.pairAgreement > r.pairAgreement - margin));
+  if (!adopt) return false;
+  // Still a motion the body makes from the view's last pose at the view's velocity.
+  const std::string why = implausibleMotion(config_, *lastViewPose_, ownTrack.T_camera_to_world,
+                                            r.timestamp - lastViewStamp_, viewVelocity_->linear);
+  if (!why.empty()) return false;
+  const double wheelsAgreement = r.tracked ? r.pairAgreement : 0.0;
+  pipeline.adoptAttempt(ownTrack, r);
+  view.decision.correctedPose.reset();
+  view.decision.refinedPose.reset();
+  viewPredictedWhy_ = formatNumbers("tracked from the view's own motion: it holds the map (pair agreement %.2f against "
+                                    "%.2f from the wheels' prediction, %.3f m and %.1f deg apart)",
+                                    ownTrack.pairAgreement, wheelsAgreement, apartM, apartDeg);
+  return true;
 }
 
 std::optional<Matrix6> MotionModel::takeFusedCovariance(const FrameMotion& motion) {

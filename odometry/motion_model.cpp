@@ -88,8 +88,9 @@ FrameMotion MotionModel::predict(const Eigen::Isometry3d& previousPose, double p
 void MotionModel::judge(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion) {
   FrameResult& r = view.result;
   Decision& d = view.decision;
-  held_ = r.tracked && mapAgreement_.holds(r.pairAgreement);
   needsView_ = false;
+  viewPredicted_ = faultsOn() && trackFromViewMotion(pipeline, view, motion);
+  held_ = r.tracked && mapAgreement_.holds(r.pairAgreement);
   const std::optional<OdometryStep>& wheels = motion.withheld ? motion.withheld : motion.step;
   const bool watching = wheels || faults_.fault() != WheelFault::none;
   if (!faultsOn()) {
@@ -103,6 +104,8 @@ void MotionModel::judge(Pipeline& pipeline, const FrameView& view, const FrameMo
   }
   view.odometry.fault = faults_.fault();
   if (faults_.fault() != WheelFault::none && view.odometry.why.empty()) view.odometry.why = faults_.why();
+  if (viewPredicted_)
+    view.odometry.why = viewPredictedWhy_ + (view.odometry.why.empty() ? "" : "; " + view.odometry.why);
 }
 
 void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
@@ -121,11 +124,18 @@ void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
   }
   if (held_) {  // the view fixed this pose (whether or not the wheels agreed): a stall is judged frame to frame
     afterBlank_ = false;
+    const double sinceView = r.timestamp - lastViewStamp_;
+    if (lastViewPose_ && sinceView > 0 && sinceView <= kViewPredictionS)
+      viewVelocity_ = velocityBetween(*lastViewPose_, finalPose(view), sinceView);
+    else
+      viewVelocity_.reset();
     lastViewPose_ = finalPose(view);
     lastViewStamp_ = r.timestamp;
   }
   const double dt = r.timestamp - motion.previousStamp;
-  if (motion.hasPrevious && dt > 0)
+  if (viewPredicted_ && viewVelocity_)  // the frames between were the wheels' word: the view's own velocity stands
+    lastVelocity_ = viewVelocity_;
+  else if (motion.hasPrevious && dt > 0)
     lastVelocity_ = velocityBetween(motion.previousPose, finalPose(view), dt);
   else
     lastVelocity_.reset();
@@ -187,6 +197,8 @@ void MotionModel::deadReckon(const FrameMotion& motion) {
 void MotionModel::relocalised() {
   afterBlank_ = false;
   lastViewPose_.reset();
+  viewVelocity_.reset();
+  corrections_.clear();
   odometryPose_.reset();
   odometryDistanceM_ = odometryTimeS_ = 0.0;
   faults_.reset();

@@ -14,6 +14,7 @@
 
 #include <Eigen/Geometry>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -77,6 +78,9 @@ struct FrameView {
   Decision& decision;
   FrameOdometry& odometry;
   std::string& implausible;  // why the tracked motion is one the platform cannot make; empty when it can
+  // Tracks the frame in hand once more from a start pose (Pipeline::trackFrom at the frame's knobs); empty: the
+  // model cannot (a unit test's frame without a pipeline behind it).
+  std::function<TrackAttempt(const Eigen::Isometry3d& start)> trackFrom;
 };
 
 class MotionModel {
@@ -112,8 +116,9 @@ class MotionModel {
   // the dead reckoning of state odometry goes on within its budget). Nothing fused. False when the view has not
   // checked the pose for longer than max_unchecked_s: the frame is not the view's word (state odometry).
   bool skipped(const FrameView& view, const FrameMotion& motion, bool deadReckoning);
-  // The next frame must be tracked whatever the tracking rate: the view last checked the wheels too long ago.
-  bool needsView() const { return needsView_; }
+  // The next frame must be tracked whatever the tracking rate: the view last checked the wheels too long ago, or
+  // the two dispute the motion (a frame skipped then would follow the wheels it disputes).
+  bool needsView() const { return needsView_ || faults_.fault() == WheelFault::disputed; }
 
   // The wheels and the view disagree (wheel_faults.h): while `disputed` no pose is good and nothing is fused;
   // `kidnapped`: the relocaliser searches the whole map.
@@ -169,6 +174,16 @@ class MotionModel {
   void judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion,
                           const std::optional<OdometryStep>& wheels);
 
+  // The view's own prediction (wheel_faults.h "The view's own motion"): where the last frames the view fixed put
+  // the camera at `stamp`, moving on at their velocity; none when they are older than kViewPredictionS.
+  std::optional<Eigen::Isometry3d> viewPrediction(double stamp) const;
+  // A frame whose track from the wheels' prediction is in doubt (it failed, it does not hold the map, a dispute is
+  // open, or the wheels' prediction and the view's own are apart): tracked again from the view's own prediction,
+  // and that track made the frame's when it holds the map better. True when it was.
+  bool trackFromViewMotion(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion);
+  static constexpr double kViewPredictionS = 0.5;
+  static constexpr double kPredictionsApartM = 0.02, kPredictionsApartDeg = 1.0;
+
   // The view at `stamp` corrects the wheels' prediction as it did on the frames before (wheel_faults.h steady):
   // its pose stands.
   bool steadyCorrection(double stamp, const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted,
@@ -187,6 +202,7 @@ class MotionModel {
   std::deque<double> agreement_;  // pair agreement of the last tracked frames (the evidence a jump must keep)
   MapAgreement mapAgreement_;     // of the recent frames the view fixed without dispute
   FaultWatch faults_;
+  CorrectionWindow corrections_;  // the view's corrections of the wheels over the last second
   bool held_ = false;             // the last judged frame's view held the map
   bool needsView_ = false;
   std::optional<Velocity> lastVelocity_;  // of the last frame's motion (tracked, or moved by the wheels)
@@ -204,6 +220,11 @@ class MotionModel {
   std::optional<double> viewStamp_;
   std::optional<Eigen::Isometry3d> lastViewPose_;  // the pose of the last frame the view fixed (holding the map)
   double lastViewStamp_ = 0.0;                     // and its stamp
+  // The velocity between the last two frames the view fixed (at most kViewPredictionS apart): the body's motion as
+  // the view alone measured it, which wheels that went wrong do not contaminate.
+  std::optional<Velocity> viewVelocity_;
+  bool viewPredicted_ = false;  // this frame's track is the one from the view's own prediction
+  std::string viewPredictedWhy_;  // and why, for frames.jsonl
   std::optional<double> firstStamp_;  // the run's first frame (the map's origin): unchecked time counts from it
   bool previousViewFixed_ = false;
   bool afterBlank_ = false;  // a blank frame since the view last fixed the pose (depthSeen)

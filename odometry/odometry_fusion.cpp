@@ -126,6 +126,7 @@ Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previ
                         const std::optional<Level>& level, const std::optional<Matrix6>& previousCovariance) {
   Fusion f;
   f.pose = tracked;
+  f.viewed = predicted;
   if (!q.known || q.structure.isZero()) return f;
   Eigen::SelfAdjointEigenSolver<Matrix6> eig(q.structure);
   const Eigen::FullPivLU<Matrix6> basis(q.basis);
@@ -186,6 +187,7 @@ Fusion fuseWithOdometry(const TrackingQuality& q, const Eigen::Isometry3d& previ
   const Twist keptN = all.ldlt().solve(pull);
   // How far the view moves the prediction along the motions it fixes: a slip when beyond the odometry's noise.
   const Eigen::Isometry3d viewed = rigid(twistToTransform(odo + q.basis * (eig.eigenvectors() * fixedPart)) * previous);
+  f.viewed = viewed;
   f.disagreementM = (viewed.translation() - predicted.translation()).norm();
   f.disagreementRad = angleOf(predicted.linear().transpose() * viewed.linear());
   const double gateM = std::max(c.slipSigmas * step.sigmaM, c.slipFloorM);

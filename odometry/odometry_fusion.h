@@ -77,6 +77,8 @@ struct Fusion {
   bool rejected = false;      // the view contradicts the odometry along the motions it fixes (a wheel slip)
   double disagreementM = 0.0;   // along those motions: translation (metres) ...
   double disagreementRad = 0.0;  // ... and rotation (radians)
+  // The prediction moved by the view along those motions (the prediction itself when the view fixes none).
+  Eigen::Isometry3d viewed = Eigen::Isometry3d::Identity();
   std::string why;            // when rejected
   // The fused pose's covariance (world-frame twists of icp_solve.h, a left perturbation), when fused: the next
   // frame's prior is this plus the wheels' step noise (`priorCovariance` of fuseWithOdometry).

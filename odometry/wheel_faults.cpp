@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
 namespace sb::odometry {
@@ -49,6 +50,30 @@ bool MapAgreement::covered(double coverage) const {
 
 double modelCoverage(double inlierFraction, double pairAgreement) {
   return pairAgreement > 0.0 ? inlierFraction / pairAgreement : 0.0;
+}
+
+std::string CorrectionWindow::add(double stamp, const Eigen::Vector3d& translation, const Eigen::Vector3d& rotation,
+                                  double sigmaM, double sigmaRad, double sigmas, double floorM, double floorRad) {
+  frames_.push_back(Frame{stamp, translation, rotation, sigmaM * sigmaM, sigmaRad * sigmaRad});
+  while (frames_.front().stamp < stamp - windowS_) frames_.pop_front();
+  if (frames_.size() < kMinFrames) return {};
+  Eigen::Vector3d t = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero();
+  double varianceM = 0.0, varianceRad = 0.0;
+  for (const Frame& f : frames_) {
+    t += f.translation;
+    r += f.rotation;
+    varianceM += f.varianceM;
+    varianceRad += f.varianceRad;
+  }
+  // The floors are one frame's: summed over n frames of independent errors they grow as sqrt(n).
+  const double n = std::sqrt(static_cast<double>(frames_.size()));
+  const double gateM = std::max(sigmas * std::sqrt(varianceM), floorM * n);
+  const double gateRad = std::max(sigmas * std::sqrt(varianceRad), floorRad * n);
+  if (t.norm() <= gateM && r.norm() <= gateRad) return {};
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "the view moved the wheels' prediction by %.3f m, %.2f deg over the last %.2f s",
+                t.norm(), r.norm() * 180.0 / M_PI, stamp - frames_.front().stamp);
+  return buf;
 }
 
 void FaultWatch::begin(double stamp) {

@@ -12,7 +12,13 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
                               odometry::MotionModel& model, const odometry::FrameMotion& motion) {
   FrameResult& r = rec.result;
   Decision& d = rec.decision;
-  const odometry::FrameView view{r, d, rec.odometry, rec.implausible};
+  // The view's own prediction is tracked at the frame's knobs, with DEFAULT's ICP iterations at least.
+  Knobs knobs = r.knobs;
+  for (size_t level = 0; level < knobs.pyramidIterations.size(); ++level)
+    knobs.pyramidIterations[level] = std::max(knobs.pyramidIterations[level], Knobs{}.pyramidIterations[level]);
+  const odometry::FrameView view{r, d, rec.odometry, rec.implausible, [&](const Eigen::Isometry3d& start) {
+                                   return pipeline.trackFrom(frame, depthScale, knobs, start, r);
+                                 }};
   if (model.track()) {  // a blank view matters only to the wheels' dead reckoning
     const auto& px = frame.depth.pixels();
     const auto readings = std::count_if(px.begin(), px.end(), [](uint16_t v) { return v != 0; });
