@@ -89,6 +89,7 @@ void MotionModel::judge(Pipeline& pipeline, const FrameView& view, const FrameMo
   FrameResult& r = view.result;
   Decision& d = view.decision;
   needsView_ = false;
+  viewMet_ = false;
   viewPredicted_ = faultsOn() && trackFromViewMotion(pipeline, view, motion);
   held_ = r.tracked && mapAgreement_.holds(r.pairAgreement);
   const std::optional<OdometryStep>& wheels = motion.withheld ? motion.withheld : motion.step;
@@ -198,7 +199,7 @@ void MotionModel::relocalised() {
   afterBlank_ = false;
   lastViewPose_.reset();
   viewVelocity_.reset();
-  corrections_.clear();
+  turnCorrections_.clear();
   odometryPose_.reset();
   odometryDistanceM_ = odometryTimeS_ = 0.0;
   faults_.reset();

@@ -70,6 +70,7 @@ struct FrameMotion {
     if (!step) return std::nullopt;
     return previousPose * step->delta;
   }
+
 };
 
 // The frame in hand as the model reads and amends it (the runtime's FrameRecord, borrowed).
@@ -183,6 +184,8 @@ class MotionModel {
   bool trackFromViewMotion(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion);
   static constexpr double kViewPredictionS = 0.5;
   static constexpr double kPredictionsApartM = 0.02, kPredictionsApartDeg = 1.0;
+  // Two tracks this close met: ICP's own noise is millimetres.
+  static constexpr double kTracksMetM = 0.005, kTracksMetDeg = 0.3;
 
   // The view at `stamp` corrects the wheels' prediction as it did on the frames before (wheel_faults.h steady):
   // its pose stands.
@@ -202,7 +205,7 @@ class MotionModel {
   std::deque<double> agreement_;  // pair agreement of the last tracked frames (the evidence a jump must keep)
   MapAgreement mapAgreement_;     // of the recent frames the view fixed without dispute
   FaultWatch faults_;
-  CorrectionWindow corrections_;  // the view's corrections of the wheels over the last second
+  TurnCorrections turnCorrections_;  // the view's corrections of the wheels' turn over the last second
   bool held_ = false;             // the last judged frame's view held the map
   bool needsView_ = false;
   std::optional<Velocity> lastVelocity_;  // of the last frame's motion (tracked, or moved by the wheels)
@@ -224,6 +227,7 @@ class MotionModel {
   // the view alone measured it, which wheels that went wrong do not contaminate.
   std::optional<Velocity> viewVelocity_;
   bool viewPredicted_ = false;  // this frame's track is the one from the view's own prediction
+  bool viewMet_ = false;        // its tracks from the wheels' prediction and the view's own met (the view fixes it)
   std::string viewPredictedWhy_;  // and why, for frames.jsonl
   std::optional<double> firstStamp_;  // the run's first frame (the map's origin): unchecked time counts from it
   bool previousViewFixed_ = false;

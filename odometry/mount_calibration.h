@@ -1,5 +1,5 @@
 #pragma once
-// The camera mount the odometry assumes, corrected online from the view (issue 52; docs/odometry.md "Faults").
+// The camera mount the odometry assumes, corrected online from the view (issue 52; docs/wheel-faults.md).
 // Each odometry sample is the base's pose composed with a mount (T_camera_to_odom); a mount measured a degree or
 // two off tilts the axis the wheels turn about as the camera sees it. Straight driving does not show it, but
 // every turn does: after a U-turn the odometry's tilt is off by twice the mount's error, and held to it as an

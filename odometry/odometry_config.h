@@ -77,7 +77,7 @@ struct OdometryConfig {
   // Faults (odometry/wheel_faults.h): a disagreement between the wheels and a view that fixes the motion is
   // decided by the evidence of this long (a wheel slip is one step; a stall, a pick-up or wrong wheels last
   // seconds), nothing fused meanwhile; a fault ends when the wheels' steps agree with the view again for calmS.
-  // 0: off, a disagreement is decided by one frame's inertia. Measured (docs/odometry.md "Faults", twenty drives,
+  // 0: off, a disagreement is decided by one frame's inertia. Measured (docs/wheel-faults.md, twenty drives,
   // both controllers): on, the `good` frames more than 0.5 m off fall from 6518 to 664 (adaptive) and 6340 to
   // 1487 (DEFAULT), every fault-free drive stays posed; a carried robot is not relocalised yet.
   double disputeS = 0.3;                  // seconds
@@ -92,7 +92,7 @@ struct OdometryConfig {
   // The odometry's stamps against the frames' (odometry/time_offset.h): a frame at stamp t is matched with the
   // odometry at t + timeOffsetS (a latency of 40 ms: 0.04), learnt online within timeOffsetRangeS of it (0: fixed).
   double timeOffsetS = 0.0;               // seconds
-  double timeOffsetRangeS = 0.0;          // seconds (learning off by default: docs/odometry.md "Faults")
+  double timeOffsetRangeS = 0.0;          // seconds (learning off by default: docs/wheel-faults.md)
 
   void read(ConfigReader& r);
   nlohmann::json toJson() const;

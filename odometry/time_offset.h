@@ -1,5 +1,5 @@
 #pragma once
-// The odometry's clock against the camera's (issue 52; docs/odometry.md "Faults"). A base's odometry is stamped
+// The odometry's clock against the camera's (issue 52; docs/wheel-faults.md). A base's odometry is stamped
 // when its driver publishes it, not when the wheels turned: a constant latency of tens of milliseconds is usual
 // and nobody measures it. Uncompensated, every change of motion reaches the fusion late: at the start and end of
 // an in-place turn the wheels say "still turning" or "not yet" by a few degrees a frame, along motions the view

@@ -52,27 +52,24 @@ double modelCoverage(double inlierFraction, double pairAgreement) {
   return pairAgreement > 0.0 ? inlierFraction / pairAgreement : 0.0;
 }
 
-std::string CorrectionWindow::add(double stamp, const Eigen::Vector3d& translation, const Eigen::Vector3d& rotation,
-                                  double sigmaM, double sigmaRad, double sigmas, double floorM, double floorRad) {
-  frames_.push_back(Frame{stamp, translation, rotation, sigmaM * sigmaM, sigmaRad * sigmaRad});
+std::string TurnCorrections::add(double stamp, const Eigen::Vector3d& rotation, double sigmaRad, double sigmas,
+                                 double floorRad) {
+  frames_.push_back(Frame{stamp, rotation, sigmaRad * sigmaRad});
   while (frames_.front().stamp < stamp - windowS_) frames_.pop_front();
   if (frames_.size() < kMinFrames) return {};
-  Eigen::Vector3d t = Eigen::Vector3d::Zero(), r = Eigen::Vector3d::Zero();
-  double varianceM = 0.0, varianceRad = 0.0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double variance = 0.0;
   for (const Frame& f : frames_) {
-    t += f.translation;
-    r += f.rotation;
-    varianceM += f.varianceM;
-    varianceRad += f.varianceRad;
+    sum += f.rotation;
+    variance += f.variance;
   }
-  // The floors are one frame's: summed over n frames of independent errors they grow as sqrt(n).
-  const double n = std::sqrt(static_cast<double>(frames_.size()));
-  const double gateM = std::max(sigmas * std::sqrt(varianceM), floorM * n);
-  const double gateRad = std::max(sigmas * std::sqrt(varianceRad), floorRad * n);
-  if (t.norm() <= gateM && r.norm() <= gateRad) return {};
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "the view moved the wheels' prediction by %.3f m, %.2f deg over the last %.2f s",
-                t.norm(), r.norm() * 180.0 / M_PI, stamp - frames_.front().stamp);
+  const double n = static_cast<double>(frames_.size());
+  const double gate = std::max(sigmas * std::sqrt(variance), floorRad * std::sqrt(n));
+  const Eigen::Vector3d mean = sum / n;
+  if (sum.norm() <= gate || rotation.dot(mean) < 0.5 * mean.squaredNorm()) return {};
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "the view turned the wheels' prediction by %.2f deg over the last %.2f s",
+                sum.norm() * 180.0 / M_PI, stamp - frames_.front().stamp);
   return buf;
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// When the wheels and the view disagree (issue 52; docs/odometry.md "Faults"): a fault of the base (a stall
+// When the wheels and the view disagree (issue 52; docs/wheel-faults.md): a fault of the base (a stall
 // with spinning wheels, a wheel slip, wrong wheels) or of the view (a runaway, a robot carried elsewhere) is a
 // disagreement that lasts, and one frame's physics cannot decide it. The map built before the disagreement is
 // the referee: while the two disagree nothing is fused into it, and the evidence of a window of frames decides
@@ -61,32 +61,36 @@ class MapAgreement {
 // nothing was paired).
 double modelCoverage(double inlierFraction, double pairAgreement);
 
-// The view's corrections of the wheels' prediction summed over the last second. One frame's gate (slip_sigmas of
-// the step's noise, at least slip_floor_m and as many radians) lets wrong wheels through whose error per frame is
-// under it but always the same: a gyro biased by 20 deg/s turns each 33 ms step 0.67 degrees off, under the 1.7
-// degree floor, and fused frame after frame the heading drifted 5 degrees in 10 s (a held-out drive: `good` frames
-// 0.9 m off on the way back). Summed over n frames the gate's floors grow as sqrt(n), as independent errors do:
-// over a second at 30 Hz 9.4 degrees and 0.16 m, which a constant error of 9 deg/s or 0.16 m/s passes. What a base's
-// wheels get wrong legitimately stays under it: a turn scale off by 5% at 90 deg/s (4.5 degrees in the second), a
-// latency's lag at the start of a turn (its rate times the latency in all: 2.4 degrees at 60 deg/s and 40 ms), a mount
-// tilted 2 degrees through a turn of 60 degrees (2 degrees); a window of the 0.3 s decision time instead, its floors
-// unscaled, took a U-turn's 1.6 degrees and 3.3 cm for wrong wheels, and the view alone then lost the turn.
-class CorrectionWindow {
+// The view's corrections of the wheels' turn summed over the last second. One frame's gate (slip_sigmas of the
+// step's noise, at least slip_floor_m as radians: 1.7 degrees) lets wrong wheels through whose error per frame is
+// under it but always the same: a gyro biased by 20 deg/s turns each 33 ms step 0.67 degrees off, and fused frame
+// after frame the heading drifted 5 degrees in 10 s (a held-out drive: `good` frames 0.9 m off on the way back).
+// Summed over n frames the floor grows as sqrt(n), as independent errors do: over a second at 30 Hz 9.4 degrees,
+// which a constant error of 9 deg/s passes. What a base's wheels get wrong legitimately stays under it: a turn scale
+// off by 5% at 90 deg/s (4.5 degrees in the second), a latency's lag at the start of a turn (its rate times the
+// latency in all: 2.4 degrees at 60 deg/s and 40 ms), a mount tilted 2 degrees through a turn of 60 degrees (2
+// degrees). A window of the 0.3 s decision time with the floor unscaled took a U-turn's 1.6 degrees for wrong
+// wheels, and the view alone then lost the turn. A sum beyond the gate is evidence only on a frame that still
+// corrects the wheels as the window does on average (a fault that has ended leaves its sum for a second, its frames
+// do not). The turn only: summed, the translation's corrections also took a stall whose wheels read 0.6 m/s (2 cm a
+// frame, under the 3 cm floor) for slipping wheels, and with the wheels out the view alone slid 0.3 m where the
+// robot drove on along a motion it did not fix (a held-out drive, `adaptive`: 2.9 -> 25 cm); a stall has its own
+// evidence (a view that stands still).
+class TurnCorrections {
  public:
-  explicit CorrectionWindow(double windowS = 1.0) : windowS_(windowS) {}
-  // A frame at `stamp` whose view moved the wheels' prediction by `translation` (metres) and `rotation` (a rotation
-  // vector, radians), both in the world frame, the step's noise `sigmaM`, `sigmaRad`. Returns why the corrections
-  // summed over the window (at least kMinFrames of them) are beyond `sigmas` times their noise (and the floors, one
-  // frame's times the square root of the frames), or "".
-  std::string add(double stamp, const Eigen::Vector3d& translation, const Eigen::Vector3d& rotation, double sigmaM,
-                  double sigmaRad, double sigmas, double floorM, double floorRad);
+  explicit TurnCorrections(double windowS = 1.0) : windowS_(windowS) {}
+  // A frame at `stamp` whose view turned the wheels' prediction by `rotation` (a rotation vector in the world
+  // frame, radians), the step's turn noise `sigmaRad`. Returns why the corrections summed over the window (at least
+  // kMinFrames of them) are beyond `sigmas` times their noise and the floor (one frame's `floorRad` times the square
+  // root of the frames), or "".
+  std::string add(double stamp, const Eigen::Vector3d& rotation, double sigmaRad, double sigmas, double floorRad);
   void clear() { frames_.clear(); }
 
  private:
   struct Frame {
     double stamp;
-    Eigen::Vector3d translation, rotation;
-    double varianceM, varianceRad;
+    Eigen::Vector3d rotation;
+    double variance;
   };
   static constexpr size_t kMinFrames = 3;
   double windowS_;

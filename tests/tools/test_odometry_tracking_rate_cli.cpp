@@ -138,7 +138,7 @@ TEST_CASE("with odometry, frames skipped by the tracking rate follow the wheels"
   CHECK(c.offTruth == 0);
   CHECK(ate < 0.05);
 
-  // The same with the fault watch on (odometry.dispute_s, docs/odometry.md "Faults"; the default). Before, a frame the wheels
+  // The same with the fault watch on (odometry.dispute_s, docs/wheel-faults.md; the default). Before, a frame the wheels
   // carried was fused only where the view held the map, and right after the cover the region ahead, mapped before
   // it only from afar, agreed with 0.30-0.34 of the view against a floor of 0.33: nothing fused, the view never
   // tracked again (to the end of the drive, 20 frames on). After a blank spell a view the model covers less than
