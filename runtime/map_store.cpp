@@ -192,6 +192,10 @@ bool MapStore::placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, Bac
     return true;  // placed already
   if (placedThisFrame_) return false;
   placedThisFrame_ = true;
+  if (volumeUnkept_) {
+    keepVolume(window, volume);
+    volumeUnkept_ = false;
+  }
   drain();  // the slabs still queued (an in-run relocalisation's whole volume) are kept before the volume moves
   window.placeFor(pose, volume);
   if (placedCorner_ && *placedCorner_ == window.cornerVoxels()) return true;
@@ -352,6 +356,12 @@ void MapStore::keepVolume(const VolumeWindow& window, BackendVolume& volume) {
   addSlab(std::move(slab));
   placedCorner_ = window.cornerVoxels();
   ++volumesKept_;
+}
+
+void MapStore::recoveryStarted(const VolumeWindow& window) {
+  if (!writing_) return;
+  placedCorner_ = window.cornerVoxels();
+  volumeUnkept_ = true;
 }
 
 void MapStore::finish(const VolumeWindow& window, BackendVolume& volume, const KeyframeDatabase& keyframes) {

@@ -81,9 +81,12 @@ class MapStore {
   bool placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, BackendVolume& volume);
   void nextFrame() { placedThisFrame_ = false; }
   // Keeps the whole volume as a slab (the map that has not left it yet) and notes that the volume holds the
-  // store's surface where it stands: before the first placement of an in-run relocalisation, and at the end of a
-  // run. Nothing unless writing.
+  // store's surface where it stands (the end of a run). Nothing unless writing.
   void keepVolume(const VolumeWindow& window, BackendVolume& volume);
+  // Lost in the run (an in-run relocalisation): the volume holds the run's newest map where it stands, so a
+  // candidate there needs no placement; the first placement keeps the whole volume (keepVolume) before it moves
+  // it. A recovery that never leaves the volume keeps nothing. Nothing unless writing.
+  void recoveryStarted(const VolumeWindow& window);
   // The box of the volume a shift brought in (VolumeWindow's enter listener): the store's surface of it
   // swapped back in (after the slabs still queued are written). Nothing unless writing.
   void swapIn(const std::array<int, 3>& first, const std::array<int, 3>& extent, const VolumeWindow& window,
@@ -126,6 +129,7 @@ class MapStore {
   double localisedStamp_ = 0.0;  // seconds, the frame's
   std::optional<Eigen::Vector3i> placedCorner_;  // the corner whose volume holds the store's surface
   bool placedThisFrame_ = false;
+  bool volumeUnkept_ = false;  // lost in the run: the volume's map is to be kept before it moves
   size_t placements_ = 0, swapIns_ = 0, volumesKept_ = 0;
   double loadMs_ = 0.0;
 

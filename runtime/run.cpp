@@ -140,14 +140,14 @@ void Run::stepMapStore(const FrameRecord& rec) {
     mapStore_->localised(rec.result.frame, rec.result.timestamp);
     pipeline_->volumeWindow()->setHeld(false);
   }
-  // Lost in the run: before the first placement the volume's map (not yet left as slabs) is kept too, and the
-  // window is held where the relocaliser places it (follow() would bring it back to the held pose) until a
+  // Lost in the run: before the first placement the volume's map (not yet left as slabs) is kept too (placeFor),
+  // and the window is held where the relocaliser places it (follow() would bring it back to the held pose) until a
   // candidate is confirmed; from then on the run maps as always, from the volume placed there.
   const TrackingMonitor& monitor = runner_.monitor();
   const bool recovering = monitor.recovering() && !monitor.localisingInKeptMap() && mapStore_->writing() &&
                           pipeline_->config().relocalise;
   if (recovering && !recoveringOverStore_) {
-    mapStore_->keepVolume(*pipeline_->volumeWindow(), pipeline_->backend());
+    mapStore_->recoveryStarted(*pipeline_->volumeWindow());
     pipeline_->volumeWindow()->setHeld(true);
     recoveringOverStore_ = true;
   } else if (!recovering && recoveringOverStore_) {

@@ -332,10 +332,12 @@ TEST_CASE("an ordinary run's slabs kept in memory: the volume kept, placed far a
   REQUIRE(window.follow(at(3.5, 2.0, 0.8), backend) == Eigen::Vector3i(24, 0, 0));
   REQUIRE(window.follow(at(2.0, 2.0, 0.8), backend) == Eigen::Vector3i(-24, 0, 0));
   CHECK(sameObserved(wholeVolume(backend, r)));
-  // Lost: the volume kept whole, then placed for a far candidate (nothing of it there) and back.
-  store->keepVolume(window, backend);
-  CHECK(store->placeFor(seen, window, backend));  // placed already: the volume holds what is kept there
+  // Lost: the volume holds the newest map where it stands (nothing kept yet); kept whole by the first placement,
+  // for a far candidate (nothing of it there), and placed back.
+  store->recoveryStarted(window);
+  CHECK(store->placeFor(seen, window, backend));  // no placement needed: the volume stays, nothing kept
   CHECK(store->summaryJson()["placements"].get<size_t>() == 0);
+  CHECK(store->summaryJson()["volumes_kept"].get<size_t>() == 0);
   CHECK(store->placeFor(at(20.0, 1.5, 0.9), window, backend));
   CHECK(window.cornerVoxels() != Eigen::Vector3i::Zero());
   const std::vector<int16_t> far = wholeVolume(backend, r);
