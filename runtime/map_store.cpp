@@ -214,6 +214,9 @@ bool MapStore::placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, Bac
 void MapStore::swapIn(const std::array<int, 3>& first, const std::array<int, 3>& extent, const VolumeWindow& window,
                       BackendVolume& volume) {
   if (!writing_) return;
+  // In memory, only once a relocalisation has placed the volume from the kept slabs: until then the run maps as
+  // one without them (the same poses, byte for byte), and a revisit is tracked against what the volume holds.
+  if (inMemory() && placements_ == 0) return;
   mapstore::SlabBox world;
   for (int a = 0; a < 3; ++a) world.first[size_t(a)] = first[size_t(a)] + window.cornerVoxels()[a];
   world.extent = extent;

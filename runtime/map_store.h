@@ -88,7 +88,8 @@ class MapStore {
   // it. A recovery that never leaves the volume keeps nothing. Nothing unless writing.
   void recoveryStarted(const VolumeWindow& window);
   // The box of the volume a shift brought in (VolumeWindow's enter listener): the store's surface of it
-  // swapped back in (after the slabs still queued are written). Nothing unless writing.
+  // swapped back in (after the slabs still queued that meet it are written). Nothing unless writing; in memory,
+  // nothing until a placement (an in-run relocalisation) has filled the volume from the kept slabs.
   void swapIn(const std::array<int, 3>& first, const std::array<int, 3>& extent, const VolumeWindow& window,
               BackendVolume& volume);
   // A slab that left the volume (VolumeWindow's slab listener): queued for the worker. Nothing unless writing.
