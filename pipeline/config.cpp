@@ -68,6 +68,7 @@ const std::vector<IntField>& intFields() {
       {"relocalise_confirm_frames", &PipelineConfig::relocaliseConfirmFrames, 1, 100},
       {"relocalise_csr", &PipelineConfig::relocaliseCsr, 1, 8},
       {"keyframe_capacity", &PipelineConfig::keyframeCapacity, 1, 100000},
+      {"relocalise_kept_map_mib", &PipelineConfig::relocaliseKeptMapMib, 0, 1048576},
   };
   return fields;
 }

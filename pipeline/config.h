@@ -72,6 +72,10 @@ struct PipelineConfig {
   float relocaliseMaxRotationDeg = 10.0f;   // degrees: the same for rotation
   int keyframeCapacity = 300;               // keyframes held (the oldest goes when full)
   float keyframeMinDissimilarity = 0.2f;    // a view unlike every keyframe by more than this becomes one
+  // With a moving volume, the slabs that leave it are kept in memory, encoded, at most this many MiB (the oldest
+  // dropped first), so that a lost run relocalises anywhere on its map, not only inside the volume
+  // (runtime/map_store.h, MapStore::inMemory; docs/moving-volume.md). 0: none kept (the volume alone).
+  int relocaliseKeptMapMib = 256;
 
   // --- volume (its size fixed per run; it may follow the camera) ---
   VolumeMode volumeMode = VolumeMode::automatic;  // Pipeline treats automatic as fixed

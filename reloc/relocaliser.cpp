@@ -129,6 +129,8 @@ RelocaliseOutcome Relocaliser::relocalise(const FernCode& code, const Eigen::Iso
       if (!seen) starts.push_back(pose);
     }
   }
+  if (rotateStarts_ && starts.size() > 1)
+    std::rotate(starts.begin(), starts.begin() + std::ptrdiff_t(freshSearches_++ % starts.size()), starts.end());
   std::optional<TrackAttempt> best;
   double bestAgreement = 0.0;  // of the tracked attempts, for the log
   for (const auto& start : starts) {

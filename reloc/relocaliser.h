@@ -105,6 +105,11 @@ class Relocaliser {
   // lower than minConditioning where something else fixes what the view leaves nearly free (a kept map's
   // candidate carried by the wheels, runtime/tracking_monitor.h); unset: minConditioning, as a found candidate.
   void setConfirmConditioning(std::optional<double> conditioning) { confirmConditioning_ = conditioning; }
+  // Whether each fresh search's candidates (the held pose, the keyframes) are tried in an order rotated by one
+  // each search: where each try may first have to move the volume, and only one move is allowed a frame
+  // (runtime/map_store.h, placeFor), every candidate is reached in turn. Off by default; the best acceptable
+  // attempt of a search does not depend on the order.
+  void setRotateStarts(bool rotate) { rotateStarts_ = rotate; }
   // KeyframeDatabase::setMaxSpacing: keyframes also by distance (a map kept across runs).
   void setKeyframeSpacing(double metres) { keyframes_.setMaxSpacing(metres); }
   // Forgets a pending candidate (tracking went on without relocalisation).
@@ -124,6 +129,8 @@ class Relocaliser {
   std::deque<double> tracked_;                // pair agreement of the last good frames (bounded)
   int confirmed_ = 0;
   bool tryHeldPose_ = true;
+  bool rotateStarts_ = false;
+  size_t freshSearches_ = 0;  // counts the searches while rotating
   std::vector<double> viewOffsetsM_;
   std::optional<double> confirmConditioning_;
 };

@@ -66,6 +66,18 @@ MapStore::MapStore(std::string dir, const PipelineConfig& config, const MapStore
                 "map cannot be localised in; restore keyframes.bin or give another --map-store");
 }
 
+MapStore::MapStore(const PipelineConfig& config, const MapStoreOptions& options) : config_(config), options_(options) {
+  if (!config.movesVolume()) throw Error("map store in memory: needs the moving volume (volume_mode moving)");
+  if (options.keepSlabBytes == 0) throw Error("map store in memory: needs a bound in bytes (> 0)");
+  writing_ = true;
+}
+
+std::unique_ptr<MapStore> MapStore::inMemory(const PipelineConfig& config, uint64_t keepBytes) {
+  MapStoreOptions options;
+  options.keepSlabBytes = keepBytes;
+  return std::unique_ptr<MapStore>(new MapStore(config, options));
+}
+
 MapStore::~MapStore() {
   {
     std::lock_guard lock(mutex_);
@@ -127,11 +139,11 @@ void MapStore::openExisting() {
     entry.path = e.path().string();
     entry.number = std::stoul(m[1].str());
     entry.box = mapstore::readSlabHeader(entry.path);  // checks the whole file
-    entry.bytes = fs::file_size(e.path());
+    entry.size = fs::file_size(e.path());
     slabs_.push_back(entry);
   }
   std::sort(slabs_.begin(), slabs_.end(), [](const Entry& a, const Entry& b) { return a.number < b.number; });
-  for (const Entry& e : slabs_) slabBytes_ += e.bytes;
+  for (const Entry& e : slabs_) slabBytes_ += e.size;
   nextNumber_ = slabs_.empty() ? 0 : slabs_.back().number + 1;
 }
 
@@ -165,7 +177,12 @@ void MapStore::loadBox(const mapstore::SlabBox& world, const VolumeWindow& windo
   } else {
     volume.readVolumeBox(first, world.extent, box.data());
   }
-  for (const Entry& e : meeting) mapstore::mergeSlab(e.path, world, box.data());
+  for (const Entry& e : meeting) {
+    if (e.bytes)
+      mapstore::mergeSlab(*e.bytes, e.path, world, box.data());
+    else
+      mapstore::mergeSlab(e.path, world, box.data());
+  }
   volume.writeVolumeBox(first, world.extent, box.data());
   loadMs_ += msSince(start);
 }
@@ -175,6 +192,11 @@ bool MapStore::placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, Bac
     return true;  // placed already
   if (placedThisFrame_) return false;
   placedThisFrame_ = true;
+  if (volumeUnkept_) {
+    keepVolume(window, volume);
+    volumeUnkept_ = false;
+  }
+  drain();  // the slabs still queued (an in-run relocalisation's whole volume) are kept before the volume moves
   window.placeFor(pose, volume);
   if (placedCorner_ && *placedCorner_ == window.cornerVoxels()) return true;
   const int r = config_.volumeResolution;
@@ -192,10 +214,15 @@ bool MapStore::placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, Bac
 void MapStore::swapIn(const std::array<int, 3>& first, const std::array<int, 3>& extent, const VolumeWindow& window,
                       BackendVolume& volume) {
   if (!writing_) return;
-  drain();  // a slab that just left is on disk before the volume comes back over it
+  // In memory, only once a relocalisation has placed the volume from the kept slabs: until then the run maps as
+  // one without them (the same poses, byte for byte), and a revisit is tracked against what the volume holds.
+  if (inMemory() && placements_ == 0) return;
   mapstore::SlabBox world;
   for (int a = 0; a < 3; ++a) world.first[size_t(a)] = first[size_t(a)] + window.cornerVoxels()[a];
   world.extent = extent;
+  // A slab that left and meets the box is kept before the volume comes back over it. Only then: the slab that
+  // left with this shift lies on the other side of the volume, and its encoding goes on beside the run.
+  if (pendingMeets(world)) drain();
   loadBox(world, window, volume, /*cleared=*/false);
   ++swapIns_;
 }
@@ -213,6 +240,18 @@ void MapStore::addSlab(std::shared_ptr<const VolumeSlab> slab) {
   work_.notify_one();
 }
 
+bool MapStore::pendingMeets(const mapstore::SlabBox& world) const {
+  const auto meets = [&](const VolumeSlab& slab) {
+    mapstore::SlabBox box;
+    box.first = worldVoxel(slab.corner, config_.voxelSize());
+    box.extent = slab.extent;
+    return box.intersects(world);
+  };
+  std::lock_guard lock(mutex_);
+  if (writingNow_ && meets(*writingNow_)) return true;
+  return std::any_of(queue_.begin(), queue_.end(), [&](const auto& slab) { return meets(*slab); });
+}
+
 void MapStore::drain() {
   std::unique_lock lock(mutex_);
   room_.wait(lock, [&] { return pending_ == 0; });
@@ -228,6 +267,7 @@ void MapStore::workerLoop() {
       if (queue_.empty()) return;
       slab = queue_.front();
       queue_.pop_front();
+      writingNow_ = slab;
     }
     const auto start = std::chrono::steady_clock::now();
     try {
@@ -237,6 +277,7 @@ void MapStore::workerLoop() {
       if (!error_) error_ = std::current_exception();
     }
     std::lock_guard lock(mutex_);
+    writingNow_.reset();
     workerMs_ += msSince(start);
     queuedBytes_ -= slab->bytes();
     --pending_;
@@ -257,10 +298,19 @@ void MapStore::writeSlab(const VolumeSlab& slab) {
   }
   char name[32];
   std::snprintf(name, sizeof name, "slab-%06zu.tsdf", number);
+  if (inMemory()) {
+    auto kept = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
+    const uint64_t size = kept->size();
+    std::lock_guard lock(mutex_);
+    slabs_.push_back({std::string("kept slab ") + name, std::move(kept), number, box, size});
+    slabBytes_ += size;
+    enforceRetentionLocked();
+    return;
+  }
   const std::string path = dir_ + "/slabs/" + name;
   writeBytes(path, bytes);
   std::lock_guard lock(mutex_);
-  slabs_.push_back({path, number, box, bytes.size()});
+  slabs_.push_back({path, nullptr, number, box, bytes.size()});
   slabBytes_ += bytes.size();
   enforceRetentionLocked();
 }
@@ -269,47 +319,74 @@ void MapStore::enforceRetentionLocked() {
   while (options_.keepSlabBytes > 0 && slabBytes_ > options_.keepSlabBytes && slabs_.size() > 1) {
     const Entry oldest = slabs_.front();
     std::error_code ec;
-    fs::remove(oldest.path, ec);
+    if (!oldest.bytes) fs::remove(oldest.path, ec);
     if (ec) {
       spdlog::warn("map store: cannot remove '{}' for the bound of {} MiB: {}", oldest.path,
                    options_.keepSlabBytes >> 20, ec.message());
       return;
     }
-    spdlog::info("map store: removed the oldest slab '{}' ({} bytes): the store's slabs are bounded to {} MiB",
-                 oldest.path, oldest.bytes, options_.keepSlabBytes >> 20);
+    if (oldest.bytes && removedFiles_ == 0)
+      spdlog::info("map store: dropped the oldest kept slab ({} bytes), and from now on the oldest as needed: the "
+                   "slabs kept in memory are bounded to {} MiB (relocalise_kept_map_mib)",
+                   oldest.size, options_.keepSlabBytes >> 20);
+    else if (!oldest.bytes)
+      spdlog::info("map store: removed the oldest slab '{}' ({} bytes): the store's slabs are bounded to {} MiB",
+                   oldest.path, oldest.size, options_.keepSlabBytes >> 20);
     slabs_.erase(slabs_.begin());
-    slabBytes_ -= oldest.bytes;
+    slabBytes_ -= oldest.size;
     ++removedFiles_;
-    removedBytes_ += oldest.bytes;
+    removedBytes_ += oldest.size;
   }
 }
 
 void MapStore::saveKeyframes(const KeyframeDatabase& keyframes) {
-  if (!writing_) return;
+  if (!writing_ || inMemory()) return;
   const std::vector<const Keyframe*> all = keyframes.all();
   writeBytes(dir_ + "/keyframes.bin", mapstore::encodeKeyframes(all));
   keyframesSaved_ = all.size();
 }
 
-void MapStore::finish(const VolumeWindow& window, BackendVolume& volume, const KeyframeDatabase& keyframes) {
+void MapStore::keepVolume(const VolumeWindow& window, BackendVolume& volume) {
   if (!writing_) return;
-  {
-    const int r = config_.volumeResolution;
-    auto slab = std::make_shared<VolumeSlab>();
-    slab->resolution = r;
-    slab->extent = {r, r, r};
-    slab->voxels.resize(2 * size_t(r) * size_t(r) * size_t(r));
-    volume.readVolumeBox(slab->first, slab->extent, slab->voxels.data());
-    slab->corner = window.cornerMetres();
-    slab->voxelSize = config_.voxelSize();
-    addSlab(std::move(slab));
-  }
+  const int r = config_.volumeResolution;
+  auto slab = std::make_shared<VolumeSlab>();
+  slab->resolution = r;
+  slab->extent = {r, r, r};
+  slab->voxels.resize(2 * size_t(r) * size_t(r) * size_t(r));
+  volume.readVolumeBox(slab->first, slab->extent, slab->voxels.data());
+  slab->corner = window.cornerMetres();
+  slab->voxelSize = config_.voxelSize();
+  addSlab(std::move(slab));
+  placedCorner_ = window.cornerVoxels();
+  ++volumesKept_;
+}
+
+void MapStore::recoveryStarted(const VolumeWindow& window) {
+  if (!writing_) return;
+  placedCorner_ = window.cornerVoxels();
+  volumeUnkept_ = true;
+}
+
+void MapStore::finish(const VolumeWindow& window, BackendVolume& volume, const KeyframeDatabase& keyframes) {
+  if (!writing_ || inMemory()) return;  // in memory: kept for this run only
+  keepVolume(window, volume);
   drain();
   saveKeyframes(keyframes);
 }
 
 nlohmann::json MapStore::summaryJson() const {
   std::lock_guard lock(mutex_);
+  if (inMemory())
+    return {{"in_memory", true},
+            {"keep_bytes", options_.keepSlabBytes},
+            {"slabs", slabs_.size()},
+            {"slab_bytes", slabBytes_},
+            {"slabs_dropped", removedFiles_},
+            {"volumes_kept", volumesKept_},
+            {"placements", placements_},
+            {"swap_ins", swapIns_},
+            {"load_ms", loadMs_},
+            {"worker_ms", workerMs_}};
   nlohmann::json j = {{"dir", dir_},
                       {"kept", kept()},
                       {"kept_keyframes", keptKeyframes_.size()},

@@ -18,6 +18,12 @@
 // was). While writing, a shift that brings a part of the world back into the volume swaps the store's surface
 // of it in (swapIn): a revisit tracks against the kept surface.
 //
+// In memory (MapStore::inMemory; docs/moving-volume.md, "Relocalising over the whole run"): an ordinary run with
+// a moving volume and relocalisation keeps the slabs that leave the volume encoded the same way but in memory,
+// bounded in bytes (the oldest dropped first), and writes no file: when the run is lost, the relocaliser's
+// candidates anywhere on the run's map are tried against it (placeFor), and a shift back over kept space swaps
+// it in (swapIn). It starts writing, has no kept keyframes, and its finish() keeps nothing.
+//
 // Threads: one thread (the run's) calls everything; a worker encodes and writes the slabs (the queue bounded
 // in bytes like runtime/map_slabs.h's, the adding thread waits for room).
 
@@ -54,6 +60,9 @@ class MapStore {
   // Opens (or creates) the store `dir` for a run with `config` (a moving volume). Throws sb::Error naming the
   // file or key that is wrong, and what to do.
   MapStore(std::string dir, const PipelineConfig& config, const MapStoreOptions& options = {});
+  // The slabs kept in memory only, at most `keepBytes` of them encoded (> 0; the oldest go first): no directory,
+  // no file.
+  static std::unique_ptr<MapStore> inMemory(const PipelineConfig& config, uint64_t keepBytes);
   ~MapStore();  // waits for the worker (a failure there is logged)
   MapStore(const MapStore&) = delete;
   MapStore& operator=(const MapStore&) = delete;
@@ -63,6 +72,7 @@ class MapStore {
   const std::vector<Keyframe>& keptKeyframes() const { return keptKeyframes_; }
   // Writing into the store: a new store from the first frame, a kept one once localised.
   bool writing() const { return writing_; }
+  bool inMemory() const { return dir_.empty(); }
   void localised(size_t frame, double timestamp);
 
   // Places the volume for a relocalisation candidate at `pose` (the store's frame) and fills it with the
@@ -70,8 +80,16 @@ class MapStore {
   // hundred ms at 256^3): false, and nothing done, for a candidate that needs another one this frame.
   bool placeFor(const Eigen::Isometry3d& pose, VolumeWindow& window, BackendVolume& volume);
   void nextFrame() { placedThisFrame_ = false; }
+  // Keeps the whole volume as a slab (the map that has not left it yet) and notes that the volume holds the
+  // store's surface where it stands (the end of a run). Nothing unless writing.
+  void keepVolume(const VolumeWindow& window, BackendVolume& volume);
+  // Lost in the run (an in-run relocalisation): the volume holds the run's newest map where it stands, so a
+  // candidate there needs no placement; the first placement keeps the whole volume (keepVolume) before it moves
+  // it. A recovery that never leaves the volume keeps nothing. Nothing unless writing.
+  void recoveryStarted(const VolumeWindow& window);
   // The box of the volume a shift brought in (VolumeWindow's enter listener): the store's surface of it
-  // swapped back in (after the slabs still queued are written). Nothing unless writing.
+  // swapped back in (after the slabs still queued that meet it are written). Nothing unless writing; in memory,
+  // nothing until a placement (an in-run relocalisation) has filled the volume from the kept slabs.
   void swapIn(const std::array<int, 3>& first, const std::array<int, 3>& extent, const VolumeWindow& window,
               BackendVolume& volume);
   // A slab that left the volume (VolumeWindow's slab listener): queued for the worker. Nothing unless writing.
@@ -87,11 +105,13 @@ class MapStore {
 
  private:
   struct Entry {
-    std::string path;
+    std::string path;  // the file, or in memory the slab's name for a message
+    std::shared_ptr<const std::vector<uint8_t>> bytes;  // in memory: the encoded slab
     size_t number = 0;
     mapstore::SlabBox box;
-    uint64_t bytes = 0;
+    uint64_t size = 0;  // bytes
   };
+  MapStore(const PipelineConfig& config, const MapStoreOptions& options);  // in memory
   void openExisting();
   void writeFormat() const;
   void loadBox(const mapstore::SlabBox& world, const VolumeWindow& window, BackendVolume& volume, bool cleared);
@@ -99,6 +119,7 @@ class MapStore {
   void writeSlab(const VolumeSlab& slab);  // on the worker
   void enforceRetentionLocked();
   void drain();
+  bool pendingMeets(const mapstore::SlabBox& world) const;  // a slab queued or being written meets `world`
 
   std::string dir_;
   PipelineConfig config_;
@@ -109,12 +130,14 @@ class MapStore {
   double localisedStamp_ = 0.0;  // seconds, the frame's
   std::optional<Eigen::Vector3i> placedCorner_;  // the corner whose volume holds the store's surface
   bool placedThisFrame_ = false;
-  size_t placements_ = 0, swapIns_ = 0;
+  bool volumeUnkept_ = false;  // lost in the run: the volume's map is to be kept before it moves
+  size_t placements_ = 0, swapIns_ = 0, volumesKept_ = 0;
   double loadMs_ = 0.0;
 
   mutable std::mutex mutex_;
   std::condition_variable work_, room_;
   std::deque<std::shared_ptr<const VolumeSlab>> queue_;
+  std::shared_ptr<const VolumeSlab> writingNow_;  // taken from the queue by the worker, not yet in slabs_
   size_t pending_ = 0, queuedBytes_ = 0;
   bool stop_ = false;
   std::exception_ptr error_;

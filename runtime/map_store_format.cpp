@@ -108,27 +108,26 @@ void checkPayload(const Reader& r, uint64_t payloadBytes, uint64_t checksum) {
     throw Error("map store: '" + r.path + "' is corrupt (its checksum does not match): move it away");
 }
 
-struct SlabFile {
+struct SlabHeader {
   SlabBox box;
-  std::vector<uint8_t> bytes;
   size_t payloadAt = 0;
 };
 
-SlabFile loadSlab(const std::string& path) {
-  SlabFile f;
-  f.bytes = readAll(path, "map store slab");
-  Reader r{path, f.bytes};
+// `bytes`: the slab file's (read from `path`, or kept in memory under that name).
+SlabHeader parseSlab(const std::string& path, const std::vector<uint8_t>& bytes) {
+  SlabHeader h;
+  Reader r{path, bytes};
   checkMagic(r, kSlabMagic, "map store slab");
-  for (int& v : f.box.first) v = static_cast<int32_t>(r.u32());
-  for (int& v : f.box.extent) {
+  for (int& v : h.box.first) v = static_cast<int32_t>(r.u32());
+  for (int& v : h.box.extent) {
     v = static_cast<int32_t>(r.u32());
     if (v < 1 || v > kMaxExtent)
       throw Error("map store: '" + path + "' has a box extent of " + std::to_string(v) + " voxels: corrupt");
   }
   const uint64_t payload = r.u64(), checksum = r.u64();
   checkPayload(r, payload, checksum);
-  f.payloadAt = r.at;
-  return f;
+  h.payloadAt = r.at;
+  return h;
 }
 
 }  // namespace
@@ -185,12 +184,17 @@ std::vector<uint8_t> encodeSlab(const SlabBox& box, const int16_t* voxels) {
   return std::move(out.bytes);
 }
 
-SlabBox readSlabHeader(const std::string& path) { return loadSlab(path).box; }
+SlabBox readSlabHeader(const std::string& path) { return parseSlab(path, readAll(path, "map store slab")).box; }
 
 void mergeSlab(const std::string& path, const SlabBox& target, int16_t* out) {
-  const SlabFile f = loadSlab(path);
-  Reader r{path, f.bytes, f.payloadAt};
-  const SlabBox& box = f.box;
+  mergeSlab(readAll(path, "map store slab"), path, target, out);
+}
+
+void mergeSlab(const std::vector<uint8_t>& bytes, const std::string& name, const SlabBox& target, int16_t* out) {
+  const std::string& path = name;
+  const SlabHeader h = parseSlab(path, bytes);
+  Reader r{path, bytes, h.payloadAt};
+  const SlabBox& box = h.box;
   const uint64_t n = box.voxels();
   const auto malformed = [&] {
     return Error("map store: '" + path + "' holds runs that do not cover its box: corrupt; move it away");
@@ -212,7 +216,7 @@ void mergeSlab(const std::string& path, const SlabBox& target, int16_t* out) {
       out[2 * at + 1] = weight;
     }
   }
-  if (r.at != f.bytes.size()) throw malformed();
+  if (r.at != bytes.size()) throw malformed();
 }
 
 std::vector<uint8_t> encodeKeyframes(const std::vector<const Keyframe*>& keyframes) {

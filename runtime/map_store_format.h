@@ -47,6 +47,9 @@ SlabBox readSlabHeader(const std::string& path);
 // Copies the observed voxels of slab file `path` that lie in `target` into `out` (target's layout, 2 int16 per
 // voxel, x fastest), leaving the others as they are. Throws as readSlabHeader.
 void mergeSlab(const std::string& path, const SlabBox& target, int16_t* out);
+// The same for a slab file's bytes kept in memory (an ordinary run's kept slabs, runtime/map_store.h); `name`
+// says which slab in an error.
+void mergeSlab(const std::vector<uint8_t>& bytes, const std::string& name, const SlabBox& target, int16_t* out);
 
 std::vector<uint8_t> encodeKeyframes(const std::vector<const Keyframe*>& keyframes);
 // Throws sb::Error naming `path` when it is truncated, altered, or of another format version.

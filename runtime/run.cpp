@@ -72,7 +72,7 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
     energyLog_ =
         std::make_unique<RotatingFile>(dir_, "energy.jsonl", "per-frame energy log", "", outputs.segments);
   mapSink_ = outputs.mapSink;
-  if (!outputs.mapStore.empty()) startMapStore(outputs);
+  startMapStore(outputs);
   if (VolumeWindow* window = pipeline_->volumeWindow(); window && (outputs.mapSlabs || mapSink_ || mapStore_)) {
     if (outputs.mapSlabs) {
       MapSlabs::Options options;
@@ -90,15 +90,25 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
   }
 }
 
-// Where a restarted robot is tried besides each kept keyframe: along its view, metres (nearest first).
+// Where a restarted robot, or one set down in the run, is tried besides each keyframe: along its view, metres
+// (nearest first).
 constexpr std::array<double, 4> kKeptMapViewOffsetsM = {0.25, -0.25, 0.5, -0.5};
-// A run writing a store keeps a keyframe at least every this many metres (or 30 degrees) of its path.
+// A run writing a store, or keeping its slabs in memory, keeps a keyframe at least every this many metres (or 30
+// degrees) of its path: a robot set down anywhere on it stands within the view offsets above of one.
 constexpr double kKeptMapKeyframeSpacingM = 0.5;
 
 void Run::startMapStore(const RunOutputs& outputs) {
-  mapStore_ = std::make_unique<MapStore>(outputs.mapStore, pipeline_->config(), outputs.mapStoreOptions);
-  VolumeWindow& window = *pipeline_->volumeWindow();  // MapStore refuses a fixed volume
+  const PipelineConfig& config = pipeline_->config();
+  if (!outputs.mapStore.empty()) {
+    mapStore_ = std::make_unique<MapStore>(outputs.mapStore, config, outputs.mapStoreOptions);
+  } else if (pipeline_->volumeWindow() && config.relocalise && config.relocaliseKeptMapMib > 0) {
+    // An ordinary run keeps the slabs that leave its volume in memory, for its own relocalisation (no file).
+    mapStore_ = MapStore::inMemory(config, uint64_t(config.relocaliseKeptMapMib) << 20);
+  } else {
+    return;
+  }
   runner_.monitor().setKeyframeSpacing(kKeptMapKeyframeSpacingM);
+  VolumeWindow& window = *pipeline_->volumeWindow();  // MapStore refuses a fixed volume
   if (mapStore_->kept()) {
     // Localising first: nothing fused, the volume placed and filled from the store for each candidate and held
     // there (the held pose is in no frame of the store) until one is confirmed.
@@ -114,6 +124,13 @@ void Run::startMapStore(const RunOutputs& outputs) {
   window.setEnterListener([this, &window](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
     mapStore_->swapIn(first, extent, window, pipeline_->backend());
   });
+  // Lost in the run (a kidnap, a long failure): candidates anywhere on the kept map, the volume placed for each
+  // (stepMapStore keeps the volume and holds the window first).
+  runner_.monitor().setRecoveryPrepare(
+      [this, &window](const Eigen::Isometry3d& pose) {
+        return !recoveringOverStore_ || mapStore_->placeFor(pose, window, pipeline_->backend());
+      },
+      {kKeptMapViewOffsetsM.begin(), kKeptMapViewOffsetsM.end()});
   outputs_.summary->header().mapStore = mapStore_->summaryJson();
 }
 
@@ -122,6 +139,20 @@ void Run::stepMapStore(const FrameRecord& rec) {
   if (!mapStore_->writing() && !runner_.monitor().localisingInKeptMap()) {
     mapStore_->localised(rec.result.frame, rec.result.timestamp);
     pipeline_->volumeWindow()->setHeld(false);
+  }
+  // Lost in the run: before the first placement the volume's map (not yet left as slabs) is kept too (placeFor),
+  // and the window is held where the relocaliser places it (follow() would bring it back to the held pose) until a
+  // candidate is confirmed; from then on the run maps as always, from the volume placed there.
+  const TrackingMonitor& monitor = runner_.monitor();
+  const bool recovering = monitor.recovering() && !monitor.localisingInKeptMap() && mapStore_->writing() &&
+                          pipeline_->config().relocalise;
+  if (recovering && !recoveringOverStore_) {
+    mapStore_->recoveryStarted(*pipeline_->volumeWindow());
+    pipeline_->volumeWindow()->setHeld(true);
+    recoveringOverStore_ = true;
+  } else if (!recovering && recoveringOverStore_) {
+    pipeline_->volumeWindow()->setHeld(false);
+    recoveringOverStore_ = false;
   }
   keyframesDirty_ = keyframesDirty_ || rec.keyframeAdded;
   // keyframes.bin at most once a second of frames (30): a killed run loses at most that many new keyframes.

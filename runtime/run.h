@@ -56,7 +56,9 @@ struct RunOutputs {
   // leaves, written into DIR at the end (map.pgm, map.yaml, map.bt) and by the daemon at its period.
   std::shared_ptr<MapSink> mapSink;
   // The map kept across runs (issue 55; runtime/map_store.h): its directory (created when absent, continued
-  // when present: the run localises in it first), or "" for none. Needs a moving volume.
+  // when present: the run localises in it first), or "" for none. Needs a moving volume. None: a run with a
+  // moving volume and relocalisation keeps its slabs in memory (relocalise_kept_map_mib) for its own
+  // relocalisation.
   std::string mapStore;
   MapStoreOptions mapStoreOptions;
 };
@@ -117,6 +119,7 @@ class Run {
   std::shared_ptr<MapSink> mapSink_;    // RunOutputs::mapSink
   std::unique_ptr<MapStore> mapStore_;  // RunOutputs::mapStore
   size_t keyframesSavedAt_ = 0;         // the frame keyframes.bin was last written at
+  bool recoveringOverStore_ = false;    // lost in the run: the volume kept, the window held (stepMapStore)
   bool keyframesDirty_ = false;
 };
 

@@ -110,8 +110,19 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
   if (config_.relocalise) {
     Knobs knobs;  // DEFAULT's ICP (icp 1e-5, pd 10:5:4) at the relocaliser's compute size
     knobs.csr = config_.relocaliseCsr;
+    const KeptMapPrepare& prepare = keptMapPrepare_ ? keptMapPrepare_ : recoveryPrepare_;
+    relocaliser_.setRotateStarts(!keptMapPrepare_ && recoveryPrepare_);
+    // In the run, a candidate the wheels refuse where it starts (not kidnapped, far from their dead reckoning) is
+    // tried in the volume as it stands: moved for it, the volume would show a place the wheels refuse anyway.
+    const auto refusedByWheels = [&](const Eigen::Isometry3d& start) {
+      TrackAttempt probe;
+      probe.tracked = true;
+      probe.start = probe.T_camera_to_world = start;
+      return !model.vet(probe).tracked;
+    };
     const TryPose tryPose = [&](const Eigen::Isometry3d& start) {
-      if (keptMapPrepare_ && !keptMapPrepare_(start)) {
+      const bool place = keptMapPrepare_ || (recoveryPrepare_ && !refusedByWheels(start));
+      if (place && !prepare(start)) {
         TrackAttempt skipped;  // not tried this frame: fails
         skipped.start = skipped.T_camera_to_world = start;
         return skipped;
@@ -161,7 +172,7 @@ void TrackingMonitor::relocalise(Pipeline& pipeline, const DepthFrame& frame, do
       keptMapPrepare_ = nullptr;
       keptMapLocalised_ = true;
       relocaliser_.setTryHeldPose(true);
-      relocaliser_.setViewOffsets({});
+      relocaliser_.setViewOffsets(recoveryOffsetsM_);
       relocaliser_.setConfirmFrames(config_.relocaliseConfirmFrames);
       relocaliser_.setConfirmConditioning(std::nullopt);
       keptAnchor_.reset();
@@ -243,6 +254,12 @@ void TrackingMonitor::startInKeptMap(const std::vector<Keyframe>& keyframes, Kep
   keptMapPrepare_ = std::move(prepare);
   recovering_ = true;
   last_ = TrackingState::lost;
+}
+
+void TrackingMonitor::setRecoveryPrepare(KeptMapPrepare prepare, const std::vector<double>& offsetsM) {
+  recoveryPrepare_ = std::move(prepare);
+  recoveryOffsetsM_ = offsetsM;
+  if (!keptMapPrepare_) relocaliser_.setViewOffsets(offsetsM);
 }
 
 void TrackingMonitor::after(const DepthFrame& frame, double depthScale, FrameRecord& rec) {

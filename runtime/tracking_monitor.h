@@ -60,6 +60,14 @@ class TrackingMonitor {
   void startInKeptMap(const std::vector<Keyframe>& keyframes, KeptMapPrepare prepare,
                       const std::vector<double>& offsetsM = {});
   bool localisingInKeptMap() const { return static_cast<bool>(keptMapPrepare_); }
+  // Relocalising over the whole map the run has made (a moving volume's kept slabs, runtime/map_store.h; Run wires
+  // it): while recovering, and not localising in a kept map, `prepare(pose)` runs before each ICP try from `pose`
+  // as a kept map's does (places the volume for it, fills it from the kept slabs; false: not this frame), and the
+  // relocaliser rotates its candidates' order frame by frame, so that one placement a frame reaches each in turn.
+  // Each keyframe is also tried from `offsetsM` along its view (a robot set down between two keyframes, as a
+  // restarted one). Its bar, its confirmation over frames and the wheels' veto are unchanged: a look-alike is
+  // refused as in the volume.
+  void setRecoveryPrepare(KeptMapPrepare prepare, const std::vector<double>& offsetsM = {});
   // A run writing a kept map also harvests keyframes by distance (KeyframeDatabase::setMaxSpacing).
   void setKeyframeSpacing(double metres) { relocaliser_.setKeyframeSpacing(metres); }
 
@@ -106,6 +114,8 @@ class TrackingMonitor {
   static constexpr int kKeptMapPathConfirmFrames = 5;
   static constexpr double kKeptMapPathDisparityNoisePx = 0.062;
   KeptMapPrepare keptMapPrepare_;  // set while localising in a kept map
+  KeptMapPrepare recoveryPrepare_;  // in-run recovery over the run's kept slabs (setRecoveryPrepare)
+  std::vector<double> recoveryOffsetsM_;
   bool keptMapLocalised_ = false;  // a kept map's candidate was confirmed: poses are in the store's frame
   std::optional<Eigen::Isometry3d> keptAnchor_;  // the pending candidate moved by the wheels since it was found
   double keptAnchorDistanceM_ = 0.0;

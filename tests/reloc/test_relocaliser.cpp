@@ -201,3 +201,34 @@ TEST_CASE("A candidate must agree with the map about as well as the tracked view
   for (int i = 0; i < 300; ++i) noisy.noteTracked(0.99);
   CHECK(noisy.requiredAgreement() == Approx(0.975));
 }
+
+TEST_CASE("Rotated starts: each frame's search begins one candidate further on, and the best does not move",
+          "[reloc][relocaliser]") {
+  // Where each try may first have to move the volume and only one move a frame is allowed (an in-run
+  // relocalisation over the kept slabs, runtime/map_store.h), the first candidate of a search is the one tried in
+  // a new place: rotating the order reaches every candidate in turn.
+  sb::Relocaliser r(params());
+  REQUIRE(r.harvest(code(0), at(5.0), 10));
+  REQUIRE(r.harvest(code(8), at(9.0, 40), 50));
+  r.setRotateStarts(true);
+  const auto firstTried = [&](const Eigen::Isometry3d& fits) {
+    std::vector<double> tried;
+    const auto outcome = r.relocalise(code(1), at(0.0), [&](const Eigen::Isometry3d& start) {
+      tried.push_back(start.translation().x());
+      return attempt(start, start, start.isApprox(fits));
+    });
+    return std::make_pair(tried, outcome);
+  };
+  const auto [first, none] = firstTried(at(100.0));  // nothing fits
+  REQUIRE(first.size() == 3);
+  CHECK(none.confirmed == 0);
+  const auto [second, again] = firstTried(at(100.0));
+  REQUIRE(second.size() == 3);
+  CHECK(second[0] == first[1]);
+  CHECK(second[2] == first[0]);
+  const auto [third, found] = firstTried(at(9.0, 40));
+  CHECK(third[0] == first[2]);
+  REQUIRE(found.attempt);
+  CHECK(found.attempt->T_camera_to_world.isApprox(at(9.0, 40)));
+  CHECK(found.confirmed == 1);
+}

@@ -287,3 +287,93 @@ TEST_CASE("a store of another format version or voxel size, or a folder of other
   fixed.volumeMode = sb::VolumeMode::fixed;
   CHECK(refusal([&] { sb::MapStore store(dir + "-fixed", fixed); }).find("moving volume") != std::string::npos);
 }
+
+TEST_CASE("an ordinary run's slabs kept in memory: the volume kept, placed far and back, the oldest dropped past "
+          "the bound",
+          "[map_store]") {
+  // The in-run relocalisation's store (MapStore::inMemory; docs/moving-volume.md "Relocalising over the whole
+  // run"): no directory, no file; the volume kept whole before a placement comes back when placed again.
+  const sb::Intrinsics k = sb::test::roomIntrinsics(160, 120);
+  const sb::PipelineConfig config = smallConfig();
+  const int r = config.volumeResolution;
+  sb::ThreadPool pool(2);
+  sb::CpuBackend backend(config, k, pool);
+  sb::VolumeWindow window(config);
+  const std::unique_ptr<sb::MapStore> store = sb::MapStore::inMemory(config, uint64_t(64) << 20);
+  REQUIRE(store->inMemory());
+  REQUIRE(store->writing());
+  REQUIRE(!store->kept());
+  window.setSlabListener(
+      [&](sb::VolumeSlab&& slab) { store->addSlab(std::make_shared<const sb::VolumeSlab>(std::move(slab))); });
+  window.setEnterListener([&](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
+    store->swapIn(first, extent, window, backend);
+  });
+  const Eigen::Isometry3d seen = at(2.0, 2.0, 0.8);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Isometry3d pose = at(1.5 + i / 32.0, 1.5, 0.9 + i / 64.0);
+    const sb::DepthFrame frame = sb::test::renderRoom(sb::test::Room{}, pose, k);
+    sb::StageTimes times;
+    backend.preprocess(frame.depth, float(1.0 / sb::test::kRoomDepthScale), 1, times);
+    backend.integrate(pose.cast<float>(), times);
+  }
+  const std::vector<int16_t> before = wholeVolume(backend, r);
+  const std::vector<float> raycastBefore = raycastFrom(backend, seen);
+  const auto sameObserved = [&](const std::vector<int16_t>& now) {
+    size_t observed = 0, same = 0;
+    for (size_t i = 0; i < before.size(); i += 2) {
+      if (before[i + 1] == 0) continue;
+      ++observed;
+      same += before[i] == now[i] && before[i + 1] == now[i + 1];
+    }
+    REQUIRE(observed > 1000);
+    return same == observed;
+  };
+  // A slab leaves and comes back: kept, but not swapped in before a relocalisation placed the volume (the run
+  // maps as one that keeps nothing).
+  REQUIRE(window.follow(at(3.5, 2.0, 0.8), backend) == Eigen::Vector3i(24, 0, 0));
+  REQUIRE(window.follow(at(2.0, 2.0, 0.8), backend) == Eigen::Vector3i(-24, 0, 0));
+  CHECK_FALSE(sameObserved(wholeVolume(backend, r)));
+  CHECK(store->summaryJson()["swap_ins"].get<size_t>() == 0);
+  // Lost: the volume holds the newest map where it stands (nothing kept yet); kept whole by the first placement,
+  // for a far candidate (nothing of it there), and placed back.
+  store->recoveryStarted(window);
+  CHECK(store->placeFor(seen, window, backend));  // no placement needed: the volume stays, nothing kept
+  CHECK(store->summaryJson()["placements"].get<size_t>() == 0);
+  CHECK(store->summaryJson()["volumes_kept"].get<size_t>() == 0);
+  CHECK(store->placeFor(at(20.0, 1.5, 0.9), window, backend));
+  CHECK(window.cornerVoxels() != Eigen::Vector3i::Zero());
+  const std::vector<int16_t> far = wholeVolume(backend, r);
+  size_t left = 0;
+  for (size_t i = 1; i < far.size(); i += 2) left += far[i] != 0;
+  CHECK(left == 0);
+  CHECK(!store->placeFor(seen, window, backend));  // one new placement per frame
+  store->nextFrame();
+  CHECK(store->placeFor(seen, window, backend));
+  REQUIRE(window.cornerVoxels() == Eigen::Vector3i::Zero());
+  CHECK(sameObserved(wholeVolume(backend, r)));  // the slab that left and the volume kept, merged
+  CHECK(raycastFrom(backend, seen) == raycastBefore);
+  // Relocalised: from now on a slab that leaves comes back when the volume returns (swap-in).
+  REQUIRE(window.follow(at(3.5, 2.0, 0.8), backend) == Eigen::Vector3i(24, 0, 0));
+  REQUIRE(window.follow(at(2.0, 2.0, 0.8), backend) == Eigen::Vector3i(-24, 0, 0));
+  CHECK(sameObserved(wholeVolume(backend, r)));
+  CHECK(store->summaryJson()["swap_ins"].get<size_t>() == 2);
+  const nlohmann::json summary = store->summaryJson();
+  INFO(summary.dump());
+  CHECK(summary["in_memory"] == true);
+  CHECK(summary["volumes_kept"].get<size_t>() == 1);
+  CHECK(summary["placements"].get<size_t>() == 2);
+  CHECK(summary["slabs"].get<size_t>() == 3);  // the slab that left, the whole volume, the slab that left again
+  CHECK(summary["slabs_dropped"].get<size_t>() == 0);
+
+  // Bounded below one slab's bytes: each new slab drops the oldest (the newest always stays).
+  const std::unique_ptr<sb::MapStore> small = sb::MapStore::inMemory(config, 1);
+  small->keepVolume(window, backend);
+  small->keepVolume(window, backend);
+  small->nextFrame();
+  CHECK(small->placeFor(at(20.0, 1.5, 0.9), window, backend));  // drains the worker
+  const nlohmann::json bounded = small->summaryJson();
+  INFO(bounded.dump());
+  CHECK(bounded["slabs"].get<size_t>() == 1);
+  CHECK(bounded["slabs_dropped"].get<size_t>() == 1);
+  CHECK(refusal([&] { sb::MapStore::inMemory(config, 0); }).find("bound") != std::string::npos);
+}

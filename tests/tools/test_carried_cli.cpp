@@ -1,0 +1,127 @@
+// The kidnapped robot at `slambooster run` (issue 52 item 2), as a user runs it: a corridor drive at 320x240 whose
+// robot is picked up and set down metres back along the corridor, at a place it mapped earlier and that has left
+// the 5 m moving volume (synth --odom-carried: the wheels say nothing of the carry). The fault watch goes `lost`;
+// before, every keyframe candidate at the set-down place lay outside the volume, ICP found nothing there (best
+// agreement 0.00) and the run stayed lost until the robot drove back into the volume. Now the slabs that left the
+// volume are kept in memory (relocalise_kept_map_mib) and the volume is placed for each candidate from them: the run
+// relocalises soon after it is lost, and no `good` frame lies.
+//
+// The control run keeps nothing (relocalise_kept_map_mib 0): it must not relocalise in the same time, or this test
+// would show nothing.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tests/support/files.h"
+#include "tests/support/run_command.h"
+#include "tests/support/test_data.h"
+#include "tests/support/tum_positions.h"
+
+using sb::test::runCommand;
+
+namespace {
+
+const std::string kTool = sb::test::testBinary("SB_TEST_SLAMBOOSTER", SB_SLAMBOOSTER_BIN);
+constexpr int kSeed = 24;
+constexpr double kCarriedAtS = 15.3, kBackM = 9.0;
+constexpr int kFrames = 630;
+constexpr double kRelocaliseWithinS = 2.0;  // from the first lost frame
+constexpr double kOffM = 0.5;               // a `good` frame farther than this from the truth is a lie
+
+struct Verdict {
+  std::optional<double> firstLostS, relocalisedS;  // the first lost frame, the first relocalised one after it
+  int frames = 0, lost = 0, goodOff = 0;
+  double worstGoodAfterM = 0.0;  // the worst `good` frame after the set-down
+  nlohmann::json map;            // summary.json's "map_store"
+};
+
+// The run's frames against the truth, both anchored at the first frame (a robot's map frame: no alignment).
+Verdict judge(const std::string& run, const std::vector<std::vector<double>>& truth) {
+  Verdict v;
+  std::ifstream frames(run + "/frames.jsonl");
+  std::vector<double> origin;
+  for (std::string line; std::getline(frames, line);) {
+    const auto f = nlohmann::json::parse(line);
+    const size_t i = f.at("frame").get<size_t>();
+    REQUIRE(i < truth.size());
+    const auto p = f.at("position").get<std::vector<double>>();
+    if (origin.empty()) origin = {p[0] - truth[0][0], p[1] - truth[0][1], p[2] - truth[0][2]};
+    double e = 0.0;
+    for (int k = 0; k < 3; ++k) e += std::pow(p[size_t(k)] - origin[size_t(k)] - truth[i][size_t(k)], 2);
+    e = std::sqrt(e);
+    const std::string state = f.at("state").get<std::string>();
+    const double t = f.at("timestamp").get<double>();
+    ++v.frames;
+    v.lost += state == "lost";
+    if (state == "lost" && !v.firstLostS) v.firstLostS = t;
+    if (state == "relocalised" && v.firstLostS && !v.relocalisedS) v.relocalisedS = t;
+    if (state == "good") {
+      v.goodOff += e > kOffM;
+      if (t >= kCarriedAtS) v.worstGoodAfterM = std::max(v.worstGoodAfterM, e);
+    }
+  }
+  std::ifstream summary(run + "/summary.json");
+  const auto s = nlohmann::json::parse(summary);
+  if (s.contains("map_store")) v.map = s["map_store"];
+  return v;
+}
+
+std::set<std::string> files(const std::string& dir) {
+  std::set<std::string> names;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
+    names.insert(std::filesystem::relative(e.path(), dir).string());
+  return names;
+}
+
+}  // namespace
+
+TEST_CASE("a robot carried back along the corridor relocalises on the map that left the volume",
+          "[reloc][system]") {
+  const std::string dir = sb::test::scratchDir("test_carried_cli");
+  char carried[64];
+  std::snprintf(carried, sizeof carried, " --odom-carried %.1f,%.1f", kCarriedAtS, kBackM);
+  const auto synth = runCommand(kTool + " synth --out " + dir + "/drive --scene corridor --stress drive --seed " +
+                                std::to_string(kSeed) + " --frames " + std::to_string(kFrames) +
+                                " --width 320 --height 240 --fx 240.6 --fy 240 --threads 1 --overwrite" + carried);
+  INFO(synth.output);
+  REQUIRE(synth.exitCode == 0);
+  const auto truth = sb::test::tumPositions(dir + "/drive/groundtruth.txt");
+  REQUIRE(truth.size() == size_t(kFrames));
+  const std::string knobs = " --controller default --threads 1 --quiet";
+
+  const auto kept = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/kept" + knobs);
+  INFO(kept.output);
+  REQUIRE(kept.exitCode == 0);
+  const Verdict with = judge(dir + "/kept", truth);
+  INFO("kept: first lost " << with.firstLostS.value_or(-1) << " s, relocalised " << with.relocalisedS.value_or(-1)
+                           << " s, lost frames " << with.lost << " of " << with.frames << ", worst good after the "
+                           << "set-down " << with.worstGoodAfterM << " m, map " << with.map.dump());
+  REQUIRE(with.firstLostS);
+  CHECK(*with.firstLostS > kCarriedAtS);  // the fault watch's part: lost after the carry, not before
+  REQUIRE(with.relocalisedS);
+  CHECK(*with.relocalisedS - *with.firstLostS <= kRelocaliseWithinS);
+  CHECK(with.goodOff == 0);
+  CHECK(with.map.value("in_memory", false));
+  CHECK(with.map.value("placements", 0) > 0);
+
+  std::ofstream(dir + "/volume_only.json") << R"({"relocalise_kept_map_mib": 0})";
+  const auto volume = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/volume --config " + dir +
+                                 "/volume_only.json" + knobs);
+  INFO(volume.output);
+  REQUIRE(volume.exitCode == 0);
+  const Verdict without = judge(dir + "/volume", truth);
+  INFO("volume only: first lost " << without.firstLostS.value_or(-1) << " s, relocalised "
+                                  << without.relocalisedS.value_or(-1) << " s");
+  REQUIRE(without.firstLostS);
+  CHECK((!without.relocalisedS || *without.relocalisedS - *without.firstLostS > kRelocaliseWithinS));
+  CHECK(without.goodOff == 0);
+  CHECK(without.map.is_null());
+  // The kept slabs are in memory only: the run's directory holds the files of a run that keeps none.
+  CHECK(files(dir + "/kept") == files(dir + "/volume"));
+}
