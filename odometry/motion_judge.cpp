@@ -145,9 +145,9 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
 }
 
 std::optional<Eigen::Isometry3d> MotionModel::viewPrediction(double stamp) const {
-  const double dt = stamp - lastViewStamp_;
-  if (!lastViewPose_ || !viewVelocity_ || !(dt > 0) || dt > kViewPredictionS) return std::nullopt;
-  Eigen::Isometry3d pose = *lastViewPose_;
+  const double dt = stamp - agreedStamp_;
+  if (!agreedPose_ || !viewVelocity_ || !(dt > 0) || dt > kViewPredictionS) return std::nullopt;
+  Eigen::Isometry3d pose = *agreedPose_;
   pose.translation() += viewVelocity_->linear * dt;
   const double turn = viewVelocity_->angular.norm() * dt;
   if (turn > 0) pose.linear() = pose.linear() * Eigen::AngleAxisd(turn, viewVelocity_->angular.normalized()).matrix();
@@ -199,10 +199,12 @@ bool MotionModel::trackFromViewMotion(Pipeline& pipeline, const FrameView& view,
                                   (faults_.fault() != WheelFault::none && tracksApart &&
                                    ownTrack.pairAgreement > r.pairAgreement - margin));
   if (!adopt) return false;
-  // Still a motion the body makes from the view's last pose at the view's velocity.
-  const std::string why = implausibleMotion(config_, *lastViewPose_, ownTrack.T_camera_to_world,
-                                            r.timestamp - lastViewStamp_, viewVelocity_->linear);
-  if (!why.empty()) return false;
+  // The view confirmed its own prediction where it made it (ICP moved it less than a slip): a view that matched the
+  // model elsewhere (a runaway along the corridor, 0.07-0.22 m from its start) is no evidence against the wheels.
+  const Eigen::Isometry3d& found = ownTrack.T_camera_to_world;
+  if ((found.translation() - own->translation()).norm() > config_.slipFloorM ||
+      Eigen::AngleAxisd(found.linear().transpose() * own->linear()).angle() > config_.slipFloorM)
+    return false;
   const double wheelsAgreement = r.tracked ? r.pairAgreement : 0.0;
   pipeline.adoptAttempt(ownTrack, r);
   view.decision.correctedPose.reset();

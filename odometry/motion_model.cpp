@@ -125,13 +125,19 @@ void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
   }
   if (held_) {  // the view fixed this pose (whether or not the wheels agreed): a stall is judged frame to frame
     afterBlank_ = false;
-    const double sinceView = r.timestamp - lastViewStamp_;
-    if (lastViewPose_ && sinceView > 0 && sinceView <= kViewPredictionS)
-      viewVelocity_ = velocityBetween(*lastViewPose_, finalPose(view), sinceView);
-    else
-      viewVelocity_.reset();
     lastViewPose_ = finalPose(view);
     lastViewStamp_ = r.timestamp;
+  }
+  if (held_ && !view.odometry.rejected && faults_.fault() == WheelFault::none) {
+    // The view's own motion is learnt where it agreed with the wheels: a view that ran away from them (a coarse
+    // view matching the model 0.1 m ahead of a creeping robot) does not set the velocity it is then predicted by.
+    const double since = r.timestamp - agreedStamp_;
+    if (agreedPose_ && since > 0 && since <= kViewPredictionS)
+      viewVelocity_ = velocityBetween(*agreedPose_, finalPose(view), since);
+    else
+      viewVelocity_.reset();
+    agreedPose_ = finalPose(view);
+    agreedStamp_ = r.timestamp;
   }
   const double dt = r.timestamp - motion.previousStamp;
   if (viewPredicted_ && viewVelocity_)  // the frames between were the wheels' word: the view's own velocity stands
@@ -198,6 +204,7 @@ void MotionModel::deadReckon(const FrameMotion& motion) {
 void MotionModel::relocalised() {
   afterBlank_ = false;
   lastViewPose_.reset();
+  agreedPose_.reset();
   viewVelocity_.reset();
   turnCorrections_.clear();
   odometryPose_.reset();

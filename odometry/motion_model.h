@@ -175,8 +175,8 @@ class MotionModel {
   void judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion,
                           const std::optional<OdometryStep>& wheels);
 
-  // The view's own prediction (wheel_faults.h "The view's own motion"): where the last frames the view fixed put
-  // the camera at `stamp`, moving on at their velocity; none when they are older than kViewPredictionS.
+  // The view's own prediction: where the last frames the view fixed in agreement with the wheels put the camera at
+  // `stamp`, moving on at their velocity; none when they are older than kViewPredictionS.
   std::optional<Eigen::Isometry3d> viewPrediction(double stamp) const;
   // A frame whose track from the wheels' prediction is in doubt (it failed, it does not hold the map, a dispute is
   // open, or the wheels' prediction and the view's own are apart): tracked again from the view's own prediction,
@@ -223,8 +223,10 @@ class MotionModel {
   std::optional<double> viewStamp_;
   std::optional<Eigen::Isometry3d> lastViewPose_;  // the pose of the last frame the view fixed (holding the map)
   double lastViewStamp_ = 0.0;                     // and its stamp
-  // The velocity between the last two frames the view fixed (at most kViewPredictionS apart): the body's motion as
-  // the view alone measured it, which wheels that went wrong do not contaminate.
+  // The last frame the view fixed in agreement with the wheels (no dispute), and the velocity between the last two
+  // (at most kViewPredictionS apart): the body's motion as the view measured it before wheels went wrong.
+  std::optional<Eigen::Isometry3d> agreedPose_;
+  double agreedStamp_ = 0.0;
   std::optional<Velocity> viewVelocity_;
   bool viewPredicted_ = false;  // this frame's track is the one from the view's own prediction
   bool viewMet_ = false;        // its tracks from the wheels' prediction and the view's own met (the view fixes it)
