@@ -68,6 +68,7 @@ declare -A not_armhf=(
   [test_output_symlinks]=$spawns [test_daemon_odometry]=$spawns [test_push_source]=$spawns [test_daemon_symlinks]=$spawns
   [test_daemon_full_disk]=$spawns [test_odometry_runaway_cli]=$spawns [test_odometry_tracking_rate_cli]=$spawns
   [test_odometry_doors]=$spawns [test_odometry_map_doors_cli]=$spawns [test_map_store_cli]=$spawns [test_wheel_faults_cli]=$spawns
+  [test_carried_cli]=$spawns
   [ros_component]="the ROS 1 component is not built in a cross build: Debian's armhf ROS dev packages do not
 cross-install (README, With ROS); this placeholder only says so"
   [test_ros_reports]="ROS 1 component: native builds only (see ros_component)"
