@@ -36,6 +36,7 @@ struct FrameLogFields {
   std::optional<double> icpUpdateNorm;                   // when tracking was attempted
   std::optional<double> icpConditioning;                 // per pixel, when ICP's quality is known
   std::optional<double> pairAgreement;                   // when tracking was attempted
+  std::optional<double> modelCoverage;                   // when tracking was attempted
   // The controller.
   double controllerMs = 0.0;
   std::vector<std::string> triggers;
@@ -73,6 +74,7 @@ void forEachFrameLogField(F& f, Field&& field) {
   field(FrameLogField{"icp_update_norm", nullptr, ""}, f.icpUpdateNorm);
   field(FrameLogField{"icp_conditioning", nullptr, ""}, f.icpConditioning);
   field(FrameLogField{"pair_agreement", nullptr, ""}, f.pairAgreement);
+  field(FrameLogField{"model_coverage", nullptr, ""}, f.modelCoverage);
   field(FrameLogField{"controller_ms", nullptr, "ms"}, f.controllerMs);
   field(FrameLogField{"triggers", nullptr, ""}, f.triggers);
   field(FrameLogField{"half_wish", nullptr, ""}, f.halfWish);

@@ -119,7 +119,7 @@ void MotionModel::viewFixed(const FrameView& view, const FrameMotion& motion) {
   if (!faultsOn() || (held_ && !view.odometry.rejected)) {
     if (faults_.fault() == WheelFault::none) {
       mapAgreement_.add(r.pairAgreement);
-      mapAgreement_.addCoverage(modelCoverage(r.inlierFraction, r.pairAgreement));
+      mapAgreement_.addCoverage(r.modelCoverage);
     }
     odometryDistanceM_ = odometryTimeS_ = 0.0;
   }
@@ -156,9 +156,8 @@ bool MotionModel::follow(const FrameView& view, const FrameMotion& motion) {
   }
   // A track that failed while the model was in view and the view disagreed with it: the robot is not where the
   // wheels say (evidence of a kidnap); one that failed on a blind or new view says nothing.
-  if (faultsOn() && motion.step && r.trackingAttempted && r.inlierFraction > 0.0 && view.implausible.empty() &&
-      !mapAgreement_.holds(r.pairAgreement) &&
-      mapAgreement_.covered(modelCoverage(r.inlierFraction, r.pairAgreement)))
+  if (faultsOn() && motion.step && r.trackingAttempted && view.implausible.empty() &&
+      mapAgreement_.contradicted(r.pairAgreement, r.modelCoverage))
     faults_.viewContradicted(r.timestamp);
   else
     faults_.expire(r.timestamp);
@@ -328,8 +327,7 @@ bool MotionModel::followOdometry(const FrameView& view, const FrameMotion& motio
                         (!faultsOn() || ((faults_.fault() == WheelFault::none || faults_.unsupported()) &&
                                          (afterBlank_ ? mapAgreement_.uncontradicted(
                                                             view.result.pairAgreement,
-                                                            modelCoverage(view.result.inlierFraction,
-                                                                          view.result.pairAgreement))
+                                                            view.result.modelCoverage)
                                                       : mapAgreement_.holds(view.result.pairAgreement))));
   d.integrate = view.odometry.fused;
   d.keepReference = false;

@@ -48,8 +48,11 @@ bool MapAgreement::covered(double coverage) const {
          coverage >= kCoveredFraction * median(std::vector<double>(coverage_.begin(), coverage_.end()));
 }
 
-double modelCoverage(double inlierFraction, double pairAgreement) {
-  return pairAgreement > 0.0 ? inlierFraction / pairAgreement : 0.0;
+bool MapAgreement::contradicted(double pairAgreement, double coverage) const {
+  if (coverage <= 0.0 || holds(pairAgreement)) return false;  // a view paired with nothing contradicts nothing
+  if (covered(coverage)) return true;
+  const double usual = median(std::vector<double>(coverage_.begin(), coverage_.end()));
+  return coverage * (1.0 - pairAgreement) >= kContradictedFraction * usual;
 }
 
 std::string TurnCorrections::add(double stamp, const Eigen::Vector3d& rotation, double sigmaRad, double sigmas,
@@ -141,6 +144,10 @@ void FaultWatch::viewContradicted(double stamp) {
   ++viewAgainst_;
   lastEvidence_ = stamp;
   why_ = "the view does not fit the map near the wheels' pose";
+  if (viewAgainst_ >= kMinFrames && stamp - since_ >= decideS_ && viewAgainst_ > wheelsAgainst_) {
+    fault_ = WheelFault::kidnapped;
+    why_ = "the view has not fitted the map near the wheels' pose for the decision time: the robot is elsewhere";
+  }
 }
 
 bool FaultWatch::concludeKidnapped() {

@@ -69,6 +69,7 @@ void Pipeline::retrackFrame(const DepthFrame& frame, double depthScale, const Kn
   r.residual = 0.0;
   r.inlierFraction = 0.0;
   r.pairAgreement = 0.0;
+  r.modelCoverage = 0.0;
   r.icpLevelIterations = {};
   r.icpUpdateNorm = 0.0;
   r.quality = TrackingQuality{};
@@ -130,6 +131,7 @@ TrackAttempt Pipeline::icp(const Knobs& knobs, const Eigen::Isometry3d& start, S
   a.residual = inliers > 0 ? std::sqrt(last[0] / inliers) : 0.0;
   const double pairs = inliers + last[29] + last[30];
   a.pairAgreement = pairs > 0 ? inliers / pairs : 0.0;
+  a.modelCoverage = pairs / (double(width) * height);
   if (noise && noise->on() && lastLevel >= 0) {
     if (const std::optional<PairCounts> counts = backend_->pairsInNoise(*noise, times))
       a.agreementInNoise = counts->agreement();
@@ -154,6 +156,7 @@ bool Pipeline::runIcp(const Knobs& knobs, FrameResult& r) {
   r.inlierFraction = a.inlierFraction;
   r.residual = a.residual;
   r.pairAgreement = a.pairAgreement;
+  r.modelCoverage = a.modelCoverage;
   if (a.quality.known) r.quality = a.quality;
   pose_ = a.tracked ? a.T_camera_to_world : lastFinalPose_;  // a failed track keeps the previous final pose
   return a.tracked;
@@ -199,6 +202,7 @@ void Pipeline::adoptAttempt(const TrackAttempt& a, FrameResult& r) {
   r.residual = a.residual;
   r.inlierFraction = a.inlierFraction;
   r.pairAgreement = a.pairAgreement;
+  r.modelCoverage = a.modelCoverage;
   r.icpUpdateNorm = a.icpUpdateNorm;
   r.quality = a.quality;
 }

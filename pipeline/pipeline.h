@@ -43,6 +43,10 @@ struct FrameResult {
   // Inliers of the last ICP pass / the pairs the model had a surface for (inliers, pairs too far, pairs with bad
   // normals): how much of what the model predicts the frame agrees with, [0, 1] (0 when not attempted).
   double pairAgreement = 0.0;
+  // The pairs the model had a surface for / pixels at the last pass's size: how much of the view the model at the
+  // tracked pose covers (0 when nothing was paired or not attempted). A view that agrees with none of a model
+  // covering it (pair agreement 0) is the plainest evidence that the camera is not where it was tracked from.
+  double modelCoverage = 0.0;
   int icpIterations = 0;     // ICP iterations run, all levels (both passes when retracked)
   std::array<int, 3> icpLevelIterations{};  // ICP iterations of the last pass per level: finest, mid, coarsest
   double icpUpdateNorm = 0.0;  // norm of the last ICP update (twist: m and rad), 0 when not attempted
@@ -61,6 +65,7 @@ struct TrackAttempt {
   double residual = 0.0;       // metres, as FrameResult
   double inlierFraction = 0.0;
   double pairAgreement = 0.0;
+  double modelCoverage = 0.0;  // as FrameResult
   // The share of the same pairs agreeing within the depth sensor's noise at each pixel's range
   // (pipeline/pair_noise.h), when the config gives the sensor's noise (depth_noise_disparity_px) and the backend
   // counts it: the evidence the relocaliser judges (reloc/relocaliser.h); unset: it judges pairAgreement.

@@ -57,6 +57,7 @@ FrameLogFields frameLogFieldsOf(const FrameRecord& rec) {
     f.icpLevelIterations = r.icpLevelIterations;
     f.icpUpdateNorm = r.icpUpdateNorm;
     f.pairAgreement = r.pairAgreement;
+    f.modelCoverage = r.modelCoverage;
   }
   if (r.quality.known) f.icpConditioning = r.quality.icpConditioning;
   f.controllerMs = rec.controllerMs;

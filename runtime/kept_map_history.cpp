@@ -38,7 +38,7 @@ PathVerdict KeptMapHistory::check(const Eigen::Isometry3d& candidate, const Path
     const Eigen::Isometry3d pose = toCandidate * it->wheels;
     const TrackAttempt a = tryView(it->frame, pose);
     ++v.views;
-    const double coverage = odometry::modelCoverage(a.inlierFraction, a.pairAgreement);
+    const double coverage = a.modelCoverage;
     const double agreement = a.agreementInNoise.value_or(a.pairAgreement);
     const double moved = (a.T_camera_to_world.translation() - pose.translation()).norm();
     const double tolerance = kPlaceM + kSigmas * test.noisePerM * backM;

@@ -43,8 +43,8 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
     implausibleInARow_ = 0;
     model.viewFixed(view, motion);
     if (!goodAgreement_) goodAgreement_.emplace(model.config().mapAgreementFraction);
-    const double coverage = odometry::modelCoverage(r.inlierFraction, r.pairAgreement);
-    if (!goodAgreement_->holds(r.pairAgreement) && goodAgreement_->covered(coverage)) {
+    const double coverage = r.modelCoverage;
+    if (goodAgreement_->contradicted(r.pairAgreement, coverage)) {
       // The view does not fit the map where it was tracked: a failed track that passed the residual and inlier
       // tests. Not good and not fused (fused, it would rewrite the map around the wrong pose until the view
       // agreed with it); lost_after_failed_frames of them in a row (failed tracks included) and the relocaliser

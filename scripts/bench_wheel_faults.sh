@@ -10,7 +10,8 @@
 #
 # usage: scripts/bench_wheel_faults.sh [BUILD_DIR] [OUT] [CASE...]
 #   cases: plain covered stall carried latency mount, the second set plain2 covered2 stall2 carried2 latency2
-#   mount2, and the attack's wrong wheels for 10 s wrong-reversed wrong-zero wrong-gyro wrong-scaled wrong-stall
+#   mount2, the attack's wrong wheels for 10 s wrong-reversed wrong-zero wrong-gyro wrong-scaled wrong-stall, and
+#   more carries carried3 carried4 carried5 carried6 (for a carry also: when it was relocalised, the ATE after it)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}
@@ -43,6 +44,12 @@ declare -A spec=(
   [wrong-gyro]="43|--odom-wrong gyro,8.5,10,20"
   [wrong-scaled]="44|--odom-wrong scaled,6,10,2"
   [wrong-stall]="45|--odom-stall 11,10,1.0"
+  # More carries, other seeds, times and distances: mid-turn (carried3, carried5, carried6) and while braking
+  # before the U-turn (carried4).
+  [carried3]="57|--odom-carried 17.5,8"
+  [carried4]="71|--odom-carried 12.5,8"
+  [carried5]="62|--odom-carried 16,7"
+  [carried6]="88|--odom-carried 19,10"
 )
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=(plain covered stall carried latency mount)
@@ -64,14 +71,26 @@ for c in "${cases[@]}"; do
     "$bin" run "$seq" --out "$dir" --controller "$run" --quiet "${extra[@]}" > "$dir.log" 2>&1
     python3 "$root/scripts/pose_honesty.py" "$dir" "$seq/groundtruth.txt" --per-frame "$dir.frames.csv" \
       > "$dir.honesty.json"
-    python3 - "$c" "$run" "$dir.honesty.json" "$dir.frames.csv" <<'PY'
-import csv, json, sys
+    python3 - "$c" "$run" "$dir.honesty.json" "$dir.frames.csv" "$seq/groundtruth.txt" "$fault" <<'PY'
+import csv, json, math, re, sys
 h = json.load(open(sys.argv[3]))
 rows = list(csv.DictReader(open(sys.argv[4])))
 off03 = sum(1 for r in rows if r['state'] == 'good' and float(r['error_m']) > 0.3)
 lost = [int(r['frame']) for r in rows if r['state'] == 'lost']
 print('%-14s %-9s %6.1f%% %9.2f %8.2f %9d %9d %10s  %s' % (sys.argv[1], sys.argv[2], 100 * h['posed_share'],
       100 * (h['ate_posed_m'] or 0), h['worst_m'], h['good_off'], off03, lost[0] if lost else '-', h['states']))
+carry = re.search(r'--odom-carried ([0-9.]+)', sys.argv[6])
+if carry:  # the carried bar: relocalised within 2 s of the set-down, ATE over the posed frames after it
+    stamps = [float(l.split()[0]) for l in open(sys.argv[5]) if l.strip() and not l.startswith('#')]
+    down = next(i for i, t in enumerate(stamps) if t - stamps[0] >= float(carry.group(1)))
+    reloc = next((int(r['frame']) for r in rows if int(r['frame']) > down and r['state'] == 'relocalised'), None)
+    after = [float(r['error_m']) for r in rows if reloc is not None and int(r['frame']) >= reloc and r['state'] != 'lost']
+    if reloc is None:
+        print('%-14s %-9s set down at frame %d: never relocalised' % (sys.argv[1], sys.argv[2], down))
+    else:
+        print('%-14s %-9s set down at frame %d: relocalised at %d, %.2f s after; ATE after it %.1f cm over %d frames' %
+              (sys.argv[1], sys.argv[2], down, reloc, stamps[reloc] - stamps[down],
+               100 * math.sqrt(sum(e * e for e in after) / len(after)), len(after)))
 PY
   done
 done

@@ -256,7 +256,7 @@ TEST_CASE("every row of the tracking and controller table is in frames.jsonl; ev
   CHECK(keys == std::set<std::string>{"controller_ms", "half_wish", "icp_conditioning", "icp_iterations",
                                       "icp_level_iterations", "icp_update_norm", "implausible", "inliers",
                                       "integrated", "keyframe_added", "keyframes", "knobs_pinned", "level",
-                                      "pair_agreement", "reason", "relocalisation.confirmed", "relocalisation.tries",
+                                      "model_coverage", "pair_agreement", "reason", "relocalisation.confirmed", "relocalisation.tries",
                                       "relocalisation.why", "residual_m", "tracked_velocity_m_per_frame",
                                       "tracking_attempted", "triggers"});
   CHECK(log.at("relocalisation") == nlohmann::json{{"tries", 3}, {"confirmed", 1}, {"why", "candidate held"}});
@@ -282,7 +282,7 @@ TEST_CASE("every row of the tracking and controller table is in frames.jsonl; ev
   plain.result.trackingAttempted = false;
   plain.result.quality.known = false;
   const nlohmann::json bare = frameRecordToJson(plain);
-  for (const char* key : {"icp_level_iterations", "icp_update_norm", "icp_conditioning", "pair_agreement", "level",
+  for (const char* key : {"icp_level_iterations", "icp_update_norm", "icp_conditioning", "pair_agreement", "model_coverage", "level",
                           "reason", "relocalisation", "keyframe_added", "implausible"}) {
     INFO(key);
     CHECK_FALSE(bare.contains(key));

@@ -38,6 +38,7 @@ struct Monitored {
     r.trackingAttempted = r.tracked = true;
     r.pairAgreement = agreement;
     r.inlierFraction = inliers;
+    r.modelCoverage = inliers / agreement;
     r.quality.known = true;
     r.quality.constrained = true;
     rec.decision.integrate = true;
@@ -80,6 +81,14 @@ TEST_CASE("a tracked frame whose view does not fit the map where the model cover
       CHECK(next.decision.integrate == false);
     }
     CHECK(m.monitor->recovering());
+  }
+
+  SECTION("a view that agrees with almost none of a model covering it in part is not good either") {
+    // The model covering 0.45 of the view (under 0.8 of the usual 0.6) and the view agreeing with 5% of it: the
+    // pairs it contradicts alone cover more than half of what the model usually does (it was good and fused).
+    const sb::FrameRecord contradicted = m.track(0.05, 0.0225);
+    CHECK(contradicted.state == sb::TrackingState::weak);
+    CHECK(contradicted.decision.integrate == false);
   }
 
   SECTION("one such frame between good ones is weak alone") {
