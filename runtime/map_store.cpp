@@ -66,18 +66,6 @@ MapStore::MapStore(std::string dir, const PipelineConfig& config, const MapStore
                 "map cannot be localised in; restore keyframes.bin or give another --map-store");
 }
 
-MapStore::MapStore(const PipelineConfig& config, const MapStoreOptions& options) : config_(config), options_(options) {
-  if (!config.movesVolume()) throw Error("map store in memory: needs the moving volume (volume_mode moving)");
-  if (options.keepSlabBytes == 0) throw Error("map store in memory: needs a bound in bytes (> 0)");
-  writing_ = true;
-}
-
-std::unique_ptr<MapStore> MapStore::inMemory(const PipelineConfig& config, uint64_t keepBytes) {
-  MapStoreOptions options;
-  options.keepSlabBytes = keepBytes;
-  return std::unique_ptr<MapStore>(new MapStore(config, options));
-}
-
 MapStore::~MapStore() {
   {
     std::lock_guard lock(mutex_);
@@ -299,12 +287,7 @@ void MapStore::writeSlab(const VolumeSlab& slab) {
   char name[32];
   std::snprintf(name, sizeof name, "slab-%06zu.tsdf", number);
   if (inMemory()) {
-    auto kept = std::make_shared<const std::vector<uint8_t>>(std::move(bytes));
-    const uint64_t size = kept->size();
-    std::lock_guard lock(mutex_);
-    slabs_.push_back({std::string("kept slab ") + name, std::move(kept), number, box, size});
-    slabBytes_ += size;
-    enforceRetentionLocked();
+    keepSlab(box, bytes, number, name);
     return;
   }
   const std::string path = dir_ + "/slabs/" + name;
@@ -376,17 +359,7 @@ void MapStore::finish(const VolumeWindow& window, BackendVolume& volume, const K
 
 nlohmann::json MapStore::summaryJson() const {
   std::lock_guard lock(mutex_);
-  if (inMemory())
-    return {{"in_memory", true},
-            {"keep_bytes", options_.keepSlabBytes},
-            {"slabs", slabs_.size()},
-            {"slab_bytes", slabBytes_},
-            {"slabs_dropped", removedFiles_},
-            {"volumes_kept", volumesKept_},
-            {"placements", placements_},
-            {"swap_ins", swapIns_},
-            {"load_ms", loadMs_},
-            {"worker_ms", workerMs_}};
+  if (inMemory()) return inMemorySummaryLocked();
   nlohmann::json j = {{"dir", dir_},
                       {"kept", kept()},
                       {"kept_keyframes", keptKeyframes_.size()},

@@ -117,6 +117,9 @@ class MapStore {
   void loadBox(const mapstore::SlabBox& world, const VolumeWindow& window, BackendVolume& volume, bool cleared);
   void workerLoop();
   void writeSlab(const VolumeSlab& slab);  // on the worker
+  // In memory (runtime/map_store_memory.cpp): an encoded slab kept (on the worker), the summary (mutex_ held).
+  void keepSlab(const mapstore::SlabBox& box, const std::vector<uint8_t>& bytes, size_t number, const char* name);
+  nlohmann::json inMemorySummaryLocked() const;
   void enforceRetentionLocked();
   void drain();
   bool pendingMeets(const mapstore::SlabBox& world) const;  // a slab queued or being written meets `world`

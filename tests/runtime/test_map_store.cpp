@@ -77,6 +77,48 @@ sb::Keyframe keyframeAt(const Eigen::Isometry3d& pose, uint8_t fill) {
   return k;
 }
 
+// The store fed by the window: the slabs that leave the volume, and the boxes a shift brings back (swap-in). The
+// three outlive the window's listeners.
+void connect(sb::VolumeWindow& window, sb::MapStore& store, sb::CpuBackend& backend) {
+  window.setSlabListener(
+      [s = &store](sb::VolumeSlab&& slab) { s->addSlab(std::make_shared<const sb::VolumeSlab>(std::move(slab))); });
+  window.setEnterListener(
+      [s = &store, w = &window, b = &backend](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
+        s->swapIn(first, extent, *w, *b);
+      });
+}
+
+// The room seen from four poses around (1.5, 1.5, 0.9), fused into the volume at corner 0.
+void mapRoom(sb::CpuBackend& backend, const sb::Intrinsics& k) {
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Isometry3d pose = at(1.5 + i / 32.0, 1.5, 0.9 + i / 64.0);
+    const sb::DepthFrame frame = sb::test::renderRoom(sb::test::Room{}, pose, k);
+    sb::StageTimes times;
+    backend.preprocess(frame.depth, float(1.0 / sb::test::kRoomDepthScale), 1, times);
+    backend.integrate(pose.cast<float>(), times);
+  }
+}
+
+// Away by 24 voxels along x (1.5 m: the slab x 0..23 leaves the volume at corner 0), then back by 24.
+void awayAndBack(sb::VolumeWindow& window, sb::CpuBackend& backend) {
+  REQUIRE(window.follow(at(3.5, 2.0, 0.8), backend) == Eigen::Vector3i(24, 0, 0));
+  REQUIRE(window.follow(at(2.0, 2.0, 0.8), backend) == Eigen::Vector3i(-24, 0, 0));
+}
+
+struct Observed {
+  size_t observed = 0;  // voxels observed in `before`
+  size_t same = 0;      // of those, the ones `now` holds as they were
+};
+Observed sameObserved(const std::vector<int16_t>& before, const std::vector<int16_t>& now) {
+  Observed o;
+  for (size_t i = 0; i < before.size(); i += 2) {
+    if (before[i + 1] == 0) continue;
+    ++o.observed;
+    o.same += before[i] == now[i] && before[i + 1] == now[i + 1];
+  }
+  return o;
+}
+
 }  // namespace
 
 TEST_CASE("map store slab files round-trip and refuse truncated, altered or foreign-version bytes",
@@ -178,33 +220,15 @@ TEST_CASE("a slab that left comes back when the volume returns, and a kept store
     sb::MapStore store(dir, config);
     REQUIRE(!store.kept());
     REQUIRE(store.writing());
-    window.setSlabListener(
-        [&](sb::VolumeSlab&& slab) { store.addSlab(std::make_shared<const sb::VolumeSlab>(std::move(slab))); });
-    window.setEnterListener([&](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
-      store.swapIn(first, extent, window, backend);
-    });
-    for (int i = 0; i < 4; ++i) {
-      const Eigen::Isometry3d pose = at(1.5 + i / 32.0, 1.5, 0.9 + i / 64.0);
-      const sb::DepthFrame frame = sb::test::renderRoom(sb::test::Room{}, pose, k);
-      sb::StageTimes times;
-      backend.preprocess(frame.depth, float(1.0 / sb::test::kRoomDepthScale), 1, times);
-      backend.integrate(pose.cast<float>(), times);
-    }
+    connect(window, store, backend);
+    mapRoom(backend, k);
     before = wholeVolume(backend, r);
     raycastBefore = raycastFrom(backend, seen);
-    // Away by 24 voxels along x (1.5 m: the slab x 0..23 leaves), then back by 24.
-    REQUIRE(window.follow(at(3.5, 2.0, 0.8), backend) == Eigen::Vector3i(24, 0, 0));
-    REQUIRE(window.follow(at(2.0, 2.0, 0.8), backend) == Eigen::Vector3i(-24, 0, 0));
+    awayAndBack(window, backend);
     REQUIRE(window.cornerVoxels() == Eigen::Vector3i::Zero());
-    const std::vector<int16_t> after = wholeVolume(backend, r);
-    size_t observed = 0, same = 0;
-    for (size_t i = 0; i < before.size(); i += 2) {
-      if (before[i + 1] == 0) continue;
-      ++observed;
-      same += before[i] == after[i] && before[i + 1] == after[i + 1];
-    }
-    REQUIRE(observed > 1000);
-    CHECK(same == observed);
+    const Observed after = sameObserved(before, wholeVolume(backend, r));
+    REQUIRE(after.observed > 1000);
+    CHECK(after.same == after.observed);
     CHECK(raycastFrom(backend, seen) == raycastBefore);  // the skipping grid knows the surface is back
     CHECK(store.summaryJson()["swap_ins"].get<size_t>() == 2);
     sb::KeyframeDatabase keyframes(10, 0.1);
@@ -231,14 +255,8 @@ TEST_CASE("a slab that left comes back when the volume returns, and a kept store
     CHECK(store.placeFor(seen, window, backend));
     CHECK(store.placeFor(seen, window, backend));  // placed already: nothing to do
     REQUIRE(window.cornerVoxels() == Eigen::Vector3i::Zero());
-    const std::vector<int16_t> placed = wholeVolume(backend, r);
-    size_t observed = 0, same = 0;
-    for (size_t i = 0; i < before.size(); i += 2) {
-      if (before[i + 1] == 0) continue;
-      ++observed;
-      same += before[i] == placed[i] && before[i + 1] == placed[i + 1];
-    }
-    CHECK(same == observed);
+    const Observed placed = sameObserved(before, wholeVolume(backend, r));
+    CHECK(placed.same == placed.observed);
     CHECK(raycastFrom(backend, seen) == raycastBefore);
     CHECK(store.summaryJson()["placements"].get<size_t>() == 2);
     // Never localised: its end writes nothing into the kept store.
@@ -303,36 +321,20 @@ TEST_CASE("an ordinary run's slabs kept in memory: the volume kept, placed far a
   REQUIRE(store->inMemory());
   REQUIRE(store->writing());
   REQUIRE(!store->kept());
-  window.setSlabListener(
-      [&](sb::VolumeSlab&& slab) { store->addSlab(std::make_shared<const sb::VolumeSlab>(std::move(slab))); });
-  window.setEnterListener([&](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
-    store->swapIn(first, extent, window, backend);
-  });
+  connect(window, *store, backend);
   const Eigen::Isometry3d seen = at(2.0, 2.0, 0.8);
-  for (int i = 0; i < 4; ++i) {
-    const Eigen::Isometry3d pose = at(1.5 + i / 32.0, 1.5, 0.9 + i / 64.0);
-    const sb::DepthFrame frame = sb::test::renderRoom(sb::test::Room{}, pose, k);
-    sb::StageTimes times;
-    backend.preprocess(frame.depth, float(1.0 / sb::test::kRoomDepthScale), 1, times);
-    backend.integrate(pose.cast<float>(), times);
-  }
+  mapRoom(backend, k);
   const std::vector<int16_t> before = wholeVolume(backend, r);
   const std::vector<float> raycastBefore = raycastFrom(backend, seen);
-  const auto sameObserved = [&](const std::vector<int16_t>& now) {
-    size_t observed = 0, same = 0;
-    for (size_t i = 0; i < before.size(); i += 2) {
-      if (before[i + 1] == 0) continue;
-      ++observed;
-      same += before[i] == now[i] && before[i + 1] == now[i + 1];
-    }
-    REQUIRE(observed > 1000);
-    return same == observed;
+  const auto allBack = [&](const std::vector<int16_t>& now) {
+    const Observed o = sameObserved(before, now);
+    REQUIRE(o.observed > 1000);
+    return o.same == o.observed;
   };
   // A slab leaves and comes back: kept, but not swapped in before a relocalisation placed the volume (the run
   // maps as one that keeps nothing).
-  REQUIRE(window.follow(at(3.5, 2.0, 0.8), backend) == Eigen::Vector3i(24, 0, 0));
-  REQUIRE(window.follow(at(2.0, 2.0, 0.8), backend) == Eigen::Vector3i(-24, 0, 0));
-  CHECK_FALSE(sameObserved(wholeVolume(backend, r)));
+  awayAndBack(window, backend);
+  CHECK_FALSE(allBack(wholeVolume(backend, r)));
   CHECK(store->summaryJson()["swap_ins"].get<size_t>() == 0);
   // Lost: the volume holds the newest map where it stands (nothing kept yet); kept whole by the first placement,
   // for a far candidate (nothing of it there), and placed back.
@@ -350,12 +352,11 @@ TEST_CASE("an ordinary run's slabs kept in memory: the volume kept, placed far a
   store->nextFrame();
   CHECK(store->placeFor(seen, window, backend));
   REQUIRE(window.cornerVoxels() == Eigen::Vector3i::Zero());
-  CHECK(sameObserved(wholeVolume(backend, r)));  // the slab that left and the volume kept, merged
+  CHECK(allBack(wholeVolume(backend, r)));  // the slab that left and the volume kept, merged
   CHECK(raycastFrom(backend, seen) == raycastBefore);
   // Relocalised: from now on a slab that leaves comes back when the volume returns (swap-in).
-  REQUIRE(window.follow(at(3.5, 2.0, 0.8), backend) == Eigen::Vector3i(24, 0, 0));
-  REQUIRE(window.follow(at(2.0, 2.0, 0.8), backend) == Eigen::Vector3i(-24, 0, 0));
-  CHECK(sameObserved(wholeVolume(backend, r)));
+  awayAndBack(window, backend);
+  CHECK(allBack(wholeVolume(backend, r)));
   CHECK(store->summaryJson()["swap_ins"].get<size_t>() == 2);
   const nlohmann::json summary = store->summaryJson();
   INFO(summary.dump());

@@ -9,19 +9,20 @@
 // The control run keeps nothing (relocalise_kept_map_mib 0): it must not relocalise in the same time, or this test
 // would show nothing.
 #include <catch2/catch.hpp>
-#include <cmath>
+#include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string>
-#include <vector>
 
+#include "core/trajectory.h"
+#include "tests/support/anchored_frames.h"
 #include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
-#include "tests/support/tum_positions.h"
 
 using sb::test::runCommand;
 
@@ -41,29 +42,19 @@ struct Verdict {
   nlohmann::json map;            // summary.json's "map_store"
 };
 
-// The run's frames against the truth, both anchored at the first frame (a robot's map frame: no alignment).
-Verdict judge(const std::string& run, const std::vector<std::vector<double>>& truth) {
+// The run's frames against the truth, both anchored at the first frame's whole pose (a robot's map frame: no
+// alignment; tests/support/anchored_frames.h).
+Verdict judge(const std::string& run, const sb::Trajectory& truth) {
   Verdict v;
-  std::ifstream frames(run + "/frames.jsonl");
-  std::vector<double> origin;
-  for (std::string line; std::getline(frames, line);) {
-    const auto f = nlohmann::json::parse(line);
-    const size_t i = f.at("frame").get<size_t>();
-    REQUIRE(i < truth.size());
-    const auto p = f.at("position").get<std::vector<double>>();
-    if (origin.empty()) origin = {p[0] - truth[0][0], p[1] - truth[0][1], p[2] - truth[0][2]};
-    double e = 0.0;
-    for (int k = 0; k < 3; ++k) e += std::pow(p[size_t(k)] - origin[size_t(k)] - truth[i][size_t(k)], 2);
-    e = std::sqrt(e);
-    const std::string state = f.at("state").get<std::string>();
-    const double t = f.at("timestamp").get<double>();
+  for (const sb::test::AnchoredFrame& f : sb::test::anchoredFrames(run, truth)) {
+    const double t = f.timestamp;
     ++v.frames;
-    v.lost += state == "lost";
-    if (state == "lost" && !v.firstLostS) v.firstLostS = t;
-    if (state == "relocalised" && v.firstLostS && !v.relocalisedS) v.relocalisedS = t;
-    if (state == "good") {
-      v.goodOff += e > kOffM;
-      if (t >= kCarriedAtS) v.worstGoodAfterM = std::max(v.worstGoodAfterM, e);
+    v.lost += f.state == "lost";
+    if (f.state == "lost" && !v.firstLostS) v.firstLostS = t;
+    if (f.state == "relocalised" && v.firstLostS && !v.relocalisedS) v.relocalisedS = t;
+    if (f.state == "good") {
+      v.goodOff += f.errorM > kOffM;
+      if (t >= kCarriedAtS) v.worstGoodAfterM = std::max(v.worstGoodAfterM, f.errorM);
     }
   }
   std::ifstream summary(run + "/summary.json");
@@ -91,7 +82,7 @@ TEST_CASE("a robot carried back along the corridor relocalises on the map that l
                                 " --width 320 --height 240 --fx 240.6 --fy 240 --threads 1 --overwrite" + carried);
   INFO(synth.output);
   REQUIRE(synth.exitCode == 0);
-  const auto truth = sb::test::tumPositions(dir + "/drive/groundtruth.txt");
+  const sb::Trajectory truth = sb::readTumTrajectory(dir + "/drive/groundtruth.txt");
   REQUIRE(truth.size() == size_t(kFrames));
   const std::string knobs = " --controller default --threads 1 --quiet";
 

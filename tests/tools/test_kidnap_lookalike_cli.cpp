@@ -7,11 +7,10 @@
 // map where it is tracked, so the frames are weak, not fused, and the relocaliser (no place passes its bar)
 // keeps the run lost.
 #include <catch2/catch.hpp>
-#include <fstream>
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "core/trajectory.h"
+#include "tests/support/anchored_frames.h"
 #include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
@@ -28,32 +27,20 @@ struct Judged {
   size_t frames = 0, goodBefore = 0, goodOff = 0, weakAfter = 0, lostAfter = 0;
 };
 
-// The run's frames against the cut's truth, the estimate and the truth anchored at the first frame (as a robot's
-// map frame is: no alignment fitted).
+// The run's frames against the cut's truth, the estimate and the truth anchored at the first frame's whole pose
+// (as a robot's map frame is: no alignment fitted; tests/support/anchored_frames.h).
 Judged judge(const std::string& run, const sb::Trajectory& truth) {
   Judged j;
-  std::ifstream frames(run + "/frames.jsonl");
-  Eigen::Isometry3d anchor = Eigen::Isometry3d::Identity();
-  for (std::string line; std::getline(frames, line);) {
-    const auto f = nlohmann::json::parse(line);
-    const size_t i = f.at("frame").get<size_t>();
-    REQUIRE(i < truth.size());
-    const auto p = f.at("position"), q = f.at("quaternion");
-    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = Eigen::Quaterniond(q[3].get<double>(), q[0].get<double>(), q[1].get<double>(),
-                                       q[2].get<double>()).normalized().toRotationMatrix();
-    pose.translation() = Eigen::Vector3d(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
-    if (i == 0) anchor = truth[0].T_camera_to_world * pose.inverse();
-    const double offM = ((anchor * pose).translation() - truth[i].position()).norm();
-    const std::string state = f.at("state").get<std::string>();
+  for (const sb::test::AnchoredFrame& f : sb::test::anchoredFrames(run, truth)) {
+    const size_t i = f.frame;
     ++j.frames;
-    if (i < kJumpFrame) j.goodBefore += state == "good";
-    j.weakAfter += i >= kJumpFrame && state == "weak";
-    j.lostAfter += i >= kJumpFrame && state == "lost";
-    if (state == "good" && offM > kOffM) {
-      UNSCOPED_INFO("frame " << i << " good " << offM << " m from the truth (inliers "
-                             << f.value("inliers", 0.0) << ", pair agreement " << f.value("pair_agreement", 0.0)
-                             << ")");
+    if (i < kJumpFrame) j.goodBefore += f.state == "good";
+    j.weakAfter += i >= kJumpFrame && f.state == "weak";
+    j.lostAfter += i >= kJumpFrame && f.state == "lost";
+    if (f.state == "good" && f.errorM > kOffM) {
+      UNSCOPED_INFO("frame " << i << " good " << f.errorM << " m from the truth (inliers "
+                             << f.line.value("inliers", 0.0) << ", pair agreement "
+                             << f.line.value("pair_agreement", 0.0) << ")");
       ++j.goodOff;
     }
   }
