@@ -37,6 +37,7 @@ sb::TrackAttempt attempt(const Eigen::Isometry3d& start, double agreement, doubl
   a.tracked = true;
   a.pairAgreement = 0.9;
   a.inlierFraction = coverage * a.pairAgreement;
+  a.modelCoverage = coverage;
   a.agreementInNoise = agreement;
   return a;
 }

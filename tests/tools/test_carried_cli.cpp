@@ -8,8 +8,15 @@
 //
 // The control run keeps nothing (relocalise_kept_map_mib 0): it must not relocalise in the same time, or this test
 // would show nothing.
+//
+// A second drive is carried in the middle of its U-turn: set down facing along the corridor while the wheels' pose
+// faces the turn's side, the model there covering less of the view than usual and agreeing with none of it. That
+// was no evidence of a kidnap, the dispute waited for the wheels' 3 m budget, and the run was lost to its end (a
+// held-out drive like it drove on into unmapped space and lied 336 frames). The bar is issue 52's: relocalised within
+// 2 s of the set-down, 10 cm over the frames after it.
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -39,12 +46,15 @@ struct Verdict {
   std::optional<double> firstLostS, relocalisedS;  // the first lost frame, the first relocalised one after it
   int frames = 0, lost = 0, goodOff = 0;
   double worstGoodAfterM = 0.0;  // the worst `good` frame after the set-down
+  int posedAfter = 0;            // frames posed (not lost) from the relocalisation on ...
+  double sumSquaresAfter = 0.0;  // ... and their squared errors
   nlohmann::json map;            // summary.json's "map_store"
+  double ateAfterM() const { return posedAfter > 0 ? std::sqrt(sumSquaresAfter / posedAfter) : INFINITY; }
 };
 
 // The run's frames against the truth, both anchored at the first frame's whole pose (a robot's map frame: no
-// alignment; tests/support/anchored_frames.h).
-Verdict judge(const std::string& run, const sb::Trajectory& truth) {
+// alignment; tests/support/anchored_frames.h); the carry at `carriedAtS`.
+Verdict judge(const std::string& run, const sb::Trajectory& truth, double carriedAtS) {
   Verdict v;
   for (const sb::test::AnchoredFrame& f : sb::test::anchoredFrames(run, truth)) {
     const double t = f.timestamp;
@@ -54,7 +64,11 @@ Verdict judge(const std::string& run, const sb::Trajectory& truth) {
     if (f.state == "relocalised" && v.firstLostS && !v.relocalisedS) v.relocalisedS = t;
     if (f.state == "good") {
       v.goodOff += f.errorM > kOffM;
-      if (t >= kCarriedAtS) v.worstGoodAfterM = std::max(v.worstGoodAfterM, f.errorM);
+      if (t >= carriedAtS) v.worstGoodAfterM = std::max(v.worstGoodAfterM, f.errorM);
+    }
+    if (v.relocalisedS && f.state != "lost") {
+      ++v.posedAfter;
+      v.sumSquaresAfter += f.errorM * f.errorM;
     }
   }
   std::ifstream summary(run + "/summary.json");
@@ -89,7 +103,7 @@ TEST_CASE("a robot carried back along the corridor relocalises on the map that l
   const auto kept = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/kept" + knobs);
   INFO(kept.output);
   REQUIRE(kept.exitCode == 0);
-  const Verdict with = judge(dir + "/kept", truth);
+  const Verdict with = judge(dir + "/kept", truth, kCarriedAtS);
   INFO("kept: first lost " << with.firstLostS.value_or(-1) << " s, relocalised " << with.relocalisedS.value_or(-1)
                            << " s, lost frames " << with.lost << " of " << with.frames << ", worst good after the "
                            << "set-down " << with.worstGoodAfterM << " m, map " << with.map.dump());
@@ -106,7 +120,7 @@ TEST_CASE("a robot carried back along the corridor relocalises on the map that l
                                  "/volume_only.json" + knobs);
   INFO(volume.output);
   REQUIRE(volume.exitCode == 0);
-  const Verdict without = judge(dir + "/volume", truth);
+  const Verdict without = judge(dir + "/volume", truth, kCarriedAtS);
   INFO("volume only: first lost " << without.firstLostS.value_or(-1) << " s, relocalised "
                                   << without.relocalisedS.value_or(-1) << " s");
   REQUIRE(without.firstLostS);
@@ -115,4 +129,35 @@ TEST_CASE("a robot carried back along the corridor relocalises on the map that l
   CHECK(without.map.is_null());
   // The kept slabs are in memory only: the run's directory holds the files of a run that keeps none.
   CHECK(files(dir + "/kept") == files(dir + "/volume"));
+}
+
+TEST_CASE("a robot carried back in the middle of its U-turn is found kidnapped and relocalised within 2 s",
+          "[reloc][system]") {
+  const std::string dir = sb::test::scratchDir("test_carried_cli_turn");
+  constexpr int kTurnSeed = 57, kTurnFrames = 660;  // the U-turn from frame 429 (14.3 s)
+  constexpr double kTurnCarriedAtS = 17.5, kTurnBackM = 8.0;
+  constexpr double kSetDownWithinS = 2.0, kAteAfterM = 0.10;
+  char carried[64];
+  std::snprintf(carried, sizeof carried, " --odom-carried %.1f,%.1f", kTurnCarriedAtS, kTurnBackM);
+  const auto synth = runCommand(kTool + " synth --out " + dir + "/drive --scene corridor --stress drive --seed " +
+                                std::to_string(kTurnSeed) + " --frames " + std::to_string(kTurnFrames) +
+                                " --width 320 --height 240 --fx 240.6 --fy 240 --threads 1 --overwrite" + carried);
+  INFO(synth.output);
+  REQUIRE(synth.exitCode == 0);
+  const sb::Trajectory truth = sb::readTumTrajectory(dir + "/drive/groundtruth.txt");
+  REQUIRE(truth.size() == size_t(kTurnFrames));
+  const auto run = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/run --controller default "
+                              "--threads 1 --quiet");
+  INFO(run.output);
+  REQUIRE(run.exitCode == 0);
+  const Verdict v = judge(dir + "/run", truth, kTurnCarriedAtS);
+  INFO("first lost " << v.firstLostS.value_or(-1) << " s, relocalised " << v.relocalisedS.value_or(-1)
+                     << " s, ATE after it " << v.ateAfterM() << " m over " << v.posedAfter << " frames, worst good "
+                     << "after the set-down " << v.worstGoodAfterM << " m");
+  REQUIRE(v.firstLostS);
+  CHECK(*v.firstLostS > kTurnCarriedAtS);
+  REQUIRE(v.relocalisedS);
+  CHECK(*v.relocalisedS - kTurnCarriedAtS <= kSetDownWithinS);
+  CHECK(v.ateAfterM() <= kAteAfterM);
+  CHECK(v.goodOff == 0);
 }
