@@ -50,9 +50,9 @@ bool MapAgreement::covered(double coverage) const {
 
 bool MapAgreement::contradicted(double pairAgreement, double coverage) const {
   if (coverage <= 0.0 || holds(pairAgreement)) return false;  // a view paired with nothing contradicts nothing
-  if (covered(coverage)) return true;
+  if (coverage_.empty()) return true;  // covered, as covered() says without history
   const double usual = median(std::vector<double>(coverage_.begin(), coverage_.end()));
-  return coverage * (1.0 - pairAgreement) >= kContradictedFraction * usual;
+  return coverage >= kCoveredFraction * usual || coverage * (1.0 - pairAgreement) >= kContradictedFraction * usual;
 }
 
 std::string TurnCorrections::add(double stamp, const Eigen::Vector3d& rotation, double sigmaRad, double sigmas,

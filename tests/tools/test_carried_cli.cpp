@@ -77,6 +77,21 @@ Verdict judge(const std::string& run, const sb::Trajectory& truth, double carrie
   return v;
 }
 
+// A 320x240 corridor drive of `frames` frames in `dir`/drive whose robot is carried at `atS` seconds `backM` metres
+// back along its path; its truth.
+sb::Trajectory synthCarried(const std::string& dir, int seed, int frames, double atS, double backM) {
+  char carried[64];
+  std::snprintf(carried, sizeof carried, " --odom-carried %.1f,%.1f", atS, backM);
+  const auto synth = runCommand(kTool + " synth --out " + dir + "/drive --scene corridor --stress drive --seed " +
+                                std::to_string(seed) + " --frames " + std::to_string(frames) +
+                                " --width 320 --height 240 --fx 240.6 --fy 240 --threads 1 --overwrite" + carried);
+  INFO(synth.output);
+  REQUIRE(synth.exitCode == 0);
+  sb::Trajectory truth = sb::readTumTrajectory(dir + "/drive/groundtruth.txt");
+  REQUIRE(truth.size() == size_t(frames));
+  return truth;
+}
+
 std::set<std::string> files(const std::string& dir) {
   std::set<std::string> names;
   for (const auto& e : std::filesystem::recursive_directory_iterator(dir))
@@ -89,15 +104,7 @@ std::set<std::string> files(const std::string& dir) {
 TEST_CASE("a robot carried back along the corridor relocalises on the map that left the volume",
           "[reloc][system]") {
   const std::string dir = sb::test::scratchDir("test_carried_cli");
-  char carried[64];
-  std::snprintf(carried, sizeof carried, " --odom-carried %.1f,%.1f", kCarriedAtS, kBackM);
-  const auto synth = runCommand(kTool + " synth --out " + dir + "/drive --scene corridor --stress drive --seed " +
-                                std::to_string(kSeed) + " --frames " + std::to_string(kFrames) +
-                                " --width 320 --height 240 --fx 240.6 --fy 240 --threads 1 --overwrite" + carried);
-  INFO(synth.output);
-  REQUIRE(synth.exitCode == 0);
-  const sb::Trajectory truth = sb::readTumTrajectory(dir + "/drive/groundtruth.txt");
-  REQUIRE(truth.size() == size_t(kFrames));
+  const sb::Trajectory truth = synthCarried(dir, kSeed, kFrames, kCarriedAtS, kBackM);
   const std::string knobs = " --controller default --threads 1 --quiet";
 
   const auto kept = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/kept" + knobs);
@@ -137,15 +144,7 @@ TEST_CASE("a robot carried back in the middle of its U-turn is found kidnapped a
   constexpr int kTurnSeed = 57, kTurnFrames = 660;  // the U-turn from frame 429 (14.3 s)
   constexpr double kTurnCarriedAtS = 17.5, kTurnBackM = 8.0;
   constexpr double kSetDownWithinS = 2.0, kAteAfterM = 0.10;
-  char carried[64];
-  std::snprintf(carried, sizeof carried, " --odom-carried %.1f,%.1f", kTurnCarriedAtS, kTurnBackM);
-  const auto synth = runCommand(kTool + " synth --out " + dir + "/drive --scene corridor --stress drive --seed " +
-                                std::to_string(kTurnSeed) + " --frames " + std::to_string(kTurnFrames) +
-                                " --width 320 --height 240 --fx 240.6 --fy 240 --threads 1 --overwrite" + carried);
-  INFO(synth.output);
-  REQUIRE(synth.exitCode == 0);
-  const sb::Trajectory truth = sb::readTumTrajectory(dir + "/drive/groundtruth.txt");
-  REQUIRE(truth.size() == size_t(kTurnFrames));
+  const sb::Trajectory truth = synthCarried(dir, kTurnSeed, kTurnFrames, kTurnCarriedAtS, kTurnBackM);
   const auto run = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/run --controller default "
                               "--threads 1 --quiet");
   INFO(run.output);
