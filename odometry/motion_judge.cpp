@@ -138,7 +138,7 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
   view.odometry.used = true;
   keepFusedCovariance(f, r.timestamp);
   if (motion.raw) calibration_.learn(r.quality, motion.previousPose, tracked, *motion.raw);
-  if (motion.reported && r.quality.known && r.quality.constrained)  // a view that fixes every rotation
+  if (learnsMount() && motion.reported && r.quality.known && r.quality.constrained)  // a view fixing every rotation
     mount_.learn(motion.previousPose.linear().transpose() * tracked.linear(), *motion.reported);
   d.refinedPose = f.pose;
   d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word

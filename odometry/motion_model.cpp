@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "odometry/floor_up.h"
 #include "odometry/format_numbers.h"
 
 namespace sb::odometry {
@@ -83,6 +84,15 @@ FrameMotion MotionModel::predict(const Eigen::Isometry3d& previousPose, double p
     motion.uncheckedS = stamp - *firstStamp_;
   }
   return motion;
+}
+
+void MotionModel::depthSeen(const DepthRaw& depth, double depthScale, const Intrinsics& k, const FrameMotion& motion) {
+  const auto& px = depth.pixels();
+  const auto readings = std::count_if(px.begin(), px.end(), [](uint16_t v) { return v != 0; });
+  depthSeen(static_cast<double>(readings) < kBlankShare * static_cast<double>(px.size()));
+  if (!learnsMount() || !motion.reported || !mount_.wantsFloor() || blank_) return;
+  if (const std::optional<FloorUp> floor = floorUp(depth, depthScale, k, motion.reported->up))
+    mount_.floorSeen(floor->up, motion.reported->up);
 }
 
 void MotionModel::judge(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion) {

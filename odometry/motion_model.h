@@ -136,6 +136,10 @@ class MotionModel {
     if (blank) afterBlank_ = true;
   }
   static constexpr double kBlankShare = 0.05;  // of the pixels with a reading
+  // The frame's depth as the model reads it: blank or not (above), and, while the mount's tilt is learnt from the
+  // floor (mount_calibration.h, floor_up.h), the floor's up against the up of the mount the wheels assume.
+  // `depthScale`: raw units per metre; `k`: the depth image's intrinsics.
+  void depthSeen(const DepthRaw& depth, double depthScale, const Intrinsics& k, const FrameMotion& motion);
 
   // While the tracker is lost: the dead reckoning goes on (the relocaliser's first guess).
   void deadReckon(const FrameMotion& motion);
@@ -169,6 +173,9 @@ class MotionModel {
   void judgeByInertia(Pipeline& pipeline, const FrameView& view, const FrameMotion& motion);
   // The fault watch is on (odometry.dispute_s > 0; wheel_faults.h).
   bool faultsOn() const { return config_.disputeS > 0.0; }
+  // The mount's error is learnt (and corrected: predict) with the watch on, unless the mount is taken as exact
+  // (mount_sigma_deg 0).
+  bool learnsMount() const { return faultsOn() && config_.mountSigmaDeg > 0.0; }
   // A tracked frame with odometry (or a fault open): judged against the map, then against the wheels (`wheels`:
   // the step used, or the one withheld while slipping): fused when they agree, the view's pose unfused while a
   // dispute is open.

@@ -24,7 +24,7 @@ void MountCalibration::learn(const Eigen::Matrix3d& viewStep, const OdometryStep
   weights_ += w;
   weightSquares_ += w * w;
   turnRad_ += w;
-  if (turnRad_ < kMinTurnDeg * kDegToRad) return;
+  if (turnRad_ < kMinTurnDeg * kDegToRad || fromFloor_) return;
   const Eigen::Vector3d mean = diffSum_ / weights_;
   const double scatter = std::max(0.0, diffSquares_ / weights_ - mean.squaredNorm());
   const double samples = weights_ * weights_ / weightSquares_;
@@ -33,6 +33,32 @@ void MountCalibration::learn(const Eigen::Matrix3d& viewStep, const OdometryStep
   correction_ = mean.norm() >= kSignificance * standardError
                     ? Eigen::Quaterniond::FromTwoVectors(wheelSum_.normalized(), viewSum_.normalized()).toRotationMatrix()
                     : Eigen::Matrix3d::Identity();
+}
+
+void MountCalibration::floorSeen(const Eigen::Vector3d& floorUp, const Eigen::Vector3d& assumedUp) {
+  if (!wantsFloor() || !(floorUp.norm() > 0.0) || !(assumedUp.norm() > 0.0)) return;
+  floorUps_.push_back(floorUp.normalized());
+  floorFrames_ = floorUps_.size();
+  if (floorFrames_ < kMinFloorFrames) return;
+  Eigen::Vector3d median;
+  std::vector<double> values(floorFrames_);
+  for (int axis = 0; axis < 3; ++axis) {
+    for (size_t i = 0; i < floorFrames_; ++i) values[i] = floorUps_[i][axis];
+    std::nth_element(values.begin(), values.begin() + floorFrames_ / 2, values.end());
+    median[axis] = values[floorFrames_ / 2];
+  }
+  median.normalize();
+  for (size_t i = 0; i < floorFrames_; ++i) values[i] = std::acos(std::clamp(floorUps_[i].dot(median), -1.0, 1.0));
+  std::nth_element(values.begin(), values.begin() + floorFrames_ / 2, values.end());
+  floorSpreadRad_ = values[floorFrames_ / 2];
+  if (floorSpreadRad_ > kFloorAgreeDeg * kDegToRad) return;  // no one floor: the turns decide
+  correction_ = Eigen::Quaterniond::FromTwoVectors(assumedUp.normalized(), median).toRotationMatrix();
+  fromFloor_ = true;
+}
+
+const char* MountCalibration::source() const {
+  if (fromFloor_) return "floor";
+  return errorDeg() > 0.0 ? "turns" : "";
 }
 
 OdometryStep MountCalibration::correct(const OdometryStep& raw) const {
@@ -45,6 +71,8 @@ OdometryStep MountCalibration::correct(const OdometryStep& raw) const {
 }
 
 double MountCalibration::sigmaDeg(double priorDeg) const {
+  if (fromFloor_)  // the frames' floors spread about their median: its error, as if the frames were independent
+    return std::min(priorDeg, kSignificance * floorSpreadRad_ / std::sqrt(static_cast<double>(floorFrames_)) / kDegToRad);
   if (turnRad_ < kMinTurnDeg * kDegToRad) return priorDeg;
   return std::min(priorDeg, kSignificance * standardError_ / kDegToRad);
 }

@@ -13,8 +13,15 @@
 // the correction applies once kMinTurnDeg of such turning is seen and the mean axis difference is at least
 // kSignificance of its standard errors (ICP's axis of a 3-degree step scatters by a degree or more: 24 degrees
 // of turning on a drive without error gave 1.2 degrees).
+//
+// The floor shows the same tilt without turning (floor_up.h): its normal in the camera frame is the base's up.
+// Once kMinFloorFrames frames showed a floor, the correction is the rotation taking the assumed up to their
+// median up (component by component: a frame whose floor was a ramp's or a glimpse's does not move it), and it is
+// preferred to the turns' (a corridor drive: a frame's floor within 0.02-0.2 degrees of the truth, the turns' axis
+// a degree or more). Where no floor is seen (a view into a wall, a scene without one) the turns decide as before.
 
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "odometry/odometry_fusion.h"
 
@@ -25,6 +32,14 @@ class MountCalibration {
   // A frame whose step the wheels and the view agree on: `viewStep` the view's rotation from the previous frame
   // (in that frame's camera frame), `raw` the wheels' step (in the frame of the mount they assume).
   void learn(const Eigen::Matrix3d& viewStep, const OdometryStep& raw);
+  // A frame's floor up (floor_up.h), `assumedUp` the up of the mount the odometry assumes (OdometryStep::up as
+  // reported), both in the camera frame.
+  void floorSeen(const Eigen::Vector3d& floorUp, const Eigen::Vector3d& assumedUp);
+  // Frames whose floor has been taken (floorSeen); the learner wants no more once kEnoughFloorFrames have.
+  size_t floorFrames() const { return floorFrames_; }
+  bool wantsFloor() const { return floorFrames_ < kEnoughFloorFrames; }
+  // Where the correction comes from: "floor", "turns" or "" (none yet).
+  const char* source() const;
   // The rotation E with T_camera_to_odom(true) = T_camera_to_odom(assumed) * E^-1 (identity until enough turns).
   const Eigen::Matrix3d& correction() const { return correction_; }
   // The wheels' step in the true camera frame: E delta E^-1, its up axis E up.
@@ -41,6 +56,13 @@ class MountCalibration {
   static constexpr double kMaxAxisDeg = 5.0;   // the two axes further apart: not the same turn
   static constexpr double kMinTurnDeg = 90.0;   // the turning seen before the correction is applied
   static constexpr double kSignificance = 3.0;  // standard errors
+  static constexpr size_t kMinFloorFrames = 30;     // a second of frames: a floor seen, not a glimpse
+  static constexpr size_t kEnoughFloorFrames = 300;  // then the floor's mean holds; no more frames are read
+  static constexpr double kFloorAgreeDeg = 1.0;     // the frames' median distance from their median up, at most
+  std::vector<Eigen::Vector3d> floorUps_;  // the frames' floor ups (camera frame), at most kEnoughFloorFrames
+  size_t floorFrames_ = 0;
+  double floorSpreadRad_ = 0.0;  // the frames' median distance from the median up
+  bool fromFloor_ = false;
   Eigen::Vector3d viewSum_ = Eigen::Vector3d::Zero(), wheelSum_ = Eigen::Vector3d::Zero();
   // Of the per-frame axis differences (view less wheels), weighted by the angle: sums for the mean's scatter.
   Eigen::Vector3d diffSum_ = Eigen::Vector3d::Zero();

@@ -72,7 +72,8 @@ struct OdometryConfig {
   // anchored (a U-turn: twice the mount's error). Until the mount is learnt (odometry/mount_calibration.h) the
   // tilt's sigma grows with that chord times this (a mount measured by hand: a degree or two off). Held to
   // tilt_sigma_deg alone, a mount 2.5 degrees off rolled the map 4.5 degrees in a U-turn whose view left the roll
-  // free, and the way back climbed 1.2 m (docs/odometry.md "The mount's tilt"). 0: the mount is taken as exact.
+  // free, and the way back climbed 1.2 m (docs/odometry.md "The mount's tilt"). 0: the mount is taken as exact (and
+  // not learnt, from the floor or the turns).
   double mountSigmaDeg = 2.0;             // degrees
   // Faults (odometry/wheel_faults.h): a disagreement between the wheels and a view that fixes the motion is
   // decided by the evidence of this long (a wheel slip is one step; a stall, a pick-up or wrong wheels last

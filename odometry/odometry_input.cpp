@@ -85,7 +85,9 @@ void noteCalibration(const odometry::MotionModel& model, OdometrySummary& summar
   summary.timeOffsetS = model.timeOffset().offset();
   summary.timeOffsetLearnt = model.timeOffset().learnt();
   summary.mountErrorDeg = mount.errorDeg();
+  summary.mountLearntFrom = mount.source();
   summary.mountTurnSeenDeg = mount.turnSeenDeg();
+  summary.mountFloorFrames = mount.floorFrames();
   summary.scaleError = e.scale;
   summary.yawScaleError = e.yawScale;
   summary.yawBiasDegPerS = e.yawBiasRadPerS * 180.0 / 3.14159265358979323846;

@@ -112,6 +112,8 @@ class Pipeline {
   // A pipeline on the CPU backend running on `pool` (borrowed; must outlive the pipeline).
   static std::unique_ptr<Pipeline> createCpu(const PipelineConfig& config, const Intrinsics& intrinsics,
                                              ThreadPool& pool = ThreadPool::global());
+  // Of the full-size depth image.
+  const Intrinsics& intrinsics() const { return intrinsics_; }
 
   // Preprocessing and tracking of one frame. `depthScale`: raw units per metre. Throws sb::Error on invalid
   // knobs or a frame whose size differs from the intrinsics, and when the previous frame was not finished.

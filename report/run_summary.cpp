@@ -149,7 +149,9 @@ void fieldsOf(OdometrySummary& o, Field field) {
   field("yaw_bias_deg_per_s", o.yawBiasDegPerS);
   field("calibration_frames", o.calibrationFrames);
   field("mount_error_deg", o.mountErrorDeg);
+  field("mount_learnt_from", o.mountLearntFrom);
   field("mount_turn_seen_deg", o.mountTurnSeenDeg);
+  field("mount_floor_frames", o.mountFloorFrames);
   field("time_offset_s", o.timeOffsetS);
   field("time_offset_learnt", o.timeOffsetLearnt);
 }

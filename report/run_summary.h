@@ -71,10 +71,13 @@ struct OdometrySummary {
   double yawScaleError = 0.0;     // turns read (1 + this) times the truth ...
   double yawBiasDegPerS = 0.0;    // ... plus this drift
   size_t calibrationFrames = 0;   // frames that brought evidence
-  // The camera mount's tilt error learnt from the turns (odometry/mount_calibration.h): degrees, and the turning
-  // seen, degrees (the correction applies from 20 degrees of turning on).
+  // The camera mount's tilt error learnt (odometry/mount_calibration.h): degrees; where from ("floor": the floor's
+  // normal, "turns": the view's turns, "": not learnt); the turning seen (degrees) and the frames whose floor was
+  // read.
   double mountErrorDeg = 0.0;
+  std::string mountLearntFrom{};
   double mountTurnSeenDeg = 0.0;
+  size_t mountFloorFrames = 0;
   // The odometry's clock against the frames' (odometry/time_offset.h): seconds added to a frame's stamp, and
   // whether the turns' evidence moved it from odometry.time_offset_s.
   double timeOffsetS = 0.0;

@@ -19,12 +19,7 @@ void TrackingMonitor::resolve(Pipeline& pipeline, const DepthFrame& frame, doubl
   const odometry::FrameView view{r, d, rec.odometry, rec.implausible, [&](const Eigen::Isometry3d& start) {
                                    return pipeline.trackFrom(frame, depthScale, knobs, start, r);
                                  }};
-  if (model.track()) {  // a blank view matters only to the wheels' dead reckoning
-    const auto& px = frame.depth.pixels();
-    const auto readings = std::count_if(px.begin(), px.end(), [](uint16_t v) { return v != 0; });
-    model.depthSeen(static_cast<double>(readings) <
-                    odometry::MotionModel::kBlankShare * static_cast<double>(px.size()));
-  }
+  if (model.track()) model.depthSeen(frame.depth, depthScale, pipeline.intrinsics(), motion);
   if (!r.trackingAttempted && !recovering_) {  // bootstrap, or a frame skipped by the tracking rate
     rec.state = last_ == TrackingState::relocalised ? TrackingState::good : last_;
     // A frame the view has not checked for too long is the wheels' word alone.

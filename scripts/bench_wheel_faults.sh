@@ -11,7 +11,8 @@
 # usage: scripts/bench_wheel_faults.sh [BUILD_DIR] [OUT] [CASE...]
 #   cases: plain covered stall carried latency mount, the second set plain2 covered2 stall2 carried2 latency2
 #   mount2, the attack's wrong wheels for 10 s wrong-reversed wrong-zero wrong-gyro wrong-scaled wrong-stall, and
-#   more carries carried3 carried4 carried5 carried6 (for a carry also: when it was relocalised, the ATE after it)
+#   more carries carried3 carried4 carried5 carried6 (for a carry also: when it was relocalised, the ATE after it),
+#   more mounts mount3 mount4 mount5 mount6
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-"$root/build"}
@@ -50,6 +51,11 @@ declare -A spec=(
   [carried4]="71|--odom-carried 12.5,8"
   [carried5]="62|--odom-carried 16,7"
   [carried6]="88|--odom-carried 19,10"
+  # More mounts, other seeds and errors (the mount's tilt learnt from the floor was not tuned on them).
+  [mount3]="81|--odom-mount-error -2,-1,0.8,0.02,0.02,-0.03"
+  [mount4]="92|--odom-mount-error 0.5,-2.5,-1,0.01,0.04,0"
+  [mount5]="103|--odom-mount-error 3,0.5,0,0,0,0"
+  [mount6]="115|--odom-mount-error 0,1,0,0,0,0"
 )
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=(plain covered stall carried latency mount)

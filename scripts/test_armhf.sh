@@ -32,7 +32,7 @@ subset=(
   test_core test_drivers test_eval test_mesh
   test_pipeline test_default_config test_opencl_select test_opencl_noplatform
   test_controller test_reloc test_runtime test_run_full_disk test_map_slabs test_map_store test_odometry_track
-  test_odometry_fusion test_odometry_calibration test_wheel_faults test_navmap
+  test_odometry_fusion test_odometry_calibration test_wheel_faults test_mount_floor test_navmap
   test_power_ledger test_power_meters test_power_io test_power_sampler
   test_report test_report_odometry
   test_daemon_config test_protocol test_protocol_golden test_socket_server test_socket_rate_limit

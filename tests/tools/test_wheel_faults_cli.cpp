@@ -92,9 +92,11 @@ TEST_CASE("a stall with spinning wheels: the view holds, the wheels are slipping
 TEST_CASE("a camera mount measured 2 degrees off: the way back after a U-turn is not levelled to the wrong tilt",
           "[odometry][system]") {
   // The odometry's tilt is absolute only up to the mount it assumes: after a U-turn a mount off by e tilts the
-  // odometry's camera by 2e. Held to it (mount_sigma_deg 0: the mount taken as exact, as before 2026-12-07) the
-  // map leaned and the way back climbed: `good` frames more than 0.5 m off. With the mount's sigma, a frame is
-  // levelled only by an anchor at its own heading (odometry/motion_model.h TiltAnchor).
+  // odometry's camera by 2e. Held to it (mount_sigma_deg 0: the mount taken as exact and not learnt, as before
+  // 2026-12-07) the map leaned and the way back climbed: `good` frames more than 0.5 m off. With the mount's sigma,
+  // a frame is levelled only by an anchor at its own heading (odometry/motion_model.h TiltAnchor), and the mount's
+  // tilt is learnt from the floor the view shows on the first straight (odometry/floor_up.h): the true tilt error
+  // here is 1.80 degrees (-1.5 about the optical axis, -1 about x).
   const std::string dir = sb::test::scratchDir("test_wheel_faults_cli_mount");
   const auto synth = runCommand(kTool + " synth --out " + dir + "/drive --scene corridor --stress drive --seed 37" +
                                 " --width 320 --height 240 --fx 240.6 --fy 240 --threads 1 --overwrite" +
@@ -119,6 +121,10 @@ TEST_CASE("a camera mount measured 2 degrees off: the way back after a U-turn is
   const Verdict anchored = judge(dir + "/sigma", truth, 0.5);
   INFO("worst good frame " << anchored.worstGoodM << " m (mount exact: " << held.worstGoodM << " m)");
   CHECK(anchored.goodOff == 0);
+  const nlohmann::json odometry = sb::test::readJson(dir + "/sigma/summary.json").at("odometry");
+  INFO(odometry.dump());
+  CHECK(odometry.at("mount_learnt_from") == "floor");
+  CHECK(odometry.at("mount_error_deg").get<double>() == Approx(1.80).margin(0.25));
 }
 
 TEST_CASE("wrong wheels the view can take over from: every frame posed, none good off, the wheels slipping",
