@@ -49,6 +49,12 @@ double MountCalibration::sigmaDeg(double priorDeg) const {
   return std::min(priorDeg, kSignificance * standardError_ / kDegToRad);
 }
 
+void MountCalibration::restore(const State& s) {
+  viewSum_ = s.viewSum, wheelSum_ = s.wheelSum, diffSum_ = s.diffSum;
+  diffSquares_ = s.diffSquares, weights_ = s.weights, weightSquares_ = s.weightSquares;
+  turnRad_ = s.turnRad, standardError_ = s.standardError, correction_ = s.correction;
+}
+
 double MountCalibration::errorDeg() const { return Eigen::AngleAxisd(correction_).angle() / kDegToRad; }
 
 }  // namespace sb::odometry

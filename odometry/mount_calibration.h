@@ -36,6 +36,18 @@ class MountCalibration {
   // kMinTurnDeg of turning is seen, then the significance bound of what was learnt, at most `priorDeg`.
   double sigmaDeg(double priorDeg) const;
 
+  // What was learnt, whole (a map store keeps it for the next run, runtime/kept_odometry.h).
+  struct State {
+    Eigen::Vector3d viewSum = Eigen::Vector3d::Zero(), wheelSum = Eigen::Vector3d::Zero();
+    Eigen::Vector3d diffSum = Eigen::Vector3d::Zero();
+    double diffSquares = 0.0, weights = 0.0, weightSquares = 0.0, turnRad = 0.0, standardError = 0.0;
+    Eigen::Matrix3d correction = Eigen::Matrix3d::Identity();
+  };
+  State state() const {
+    return {viewSum_, wheelSum_, diffSum_, diffSquares_, weights_, weightSquares_, turnRad_, standardError_, correction_};
+  }
+  void restore(const State& s);
+
  private:
   static constexpr double kMinStepDeg = 0.5;   // per frame: below, the axis is ICP's noise
   static constexpr double kMaxAxisDeg = 5.0;   // the two axes further apart: not the same turn
