@@ -67,6 +67,15 @@ void CommittedVotes::drain() {
   }
 }
 
+void CommittedVotes::seed(const GridVotes& grid, const VolumeVotes& cells) {
+  drain();
+  std::lock_guard lock(mutex_);
+  grid_.merge(grid);
+  cells_.merge(cells);
+  stats_.cells = cells_.size();
+  stats_.gridBytes = grid_.bytes();
+}
+
 CommittedStats CommittedVotes::stats() const {
   std::lock_guard lock(mutex_);
   return stats_;

@@ -59,6 +59,9 @@ class CommittedVotes {
   const GridVotes& grid() const { return grid_; }
   const VolumeVotes& cells() const { return cells_; }
   CommittedStats stats() const;
+  // Adds an earlier run's votes (a map store, navmap/kept_votes.h) to the committed ones; waits for the worker
+  // first. By the thread that queues.
+  void seed(const GridVotes& grid, const VolumeVotes& cells);
 
  private:
   struct Job {

@@ -43,6 +43,13 @@ class GridVotes {
   // The cells' bounds (inclusive), false when empty.
   bool bounds(int64_t& minX, int64_t& minY, int64_t& maxX, int64_t& maxY) const;
   size_t bytes() const { return chunks_.size() * sizeof(Chunk); }
+  // The chunks, f(cx, cy, chunk) with chunk (cx, cy) holding cells cx * kChunk .. cx * kChunk + kChunk - 1 (x)
+  // and likewise y, cell (x, y) at chunk[y * kChunk + x]; in no particular order (a map store, kept_votes.h).
+  template <typename F>
+  void forEachChunk(F&& f) const {
+    for (const auto& [k, c] : chunks_) f(int32_t(uint32_t(k >> 32)), int32_t(uint32_t(k & 0xffffffffu)), c);
+  }
+  Chunk& chunk(int32_t cx, int32_t cy) { return chunks_[key(cx, cy)]; }
 
  private:
   static uint64_t key(int64_t cx, int64_t cy) { return (uint64_t(uint32_t(cx)) << 32) | uint32_t(cy); }

@@ -87,6 +87,27 @@ OccupancyImage NavMap::write(const std::string& dir, const VoxelBox* volume) {
   return image;
 }
 
+void NavMap::restore(const KeptVotes& kept) {
+  frame_ = kept.frame;
+  committed_->seed(kept.grid, kept.cells);
+}
+
+KeptVotes NavMap::kept(const VoxelBox* volume) const {
+  if (!frame_) throw Error("navmap: no map frame to keep the map in");
+  committed_->drain();
+  KeptVotes out;
+  out.frame = *frame_;
+  out.grid = committed_->grid();
+  out.cells = committed_->cells();
+  if (volume) {
+    VoxelBox b = *volume;
+    b.muM = muM_;
+    voteGrid(b, frame_->T_world_to_map, config_, out.grid);
+    voteVolume(b, frame_->T_world_to_map, config_, out.cells);
+  }
+  return out;
+}
+
 NavMapStats NavMap::stats() const {
   NavMapStats s = stats_;
   const CommittedStats c = committed_->stats();

@@ -23,6 +23,7 @@
 
 #include "navmap/committed_votes.h"
 #include "navmap/grid_votes.h"
+#include "navmap/kept_votes.h"
 #include "navmap/map_files.h"
 #include "navmap/map_frame.h"
 #include "navmap/navmap_config.h"
@@ -65,6 +66,14 @@ class NavMap {
   // atomically; `volume` (or nullptr) is refreshed first and adds its 3D cells to map.bt. Needs the frame.
   // Throws sb::Error naming a file.
   OccupancyImage write(const std::string& dir, const VoxelBox* volume);
+
+  // An earlier run's map kept in a map store (navmap/kept_votes.h): its frame becomes this map's and its votes
+  // are counted with the committed ones.
+  void restore(const KeptVotes& kept);
+  // The map's state to keep: the frame (needed) and every vote so far, committed and, with `volume`, the
+  // volume's (read now; nullptr: the committed votes only, the volume's map is kept at the end). Waits for the
+  // worker.
+  KeptVotes kept(const VoxelBox* volume) const;
 
   const NavMapConfig& config() const { return config_; }
   NavMapStats stats() const;

@@ -113,7 +113,34 @@ VoxelBox slabBox(const VolumeSlab& slab) {
 void NavMapSink::onSlab(std::shared_ptr<const VolumeSlab> slab) {
   const VoxelBox box = slabBox(*slab);
   const size_t bytes = slab->bytes();
-  if (!map_.queueCommitted(box, std::move(slab), bytes)) ++slabsBeforeUp_;
+  if (!map_.queueCommitted(box, std::move(slab), bytes))
+    ++slabsBeforeUp_;
+  else
+    ++slabsQueued_;
+}
+
+std::vector<uint8_t> NavMapSink::keptState(Pipeline& pipeline, bool final) {
+  if (!map_.frame()) return {};
+  const VoxelBox volume = volumeBox(pipeline);
+  const KeptVotes kept = map_.kept(final ? &volume : nullptr);
+  keptSlabs_ = map_.stats().slabs;
+  return encodeKeptVotes(kept, map_.config());
+}
+
+bool NavMapSink::keptStateChanged() const {
+  const size_t voted = map_.stats().slabs;  // never waits: the worker's count so far
+  return map_.frame() && voted == slabsQueued_ && voted != keptSlabs_;
+}
+
+void NavMapSink::restoreState(const std::vector<uint8_t>& payload, const std::string& path) {
+  KeptVotes kept = decodeKeptVotes(payload, path, map_.config());
+  const std::string first = kept.frame.source;
+  kept.frame.source = "the map store's (" + path + "), first from the " + first;
+  if (first.rfind("the map store's", 0) == 0) kept.frame.source = first;  // kept through several runs: said once
+  map_.restore(kept);
+  restoredFrom_ = path;
+  why_.clear();
+  spdlog::info("navmap: the map frame and votes from '{}': the map continues in the store's frame", path);
 }
 
 void NavMapSink::write(const std::string& dir, Pipeline& pipeline) {
@@ -135,6 +162,7 @@ nlohmann::json NavMapSink::summaryJson() const {
     return j;
   }
   j["up"] = map_.frame()->source;
+  j["kept_map"] = restoredFrom_.empty() ? nlohmann::json(nullptr) : nlohmann::json(restoredFrom_);
   j["slabs"] = s.slabs;
   j["slabs_before_up"] = slabsBeforeUp_;
   j["refreshes"] = s.refreshes;

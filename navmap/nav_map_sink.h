@@ -33,6 +33,10 @@ class NavMapSink : public MapSink {
   void onSlab(std::shared_ptr<const VolumeSlab> slab) override;
   void write(const std::string& dir, Pipeline& pipeline) override;
   nlohmann::json summaryJson() const override;
+  // The frame and the votes kept in a map store (navmap/kept_votes.h).
+  std::vector<uint8_t> keptState(Pipeline& pipeline, bool final) override;
+  bool keptStateChanged() const override;
+  void restoreState(const std::vector<uint8_t>& payload, const std::string& path) override;
 
   // The hook for odometry (the fusion calls it with one frame's two poses, before or instead of a mount):
   // the map frame becomes the odometry frame (mapFrameFromOdometry). Ignored once a frame is set.
@@ -57,6 +61,9 @@ class NavMapSink : public MapSink {
   Eigen::Isometry3d firstPose_ = Eigen::Isometry3d::Identity();  // the floor fit's frame
   std::vector<Eigen::Vector3d> floorPoints_;                      // until the floor fit
   std::string why_;
+  size_t slabsQueued_ = 0;           // handed to the map's worker
+  size_t keptSlabs_ = 0;             // voted at the last keptState
+  std::string restoredFrom_;         // the store's file the map continues from ("" when none)
 };
 
 }  // namespace sb::navmap

@@ -77,6 +77,19 @@ double MountCalibration::sigmaDeg(double priorDeg) const {
   return std::min(priorDeg, kSignificance * standardError_ / kDegToRad);
 }
 
+void MountCalibration::restore(const State& s) {
+  viewSum_ = s.viewSum, wheelSum_ = s.wheelSum, diffSum_ = s.diffSum;
+  diffSquares_ = s.diffSquares, weights_ = s.weights, weightSquares_ = s.weightSquares;
+  turnRad_ = s.turnRad, standardError_ = s.standardError, correction_ = s.correction;
+  // The floor's frames are not kept, only their count: a mount learnt from 300 floors stands; one learnt from fewer
+  // is learnt again from this run's floors (the frames already read are gone).
+  floorUps_.clear();
+  floorFrames_ = s.fromFloor ? static_cast<size_t>(s.floorFrames) : 0;
+  if (floorFrames_ < kEnoughFloorFrames) floorFrames_ = 0;
+  floorSpreadRad_ = s.floorSpreadRad;
+  fromFloor_ = s.fromFloor;
+}
+
 double MountCalibration::errorDeg() const { return Eigen::AngleAxisd(correction_).angle() / kDegToRad; }
 
 }  // namespace sb::odometry

@@ -21,6 +21,7 @@
 // a degree or more). Where no floor is seen (a view into a wall, a scene without one) the turns decide as before.
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <vector>
 
 #include "odometry/odometry_fusion.h"
@@ -50,6 +51,23 @@ class MountCalibration {
   // How far the mount's tilt may still be off (degrees): `priorDeg` (odometry_config.h mount_sigma_deg) until
   // kMinTurnDeg of turning is seen, then the significance bound of what was learnt, at most `priorDeg`.
   double sigmaDeg(double priorDeg) const;
+
+  // What was learnt, whole (a map store keeps it for the next run, runtime/kept_odometry.h).
+  struct State {
+    Eigen::Vector3d viewSum = Eigen::Vector3d::Zero(), wheelSum = Eigen::Vector3d::Zero();
+    Eigen::Vector3d diffSum = Eigen::Vector3d::Zero();
+    double diffSquares = 0.0, weights = 0.0, weightSquares = 0.0, turnRad = 0.0, standardError = 0.0;
+    Eigen::Matrix3d correction = Eigen::Matrix3d::Identity();
+    // The floor's part: the frames read (kEnoughFloorFrames: no more are), their spread, whether it decided.
+    int32_t floorFrames = 0;
+    double floorSpreadRad = 0.0;
+    bool fromFloor = false;
+  };
+  State state() const {
+    return {viewSum_, wheelSum_, diffSum_, diffSquares_, weights_, weightSquares_, turnRad_, standardError_,
+            correction_, static_cast<int32_t>(floorFrames_), floorSpreadRad_, fromFloor_};
+  }
+  void restore(const State& s);
 
  private:
   static constexpr double kMinStepDeg = 0.5;   // per frame: below, the axis is ICP's noise

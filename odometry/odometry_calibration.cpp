@@ -50,6 +50,14 @@ OdometryCalibration::OdometryCalibration(const OdometryConfig& config)
   yawInfo_ << 1.0 / (kYawScalePrior * kYawScalePrior), 0.0, 0.0, 1.0 / (kYawBiasPrior * kYawBiasPrior);
 }
 
+void OdometryCalibration::restore(const CalibrationState& s) {
+  scaleInfo_ = s.scaleInfo;
+  scaleVec_ = s.scaleVec;
+  yawInfo_ = s.yawInfo;
+  yawVec_ = s.yawVec;
+  frames_ = s.frames;
+}
+
 OdometryCalibration::Excess OdometryCalibration::excess() const {
   Excess x;
   x.scale = std::clamp(scaleVec_ / scaleInfo_, -kBound * kScalePrior, kBound * kScalePrior);

@@ -34,6 +34,15 @@ struct CalibrationEstimate {
   int frames = 0;             // frames that brought evidence
 };
 
+// What the estimate has learnt, whole: the information (inverse covariance) of the wheels' excess reading and
+// its information vector, the prior's included (a map store keeps it for the next run, runtime/kept_odometry.h).
+struct CalibrationState {
+  double scaleInfo = 0.0, scaleVec = 0.0;
+  Eigen::Matrix2d yawInfo = Eigen::Matrix2d::Zero();  // of (yawScale, yawBias)
+  Eigen::Vector2d yawVec = Eigen::Vector2d::Zero();
+  int frames = 0;
+};
+
 class OdometryCalibration {
  public:
   explicit OdometryCalibration(const OdometryConfig& config);
@@ -45,6 +54,9 @@ class OdometryCalibration {
              const OdometryStep& raw);
   CalibrationEstimate estimate() const;
   bool enabled() const { return config_.calibrationWindowM > 0.0; }
+  // The learnt state, and a start from one (an earlier run's: its evidence fades as this run's comes in).
+  CalibrationState state() const { return {scaleInfo_, scaleVec_, yawInfo_, yawVec_, frames_}; }
+  void restore(const CalibrationState& s);
 
  private:
   // Internally the wheels' reading exceeds the truth by a fraction of the reading: truth = reading * (1 - scale),

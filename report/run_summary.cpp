@@ -154,6 +154,12 @@ void fieldsOf(OdometrySummary& o, Field field) {
   field("mount_floor_frames", o.mountFloorFrames);
   field("time_offset_s", o.timeOffsetS);
   field("time_offset_learnt", o.timeOffsetLearnt);
+  field("calibration_from", o.calibrationFrom);
+  field("start_scale_error", o.startScaleError);
+  field("start_yaw_scale_error", o.startYawScaleError);
+  field("start_yaw_bias_deg_per_s", o.startYawBiasDegPerS);
+  field("start_calibration_frames", o.startCalibrationFrames);
+  field("start_mount_error_deg", o.startMountErrorDeg);
 }
 
 template <typename Field>

@@ -82,6 +82,11 @@ struct OdometrySummary {
   // whether the turns' evidence moved it from odometry.time_offset_s.
   double timeOffsetS = 0.0;
   bool timeOffsetLearnt = false;
+  // The run started from the calibration an earlier run kept in its map store (runtime/kept_odometry.h): the
+  // file, and the values it started with (absent: the prior, all zero).
+  std::optional<std::string> calibrationFrom{};
+  std::optional<double> startScaleError{}, startYawScaleError{}, startYawBiasDegPerS{}, startMountErrorDeg{};
+  std::optional<size_t> startCalibrationFrames{};
 };
 
 struct StoppedSummary {  // `run --stop-after-ms` stopped the run ("stopped")

@@ -7,6 +7,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "drivers/frame_source.h"
 #include "pipeline/pipeline.h"
@@ -27,6 +28,16 @@ class MapSink {
   virtual void write(const std::string& dir, Pipeline& pipeline) = 0;
   // summary.json's "navmap" (what was made, or why not; its cost).
   virtual nlohmann::json summaryJson() const = 0;
+
+  // The map kept in a map store (runtime/map_store.h, navmap.bin; issue 55). The payload to keep, empty when
+  // there is nothing to keep (no map frame yet): at the end of a run (`final`) with the volume's map, else what
+  // left the volume so far. None by default.
+  virtual std::vector<uint8_t> keptState(Pipeline& /*pipeline*/, bool /*final*/) { return {}; }
+  // Whether there is more to keep than at the last keptState, known without waiting (a slab's votes are in).
+  virtual bool keptStateChanged() const { return false; }
+  // An earlier run's kept payload (read from `path`): the map continues from it, in its frame. Throws sb::Error
+  // naming `path` when it cannot (a malformed payload, other settings).
+  virtual void restoreState(const std::vector<uint8_t>& /*payload*/, const std::string& /*path*/) {}
 };
 
 }  // namespace sb

@@ -12,6 +12,7 @@
 #include "core/atomic_file.h"
 #include "core/config_reader.h"
 #include "core/error.h"
+#include "runtime/map_store_bytes.h"
 
 namespace sb {
 
@@ -116,6 +117,12 @@ void MapStore::openExisting() {
   const std::string keyframes = dir_ + "/keyframes.bin";
   std::error_code ec;
   if (fs::exists(keyframes, ec)) keptKeyframes_ = mapstore::readKeyframes(keyframes);
+  for (const mapstore::StateFile* file : {&mapstore::kNavmapFile, &mapstore::kOdometryFile}) {
+    const std::string path = statePath(*file);
+    if (fs::exists(path, ec))
+      keptStates_[file->name] =
+          mapstore::stateFilePayload(path, mapstore::readFileBytes(path, file->what), file->magic, file->what);
+  }
   static const std::regex slabName("slab-([0-9]{6,})\\.tsdf");
   if (!fs::is_directory(dir_ + "/slabs", ec))
     throw Error("map store: '" + dir_ + "/slabs' is missing: the store is incomplete; give another --map-store");
@@ -329,6 +336,18 @@ void MapStore::saveKeyframes(const KeyframeDatabase& keyframes) {
   keyframesSaved_ = all.size();
 }
 
+const std::vector<uint8_t>* MapStore::keptState(const mapstore::StateFile& file) const {
+  const auto it = keptStates_.find(file.name);
+  return it == keptStates_.end() ? nullptr : &it->second;
+}
+
+void MapStore::saveState(const mapstore::StateFile& file, const std::vector<uint8_t>& payload) {
+  if (!writing_ || inMemory() || payload.empty()) return;
+  const std::vector<uint8_t> bytes = mapstore::encodeStateFile(file.magic, payload);
+  writeBytes(statePath(file), bytes);
+  savedStates_[file.name] = bytes.size();
+}
+
 void MapStore::keepVolume(const VolumeWindow& window, BackendVolume& volume) {
   if (!writing_) return;
   const int r = config_.volumeResolution;
@@ -368,10 +387,13 @@ nlohmann::json MapStore::summaryJson() const {
                       {"slab_bytes", slabBytes_},
                       {"slab_files_removed", removedFiles_},
                       {"keyframes_saved", keyframesSaved_},
+                      {"state_files_kept", nlohmann::json::array()},
+                      {"state_files_saved", savedStates_},
                       {"placements", placements_},
                       {"swap_ins", swapIns_},
                       {"load_ms", loadMs_},
                       {"worker_ms", workerMs_}};
+  for (const auto& [name, payload] : keptStates_) j["state_files_kept"].push_back(name);
   j["localised_frame"] = localisedFrame_ ? nlohmann::json(*localisedFrame_) : nlohmann::json(nullptr);
   j["localised_s"] = localisedFrame_ ? nlohmann::json(localisedStamp_) : nlohmann::json(nullptr);
   return j;

@@ -3,6 +3,8 @@
 // A store directory holds
 //   format.json        the format's name and version, and the voxel size and truncation its TSDF was made with
 //   keyframes.bin      the relocaliser's keyframes: fern codes and poses in the store's frame
+//   navmap.bin         the navigation map's frame and votes (navmap/kept_votes.h)
+//   odometry.bin       the wheels' learnt calibration (runtime/kept_odometry.h)
 //   slabs/slab-NNNNNN.tsdf  the TSDF that left the moving volume, and the final volume of each run, in the
 //                      world's voxel grid, run-length coded (runtime/map_store_format.h)
 // Every file is written aside and renamed over its name (core/atomic_file.h): a killed run leaves the store
@@ -32,6 +34,7 @@
 #include <cstdint>
 #include <deque>
 #include <exception>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -94,6 +97,12 @@ class MapStore {
               BackendVolume& volume);
   // A slab that left the volume (VolumeWindow's slab listener): queued for the worker. Nothing unless writing.
   void addSlab(std::shared_ptr<const VolumeSlab> slab);
+  // The payload of a state file (navmap.bin, odometry.bin) as the store held it when opened (checked then),
+  // nullptr when it has none.
+  const std::vector<uint8_t>* keptState(const mapstore::StateFile& file) const;
+  std::string statePath(const mapstore::StateFile& file) const { return dir_ + "/" + file.name; }
+  // Writes a state file (atomically). Nothing unless writing, in memory, or for an empty payload.
+  void saveState(const mapstore::StateFile& file, const std::vector<uint8_t>& payload);
   // Rewrites keyframes.bin from the relocaliser's database (the store's kept keyframes were seeded into it).
   void saveKeyframes(const KeyframeDatabase& keyframes);
   // The end of a run: the final volume as a slab, the keyframes, every slab written. Nothing unless writing.
@@ -149,6 +158,8 @@ class MapStore {
   size_t nextNumber_ = 0;
   uint64_t slabBytes_ = 0, removedFiles_ = 0, removedBytes_ = 0;
   size_t keyframesSaved_ = 0;
+  std::map<std::string, std::vector<uint8_t>> keptStates_;  // state files at open: name -> payload
+  std::map<std::string, uint64_t> savedStates_;              // state files written by this run: name -> bytes
   double workerMs_ = 0.0;
 };
 

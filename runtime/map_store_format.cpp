@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "core/input_file.h"
+#include "runtime/map_store_bytes.h"
 
 namespace sb::mapstore {
 
@@ -17,74 +18,10 @@ constexpr size_t kSlabHeaderBytes = 8 + 4 + 12 + 12 + 8 + 8;
 constexpr size_t kKeyframeHeaderBytes = 8 + 4 + 4 + 4 + 8 + 8;
 constexpr int kMaxExtent = 1 << 14;         // voxels per axis of one slab: far beyond any volume
 
-// Little-endian writer and reader of fixed-size fields (the host's byte order is never assumed).
-struct Writer {
-  std::vector<uint8_t> bytes;
-  void u32(uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes.push_back(uint8_t(v >> (8 * i)));
-  }
-  void u64(uint64_t v) {
-    for (int i = 0; i < 8; ++i) bytes.push_back(uint8_t(v >> (8 * i)));
-  }
-  void i16(int16_t v) {
-    const auto u = static_cast<uint16_t>(v);
-    bytes.push_back(uint8_t(u));
-    bytes.push_back(uint8_t(u >> 8));
-  }
-  void f64(double v) {
-    uint64_t u;
-    std::memcpy(&u, &v, sizeof u);
-    u64(u);
-  }
-  void raw(const void* data, size_t n) {
-    const auto* p = static_cast<const uint8_t*>(data);
-    bytes.insert(bytes.end(), p, p + n);
-  }
-};
+using Writer = ByteWriter;
+using Reader = ByteReader;
 
-struct Reader {
-  const std::string& path;
-  const std::vector<uint8_t>& bytes;
-  size_t at = 0;
-  void need(size_t n) const {
-    if (bytes.size() - at < n)
-      throw Error("map store: '" + path + "' is truncated (" + std::to_string(bytes.size()) +
-                  " bytes); it is not a complete store file: move it away or give another --map-store");
-  }
-  uint32_t u32() {
-    need(4);
-    uint32_t v = 0;
-    for (int i = 0; i < 4; ++i) v |= uint32_t(bytes[at + size_t(i)]) << (8 * i);
-    at += 4;
-    return v;
-  }
-  uint64_t u64() {
-    need(8);
-    uint64_t v = 0;
-    for (int i = 0; i < 8; ++i) v |= uint64_t(bytes[at + size_t(i)]) << (8 * i);
-    at += 8;
-    return v;
-  }
-  int16_t i16() {
-    need(2);
-    const auto v = static_cast<uint16_t>(bytes[at] | (bytes[at + 1] << 8));
-    at += 2;
-    return static_cast<int16_t>(v);
-  }
-  double f64() {
-    const uint64_t u = u64();
-    double v;
-    std::memcpy(&v, &u, sizeof v);
-    return v;
-  }
-};
-
-std::vector<uint8_t> readAll(const std::string& path, const std::string& what) {
-  InputFile in(path, what);
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error("map store: cannot read '" + path + "'");
-  return bytes;
-}
+std::vector<uint8_t> readAll(const std::string& path, const std::string& what) { return readFileBytes(path, what); }
 
 // Checks the magic and version and, once the header is read, the payload's size and checksum.
 void checkMagic(Reader& r, const char (&magic)[8], const char* what) {
@@ -136,6 +73,38 @@ uint64_t fnv1a64(const uint8_t* data, size_t bytes) {
   uint64_t h = 0xcbf29ce484222325ull;
   for (size_t i = 0; i < bytes; ++i) h = (h ^ data[i]) * 0x100000001b3ull;
   return h;
+}
+
+void ByteReader::need(size_t n) const {
+  if (bytes.size() - at < n)
+    throw Error("map store: '" + path + "' is truncated (" + std::to_string(bytes.size()) +
+                " bytes); it is not a complete store file: move it away or give another --map-store");
+}
+
+std::vector<uint8_t> readFileBytes(const std::string& path, const std::string& what) {
+  InputFile in(path, what);
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error("map store: cannot read '" + path + "'");
+  return bytes;
+}
+
+std::vector<uint8_t> encodeStateFile(const char (&magic)[8], const std::vector<uint8_t>& payload) {
+  Writer out;
+  out.raw(magic, 8);
+  out.u32(kFormatVersion);
+  out.u64(payload.size());
+  out.u64(fnv1a64(payload.data(), payload.size()));
+  out.raw(payload.data(), payload.size());
+  return std::move(out.bytes);
+}
+
+std::vector<uint8_t> stateFilePayload(const std::string& path, const std::vector<uint8_t>& bytes,
+                                      const char (&magic)[8], const char* what) {
+  Reader r{path, bytes};
+  checkMagic(r, magic, what);
+  const uint64_t payload = r.u64(), checksum = r.u64();
+  checkPayload(r, payload, checksum);
+  return std::vector<uint8_t>(bytes.begin() + std::ptrdiff_t(r.at), bytes.end());
 }
 
 bool SlabBox::intersects(const SlabBox& o) const {

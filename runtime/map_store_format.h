@@ -12,6 +12,9 @@
 // The keyframe file (keyframes.bin): "SBKEYF\n\0", u32 version, u32 keyframes, u32 fern codes per keyframe,
 // u64 payload bytes, u64 checksum, payload: per keyframe u64 frame, f64 pose[12] (T_camera_to_world, the
 // store's frame, rows of the 3x4 matrix), u8 codes[ferns].
+// A state file (runtime/map_store_bytes.h): magic, u32 version, u64 payload bytes, u64 checksum, payload:
+//   navmap.bin    "SBNAVV\n\0": the navigation map's frame and votes (navmap/kept_votes.h)
+//   odometry.bin  "SBODOM\n\0": the wheels' learnt calibration (runtime/kept_odometry.h)
 
 #include <array>
 #include <cstdint>
@@ -24,6 +27,16 @@
 namespace sb::mapstore {
 
 constexpr uint32_t kFormatVersion = 1;
+
+// The store's state files: their names and magics.
+struct StateFile {
+  const char* name;
+  char magic[8];
+  const char* what;  // for a message
+};
+inline constexpr StateFile kNavmapFile{"navmap.bin", {'S', 'B', 'N', 'A', 'V', 'V', '\n', '\0'}, "map store navigation map"};
+inline constexpr StateFile kOdometryFile{"odometry.bin", {'S', 'B', 'O', 'D', 'O', 'M', '\n', '\0'},
+                                         "map store odometry calibration"};
 
 uint64_t fnv1a64(const uint8_t* data, size_t bytes);
 

@@ -90,81 +90,6 @@ Run::Run(std::unique_ptr<Pipeline> pipeline, std::unique_ptr<Controller> control
   }
 }
 
-// Where a restarted robot, or one set down in the run, is tried besides each keyframe: along its view, metres
-// (nearest first).
-constexpr std::array<double, 4> kKeptMapViewOffsetsM = {0.25, -0.25, 0.5, -0.5};
-// A run writing a store, or keeping its slabs in memory, keeps a keyframe at least every this many metres (or 30
-// degrees) of its path: a robot set down anywhere on it stands within the view offsets above of one.
-constexpr double kKeptMapKeyframeSpacingM = 0.5;
-
-void Run::startMapStore(const RunOutputs& outputs) {
-  const PipelineConfig& config = pipeline_->config();
-  if (!outputs.mapStore.empty()) {
-    mapStore_ = std::make_unique<MapStore>(outputs.mapStore, config, outputs.mapStoreOptions);
-  } else if (pipeline_->volumeWindow() && config.relocalise && config.relocaliseKeptMapMib > 0) {
-    // An ordinary run keeps the slabs that leave its volume in memory, for its own relocalisation (no file).
-    mapStore_ = MapStore::inMemory(config, uint64_t(config.relocaliseKeptMapMib) << 20);
-  } else {
-    return;
-  }
-  runner_.monitor().setKeyframeSpacing(kKeptMapKeyframeSpacingM);
-  VolumeWindow& window = *pipeline_->volumeWindow();  // MapStore refuses a fixed volume
-  if (mapStore_->kept()) {
-    // Localising first: nothing fused, the volume placed and filled from the store for each candidate and held
-    // there (the held pose is in no frame of the store) until one is confirmed.
-    pipeline_->skipBootstrap();
-    window.setHeld(true);
-    runner_.monitor().startInKeptMap(
-        mapStore_->keptKeyframes(),
-        [this, &window](const Eigen::Isometry3d& pose) {
-          return mapStore_->placeFor(pose, window, pipeline_->backend());
-        },
-        {kKeptMapViewOffsetsM.begin(), kKeptMapViewOffsetsM.end()});
-  }
-  window.setEnterListener([this, &window](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
-    mapStore_->swapIn(first, extent, window, pipeline_->backend());
-  });
-  // Lost in the run (a kidnap, a long failure): candidates anywhere on the kept map, the volume placed for each
-  // (stepMapStore keeps the volume and holds the window first).
-  runner_.monitor().setRecoveryPrepare(
-      [this, &window](const Eigen::Isometry3d& pose) {
-        return !recoveringOverStore_ || mapStore_->placeFor(pose, window, pipeline_->backend());
-      },
-      {kKeptMapViewOffsetsM.begin(), kKeptMapViewOffsetsM.end()});
-  outputs_.summary->header().mapStore = mapStore_->summaryJson();
-}
-
-void Run::stepMapStore(const FrameRecord& rec) {
-  mapStore_->nextFrame();
-  if (!mapStore_->writing() && !runner_.monitor().localisingInKeptMap()) {
-    mapStore_->localised(rec.result.frame, rec.result.timestamp);
-    pipeline_->volumeWindow()->setHeld(false);
-  }
-  // Lost in the run: before the first placement the volume's map (not yet left as slabs) is kept too (placeFor),
-  // and the window is held where the relocaliser places it (follow() would bring it back to the held pose) until a
-  // candidate is confirmed; from then on the run maps as always, from the volume placed there.
-  const TrackingMonitor& monitor = runner_.monitor();
-  const bool recovering = monitor.recovering() && !monitor.localisingInKeptMap() && mapStore_->writing() &&
-                          pipeline_->config().relocalise;
-  if (recovering && !recoveringOverStore_) {
-    mapStore_->recoveryStarted(*pipeline_->volumeWindow());
-    pipeline_->volumeWindow()->setHeld(true);
-    recoveringOverStore_ = true;
-  } else if (!recovering && recoveringOverStore_) {
-    pipeline_->volumeWindow()->setHeld(false);
-    recoveringOverStore_ = false;
-  }
-  keyframesDirty_ = keyframesDirty_ || rec.keyframeAdded;
-  // keyframes.bin at most once a second of frames (30): a killed run loses at most that many new keyframes.
-  constexpr size_t kKeyframeSaveFrames = 30;
-  if (keyframesDirty_ && mapStore_->writing() && rec.result.frame >= keyframesSavedAt_ + kKeyframeSaveFrames) {
-    mapStore_->saveKeyframes(runner_.monitor().relocaliser().keyframes());
-    keyframesSavedAt_ = rec.result.frame;
-    keyframesDirty_ = false;
-  }
-  outputs_.summary->header().mapStore = mapStore_->summaryJson();
-}
-
 FrameRecord Run::step(const DepthFrame& frame) {
   // The odometry's counts in the summary, before the frame's sinks write it.
   RunSummary& header = outputs_.summary->header();
@@ -243,8 +168,9 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
   const std::filesystem::path out(dir_);
   if (mapSlabs_) attempt([&] { mapSlabs_->drain(); });  // every slab on disk (a failed one is reported here)
   if (mapStore_)
-    attempt([&] {  // the final volume and the keyframes into the store (when localised in it, or new)
+    attempt([&] {  // the final volume, the keyframes, the map's and the wheels' state into the store
       mapStore_->finish(*pipeline_->volumeWindow(), pipeline_->backend(), runner_.monitor().relocaliser().keyframes());
+      keepStoreState(/*final=*/true);
       summary.mapStore = mapStore_->summaryJson();
     });
   if (!end.modelView.empty())

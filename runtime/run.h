@@ -106,6 +106,8 @@ class Run {
   void record(const std::vector<power::FrameEnergy>& results);
   void startMapStore(const RunOutputs& outputs);  // in the constructor
   void stepMapStore(const FrameRecord& rec);      // after each frame
+  void restoreStoreState();                       // a kept store's navmap.bin and odometry.bin, at the start
+  void keepStoreState(bool final);                // navmap.bin and odometry.bin into the store
 
   std::unique_ptr<Pipeline> pipeline_;
   SlamRunner runner_;
@@ -119,6 +121,7 @@ class Run {
   std::shared_ptr<MapSink> mapSink_;    // RunOutputs::mapSink
   std::unique_ptr<MapStore> mapStore_;  // RunOutputs::mapStore
   size_t keyframesSavedAt_ = 0;         // the frame keyframes.bin was last written at
+  size_t stateSavedAt_ = 0;             // the frame navmap.bin and odometry.bin were last written at
   bool recoveringOverStore_ = false;    // lost in the run: the volume kept, the window held (stepMapStore)
   bool keyframesDirty_ = false;
 };

@@ -60,6 +60,7 @@ class SlamRunner {
   size_t frames() const { return frames_; }
   const TrackingMonitor& monitor() const { return monitor_; }
   const odometry::MotionModel& motion() const { return motion_; }
+  odometry::MotionModel& motion() { return motion_; }
   TrackingMonitor& monitor() { return monitor_; }  // a kept map's start (TrackingMonitor::startInKeptMap)
   Pipeline& pipeline() { return pipeline_; }
 

@@ -141,3 +141,17 @@ TEST_CASE("floors that do not agree teach nothing", "[odometry][mount][floor]") 
   CHECK(std::string(mount.source()).empty());
   CHECK(mount.errorDeg() == 0.0);
 }
+
+TEST_CASE("a mount learnt from the floor, kept by a map store and restored, stands", "[odometry][mount][floor]") {
+  const Eigen::Vector3d up(0.0, -1.0, 0.0);
+  const Eigen::Vector3d assumed = Eigen::AngleAxisd(2.0 * kDeg, Eigen::Vector3d::UnitX()) * up;
+  MountCalibration learnt;
+  for (int i = 0; i < 320; ++i) learnt.floorSeen(up, assumed);
+  REQUIRE_FALSE(learnt.wantsFloor());
+  MountCalibration next;
+  next.restore(learnt.state());
+  CHECK(std::string(next.source()) == "floor");
+  CHECK_FALSE(next.wantsFloor());  // 300 floors were read: no more
+  CHECK(degreesApart(next.correction() * assumed, up) < 1e-6);
+  CHECK(next.sigmaDeg(2.0) == learnt.sigmaDeg(2.0));
+}

@@ -15,6 +15,8 @@
 // (measured: 568 of 568 frames lost; before the wheels' check it matched at frame 6 with a pair agreement of
 // 0.92), and the store is left byte for byte as it was.
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <fstream>
@@ -134,6 +136,91 @@ bool pathRefused(const std::string& out) {
          std::string::npos;
 }
 
+// A run's map.pgm with map.yaml's origin and resolution and map_frame.json's transform (navmap/map_files.h).
+struct GridMap {
+  int width = 0, height = 0;
+  double resolution = 0.0, originX = 0.0, originY = 0.0;
+  std::vector<uint8_t> cells;  // row 0 the top (the highest y): 0 occupied, 254 free, 205 unknown
+  nlohmann::json frame;
+  bool known(long x, long y) const {  // cell (x, y) from the origin, y up
+    if (x < 0 || y < 0 || x >= width || y >= height) return false;
+    return cells[size_t(height - 1 - y) * size_t(width) + size_t(x)] != 205;
+  }
+};
+GridMap gridOf(const std::string& out) {
+  GridMap g;
+  std::ifstream pgm(out + "/map.pgm", std::ios::binary);
+  std::string magic, comment;
+  std::getline(pgm, magic);
+  std::getline(pgm, comment);
+  int maxValue = 0;
+  pgm >> g.width >> g.height >> maxValue;
+  pgm.get();
+  g.cells.resize(size_t(g.width) * size_t(g.height));
+  pgm.read(reinterpret_cast<char*>(g.cells.data()), std::streamsize(g.cells.size()));
+  REQUIRE((magic == "P5" && pgm && maxValue == 255));
+  std::ifstream yaml(out + "/map.yaml");
+  for (std::string line; std::getline(yaml, line);) {
+    if (line.rfind("resolution: ", 0) == 0) g.resolution = std::stod(line.substr(12));
+    if (line.rfind("origin: [", 0) == 0) std::sscanf(line.c_str(), "origin: [%lf, %lf", &g.originX, &g.originY);
+  }
+  g.frame = readJson(out + "/map_frame.json");
+  return g;
+}
+
+// How much of `first`'s map (its known cells: free or occupied) `second`'s map knows too, by the cells' places
+// in the map frame; and `second`'s cells `first` did not know.
+struct Coverage {
+  size_t firstKnown = 0, alsoInSecond = 0, secondOnly = 0;
+  double share() const { return firstKnown ? double(alsoInSecond) / double(firstKnown) : 0.0; }
+};
+Coverage coverageOf(const GridMap& first, const GridMap& second) {
+  Coverage c;
+  const auto shift = [](double from, double to, double resolution) { return long(std::lround((from - to) / resolution)); };
+  const long dx = shift(first.originX, second.originX, second.resolution),
+             dy = shift(first.originY, second.originY, second.resolution);
+  for (long y = 0; y < first.height; ++y)
+    for (long x = 0; x < first.width; ++x)
+      if (first.known(x, y)) {
+        ++c.firstKnown;
+        c.alsoInSecond += second.known(x + dx, y + dy);
+      }
+  for (long y = 0; y < second.height; ++y)
+    for (long x = 0; x < second.width; ++x) c.secondOnly += second.known(x, y) && !first.known(x - dx, y - dy);
+  return c;
+}
+
+// Run 2, continued in run 1's store, writes the map of both runs in one frame: map_frame.json run 1's, map.pgm
+// knowing at least 95% of run 1's known cells (its own drive covers a part of them); and its wheels started from
+// run 1's learnt calibration (summary.json's odometry, from odometry.bin).
+void checkContinued(const std::string& out1, const std::string& out2, const std::string& store) {
+  const GridMap g1 = gridOf(out1), g2 = gridOf(out2);
+  CHECK(g2.frame["T_world_to_map"] == g1.frame["T_world_to_map"]);
+  CHECK(g2.frame["source"].get<std::string>().find(store + "/navmap.bin") != std::string::npos);
+  CHECK(g2.resolution == g1.resolution);
+  const Coverage c = coverageOf(g1, g2);
+  INFO("run 1's map: " << g1.width << "x" << g1.height << ", " << c.firstKnown << " cells known, " << c.alsoInSecond
+                       << " of them in run 2's map (" << g2.width << "x" << g2.height << "), " << c.secondOnly
+                       << " of run 2's not in run 1's");
+  CHECK(c.firstKnown > 1000);
+  CHECK(c.share() >= 0.95);
+  const nlohmann::json o1 = readJson(out1 + "/summary.json")["odometry"],
+                       o2 = readJson(out2 + "/summary.json")["odometry"];
+  INFO("run 1's odometry: " << o1.dump() << "\nrun 2's: " << o2.dump());
+  CHECK(o1.value("calibration_from", std::string()).empty());
+  CHECK(o2.value("calibration_from", std::string()) == store + "/odometry.bin");
+  REQUIRE(o2.contains("start_calibration_frames"));
+  const size_t learnt = o1["calibration_frames"].get<size_t>();
+  CHECK(learnt > 0);
+  CHECK(o2["start_calibration_frames"].get<size_t>() >= learnt);  // run 1's last frame learnt after its summary
+  CHECK(o2["start_calibration_frames"].get<size_t>() <= learnt + 1);
+  // The same values but for that last frame's evidence (measured: 0.0220 and 0.0220, turns 0.0373 and 0.0359);
+  // the prior would start at 0.
+  CHECK(std::abs(o1["scale_error"].get<double>()) > 0.01);
+  CHECK(o2["start_scale_error"].get<double>() == Approx(o1["scale_error"].get<double>()).margin(5e-3));
+  CHECK(o2["start_yaw_scale_error"].get<double>() == Approx(o1["yaw_scale_error"].get<double>()).margin(5e-3));
+}
+
 }  // namespace
 
 TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run's frame; another building never",
@@ -181,8 +268,9 @@ TEST_CASE("a restart in a kept map: localised within 60 frames, in the first run
   CHECK(ate.matches + localised + 5 >= s2["frames"].get<size_t>());
   CHECK(ate.rmse < 0.10);
   CHECK(ate.max < 0.5);
-  // Mapping went on into the store.
+  // Mapping went on into the store, and the map and the wheels' calibration with it.
   CHECK(m["slab_files"].get<size_t>() > s1["map_store"]["slab_files"].get<size_t>());
+  checkContinued(first + "/out1", dir + "/out2", store);
 
   const nlohmann::json s3 = run(dir + "/other", foreign, dir + "/out3");
   INFO("another building: " << s3["map_store"].dump() << ", states " << s3["tracking_state"]["frames"].dump());
@@ -244,6 +332,8 @@ TEST_CASE("with the fault watch off: a restart localised within 60 frames in the
   INFO("run 2 in run 1's frame: rmse " << ate.rmse << " m, max " << ate.max << " m over " << ate.matches);
   CHECK(ate.rmse < 0.10);
   CHECK(ate.max < 0.5);
+  // Run 2 drives 4 m of run 1's 9 m (frames 200-319 of 0-329): its map.pgm covers the rest from the store.
+  checkContinued(first.dir + "/out1", dir + "/out2", dir + "/store");
 
   const nlohmann::json s3 = run(dir + "/seed3", dir + "/store-copy", dir + "/out3", first.extra);
   INFO("another building: " << s3["map_store"].dump());

@@ -1,0 +1,143 @@
+// A run's map store (runtime/map_store.h; issue 55): opening it, localising in a kept one, the store's part of
+// each frame, and the state the store keeps beside the TSDF and the keyframes: the navigation map's frame and
+// votes (navmap.bin, through the map sink) and the wheels' learnt calibration (odometry.bin). Run's own members
+// (runtime/run.h); run.cpp holds the rest of the run.
+#include <spdlog/spdlog.h>
+
+#include <array>
+
+#include "runtime/kept_odometry.h"
+#include "runtime/run.h"
+
+namespace sb {
+
+namespace {
+constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+}  // namespace
+
+// Where a restarted robot, or one set down in the run, is tried besides each keyframe: along its view, metres
+// (nearest first).
+constexpr std::array<double, 4> kKeptMapViewOffsetsM = {0.25, -0.25, 0.5, -0.5};
+// A run writing a store, or keeping its slabs in memory, keeps a keyframe at least every this many metres (or 30
+// degrees) of its path: a robot set down anywhere on it stands within the view offsets above of one.
+constexpr double kKeptMapKeyframeSpacingM = 0.5;
+
+void Run::startMapStore(const RunOutputs& outputs) {
+  const PipelineConfig& config = pipeline_->config();
+  if (!outputs.mapStore.empty()) {
+    mapStore_ = std::make_unique<MapStore>(outputs.mapStore, config, outputs.mapStoreOptions);
+  } else if (pipeline_->volumeWindow() && config.relocalise && config.relocaliseKeptMapMib > 0) {
+    // An ordinary run keeps the slabs that leave its volume in memory, for its own relocalisation (no file).
+    mapStore_ = MapStore::inMemory(config, uint64_t(config.relocaliseKeptMapMib) << 20);
+  } else {
+    return;
+  }
+  runner_.monitor().setKeyframeSpacing(kKeptMapKeyframeSpacingM);
+  VolumeWindow& window = *pipeline_->volumeWindow();  // MapStore refuses a fixed volume
+  if (mapStore_->kept()) {
+    // Localising first: nothing fused, the volume placed and filled from the store for each candidate and held
+    // there (the held pose is in no frame of the store) until one is confirmed.
+    pipeline_->skipBootstrap();
+    window.setHeld(true);
+    runner_.monitor().startInKeptMap(
+        mapStore_->keptKeyframes(),
+        [this, &window](const Eigen::Isometry3d& pose) {
+          return mapStore_->placeFor(pose, window, pipeline_->backend());
+        },
+        {kKeptMapViewOffsetsM.begin(), kKeptMapViewOffsetsM.end()});
+  }
+  restoreStoreState();
+  window.setEnterListener([this, &window](const std::array<int, 3>& first, const std::array<int, 3>& extent) {
+    mapStore_->swapIn(first, extent, window, pipeline_->backend());
+  });
+  // Lost in the run (a kidnap, a long failure): candidates anywhere on the kept map, the volume placed for each
+  // (stepMapStore keeps the volume and holds the window first).
+  runner_.monitor().setRecoveryPrepare(
+      [this, &window](const Eigen::Isometry3d& pose) {
+        return !recoveringOverStore_ || mapStore_->placeFor(pose, window, pipeline_->backend());
+      },
+      {kKeptMapViewOffsetsM.begin(), kKeptMapViewOffsetsM.end()});
+  outputs_.summary->header().mapStore = mapStore_->summaryJson();
+}
+
+void Run::stepMapStore(const FrameRecord& rec) {
+  mapStore_->nextFrame();
+  if (!mapStore_->writing() && !runner_.monitor().localisingInKeptMap()) {
+    mapStore_->localised(rec.result.frame, rec.result.timestamp);
+    pipeline_->volumeWindow()->setHeld(false);
+  }
+  // Lost in the run: before the first placement the volume's map (not yet left as slabs) is kept too (placeFor),
+  // and the window is held where the relocaliser places it (follow() would bring it back to the held pose) until a
+  // candidate is confirmed; from then on the run maps as always, from the volume placed there.
+  const TrackingMonitor& monitor = runner_.monitor();
+  const bool recovering = monitor.recovering() && !monitor.localisingInKeptMap() && mapStore_->writing() &&
+                          pipeline_->config().relocalise;
+  if (recovering && !recoveringOverStore_) {
+    mapStore_->recoveryStarted(*pipeline_->volumeWindow());
+    pipeline_->volumeWindow()->setHeld(true);
+    recoveringOverStore_ = true;
+  } else if (!recovering && recoveringOverStore_) {
+    pipeline_->volumeWindow()->setHeld(false);
+    recoveringOverStore_ = false;
+  }
+  keyframesDirty_ = keyframesDirty_ || rec.keyframeAdded;
+  // keyframes.bin at most once a second of frames (30): a killed run loses at most that many new keyframes.
+  constexpr size_t kKeyframeSaveFrames = 30;
+  if (keyframesDirty_ && mapStore_->writing() && rec.result.frame >= keyframesSavedAt_ + kKeyframeSaveFrames) {
+    mapStore_->saveKeyframes(runner_.monitor().relocaliser().keyframes());
+    keyframesSavedAt_ = rec.result.frame;
+    keyframesDirty_ = false;
+  }
+  // The map's votes and the wheels' calibration at most every 10 s of frames (300), the votes only once a slab's
+  // are in (never waiting for them): a killed run keeps what left its volume, as its slabs.
+  constexpr size_t kStateSaveFrames = 300;
+  if (mapStore_->writing() && !mapStore_->inMemory() && rec.result.frame >= stateSavedAt_ + kStateSaveFrames) {
+    keepStoreState(/*final=*/false);
+    stateSavedAt_ = rec.result.frame;
+  }
+  outputs_.summary->header().mapStore = mapStore_->summaryJson();
+}
+
+void Run::restoreStoreState() {
+  if (mapStore_->inMemory()) return;
+  // The map frame and the votes only for a kept store, whose frame the run localises in; a store without
+  // keyframes is a new one (its frame is this run's), and its navmap.bin is replaced.
+  const mapstore::StateFile& navmap = mapstore::kNavmapFile;
+  if (const std::vector<uint8_t>* payload = mapStore_->keptState(navmap); payload && mapSink_ && mapStore_->kept())
+    mapSink_->restoreState(*payload, mapStore_->statePath(navmap));
+  // The wheels' calibration whatever the frame: it is the base's, not the map's.
+  const mapstore::StateFile& wheels = mapstore::kOdometryFile;
+  if (const std::vector<uint8_t>* payload = mapStore_->keptState(wheels)) {
+    const std::string path = mapStore_->statePath(wheels);
+    const KeptOdometry kept = decodeKeptOdometry(*payload, path);
+    odometry::MotionModel& motion = runner_.motion();
+    motion.restoreCalibration(kept.calibration, kept.mount);
+    const odometry::CalibrationEstimate e = motion.calibration().estimate();
+    spdlog::info("map store: the wheels' calibration from '{}': distance x{:.4f}, turns x{:.4f}, drift {:.4f} deg/s "
+                 "({} frames of evidence), the mount {:.2f} deg",
+                 path, 1.0 + e.scale, 1.0 + e.yawScale, e.yawBiasRadPerS * kRadToDeg, e.frames,
+                 motion.mount().errorDeg());
+    if (std::optional<OdometrySummary>& o = outputs_.summary->header().odometry) {
+      o->calibrationFrom = path;
+      o->startScaleError = e.scale;
+      o->startYawScaleError = e.yawScale;
+      o->startYawBiasDegPerS = e.yawBiasRadPerS * kRadToDeg;
+      o->startCalibrationFrames = size_t(e.frames);
+      o->startMountErrorDeg = motion.mount().errorDeg();
+    }
+  }
+}
+
+void Run::keepStoreState(bool final) {
+  if (!mapStore_->writing() || mapStore_->inMemory()) return;
+  if (mapSink_ && (final || mapSink_->keptStateChanged()))
+    mapStore_->saveState(mapstore::kNavmapFile, mapSink_->keptState(*pipeline_, final));
+  // The calibration only from a run with odometry (a run without keeps what the store held).
+  if (runner_.odometry()) {
+    const odometry::MotionModel& motion = runner_.motion();
+    mapStore_->saveState(mapstore::kOdometryFile,
+                         encodeKeptOdometry({motion.calibration().state(), motion.mount().state()}));
+  }
+}
+
+}  // namespace sb

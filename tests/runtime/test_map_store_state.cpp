@@ -1,0 +1,176 @@
+// The state a map store keeps beside the TSDF and the keyframes (issue 55; runtime/map_store_format.h): a state
+// file (navmap.bin, odometry.bin) round-trips through the store and is refused at open, naming it, when truncated,
+// altered, foreign (another magic) or of another format version; the wheels' learnt calibration
+// (runtime/kept_odometry.h) round-trips whole (the next run's estimate is the kept one's) and a payload that is not
+// a calibration is refused naming the file.
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "core/error.h"
+#include "runtime/kept_odometry.h"
+#include "runtime/map_store.h"
+#include "runtime/map_store_bytes.h"
+#include "tests/support/test_data.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<char> bytesOf(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeBytes(const std::string& path, const std::vector<char>& bytes) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
+}
+
+std::string refusal(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const sb::Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+sb::PipelineConfig smallConfig() {
+  sb::PipelineConfig c;
+  c.volumeResolution = 64;
+  c.volumeSize = 4.0f;
+  c.volumeMode = sb::VolumeMode::moving;
+  return c;
+}
+
+// A calibration that has learnt something: 2% long, turns 3% large, a drift, and a mount 1.5 degrees off.
+sb::KeptOdometry learnt() {
+  sb::KeptOdometry k;
+  sb::odometry::OdometryConfig config;
+  k.calibration = sb::odometry::OdometryCalibration(config).state();
+  k.calibration.scaleInfo *= 40.0;
+  k.calibration.scaleVec = 0.02 * k.calibration.scaleInfo;
+  k.calibration.yawInfo = k.calibration.yawInfo * 30.0 + Eigen::Matrix2d::Constant(5.0);
+  k.calibration.yawVec = k.calibration.yawInfo * Eigen::Vector2d(0.03, 0.001);
+  k.calibration.frames = 412;
+  k.mount.correction = Eigen::AngleAxisd(1.5 * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  k.mount.turnRad = 4.2;
+  k.mount.weights = 4.2;
+  k.mount.standardError = 0.002;
+  k.mount.viewSum = Eigen::Vector3d(0.1, 4.1, 0.2);
+  k.mount.wheelSum = Eigen::Vector3d(0.0, 4.2, 0.0);
+  k.mount.floorFrames = 300;
+  k.mount.floorSpreadRad = 0.004;
+  k.mount.fromFloor = true;
+  return k;
+}
+
+}  // namespace
+
+TEST_CASE("the wheels' calibration round-trips whole and a payload that is not one is refused naming the file",
+          "[map_store]") {
+  const sb::KeptOdometry k = learnt();
+  const std::vector<uint8_t> payload = sb::encodeKeptOdometry(k);
+  CHECK(payload.size() == 268);
+  const sb::KeptOdometry back = sb::decodeKeptOdometry(payload, "S/odometry.bin");
+  CHECK(back.calibration.scaleInfo == k.calibration.scaleInfo);
+  CHECK(back.calibration.yawInfo == k.calibration.yawInfo);
+  CHECK(back.calibration.yawVec == k.calibration.yawVec);
+  CHECK(back.calibration.frames == 412);
+  CHECK(back.mount.correction == k.mount.correction);
+  CHECK(back.mount.floorFrames == 300);
+  CHECK(back.mount.floorSpreadRad == k.mount.floorSpreadRad);
+  CHECK(back.mount.fromFloor);
+  CHECK(sb::encodeKeptOdometry(back) == payload);
+
+  // The next run's estimate starts as the kept one's, and corrects the wheels by it from its first step.
+  sb::odometry::OdometryConfig config;
+  sb::odometry::OdometryCalibration fresh(config), restored(config);
+  restored.restore(back.calibration);
+  const sb::odometry::CalibrationEstimate e = restored.estimate();
+  CHECK(e.frames == 412);
+  CHECK(e.scale == Approx(0.02 / 0.98).epsilon(1e-9));
+  CHECK(fresh.estimate().scale == 0.0);
+  sb::odometry::OdometryStep step;
+  step.delta.translation() = Eigen::Vector3d(0, 0, 1.0);
+  step.up = Eigen::Vector3d(0, -1, 0);
+  step.dt = 0.1;
+  CHECK(fresh.correct(step).delta.translation().z() == 1.0);
+  CHECK(restored.correct(step).delta.translation().z() == Approx(0.98));
+  sb::odometry::MountCalibration mount;
+  mount.restore(back.mount);
+  CHECK(mount.errorDeg() == Approx(1.5));
+  CHECK(mount.turnSeenDeg() == Approx(4.2 * 180.0 / M_PI));
+
+  std::vector<uint8_t> shorter = payload;
+  shorter.pop_back();
+  CHECK(refusal([&] { sb::decodeKeptOdometry(shorter, "S/odometry.bin"); }).find("'S/odometry.bin'") != std::string::npos);
+  sb::KeptOdometry bad = k;
+  bad.calibration.scaleInfo = -1.0;
+  CHECK(refusal([&] { sb::decodeKeptOdometry(sb::encodeKeptOdometry(bad), "S/odometry.bin"); })
+            .find("'S/odometry.bin' holds a calibration that is not one") != std::string::npos);
+  bad = k;
+  bad.mount.correction(0, 0) = 2.0;  // not a rotation
+  CHECK(refusal([&] { sb::decodeKeptOdometry(sb::encodeKeptOdometry(bad), "S/odometry.bin"); }) != "");
+  bad = k;
+  bad.calibration.yawVec.x() = NAN;
+  CHECK(refusal([&] { sb::decodeKeptOdometry(sb::encodeKeptOdometry(bad), "S/odometry.bin"); }) != "");
+}
+
+TEST_CASE("a store's state files round-trip and a truncated, altered, foreign or other-version one is refused at "
+          "open naming it", "[map_store]") {
+  const std::string dir = sb::test::scratchDir("map_store_state");
+  const std::string store = dir + "/store";
+  fs::remove_all(store);
+  const std::vector<uint8_t> wheels = sb::encodeKeptOdometry(learnt());
+  const std::vector<uint8_t> votes = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+  {
+    sb::MapStore s(store, smallConfig());
+    CHECK(s.keptState(sb::mapstore::kOdometryFile) == nullptr);
+    s.saveState(sb::mapstore::kOdometryFile, wheels);
+    s.saveState(sb::mapstore::kNavmapFile, votes);
+    s.saveState(sb::mapstore::kNavmapFile, {});  // nothing to keep: the file stays as it was
+    CHECK(s.summaryJson()["state_files_saved"]["odometry.bin"] == 268 + 28);
+  }
+  {
+    sb::MapStore s(store, smallConfig());
+    REQUIRE(s.keptState(sb::mapstore::kOdometryFile) != nullptr);
+    CHECK(*s.keptState(sb::mapstore::kOdometryFile) == wheels);
+    REQUIRE(s.keptState(sb::mapstore::kNavmapFile) != nullptr);
+    CHECK(*s.keptState(sb::mapstore::kNavmapFile) == votes);
+    CHECK(s.summaryJson()["state_files_kept"] == nlohmann::json({"navmap.bin", "odometry.bin"}));
+  }
+  const std::string file = store + "/navmap.bin";
+  const std::vector<char> good = bytesOf(file);
+  const auto refusedWith = [&](const std::vector<char>& bytes, const std::string& why) {
+    writeBytes(file, bytes);
+    const std::string message = refusal([&] { sb::MapStore s(store, smallConfig()); });
+    INFO(message);
+    CHECK(message.find("'" + file + "'") != std::string::npos);
+    CHECK(message.find(why) != std::string::npos);
+  };
+  std::vector<char> bytes = good;
+  bytes.resize(bytes.size() - 3);
+  refusedWith(bytes, "truncated");
+  bytes = good;
+  bytes.back() ^= 0x10;
+  refusedWith(bytes, "checksum");
+  bytes = good;
+  bytes[3] = 'X';
+  refusedWith(bytes, "is not a map store navigation map");
+  bytes = good;
+  bytes[8] = 7;  // the version's low byte
+  refusedWith(bytes, "format version 7");
+  refusedWith(std::vector<char>(good.begin(), good.begin() + 10), "truncated");
+  // odometry.bin with navmap.bin's magic: each file is read as what its name says.
+  writeBytes(file, good);
+  const std::vector<char> odometry = bytesOf(store + "/odometry.bin");
+  writeBytes(store + "/odometry.bin", good);
+  CHECK(refusal([&] { sb::MapStore s(store, smallConfig()); }).find("odometry.bin' is not a map store odometry") !=
+        std::string::npos);
+  writeBytes(store + "/odometry.bin", odometry);
+  CHECK(refusal([&] { sb::MapStore s(store, smallConfig()); }) == "");
+}
