@@ -10,19 +10,13 @@
 #include "navmap/kept_votes.h"
 #include "navmap/nav_map.h"
 #include "tests/navmap/tsdf_scene.h"
+#include "tests/support/store_files.h"
 
 using namespace sb::navmap;
 
-namespace {
+using sb::test::refusal;
 
-std::string refusal(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const sb::Error& e) {
-    return e.what();
-  }
-  return "";
-}
+namespace {
 
 // A corridor along world z: walls at x = 1 and x = 3, the floor at y = 2.6 (map z = 0), 4 cm voxels.
 sb::navmap::test::TsdfScene corridor() {

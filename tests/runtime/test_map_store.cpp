@@ -15,9 +15,14 @@
 #include "runtime/map_store.h"
 #include "tests/pipeline/synthetic_room.h"
 #include "tests/support/test_data.h"
+#include "tests/support/store_files.h"
 
 namespace fs = std::filesystem;
 using sb::mapstore::SlabBox;
+
+using sb::test::bytesOf;
+using sb::test::writeBytes;
+using sb::test::refusal;
 
 namespace {
 
@@ -25,24 +30,6 @@ Eigen::Isometry3d at(double x, double y, double z) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = Eigen::Vector3d(x, y, z);
   return pose;
-}
-
-std::vector<char> bytesOf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void writeBytes(const std::string& path, const std::vector<char>& bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
-}
-
-std::string refusal(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const sb::Error& e) {
-    return e.what();
-  }
-  return "";
 }
 
 // A 64^3 moving volume of 4 m (voxels of 1/16 m), as tests/runtime/test_map_slabs.cpp's.

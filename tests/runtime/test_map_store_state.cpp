@@ -15,28 +15,15 @@
 #include "runtime/map_store.h"
 #include "runtime/map_store_bytes.h"
 #include "tests/support/test_data.h"
+#include "tests/support/store_files.h"
 
 namespace fs = std::filesystem;
 
+using sb::test::bytesOf;
+using sb::test::writeBytes;
+using sb::test::refusal;
+
 namespace {
-
-std::vector<char> bytesOf(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void writeBytes(const std::string& path, const std::vector<char>& bytes) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc).write(bytes.data(), std::streamsize(bytes.size()));
-}
-
-std::string refusal(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const sb::Error& e) {
-    return e.what();
-  }
-  return "";
-}
 
 sb::PipelineConfig smallConfig() {
   sb::PipelineConfig c;
