@@ -59,6 +59,9 @@ FrameMotion MotionModel::predict(const Eigen::Isometry3d& previousPose, double p
   if (faults_.fault() == WheelFault::slipping) {  // watched, not used
     motion.withheld = motion.step;
     motion.step.reset();
+    // The base's height and tilt are not the wheels' word: they hold while the wheels are withheld.
+    if (agreedPose_ && c.planarPriorConditioning > 0)
+      motion.prior = PlanarPrior{*agreedPose_, agreedPose_->linear() * motion.withheld->up, c.planarPriorConditioning};
     return motion;
   }
   double turnRad = 0.0;  // the base's turn since the anchor: a mount error tilts the odometry's camera by its chord

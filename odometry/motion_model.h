@@ -65,6 +65,8 @@ struct FrameMotion {
   // not the view's.
   double uncheckedM = 0.0, uncheckedS = 0.0;
   std::optional<Level> level;        // the odometry's absolute tilt at this frame
+  // While the wheels are withheld: the height and tilt the base keeps, for ICP's solve (IcpStart::prior).
+  std::optional<PlanarPrior> prior;
   // The odometry's prediction of this frame's pose (ICP starts there), when there is a step.
   std::optional<Eigen::Isometry3d> predicted() const {
     if (!step) return std::nullopt;

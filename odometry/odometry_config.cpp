@@ -38,6 +38,7 @@ constexpr Key kKeys[] = {
     {"mount_sigma_deg", &OdometryConfig::mountSigmaDeg, 0.0, 45.0},
     {"dispute_s", &OdometryConfig::disputeS, 0.0, 60.0},
     {"calm_s", &OdometryConfig::calmS, 0.0, 60.0},
+    {"planar_prior_conditioning", &OdometryConfig::planarPriorConditioning, 0.0, 0.34},
     {"map_agreement_fraction", &OdometryConfig::mapAgreementFraction, 0.0, 1.0},
     {"max_unchecked_s", &OdometryConfig::maxUncheckedS, 0.0, 60.0},
     {"time_offset_s", &OdometryConfig::timeOffsetS, -10.0, 10.0},

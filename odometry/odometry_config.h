@@ -82,6 +82,12 @@ struct OdometryConfig {
   // both controllers): on, the `good` frames more than 0.5 m off fall from 6518 to 664 (adaptive) and 6340 to
   // 1487 (DEFAULT), every fault-free drive stays posed; a carried robot is not relocalised yet.
   double disputeS = 0.3;                  // seconds
+  // While the wheels are withheld (slipping) nothing holds the motions the view leaves free: facing an end wall,
+  // the height slid 0.3 m in 20 frames. A base on its floor keeps its camera's height and tilt whatever its wheels
+  // read, so ICP's solve weighs them (pipeline/icp_solve.h PlanarPrior, towards the last pose the view fixed in
+  // agreement with the wheels) as firmly as a view with this structure conditioning would: above the per-pixel
+  // noise floor of a free motion (0.0004-0.0025), well under a furnished view's (full_conditioning). 0: off.
+  double planarPriorConditioning = 0.01;
   double calmS = 0.5;                     // seconds
   // A frame holds the map when its pair agreement is at least this fraction of the median of the recent
   // undisputed frames': below, the view does not fit the map where it is tracked (a robot set down elsewhere, a

@@ -78,9 +78,30 @@ bool solveIcpUpdate(const TrackSums& sums, Twist& x) {
   return x.allFinite();
 }
 
+void addPlanarPrior(const PlanarPrior& prior, const Eigen::Isometry3d& T_camera_to_world, const Matrix6& T,
+                    Matrix6& An, Twist& bn) {
+  // In the motion basis x_n = (the camera centre's displacement, the rotation about it / s): a rotation weighs as
+  // the displacement it makes at the view's depth (T's rotational columns carry s).
+  const double s = T(3, 3);
+  const double k = prior.conditioning;
+  if (!(k > 0) || !(s > 0)) return;
+  const Eigen::Vector3d u = prior.up.normalized();
+  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - u * u.transpose();  // the axes of a tilt
+  // The height: the camera centre along up, to the target's.
+  const double climb = u.dot(prior.target.translation() - T_camera_to_world.translation());
+  // The tilt: the small rotation that takes the camera's up (as the target carries it) back to up.
+  const Eigen::Vector3d carried = T_camera_to_world.linear() * (prior.target.linear().transpose() * u);
+  const Eigen::Vector3d tilt = across * carried.cross(u);
+  An.block<3, 3>(0, 0) += k * u * u.transpose();
+  bn.head<3>() += k * u * climb;
+  An.block<3, 3>(3, 3) += k * across;
+  bn.tail<3>() += k * tilt / s;
+}
+
 bool solveIcpUpdateHolding(const TrackSums& sums, const Eigen::Isometry3d& T_camera_to_world, double holdBelow,
-                           Twist& x) {
-  if (!(holdBelow > 0)) return solveIcpUpdate(sums, x);
+                           Twist& x, const PlanarPrior* prior) {
+  const bool withPrior = prior && prior->conditioning > 0;
+  if (!(holdBelow > 0) && !withPrior) return solveIcpUpdate(sums, x);
   x.setZero();
   const double inliers = sums[28];
   if (inliers < kMinIcpInliers) return false;
@@ -90,8 +111,11 @@ bool solveIcpUpdateHolding(const TrackSums& sums, const Eigen::Isometry3d& T_cam
   if (!A.allFinite() || !b.allFinite()) return false;
   // T^T A T x_n = T^T b, per inlier so that the eigenvalues are conditionings.
   if (!normalisedNormalMatrix(A, inliers, T_camera_to_world, An, T)) return false;
+  Twist bn = T.transpose() * b / inliers;
+  if (withPrior) addPlanarPrior(*prior, T_camera_to_world, T, An, bn);
   Twist xn;
-  if (!solveInEigenbasis(An, T.transpose() * b / inliers, holdBelow, xn)) return false;
+  if (!solveInEigenbasis(An, bn, holdBelow > 0 ? holdBelow : -std::numeric_limits<double>::infinity(), xn))
+    return false;
   x = T * xn;
   return x.allFinite();
 }

@@ -53,6 +53,7 @@ FrameResult Pipeline::trackFrame(const DepthFrame& frame, double depthScale, con
   r.knobs = knobs;
   startPose_ = start.pose ? *start.pose : lastFinalPose_;
   holdBelowConditioning_ = start.holdBelowConditioning;
+  prior_ = start.prior;
   track(frame, depthScale, r);
   awaitingFinish_ = true;
   return r;
@@ -118,7 +119,7 @@ TrackAttempt Pipeline::icp(const Knobs& knobs, const Eigen::Isometry3d& start, S
       ++a.icpIterations;
       ++levelIterations[level];
       Twist x;
-      if (!solveIcpUpdateHolding(last, estimate, holdBelowConditioning_, x)) break;
+      if (!solveIcpUpdateHolding(last, estimate, holdBelowConditioning_, x, prior_ ? &*prior_ : nullptr)) break;
       a.icpUpdateNorm = x.norm();
       estimate = twistToTransform(x) * estimate;
       if (x.norm() < knobs.icpThreshold) break;

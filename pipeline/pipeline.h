@@ -81,6 +81,8 @@ struct IcpStart {
   // Motions whose conditioning (tracking_quality.h) is below this keep the start pose: ICP does not move
   // along what the view leaves free (solveIcpUpdateHolding). 0: off, ICP moves along every motion.
   double holdBelowConditioning = 0.0;
+  // A planar base's height and tilt, weighed in every ICP solve of the frame (icp_solve.h PlanarPrior); unset: none.
+  std::optional<PlanarPrior> prior{};
 };
 
 // What a controller may change about how a frame is finished (Pipeline::finishFrame).
@@ -189,6 +191,7 @@ class Pipeline {
   Eigen::Isometry3d lastFinalPose_;  // pose at the end of the previous frame
   Eigen::Isometry3d startPose_;      // where ICP starts for the frame in hand (trackFrame and retrackFrame)
   double holdBelowConditioning_ = 0.0;  // IcpStart's, for the frame in hand
+  std::optional<PlanarPrior> prior_;    // IcpStart's, for the frame in hand
   int referenceCsr_ = 0;            // csr of the last raycast (0 = none yet)
   bool referenceChosen_ = false;    // that csr was FrameOverrides::referenceCsr: frames of any csr track against it
   int preprocessedCsr_ = 0;         // csr of the last preprocess

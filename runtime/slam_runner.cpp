@@ -100,6 +100,7 @@ FrameRecord SlamRunner::step(const DepthFrame& frame) {
       motion_.predict(previousPose_, previousStamp_, frames_ > 0, frame.timestamp, rec.odometry);
   IcpStart start = nextStart_;
   if (motion.step) start.pose = motion.predicted();  // ICP starts from the odometry's motion
+  start.prior = motion.prior;
   Knobs knobs = nextKnobs();
   if (motion_.needsView()) knobs.trackingRate = 1;  // the view last checked the wheels too long ago
   rec.result = pipeline_.trackFrame(frame, depthScale_, knobs, start);

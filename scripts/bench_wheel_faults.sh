@@ -10,7 +10,8 @@
 #
 # usage: scripts/bench_wheel_faults.sh [BUILD_DIR] [OUT] [CASE...]
 #   cases: plain covered stall carried latency mount, the second set plain2 covered2 stall2 carried2 latency2
-#   mount2, the attack's wrong wheels for 10 s wrong-reversed wrong-zero wrong-gyro wrong-scaled wrong-stall, and
+#   mount2, the attack's wrong wheels for 10 s wrong-reversed wrong-zero wrong-gyro wrong-scaled wrong-stall (and on
+#   other seeds, times and sizes wrong-reversed2 wrong-zero2 wrong-gyro2 wrong-scaled2 wrong-scaled3), and
 #   more carries carried3 carried4 carried5 carried6 (for a carry also: when it was relocalised, the ATE after it),
 #   more mounts mount3 mount4 mount5 mount6
 set -euo pipefail
@@ -45,6 +46,12 @@ declare -A spec=(
   [wrong-gyro]="43|--odom-wrong gyro,8.5,10,20"
   [wrong-scaled]="44|--odom-wrong scaled,6,10,2"
   [wrong-stall]="45|--odom-stall 11,10,1.0"
+  # The same wrong wheels on other seeds, times, lengths and sizes (not designed on).
+  [wrong-reversed2]="141|--odom-wrong reversed,11,7"
+  [wrong-zero2]="142|--odom-wrong zero,5,12"
+  [wrong-gyro2]="143|--odom-wrong gyro,14,9,-12"
+  [wrong-scaled2]="144|--odom-wrong scaled,17,8,0.5"
+  [wrong-scaled3]="145|--odom-wrong scaled,9,10,1.6"
   # More carries, other seeds, times and distances: mid-turn (carried3, carried5, carried6) and while braking
   # before the U-turn (carried4).
   [carried3]="57|--odom-carried 17.5,8"

@@ -140,6 +140,58 @@ TEST_CASE("holding free motions: no slide along a wall, the same update where ev
   CHECK(held == again);
 }
 
+// A planar base's height and tilt as a prior in the solve (IcpStart::prior, icp_solve.h PlanarPrior): where the view
+// leaves them free (a wall ahead: the height and the roll about the optical axis) the prior holds them; where the view
+// fixes them it hardly moves the solve.
+TEST_CASE("a planar prior holds the height and tilt a wall leaves free, and hardly moves what the view fixes",
+          "[pipeline][quality]") {
+  const Eigen::Vector3d c(2.5, 2.5, 1.5);
+  const Eigen::Vector3d up(0, -1, 0);  // the camera's y points down
+  sb::Twist approach;                  // 2 cm towards the wall (world z) and 1 cm down (world y, along the wall)
+  approach << 0.0, 0.01, 0.02, 0.0, 0.0, 0.0;
+  const sb::TrackSums wall = sums(scene(c, 1, 0.02), approach, 0.003);
+  sb::PlanarPrior prior{at(c), up, 0.01};
+  sb::Twist plain, held;
+  REQUIRE(sb::solveIcpUpdate(wall, plain));
+  REQUIRE(sb::solveIcpUpdateHolding(wall, at(c), 0.0, held, &prior));
+  // The camera stays at the prior's height; towards the wall the view's 2 cm stands.
+  CHECK(std::abs(held(1)) < 1e-3);
+  CHECK(held(2) == Approx(0.02).margin(2e-3));
+
+  // Estimated 5 cm below the prior's height and rolled 1 degree about the optical axis: pulled back, the view
+  // having nothing to say about either.
+  Eigen::Isometry3d low = at(c + Eigen::Vector3d(0, 0.05, 0));
+  low.linear() = Eigen::AngleAxisd(1.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  REQUIRE(sb::solveIcpUpdateHolding(sums(scene(c, 1, 0.02), sb::Twist::Zero(), 0.003), low, 0.0, held, &prior));
+  const Eigen::Isometry3d moved = sb::twistToTransform(held) * low;
+  CHECK(moved.translation().y() == Approx(c.y()).margin(2e-3));
+  CHECK(Eigen::AngleAxisd(moved.linear()).angle() * 180.0 / M_PI < 0.1);
+  // The rotation about up (the heading) is the wheels' or the view's, never the prior's.
+  Eigen::Isometry3d turned = at(c);
+  turned.linear() = Eigen::AngleAxisd(1.0 * M_PI / 180.0, up).toRotationMatrix();
+  sb::Twist none;
+  REQUIRE(sb::solveIcpUpdateHolding(sums(scene(c, 1, 0.02), sb::Twist::Zero(), 0.0), turned, 0.0, none, &prior));
+  CHECK(std::abs(none(4)) < 1e-4);
+
+  // Three planes fix every motion: the prior, a stiffness far below theirs, moves the solve by millimetres.
+  sb::Twist motion;
+  motion << 0.01, -0.02, 0.015, 0.01, -0.005, 0.02;
+  const sb::TrackSums corner = sums(scene(c, 3, 0.02), motion, 0.001);
+  REQUIRE(sb::solveIcpUpdate(corner, plain));
+  REQUIRE(sb::solveIcpUpdateHolding(corner, at(c), 0.0, held, &prior));
+  CHECK((plain - motion).norm() < 2e-3);
+  // Of the camera (the twists turn about the world's origin): its centre and its rotation against the truth's. The
+  // 1.3 degrees of tilt in `motion` are pulled back by about k / (c + k), c the corner's conditioning: 0.12 degrees.
+  const Eigen::Isometry3d truth = sb::twistToTransform(motion) * at(c), solved = sb::twistToTransform(held) * at(c);
+  CHECK((solved.translation() - truth.translation()).norm() < 3e-3);
+  CHECK(Eigen::AngleAxisd(solved.linear() * truth.linear().transpose()).angle() * 180.0 / M_PI < 0.2);
+  // A prior of no weight is the plain solve, bit for bit.
+  prior.conditioning = 0.0;
+  REQUIRE(sb::solveIcpUpdateHolding(wall, at(c), 0.0, held, &prior));
+  REQUIRE(sb::solveIcpUpdate(wall, plain));
+  CHECK(held == plain);
+}
+
 TEST_CASE("block sums: normal noise in front of a wall averages out, the structure of a corner stays",
           "[pipeline][quality]") {
   using Row = Eigen::Matrix<double, 6, 1>;

@@ -39,7 +39,8 @@ std::vector<AnchoredFrame> anchoredFrames(const std::string& run, const sb::Traj
     a.state = a.line.at("state").get<std::string>();
     const Eigen::Isometry3d pose = poseOf(a.line);
     if (frames.empty()) anchor = truth[a.frame].T_camera_to_world * pose.inverse();
-    a.errorM = ((anchor * pose).translation() - truth[a.frame].position()).norm();
+    a.error = (anchor * pose).translation() - truth[a.frame].position();
+    a.errorM = a.error.norm();
     frames.push_back(std::move(a));
   }
   return frames;

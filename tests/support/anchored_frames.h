@@ -5,6 +5,7 @@
 // alignment fitted. Anchored by its position alone, a drive whose first camera is pitched 2.5 degrees (seed 47)
 // read 0.3 m off at 7 m where scripts/pose_honesty.py (and the truth) had 2 cm.
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -19,6 +20,7 @@ struct AnchoredFrame {
   double timestamp = 0.0;  // seconds, "timestamp"
   std::string state;       // "state": good, weak, lost, relocalised, odometry
   double errorM = 0.0;     // metres from the anchored estimate's position to the truth's
+  Eigen::Vector3d error = Eigen::Vector3d::Zero();  // that error as a vector in the truth's world frame
   nlohmann::json line;     // the whole frames.jsonl line, for what else a test reads ("odometry", "inliers")
 };
 
