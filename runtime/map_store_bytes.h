@@ -76,6 +76,9 @@ struct ByteReader {
 
 // The whole file `path` (`what` names it in a message when it cannot be opened).
 std::vector<uint8_t> readFileBytes(const std::string& path, const std::string& what);
+// Writes `bytes` as the file `path`, aside and renamed over it (core/atomic_file.h); throws sb::Error naming the
+// file when it cannot.
+void writeFileBytes(const std::string& path, const std::vector<uint8_t>& bytes);
 
 // A state file: `magic` (8 bytes), u32 format version, u64 payload bytes, u64 checksum, the payload.
 std::vector<uint8_t> encodeStateFile(const char (&magic)[8], const std::vector<uint8_t>& payload);

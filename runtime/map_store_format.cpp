@@ -1,9 +1,11 @@
 #include "runtime/map_store_format.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <iterator>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/input_file.h"
 #include "runtime/map_store_bytes.h"
@@ -86,6 +88,13 @@ std::vector<uint8_t> readFileBytes(const std::string& path, const std::string& w
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw Error("map store: cannot read '" + path + "'");
   return bytes;
+}
+
+void writeFileBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  writeFileAtomically(path, [&](std::FILE* f, const std::string& temporary) {
+    if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size())
+      throw Error("map store: cannot write '" + temporary + "'");
+  });
 }
 
 std::vector<uint8_t> encodeStateFile(const char (&magic)[8], const std::vector<uint8_t>& payload) {
