@@ -86,6 +86,7 @@ struct OdometrySummary {
   // file, and the values it started with (absent: the prior, all zero).
   std::optional<std::string> calibrationFrom{};
   std::optional<double> startScaleError{}, startYawScaleError{}, startYawBiasDegPerS{}, startMountErrorDeg{};
+  std::optional<double> startTimeOffsetS{};  // the clock offset kept, when this run's config took it (seconds)
   std::optional<size_t> startCalibrationFrames{};
 };
 

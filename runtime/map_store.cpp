@@ -85,8 +85,8 @@ void MapStore::openExisting() {
   for (const mapstore::StateFile* file : {&mapstore::kNavmapFile, &mapstore::kOdometryFile}) {
     const std::string path = statePath(*file);
     if (fs::exists(path, ec))
-      keptStates_[file->name] =
-          mapstore::stateFilePayload(path, mapstore::readFileBytes(path, file->what), file->magic, file->what);
+      keptStates_[file->name] = mapstore::stateFilePayload(path, mapstore::readFileBytes(path, file->what),
+                                                           file->magic, file->what, file->version);
   }
   static const std::regex slabName("slab-([0-9]{6,})\\.tsdf");
   if (!fs::is_directory(dir_ + "/slabs", ec))
@@ -125,12 +125,17 @@ void MapStore::saveKeyframes(const KeyframeDatabase& keyframes) {
 
 const std::vector<uint8_t>* MapStore::keptState(const mapstore::StateFile& file) const {
   const auto it = keptStates_.find(file.name);
-  return it == keptStates_.end() ? nullptr : &it->second;
+  return it == keptStates_.end() ? nullptr : &it->second.bytes;
+}
+
+uint32_t MapStore::keptStateVersion(const mapstore::StateFile& file) const {
+  const auto it = keptStates_.find(file.name);
+  return it == keptStates_.end() ? 0 : it->second.version;
 }
 
 void MapStore::saveState(const mapstore::StateFile& file, const std::vector<uint8_t>& payload) {
   if (!writing_ || inMemory() || payload.empty()) return;
-  const std::vector<uint8_t> bytes = mapstore::encodeStateFile(file.magic, payload);
+  const std::vector<uint8_t> bytes = mapstore::encodeStateFile(file.magic, file.version, payload);
   mapstore::writeFileBytes(statePath(file), bytes);
   savedStates_[file.name] = bytes.size();
 }

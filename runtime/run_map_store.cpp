@@ -1,6 +1,6 @@
 // A run's map store (runtime/map_store.h; issue 55): opening it, localising in a kept one, the store's part of
 // each frame, and the state the store keeps beside the TSDF and the keyframes: the navigation map's frame and
-// votes (navmap.bin, through the map sink) and the wheels' learnt calibration (odometry.bin). Run's own members
+// votes (navmap.bin, through the map sink) and the wheels' learnt calibration and clock (odometry.bin). Run's own members
 // (runtime/run.h); run.cpp holds the rest of the run.
 #include <spdlog/spdlog.h>
 
@@ -109,9 +109,18 @@ void Run::restoreStoreState() {
   const mapstore::StateFile& wheels = mapstore::kOdometryFile;
   if (const std::vector<uint8_t>* payload = mapStore_->keptState(wheels)) {
     const std::string path = mapStore_->statePath(wheels);
-    const KeptOdometry kept = decodeKeptOdometry(*payload, path);
+    const KeptOdometry kept = decodeKeptOdometry(*payload, path, mapStore_->keptStateVersion(wheels));
     odometry::MotionModel& motion = runner_.motion();
-    motion.restoreCalibration(kept.calibration, kept.mount);
+    motion.restoreCalibration(kept.calibration);
+    motion.restoreMount(kept.mount);
+    const bool clockKept = motion.restoreTimeOffset(kept.timeOffset);
+    if (kept.timeOffset.learnt && !clockKept)
+      spdlog::info("map store: the odometry's clock offset {:.3f} s kept in '{}' is not taken: this run's is fixed "
+                   "(odometry.time_offset_range_s 0) or its range does not hold it; it starts at {:.3f} s",
+                   kept.timeOffset.offsetS, path, motion.timeOffset().offset());
+    else if (clockKept)
+      spdlog::info("map store: the odometry's clock offset from '{}': {:.3f} s ({} frames of evidence)", path,
+                   motion.timeOffset().offset(), kept.timeOffset.frames);
     const odometry::CalibrationEstimate e = motion.calibration().estimate();
     spdlog::info("map store: the wheels' calibration from '{}': distance x{:.4f}, turns x{:.4f}, drift {:.4f} deg/s "
                  "({} frames of evidence), the mount {:.2f} deg",
@@ -124,6 +133,7 @@ void Run::restoreStoreState() {
       o->startYawBiasDegPerS = e.yawBiasRadPerS * kRadToDeg;
       o->startCalibrationFrames = size_t(e.frames);
       o->startMountErrorDeg = motion.mount().errorDeg();
+      if (clockKept) o->startTimeOffsetS = motion.timeOffset().offset();
     }
   }
 }
@@ -136,7 +146,8 @@ void Run::keepStoreState(bool final) {
   if (runner_.odometry()) {
     const odometry::MotionModel& motion = runner_.motion();
     mapStore_->saveState(mapstore::kOdometryFile,
-                         encodeKeptOdometry({motion.calibration().state(), motion.mount().state()}));
+                         encodeKeptOdometry({motion.calibration().state(), motion.mount().state(),
+                                             motion.timeOffset().state()}));
   }
 }
 
