@@ -8,10 +8,14 @@
 //      f64 yaw vector[2]; the mount's f64 view sum[3], wheel sum[3], difference sum[3], difference squares,
 //      weights, weight squares, turn seen (rad), standard error (rad), correction[9] (row-major 3x3), i32 floor
 //      frames, f64 floor spread (rad), i32 from the floor (0 or 1). 268 bytes.
-//   2: version 1's, then the clock's f64 offset (s), i32 learnt (0 or 1), u64 frames of evidence. 288 bytes.
-// A version-1 file is read as what it holds: no clock offset kept.
+//   2: version 1's, then the clock's f64 offset (s), i32 learnt (0 or 1), u64 frames of evidence; the mount the
+//      correction was learnt against: i32 recorded (0 or 1), f64 up[3] (zero when not recorded). 316 bytes.
+// A version-1 file is read as what it holds: no clock offset kept, no mount recorded (so its mount correction is
+// not restored: runtime/run_map_store.cpp).
 
+#include <Eigen/Core>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +29,11 @@ struct KeptOdometry {
   odometry::CalibrationState calibration;
   odometry::MountCalibration::State mount;
   odometry::TimeOffset::State timeOffset;  // version 1: not kept (not learnt)
+  // The mount the odometry assumed while the mount's correction was learnt: the odometry frame's up axis in the
+  // camera frame (unit; T_camera_to_odom's rotation transposed times z, averaged over the frames the odometry
+  // gave a pose): the configured mount's tilt, whatever door it came through (odometry.txt, a bag's /tf_static
+  // or --camera-mount, the daemon's source.camera_mount). Absent: not recorded (version 1, or no pose seen).
+  std::optional<Eigen::Vector3d> mountUp;
 };
 
 std::vector<uint8_t> encodeKeptOdometry(const KeptOdometry& kept);

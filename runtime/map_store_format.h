@@ -39,7 +39,8 @@ struct StateFile {
 };
 inline constexpr StateFile kNavmapFile{"navmap.bin", {'S', 'B', 'N', 'A', 'V', 'V', '\n', '\0'}, "map store navigation map",
                                        kFormatVersion};
-// Version 2 adds the odometry's clock offset (runtime/kept_odometry.h).
+// Version 2 adds the odometry's clock offset and the mount its correction was learnt against
+// (runtime/kept_odometry.h).
 inline constexpr StateFile kOdometryFile{"odometry.bin", {'S', 'B', 'O', 'D', 'O', 'M', '\n', '\0'},
                                          "map store odometry calibration", 2};
 

@@ -2,8 +2,9 @@
 // file (navmap.bin, odometry.bin) round-trips through the store and is refused at open, naming it, when truncated,
 // altered, foreign (another magic) or of another format version; the wheels' learnt calibration
 // (runtime/kept_odometry.h) round-trips whole (the next run's estimate is the kept one's, its clock offset the kept
-// one's when its config takes it) and a payload that is not a calibration is refused naming the file; an
-// odometry.bin of version 1 (before the clock offset was kept) is read as what it holds, a newer one refused.
+// one's when its config takes it, the mount it was learnt against recorded) and a payload that is not a calibration
+// is refused naming the file; an odometry.bin of version 1 (before the clock offset and the mount were kept) is
+// read as what it holds, a newer one refused.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -54,6 +55,7 @@ sb::KeptOdometry learnt() {
   k.mount.floorSpreadRad = 0.004;
   k.mount.fromFloor = true;
   k.timeOffset = {0.045, true, 288};
+  k.mountUp = Eigen::Vector3d(0.0, -0.9994, 0.0349).normalized();  // a camera pitched 2 degrees
   return k;
 }
 
@@ -63,7 +65,7 @@ TEST_CASE("the wheels' calibration round-trips whole and a payload that is not o
           "[map_store]") {
   const sb::KeptOdometry k = learnt();
   const std::vector<uint8_t> payload = sb::encodeKeptOdometry(k);
-  CHECK(payload.size() == 288);
+  CHECK(payload.size() == 316);
   const sb::KeptOdometry back = sb::decodeKeptOdometry(payload, "S/odometry.bin", 2);
   CHECK(back.calibration.scaleInfo == k.calibration.scaleInfo);
   CHECK(back.calibration.yawInfo == k.calibration.yawInfo);
@@ -76,6 +78,8 @@ TEST_CASE("the wheels' calibration round-trips whole and a payload that is not o
   CHECK(back.timeOffset.offsetS == 0.045);
   CHECK(back.timeOffset.learnt);
   CHECK(back.timeOffset.frames == 288);
+  REQUIRE(back.mountUp);
+  CHECK(*back.mountUp == *k.mountUp);
   CHECK(sb::encodeKeptOdometry(back) == payload);
 
   // The next run's estimate starts as the kept one's, and corrects the wheels by it from its first step.
@@ -113,6 +117,12 @@ TEST_CASE("the wheels' calibration round-trips whole and a payload that is not o
   bad = k;
   bad.timeOffset.offsetS = INFINITY;
   CHECK(refusal([&] { sb::decodeKeptOdometry(sb::encodeKeptOdometry(bad), "S/odometry.bin", 2); }) != "");
+  bad = k;
+  bad.mountUp = Eigen::Vector3d(0.0, -2.0, 0.0);  // not a direction
+  CHECK(refusal([&] { sb::decodeKeptOdometry(sb::encodeKeptOdometry(bad), "S/odometry.bin", 2); }) != "");
+  bad = k;
+  bad.mountUp.reset();  // not recorded (a run whose odometry gave no pose)
+  CHECK_FALSE(sb::decodeKeptOdometry(sb::encodeKeptOdometry(bad), "S/odometry.bin", 2).mountUp);
 
   // Version 1 (before the clock was kept): the same calibration and mount, no clock offset; a version this build
   // does not know is refused naming the file.
@@ -121,6 +131,7 @@ TEST_CASE("the wheels' calibration round-trips whole and a payload that is not o
   CHECK(old.calibration.frames == 412);
   CHECK(old.mount.correction == k.mount.correction);
   CHECK_FALSE(old.timeOffset.learnt);
+  CHECK_FALSE(old.mountUp);  // not recorded: its correction is not restored (runtime/run_map_store.cpp)
   CHECK(refusal([&] { sb::decodeKeptOdometry(payload, "S/odometry.bin", 1); }).find("'S/odometry.bin'") !=
         std::string::npos);
   CHECK(refusal([&] { sb::decodeKeptOdometry(payload, "S/odometry.bin", 3); }).find("version 3") != std::string::npos);
@@ -188,7 +199,7 @@ TEST_CASE("a store's state files round-trip and a truncated, altered, foreign or
     s.saveState(sb::mapstore::kOdometryFile, wheels);
     s.saveState(sb::mapstore::kNavmapFile, votes);
     s.saveState(sb::mapstore::kNavmapFile, {});  // nothing to keep: the file stays as it was
-    CHECK(s.summaryJson()["state_files_saved"]["odometry.bin"] == 288 + 28);
+    CHECK(s.summaryJson()["state_files_saved"]["odometry.bin"] == 316 + 28);
   }
   {
     sb::MapStore s(store, smallConfig());
