@@ -52,6 +52,9 @@
 
 namespace sb {
 
+struct Mesh;
+class ThreadPool;
+
 struct MapStoreOptions {
   // The slab files together at most this many bytes (the daemon's output.map_store_keep_mib; slambooster run
   // --map-store-keep-mib); past it the oldest go first, said in the log and the summary. 0: no limit.
@@ -110,6 +113,11 @@ class MapStore {
   void saveKeyframes(const KeyframeDatabase& keyframes);
   // The end of a run: the final volume as a slab, the keyframes, every slab written. Nothing unless writing.
   void finish(const VolumeWindow& window, BackendVolume& volume, const KeyframeDatabase& keyframes);
+
+  // The surface of every slab the store holds (every run's, this run's final volume among them once finish() has
+  // kept it), in the store's frame (runtime/map_store_mesh.cpp): mesh.ply of a run writing a store. `slabsMeshed`:
+  // how many slabs it covers.
+  Mesh mesh(ThreadPool& pool, size_t* slabsMeshed = nullptr) const;
 
   // summary.json's "map_store": the directory, kept or new, localised (at which frame), files and bytes.
   nlohmann::json summaryJson() const;
