@@ -98,11 +98,11 @@ class MotionModel {
   const OdometryCalibration& calibration() const { return calibration_; }
   // The camera mount's error learnt so far; every step is corrected by it first.
   const MountCalibration& mount() const { return mount_; }
-  // Starts from what an earlier run learnt (a map store, runtime/kept_odometry.h).
-  void restoreCalibration(const CalibrationState& calibration, const MountCalibration::State& mount) {
-    calibration_.restore(calibration);
-    mount_.restore(mount);
-  }
+  // Starts from what an earlier run learnt (a map store, runtime/kept_odometry.h): the wheels' calibration, the
+  // mount's correction, the odometry's clock (false when this run's config does not take it: TimeOffset::restore).
+  void restoreCalibration(const CalibrationState& calibration) { calibration_.restore(calibration); }
+  void restoreMount(const MountCalibration::State& mount) { mount_.restore(mount); }
+  bool restoreTimeOffset(const TimeOffset::State& kept) { return timeOffset_.restore(kept); }
   // The odometry's clock against the frames' learnt so far; every step is read at the frames' stamps plus it.
   const TimeOffset& timeOffset() const { return timeOffset_; }
 

@@ -24,6 +24,19 @@ TimeOffset::TimeOffset(const OdometryConfig& config) : config_(config), offset_(
   const int steps = static_cast<int>(std::floor(config_.timeOffsetRangeS / kStepS + 1e-9));
   for (int i = -steps; i <= steps; ++i) offsets_.push_back(config_.timeOffsetS + i * kStepS);
   cost_.assign(offsets_.size(), 0.0);
+  from_ = offsets_.size() / 2;
+}
+
+bool TimeOffset::restore(const State& kept) {
+  if (!kept.learnt || !std::isfinite(kept.offsetS) || config_.timeOffsetRangeS <= 0.0) return false;
+  if (std::abs(kept.offsetS - config_.timeOffsetS) > config_.timeOffsetRangeS + 0.5 * kStepS) return false;
+  size_t nearest = 0;
+  for (size_t i = 1; i < offsets_.size(); ++i)
+    if (std::abs(offsets_[i] - kept.offsetS) < std::abs(offsets_[nearest] - kept.offsetS)) nearest = i;
+  from_ = nearest;
+  offset_ = offsets_[nearest];
+  learnt_ = true;
+  return true;
 }
 
 void TimeOffset::add(const OdometryTrack& track, double t0, double t1, const Eigen::Vector3d& viewRotation) {
@@ -56,12 +69,11 @@ void TimeOffset::add(const OdometryTrack& track, double t0, double t1, const Eig
 
 void TimeOffset::revise() {
   if (frames_ < kMinFrames) return;
-  const size_t start = offsets_.size() / 2;
   const size_t best = static_cast<size_t>(std::min_element(cost_.begin(), cost_.end()) - cost_.begin());
   // Only evidence moves it: frames at a constant turn rate (or none) match every offset alike, and noise alone
   // lowers some offset's cost a little.
   const double variance = std::max(cost_[best] / static_cast<double>(frames_), kMinSigmaRad * kMinSigmaRad);
-  if (cost_[start] - cost_[best] <= kEvidence * variance) return;
+  if (cost_[from_] - cost_[best] <= kEvidence * variance) return;
   offset_ = offsets_[best];
   learnt_ = true;
 }

@@ -9,6 +9,7 @@
 // offsets apart (a constant rate matches any offset). The estimate stays within a stated range of the start
 // value (`odometry.time_offset_s`, `odometry.time_offset_range_s`).
 
+#include <cstdint>
 #include <deque>
 #include <vector>
 
@@ -27,6 +28,20 @@ class TimeOffset {
   // A frame the view fixed (it constrains every rotation): the view's rotation between the frames at stamps t0
   // and t1 (its rotation vector, radians, in the earlier camera's frame).
   void add(const OdometryTrack& track, double t0, double t1, const Eigen::Vector3d& viewRotation);
+
+  // What was learnt (a map store keeps it for the next run, runtime/kept_odometry.h): the offset, whether the
+  // evidence moved it, and the frames of evidence.
+  struct State {
+    double offsetS = 0.0;
+    bool learnt = false;
+    int64_t frames = 0;
+  };
+  State state() const { return {offset_, learnt_, frames_}; }
+  // Starts from an earlier run's learnt offset (the offset tried nearest it): from then on the evidence must
+  // move it from there, as it must from the start value otherwise. False, and nothing changed, when it was not
+  // learnt, when this run's offset is fixed (time_offset_range_s 0: the config's word) or when it lies outside
+  // this run's range.
+  bool restore(const State& kept);
 
  private:
   static constexpr int kEveryFrames = 15;      // the estimate is revised this often
@@ -47,7 +62,8 @@ class TimeOffset {
   // over every frame so far (radians^2): the evidence of the whole run, not of a window, since a latency is a
   // property of the driver and noise averages out only over many turns.
   std::vector<double> offsets_, cost_;
-  long frames_ = 0;
+  size_t from_ = 0;  // the offset the evidence must beat: the start value's, or a restored one's
+  int64_t frames_ = 0;
   int sinceRevision_ = 0;
 };
 

@@ -160,6 +160,9 @@ void fieldsOf(OdometrySummary& o, Field field) {
   field("start_yaw_bias_deg_per_s", o.startYawBiasDegPerS);
   field("start_calibration_frames", o.startCalibrationFrames);
   field("start_mount_error_deg", o.startMountErrorDeg);
+  field("start_time_offset_s", o.startTimeOffsetS);
+  field("start_mount_change_deg", o.startMountChangeDeg);
+  field("start_mount_refused", o.startMountRefused);
 }
 
 template <typename Field>

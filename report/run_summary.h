@@ -86,6 +86,11 @@ struct OdometrySummary {
   // file, and the values it started with (absent: the prior, all zero).
   std::optional<std::string> calibrationFrom{};
   std::optional<double> startScaleError{}, startYawScaleError{}, startYawBiasDegPerS{}, startMountErrorDeg{};
+  std::optional<double> startTimeOffsetS{};  // the clock offset kept, when this run's config took it (seconds)
+  // The mount the odometry assumes against the one the kept mount correction was learnt against (degrees between
+  // their up axes), and why the kept correction was not restored (the mount differs, or is not recorded).
+  std::optional<double> startMountChangeDeg{};
+  std::optional<std::string> startMountRefused{};
   std::optional<size_t> startCalibrationFrames{};
 };
 

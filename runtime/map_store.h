@@ -47,9 +47,13 @@
 #include "pipeline/config.h"
 #include "pipeline/volume_window.h"
 #include "reloc/keyframe_database.h"
+#include "runtime/map_store_bytes.h"
 #include "runtime/map_store_format.h"
 
 namespace sb {
+
+struct Mesh;
+class ThreadPool;
 
 struct MapStoreOptions {
   // The slab files together at most this many bytes (the daemon's output.map_store_keep_mib; slambooster run
@@ -100,6 +104,8 @@ class MapStore {
   // The payload of a state file (navmap.bin, odometry.bin) as the store held it when opened (checked then),
   // nullptr when it has none.
   const std::vector<uint8_t>* keptState(const mapstore::StateFile& file) const;
+  // Its version (the payload's layout: from mapstore::kFormatVersion to file.version), 0 when it has none.
+  uint32_t keptStateVersion(const mapstore::StateFile& file) const;
   std::string statePath(const mapstore::StateFile& file) const { return dir_ + "/" + file.name; }
   // Writes a state file (atomically). Nothing unless writing, in memory, or for an empty payload.
   void saveState(const mapstore::StateFile& file, const std::vector<uint8_t>& payload);
@@ -107,6 +113,11 @@ class MapStore {
   void saveKeyframes(const KeyframeDatabase& keyframes);
   // The end of a run: the final volume as a slab, the keyframes, every slab written. Nothing unless writing.
   void finish(const VolumeWindow& window, BackendVolume& volume, const KeyframeDatabase& keyframes);
+
+  // The surface of every slab the store holds (every run's, this run's final volume among them once finish() has
+  // kept it), in the store's frame (runtime/map_store_mesh.cpp): mesh.ply of a run writing a store. `slabsMeshed`:
+  // how many slabs it covers.
+  Mesh mesh(ThreadPool& pool, size_t* slabsMeshed = nullptr) const;
 
   // summary.json's "map_store": the directory, kept or new, localised (at which frame), files and bytes.
   nlohmann::json summaryJson() const;
@@ -158,7 +169,7 @@ class MapStore {
   size_t nextNumber_ = 0;
   uint64_t slabBytes_ = 0, removedFiles_ = 0, removedBytes_ = 0;
   size_t keyframesSaved_ = 0;
-  std::map<std::string, std::vector<uint8_t>> keptStates_;  // state files at open: name -> payload
+  std::map<std::string, mapstore::StatePayload> keptStates_;  // state files at open: name -> payload
   std::map<std::string, uint64_t> savedStates_;              // state files written by this run: name -> bytes
   double workerMs_ = 0.0;
 };

@@ -76,12 +76,21 @@ struct ByteReader {
 
 // The whole file `path` (`what` names it in a message when it cannot be opened).
 std::vector<uint8_t> readFileBytes(const std::string& path, const std::string& what);
+// Writes `bytes` as the file `path`, aside and renamed over it (core/atomic_file.h); throws sb::Error naming the
+// file when it cannot.
+void writeFileBytes(const std::string& path, const std::vector<uint8_t>& bytes);
 
-// A state file: `magic` (8 bytes), u32 format version, u64 payload bytes, u64 checksum, the payload.
-std::vector<uint8_t> encodeStateFile(const char (&magic)[8], const std::vector<uint8_t>& payload);
-// The payload of the state file `bytes` (read from `path`); throws sb::Error naming `path` when it is
-// truncated, altered (checksum), not a `what` (magic) or of another format version.
-std::vector<uint8_t> stateFilePayload(const std::string& path, const std::vector<uint8_t>& bytes,
-                                      const char (&magic)[8], const char* what);
+// A state file: `magic` (8 bytes), u32 version (of its payload's layout), u64 payload bytes, u64 checksum, the
+// payload.
+std::vector<uint8_t> encodeStateFile(const char (&magic)[8], uint32_t version, const std::vector<uint8_t>& payload);
+struct StatePayload {
+  uint32_t version = 0;
+  std::vector<uint8_t> bytes;
+};
+// The payload of the state file `bytes` (read from `path`) and its version; throws sb::Error naming `path` when
+// it is truncated, altered (checksum), not a `what` (magic) or of a version outside the format's first
+// (kFormatVersion) to `newest`.
+StatePayload stateFilePayload(const std::string& path, const std::vector<uint8_t>& bytes, const char (&magic)[8],
+                              const char* what, uint32_t newest);
 
 }  // namespace sb::mapstore

@@ -1,9 +1,11 @@
 #include "runtime/map_store_format.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 #include <iterator>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/input_file.h"
 #include "runtime/map_store_bytes.h"
@@ -23,17 +25,21 @@ using Reader = ByteReader;
 
 std::vector<uint8_t> readAll(const std::string& path, const std::string& what) { return readFileBytes(path, what); }
 
-// Checks the magic and version and, once the header is read, the payload's size and checksum.
-void checkMagic(Reader& r, const char (&magic)[8], const char* what) {
+// Checks the magic and the version (from kFormatVersion to `newest`: a state file's payload may have grown) and
+// returns the version; once the header is read, checkPayload checks the payload's size and checksum.
+uint32_t checkMagic(Reader& r, const char (&magic)[8], const char* what, uint32_t newest = kFormatVersion) {
   r.need(8);
   if (std::memcmp(r.bytes.data(), magic, 8) != 0)
     throw Error("map store: '" + r.path + "' is not a " + what + " (its first bytes differ): a foreign file in the "
                 "store, or a corrupt one; move it away");
   r.at = 8;
   const uint32_t version = r.u32();
-  if (version != kFormatVersion)
+  if (version < kFormatVersion || version > newest)
     throw Error("map store: '" + r.path + "' is format version " + std::to_string(version) + ", this build reads " +
-                std::to_string(kFormatVersion) + ": use the slambooster that wrote it, or another --map-store");
+                (newest == kFormatVersion ? std::to_string(kFormatVersion)
+                                          : std::to_string(kFormatVersion) + " to " + std::to_string(newest)) +
+                ": use the slambooster that wrote it, or another --map-store");
+  return version;
 }
 
 void checkPayload(const Reader& r, uint64_t payloadBytes, uint64_t checksum) {
@@ -88,23 +94,32 @@ std::vector<uint8_t> readFileBytes(const std::string& path, const std::string& w
   return bytes;
 }
 
-std::vector<uint8_t> encodeStateFile(const char (&magic)[8], const std::vector<uint8_t>& payload) {
+void writeFileBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  writeFileAtomically(path, [&](std::FILE* f, const std::string& temporary) {
+    if (!bytes.empty() && std::fwrite(bytes.data(), 1, bytes.size(), f) != bytes.size())
+      throw Error("map store: cannot write '" + temporary + "'");
+  });
+}
+
+std::vector<uint8_t> encodeStateFile(const char (&magic)[8], uint32_t version, const std::vector<uint8_t>& payload) {
   Writer out;
   out.raw(magic, 8);
-  out.u32(kFormatVersion);
+  out.u32(version);
   out.u64(payload.size());
   out.u64(fnv1a64(payload.data(), payload.size()));
   out.raw(payload.data(), payload.size());
   return std::move(out.bytes);
 }
 
-std::vector<uint8_t> stateFilePayload(const std::string& path, const std::vector<uint8_t>& bytes,
-                                      const char (&magic)[8], const char* what) {
+StatePayload stateFilePayload(const std::string& path, const std::vector<uint8_t>& bytes, const char (&magic)[8],
+                              const char* what, uint32_t newest) {
   Reader r{path, bytes};
-  checkMagic(r, magic, what);
+  StatePayload out;
+  out.version = checkMagic(r, magic, what, newest);
   const uint64_t payload = r.u64(), checksum = r.u64();
   checkPayload(r, payload, checksum);
-  return std::vector<uint8_t>(bytes.begin() + std::ptrdiff_t(r.at), bytes.end());
+  out.bytes.assign(bytes.begin() + std::ptrdiff_t(r.at), bytes.end());
+  return out;
 }
 
 bool SlabBox::intersects(const SlabBox& o) const {

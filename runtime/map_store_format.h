@@ -12,7 +12,8 @@
 // The keyframe file (keyframes.bin): "SBKEYF\n\0", u32 version, u32 keyframes, u32 fern codes per keyframe,
 // u64 payload bytes, u64 checksum, payload: per keyframe u64 frame, f64 pose[12] (T_camera_to_world, the
 // store's frame, rows of the 3x4 matrix), u8 codes[ferns].
-// A state file (runtime/map_store_bytes.h): magic, u32 version, u64 payload bytes, u64 checksum, payload:
+// A state file (runtime/map_store_bytes.h): magic, u32 version, u64 payload bytes, u64 checksum, payload (its
+// version says its layout: StateFile::version the newest):
 //   navmap.bin    "SBNAVV\n\0": the navigation map's frame and votes (navmap/kept_votes.h)
 //   odometry.bin  "SBODOM\n\0": the wheels' learnt calibration (runtime/kept_odometry.h)
 
@@ -28,15 +29,20 @@ namespace sb::mapstore {
 
 constexpr uint32_t kFormatVersion = 1;
 
-// The store's state files: their names and magics.
+// The store's state files: their names, magics and the newest version of their payload this build writes (it
+// reads every version from kFormatVersion on: an older file is read as what it holds).
 struct StateFile {
   const char* name;
   char magic[8];
   const char* what;  // for a message
+  uint32_t version;
 };
-inline constexpr StateFile kNavmapFile{"navmap.bin", {'S', 'B', 'N', 'A', 'V', 'V', '\n', '\0'}, "map store navigation map"};
+inline constexpr StateFile kNavmapFile{"navmap.bin", {'S', 'B', 'N', 'A', 'V', 'V', '\n', '\0'}, "map store navigation map",
+                                       kFormatVersion};
+// Version 2 adds the odometry's clock offset and the mount its correction was learnt against
+// (runtime/kept_odometry.h).
 inline constexpr StateFile kOdometryFile{"odometry.bin", {'S', 'B', 'O', 'D', 'O', 'M', '\n', '\0'},
-                                         "map store odometry calibration"};
+                                         "map store odometry calibration", 2};
 
 uint64_t fnv1a64(const uint8_t* data, size_t bytes);
 

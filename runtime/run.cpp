@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <functional>
@@ -183,6 +184,20 @@ void Run::finish(const RunEnd& end, ThreadPool& pool) {
     });
   if (end.mesh)
     attempt([&] {
+      if (mapStore_ && mapStore_->writing() && !mapStore_->inMemory()) {
+        // Writing a store: everything it holds (every run's slabs and final volumes, this run's kept by finish()
+        // above), in its frame, not only what this run's volume saw.
+        const auto start = std::chrono::steady_clock::now();
+        size_t slabs = 0;
+        const Mesh mesh = mapStore_->mesh(pool, &slabs);
+        writePly((out / "mesh.ply").string(), mesh);  // whole or not at all (temporary file + rename)
+        summary.meshTriangles = mesh.triangles.size();
+        summary.meshSlabs = slabs;
+        summary.mapStore["mesh_slabs"] = slabs;
+        summary.mapStore["mesh_ms"] =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        return;
+      }
       // The final volume and, with a moving volume, every slab that left (runtime/map_slabs.h).
       writeRunMesh((out / "mesh.ply").string(), *pipeline_, mapSlabs_.get(), pool, *outputs_.summary);
     });

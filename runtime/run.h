@@ -108,6 +108,7 @@ class Run {
   void stepMapStore(const FrameRecord& rec);      // after each frame
   void restoreStoreState();                       // a kept store's navmap.bin and odometry.bin, at the start
   void keepStoreState(bool final);                // navmap.bin and odometry.bin into the store
+  void decideKeptMount(const Eigen::Vector3d& up);  // at the first frame the odometry gives a pose
 
   std::unique_ptr<Pipeline> pipeline_;
   SlamRunner runner_;
@@ -124,6 +125,15 @@ class Run {
   size_t stateSavedAt_ = 0;             // the frame navmap.bin and odometry.bin were last written at
   bool recoveringOverStore_ = false;    // lost in the run: the volume kept, the window held (stepMapStore)
   bool keyframesDirty_ = false;
+  // The mount's correction kept in the store, restored at the first frame the odometry gives a pose when the mount
+  // the odometry assumes is the one it was learnt against (decideKeptMount); until then pending.
+  struct KeptMount {
+    odometry::MountCalibration::State state;
+    std::optional<Eigen::Vector3d> up;  // KeptOdometry::mountUp
+    std::string path;
+  };
+  std::optional<KeptMount> keptMount_;
+  Eigen::Vector3d mountUpSum_ = Eigen::Vector3d::Zero();  // the odometry's up in the camera frame, over the frames
 };
 
 // The "overview" viewpoint of model.png: above and behind the volume centre, looking at it.

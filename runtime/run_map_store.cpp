@@ -1,10 +1,14 @@
 // A run's map store (runtime/map_store.h; issue 55): opening it, localising in a kept one, the store's part of
 // each frame, and the state the store keeps beside the TSDF and the keyframes: the navigation map's frame and
-// votes (navmap.bin, through the map sink) and the wheels' learnt calibration (odometry.bin). Run's own members
+// votes (navmap.bin, through the map sink) and the wheels' learnt calibration and clock (odometry.bin). Run's own members
 // (runtime/run.h); run.cpp holds the rest of the run.
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <cstdio>
+#include <utility>
 
 #include "runtime/kept_odometry.h"
 #include "runtime/run.h"
@@ -13,6 +17,11 @@ namespace sb {
 
 namespace {
 constexpr double kRadToDeg = 180.0 / 3.14159265358979323846;
+// The mount the odometry assumes is the kept correction's when their up axes (in the camera frame) are at most
+// this far apart: a planar odometry's up is the configured mount's exactly, whatever the base does; a 3D one's
+// tilts with the floor under the base by a few tenths of a degree. A mount re-measured or re-configured by more
+// makes the kept correction wrong by as much, and the floor relearns it in a second of frames.
+constexpr double kKeptMountSameDeg = 0.5;
 }  // namespace
 
 // Where a restarted robot, or one set down in the run, is tried besides each keyframe: along its view, metres
@@ -62,6 +71,11 @@ void Run::startMapStore(const RunOutputs& outputs) {
 
 void Run::stepMapStore(const FrameRecord& rec) {
   mapStore_->nextFrame();
+  if (const std::optional<Eigen::Isometry3d>& c = rec.odometry.cameraToOdom) {
+    const Eigen::Vector3d up = c->linear().transpose() * Eigen::Vector3d::UnitZ();
+    mountUpSum_ += up;
+    if (keptMount_) decideKeptMount(up);
+  }
   if (!mapStore_->writing() && !runner_.monitor().localisingInKeptMap()) {
     mapStore_->localised(rec.result.frame, rec.result.timestamp);
     pipeline_->volumeWindow()->setHeld(false);
@@ -109,23 +123,62 @@ void Run::restoreStoreState() {
   const mapstore::StateFile& wheels = mapstore::kOdometryFile;
   if (const std::vector<uint8_t>* payload = mapStore_->keptState(wheels)) {
     const std::string path = mapStore_->statePath(wheels);
-    const KeptOdometry kept = decodeKeptOdometry(*payload, path);
+    const KeptOdometry kept = decodeKeptOdometry(*payload, path, mapStore_->keptStateVersion(wheels));
     odometry::MotionModel& motion = runner_.motion();
-    motion.restoreCalibration(kept.calibration, kept.mount);
+    motion.restoreCalibration(kept.calibration);
+    keptMount_ = KeptMount{kept.mount, kept.mountUp, path};  // decideKeptMount, once the odometry's mount is seen
+    const bool clockKept = motion.restoreTimeOffset(kept.timeOffset);
+    if (kept.timeOffset.learnt && !clockKept)
+      spdlog::info("map store: the odometry's clock offset {:.3f} s kept in '{}' is not taken: this run's is fixed "
+                   "(odometry.time_offset_range_s 0) or its range does not hold it; it starts at {:.3f} s",
+                   kept.timeOffset.offsetS, path, motion.timeOffset().offset());
+    else if (clockKept)
+      spdlog::info("map store: the odometry's clock offset from '{}': {:.3f} s ({} frames of evidence)", path,
+                   motion.timeOffset().offset(), kept.timeOffset.frames);
     const odometry::CalibrationEstimate e = motion.calibration().estimate();
     spdlog::info("map store: the wheels' calibration from '{}': distance x{:.4f}, turns x{:.4f}, drift {:.4f} deg/s "
-                 "({} frames of evidence), the mount {:.2f} deg",
-                 path, 1.0 + e.scale, 1.0 + e.yawScale, e.yawBiasRadPerS * kRadToDeg, e.frames,
-                 motion.mount().errorDeg());
+                 "({} frames of evidence)",
+                 path, 1.0 + e.scale, 1.0 + e.yawScale, e.yawBiasRadPerS * kRadToDeg, e.frames);
     if (std::optional<OdometrySummary>& o = outputs_.summary->header().odometry) {
       o->calibrationFrom = path;
       o->startScaleError = e.scale;
       o->startYawScaleError = e.yawScale;
       o->startYawBiasDegPerS = e.yawBiasRadPerS * kRadToDeg;
       o->startCalibrationFrames = size_t(e.frames);
-      o->startMountErrorDeg = motion.mount().errorDeg();
+      if (clockKept) o->startTimeOffsetS = motion.timeOffset().offset();
     }
   }
+}
+
+void Run::decideKeptMount(const Eigen::Vector3d& up) {
+  const KeptMount kept = *std::exchange(keptMount_, std::nullopt);
+  odometry::MountCalibration keptCorrection;
+  keptCorrection.restore(kept.state);
+  std::optional<OdometrySummary>& o = outputs_.summary->header().odometry;
+  std::string refused;
+  if (kept.up) {
+    const double changeDeg = std::acos(std::clamp(kept.up->dot(up.normalized()), -1.0, 1.0)) * kRadToDeg;
+    if (o) o->startMountChangeDeg = changeDeg;
+    if (changeDeg > kKeptMountSameDeg) {
+      char why[160];
+      std::snprintf(why, sizeof why, "the odometry's mount differs by %.2f deg (more than %.1f) from the one the kept "
+                    "correction was learnt against", changeDeg, kKeptMountSameDeg);
+      refused = why;
+    }
+  } else {
+    refused = "the store does not record the mount the kept correction was learnt against (an odometry.bin of "
+              "version 1)";
+  }
+  if (!refused.empty()) {
+    spdlog::warn("map store: the mount's correction kept in '{}' ({:.2f} deg) is not restored: {}; it is learnt "
+                 "afresh (summary.json odometry.start_mount_refused)", kept.path, keptCorrection.errorDeg(), refused);
+    if (o) o->startMountRefused = refused;
+    return;
+  }
+  runner_.motion().restoreMount(kept.state);
+  spdlog::info("map store: the mount's correction from '{}': {:.2f} deg, learnt against the same mount", kept.path,
+               keptCorrection.errorDeg());
+  if (o) o->startMountErrorDeg = keptCorrection.errorDeg();
 }
 
 void Run::keepStoreState(bool final) {
@@ -135,8 +188,13 @@ void Run::keepStoreState(bool final) {
   // The calibration only from a run with odometry (a run without keeps what the store held).
   if (runner_.odometry()) {
     const odometry::MotionModel& motion = runner_.motion();
-    mapStore_->saveState(mapstore::kOdometryFile,
-                         encodeKeptOdometry({motion.calibration().state(), motion.mount().state()}));
+    KeptOdometry kept{motion.calibration().state(), motion.mount().state(), motion.timeOffset().state(), {}};
+    if (mountUpSum_.norm() > 0.0) kept.mountUp = mountUpSum_.normalized();
+    if (keptMount_) {  // the odometry never gave a pose: the kept mount stays as it was
+      kept.mount = keptMount_->state;
+      kept.mountUp = keptMount_->up;
+    }
+    mapStore_->saveState(mapstore::kOdometryFile, encodeKeptOdometry(kept));
   }
 }
 

@@ -28,33 +28,14 @@
 #include "tests/support/files.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
+#include "tests/tools/map_store_runs.h"
 
 using sb::test::readJson;
 using sb::test::runCommand;
+using namespace sb::test::map_store;
 namespace fs = std::filesystem;
 
 namespace {
-
-const std::string kTool = SB_SLAMBOOSTER_BIN;
-const std::string kDrive =
-    " synth --scene corridor --corridor-length 12 --stress drive --width 160 --height 120 --fx 120.3 --fy 120"
-    " --threads 2 --overwrite";
-
-void synth(const std::string& args) {
-  const auto r = runCommand(kTool + kDrive + args);
-  INFO(r.output);
-  REQUIRE(r.exitCode == 0);
-}
-
-nlohmann::json run(const std::string& sequence, const std::string& store, const std::string& out,
-                   const std::string& extra = "") {
-  fs::remove_all(out);
-  const auto r = runCommand(kTool + " run " + sequence + " --controller default --volume-size 5 --threads 2 --quiet"
-                            " --map-store " + store + " --out " + out + extra);
-  INFO(r.output);
-  REQUIRE(r.exitCode == 0);
-  return readJson(out + "/summary.json");
-}
 
 // Frames whose relocalisation had an acceptable attempt (a candidate found, held, or the one relocalised) and the
 // most held in a row, from frames.jsonl.
@@ -82,39 +63,6 @@ std::map<std::string, std::string> filesOf(const std::string& dir) {
   for (const auto& e : fs::recursive_directory_iterator(dir))
     if (e.is_regular_file()) files[e.path().string()] = sb::test::readText(e.path().string());
   return files;
-}
-
-// The fault watch off (docs/odometry.md; on by default, dispute_s 0.3, since 2026-12-07), for run 1 and run 2
-// alike. With it on, the default, the store was the one whose restart was not localised before the path check (a
-// candidate held 14 of 15 frames); both stores are tested.
-const std::string kUnwatchedConfig = R"({"odometry": {"dispute_s": 0}})";
-
-// The first run (frames 0-329 of the drive) with a new store, made once per config for the cases that restart in
-// it: its directory holds run1/ (the sequence), out1/ (the run), store/, which no case writes into (each works on a
-// copy), and config.json when `config` is given (`extra` then names it for a run).
-struct FirstRun {
-  std::string dir;
-  std::string extra;  // " --config DIR/config.json", or empty
-};
-const FirstRun& firstRun(const std::string& config = "") {
-  static std::map<std::string, FirstRun> made;
-  auto it = made.find(config);
-  if (it != made.end()) return it->second;
-  FirstRun f;
-  f.dir = sb::test::scratchDir(config.empty() ? "map_store_cli_run1" : "map_store_cli_run1_unwatched");
-  if (!config.empty()) {
-    std::ofstream(f.dir + "/config.json") << config;
-    f.extra = " --config " + f.dir + "/config.json";
-  }
-  synth(" --frames-to 330 --out " + f.dir + "/run1");
-  run(f.dir + "/run1", f.dir + "/store", f.dir + "/out1", f.extra);
-  return made.emplace(config, f).first->second;
-}
-
-// A copy of the first run's store at `to`, for a case to continue or to be refused.
-void copyFirstStore(const std::string& to, const std::string& config = "") {
-  fs::remove_all(to);
-  fs::copy(firstRun(config).dir + "/store", to, fs::copy_options::recursive);
 }
 
 // Run 2's poses from its localised frame on, in run 1's frame (run 1's alignment to the truth, no refit).
