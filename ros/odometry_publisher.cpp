@@ -113,6 +113,11 @@ void OdometryPublisher::onPose(const PoseReport& pose) {
   if (config_.publishTf) {
     if (robot) {
       publishMapToOdom(pose, stamp, camera, *robot);
+    } else if (pose.keptMap == "localising") {
+      // Started in a kept map and not localised in it yet (docs/map-store.md): the held pose is in no frame of
+      // the store, so map -> ~camera_frame waits for the localised frame (map -> odom waits too: these frames
+      // are lost, ros/map_to_odom.h, and the localised one's jump goes into it).
+      tfEdge_ = "none: localising in the kept map";
     } else if (const auto parent = wheels_ ? wheels_->parentInTf(config_.cameraFrame) : std::nullopt;
                parent && *parent != config_.mapFrame) {
       // ~camera_frame is the robot's own (e.g. camera_depth_optical_frame under base_link, before the first

@@ -82,6 +82,7 @@ cross-install (README, With ROS); this placeholder only says so"
   [test_ros_odometry_topic]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_tf_tree]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_tf_relocalisation]="ROS 1 component: native builds only (see ros_component)"
+  [test_ros_tf_kept_map]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_bag_tf]="ROS 1 component: native builds only (see ros_component)"
   [test_ros_map_to_odom]="ROS 1 component: native builds only (see ros_component)"
   [test_cluster_reference]=$spawns [test_cluster_parallel]=$spawns [test_cluster_kill]=$spawns
