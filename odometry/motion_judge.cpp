@@ -94,6 +94,7 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
       faults_.interrupt();
       return;
     }
+    disputedAlong(tracked, predicted);
     // A body keeps its velocity: a view that departs further from the last velocity than the wheels' step (it
     // slid to a look-alike of the corridor by a door's spacing) is discarded for this frame, as a wheel step that
     // jumps is. One frame's inertia cannot decide a fault that lasts, though: after a discarded view the last
@@ -124,7 +125,7 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     faults_.wheelsContradicted(r.timestamp);
     view.odometry.rejected = true;
     view.odometry.why = f.why;
-  } else {
+  } else if (settles(r.quality)) {
     faults_.agreed(r.timestamp);
   }
   if (motion.withheld) {  // slipping: the wheels are watched, not used; the view alone, as without odometry
@@ -142,6 +143,22 @@ void MotionModel::judgeAgainstWheels(Pipeline& pipeline, const FrameView& view, 
     mount_.learn(motion.previousPose.linear().transpose() * tracked.linear(), *motion.reported);
   d.refinedPose = f.pose;
   d.correctedPose.reset();  // a controller's extrapolation gives way to the wheels' word
+}
+
+void MotionModel::disputedAlong(const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted) {
+  const Eigen::Vector3d offset = tracked.translation() - predicted.translation();
+  if (offset.norm() > kStillM) disputed_ = offset.normalized();
+}
+
+bool MotionModel::settles(const TrackingQuality& quality) const {
+  // Only a view that fixes the motion the dispute is about can agree with the wheels on it: along a motion it
+  // leaves free (a corridor's axis) ICP stays where the wheels' prediction started it, and that is no agreement
+  // (held-out drives with wheels reading zero, or half the distance: three such frames ended the dispute, and the
+  // pose the wheels had carried 0.3-0.6 m along the corridor was `good` from there on).
+  if (faults_.fault() != WheelFault::disputed || !disputed_ || !quality.known) return true;
+  Twist along = Twist::Zero();
+  along.head<3>() = *disputed_;
+  return conditioningAlong(quality, along) >= config_.minConditioning;
 }
 
 std::optional<Eigen::Isometry3d> MotionModel::viewPrediction(double stamp) const {

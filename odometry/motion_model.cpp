@@ -117,6 +117,7 @@ void MotionModel::judge(Pipeline& pipeline, const FrameView& view, const FrameMo
     judgeAgainstWheels(pipeline, view, motion, wheels);
   }
   view.odometry.fault = faults_.fault();
+  if (faults_.fault() == WheelFault::none) disputed_.reset();
   if (faults_.fault() != WheelFault::none && view.odometry.why.empty()) view.odometry.why = faults_.why();
   if (viewPredicted_)
     view.odometry.why = viewPredictedWhy_ + (view.odometry.why.empty() ? "" : "; " + view.odometry.why);
@@ -219,6 +220,7 @@ void MotionModel::relocalised() {
   agreedPose_.reset();
   viewVelocity_.reset();
   turnCorrections_.clear();
+  disputed_.reset();
   odometryPose_.reset();
   odometryDistanceM_ = odometryTimeS_ = 0.0;
   faults_.reset();

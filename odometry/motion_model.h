@@ -209,6 +209,12 @@ class MotionModel {
   // millimetres) while the wheels moved at least twice that since: a stall's signature.
   bool viewStill(const Eigen::Isometry3d& tracked, const FrameMotion& motion, const OdometryStep& wheels) const;
   static constexpr double kStillM = 0.01, kStillDeg = 0.5;
+  // The direction the view moved the wheels' prediction on the dispute's last contradicting frame (world frame,
+  // the camera centre's offset over kStillM), and whether this frame's view fixes that motion: only such a view's
+  // agreement with the wheels settles the dispute (a frame of a view that leaves it free is neither side's).
+  void disputedAlong(const Eigen::Isometry3d& tracked, const Eigen::Isometry3d& predicted);
+  bool settles(const TrackingQuality& quality) const;
+  std::optional<Eigen::Vector3d> disputed_;
 
   OdometryConfig config_;
   std::shared_ptr<const OdometryTrack> track_;

@@ -31,13 +31,6 @@ double turnAbout(const Eigen::Matrix3d& R, const Eigen::Vector3d& up) {
   return aa.angle() * aa.axis().dot(up);
 }
 
-// How well the view fixes the world-frame motion `d` (a twist): the structure's Rayleigh quotient along it.
-double conditioningAlong(const TrackingQuality& q, const Twist& d) {
-  const Twist x = q.basis.fullPivLu().solve(d);
-  const double n = x.squaredNorm();
-  return n > 0 && std::isfinite(n) ? std::max(0.0, x.dot(q.structure * x) / n) : 0.0;
-}
-
 // The world-frame twist that moves `pose` by `local` (a small motion in the camera's frame).
 Twist twistOfLocal(const Eigen::Isometry3d& pose, const Eigen::Isometry3d& local) {
   return transformToTwist(pose * local * pose.inverse());

@@ -1,6 +1,7 @@
 #include "odometry/odometry_fusion.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -24,6 +25,12 @@ Eigen::Isometry3d rigid(const Eigen::Isometry3d& T) {
 }
 
 }  // namespace
+
+double conditioningAlong(const TrackingQuality& q, const Twist& d) {
+  const Twist x = q.basis.fullPivLu().solve(d);
+  const double n = x.squaredNorm();
+  return n > 0 && std::isfinite(n) ? std::max(0.0, x.dot(q.structure * x) / n) : 0.0;
+}
 
 std::optional<OdometryStep> stepBetween(const OdometryTrack& track, double t0, double t1, const OdometryConfig& c,
                                         std::string& why) {

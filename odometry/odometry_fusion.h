@@ -72,6 +72,10 @@ std::string implausibleMotion(const OdometryConfig& c, const Eigen::Isometry3d& 
                               const Eigen::Isometry3d& pose, double dt,
                               const std::optional<Eigen::Vector3d>& previousVelocity);
 
+// How well the view fixes the world-frame motion `d` (a twist): the structure's Rayleigh quotient along it, the
+// conditioning of tracking_quality.h for that one motion (0 when the structure is not known).
+double conditioningAlong(const TrackingQuality& q, const Twist& d);
+
 struct Fusion {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // the fused pose (the tracked one when rejected)
   bool rejected = false;      // the view contradicts the odometry along the motions it fixes (a wheel slip)

@@ -144,8 +144,12 @@ class FaultWatch {
   // view's pose stands. The run starts only where the correction is `withinReach` (as far as the wheels' pose may
   // be off the map: the relocaliser's tolerance, odometry_config.h).
   bool steady(double stamp, const Eigen::Isometry3d& correction, double toleranceM, bool withinReach);
+  // The frames in a row end too: agreement (`agreed`) counts frames in a row, and a frame between them whose view
+  // was discarded, or failed, did not agree (a held-out drive with wheels reading zero: agree, a view discarded as
+  // a motion the platform cannot make, agree, agree, and the dispute ended on a `good` frame 0.62 m off).
   void interrupt() {
     rising_ = 0;
+    calm_ = 0;
     steady_.reset();
   }
   // A frame where the two agree (the view holds the map and the wheels' step agrees with it).

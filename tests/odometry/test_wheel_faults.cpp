@@ -48,6 +48,21 @@ TEST_CASE("one frame's disagreement is not a verdict; a disagreement that lasts 
   CHECK(watch.fault() == WheelFault::none);
 }
 
+TEST_CASE("agreement ends a dispute only in frames in a row: a discarded view between them breaks the run",
+          "[odometry][faults]") {
+  // Wheels reading zero while the robot drove on (a held-out drive): agree, a view discarded as a motion the platform
+  // cannot make, agree, agree, and the dispute ended on a `good` frame 0.62 m off.
+  FaultWatch watch(0.3, 0.5);
+  watch.wheelsContradicted(0.0);
+  watch.agreed(kFrameS);
+  watch.interrupt();  // the view disagreed with the wheels and was discarded
+  watch.agreed(3 * kFrameS);
+  watch.agreed(4 * kFrameS);
+  CHECK(watch.fault() == WheelFault::disputed);
+  watch.agreed(5 * kFrameS);
+  CHECK(watch.fault() == WheelFault::none);
+}
+
 TEST_CASE("a view that does not fit the map near the wheels' pose for the decision time is a kidnap",
           "[odometry][faults]") {
   // Decided by the window, not by the dead-reckoning budget: a robot set down 8 m back drove on its wheels' pose

@@ -9,6 +9,7 @@
 // Second: a camera mount measured 2 degrees off, through the U-turn and back (mount_sigma_deg). Third: wheels gone
 // wrong for 6 s while the view could take over (reversed steps under `adaptive`, a 20 deg/s gyro bias under DEFAULT).
 // Fourth: wheels reading twice the distance, withheld through the U-turn, where the end wall leaves the height free.
+// Fifth: wheels reading zero while the robot drives on, where the view barely fixes the corridor's axis.
 #include <catch2/catch.hpp>
 #include <algorithm>
 #include <cmath>
@@ -195,4 +196,27 @@ TEST_CASE("wheels withheld facing the end wall: the camera keeps the base's heig
   CHECK(slipping > 100);  // the wheels were withheld through the end wall
   CHECK(posed >= kHeightFrames * 95 / 100);
   CHECK(worstHeightM < 0.1);
+}
+
+TEST_CASE("wheels reading zero while the robot drives on: no dispute ends on a frame that could not settle it",
+          "[odometry][system]") {
+  // Wheels reading zero from 13 s for 10 s (the whole drive, `adaptive`). The view discarded each frame as breaking the
+  // body's inertia (the last velocity was the wheels' nil one) while the pose stood with the wheels, and the dispute
+  // ended on frames that settled nothing: three tracked from the wheels' prediction where the view barely fixed the
+  // corridor's axis (ICP stayed where it started: no disagreement), and three counted in a row across a view discarded
+  // between them. Three `good` frames 0.30-0.62 m off (before 2026-12-08). Now only a view that fixes the motion the
+  // dispute is about settles it, and a discarded view breaks the run of agreeing frames (odometry/wheel_faults.h).
+  const std::string dir = sb::test::scratchDir("test_wheel_faults_cli_zero");
+  const auto synth = runCommand(kTool + " synth --out " + dir + "/drive --scene corridor --stress drive --seed 42" +
+                                " --width 320 --height 240 --fx 240.6 --fy 240 --threads 1 --overwrite"
+                                " --odom-wrong zero,13,10");
+  INFO(synth.output);
+  REQUIRE(synth.exitCode == 0);
+  const sb::Trajectory truth = sb::readTumTrajectory(dir + "/drive/groundtruth.txt");
+  const auto run = runCommand(kTool + " run " + dir + "/drive --out " + dir + "/run --controller adaptive --threads 1 --quiet");
+  INFO(run.output);
+  REQUIRE(run.exitCode == 0);
+  const Verdict v = judge(dir + "/run", truth);
+  INFO("worst good frame " << v.worstGoodM << " m, " << v.unposed << " frames lost");
+  CHECK(v.goodOff == 0);
 }
