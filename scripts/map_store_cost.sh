@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # What keeping a map store costs a run, side by side (issue 55): the same drive run with and without a new store,
-# alternated REPEATS times in one invocation so that both see the same machine. The drive is the 12 m corridor's
-# whole drive (there and back: the way back brings the moving volume over places the store keeps, so slabs are
-# written and swapped in within the run), 160x120 images to keep the runs short (SCALE=2 in the environment:
-# 320x240, SCALE=4: 640x480, the focal lengths scaled with them).
+# alternated REPEATS times in one invocation so that both see the same machine (which of the two goes first
+# alternates too). The drive is the 12 m corridor's whole drive (there and back: the way back brings the moving
+# volume over places the store keeps, so slabs are written and swapped in within the run), 160x120 images to keep
+# the runs short (SCALE=2 in the environment: 320x240, SCALE=4: 640x480, the focal lengths scaled with them).
 #
 # usage: scripts/map_store_cost.sh OUT [CONTROLLER] [REPEATS]
 # Per run: summary.json's computation_ms_per_frame (the SLAM thread's stages), cpu_ms_per_frame (every thread of
@@ -22,10 +22,11 @@ seq=$out/drive-x$scale
   $tool synth --scene corridor --corridor-length 12 --stress drive --width $((160 * scale)) --height $((120 * scale)) \
     --fx "$(echo "120.3 * $scale" | bc)" --fy $((120 * scale)) --threads 2 --out "$seq" >"$out/synth.log" 2>&1
 run="$tool run $seq --controller $controller --volume-size 5 --threads 2 --quiet"
-for i in $(seq 1 "$repeats"); do
+without() { $run --out "$out/without-$1" >"$out/without-$1.log" 2>&1; }
+with() { $run --map-store "$out/store-$1" --out "$out/with-$1" >"$out/with-$1.log" 2>&1; }
+for i in $(seq 1 "$repeats"); do  # the order alternates: a machine that speeds up or slows down favours neither
   rm -rf "$out/without-$i" "$out/with-$i" "$out/store-$i"
-  $run --out "$out/without-$i" >"$out/without-$i.log" 2>&1
-  $run --map-store "$out/store-$i" --out "$out/with-$i" >"$out/with-$i.log" 2>&1
+  if ((i % 2)); then without "$i" && with "$i"; else with "$i" && without "$i"; fi
 done
 python3 - "$out" "$repeats" <<'EOF'
 import json, os, statistics, sys
