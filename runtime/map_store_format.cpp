@@ -200,7 +200,8 @@ void mergeSlab(const std::vector<uint8_t>& bytes, const std::string& name, const
     int tx = box.first[0] + int(i % ex) - target.first[0];
     int ty = box.first[1] + int((i / ex) % uint64_t(box.extent[1])) - target.first[1];
     int tz = box.first[2] + int(i / exy) - target.first[2];
-    const int txEnd = box.first[0] + box.extent[0] - target.first[0], tyEnd = box.first[1] + box.extent[1] - target.first[1];
+    const int txEnd = box.first[0] + box.extent[0] - target.first[0];
+    const int tyEnd = box.first[1] + box.extent[1] - target.first[1];
     for (uint64_t j = 0; j < count; ++j, p += 4) {
       if (tx >= 0 && ty >= 0 && tz >= 0 && tx < target.extent[0] && ty < target.extent[1] && tz < target.extent[2]) {
         const size_t at = size_t(tx) + size_t(target.extent[0]) * (size_t(ty) + size_t(target.extent[1]) * size_t(tz));

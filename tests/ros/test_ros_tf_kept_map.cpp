@@ -80,7 +80,8 @@ TEST_CASE("localising in a kept map sends no map -> camera edge; the localised f
       CHECK_FALSE(watch.buffer.canTransform("map", "slambooster_camera", stamp));
     } else {
       CHECK(diagnosticValue(*watch.diagnostics.of(k), "tf") == "map -> slambooster_camera");
-      const Eigen::Isometry3d camera = toIsometry(watch.buffer.lookupTransform("map", "slambooster_camera", stamp).transform);
+      const Eigen::Isometry3d camera =
+          toIsometry(watch.buffer.lookupTransform("map", "slambooster_camera", stamp).transform);
       CHECK(translationError(camera, inStore(k)) < kTol);
       CHECK(rotationError(camera, inStore(k)) < kTol);
     }

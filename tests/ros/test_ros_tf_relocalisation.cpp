@@ -128,7 +128,9 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
   }
   tfPub.publish(tf);
   REQUIRE(waitFor(
-      [&] { return watch.buffer.canTransform("odom", "base_link", ros::Time(kStartS + kPeriodS * (kFrames - 1))); },
+      [&] {
+        return watch.buffer.canTransform("odom", "base_link", ros::Time(kStartS + kPeriodS * (kFrames - 1)));
+      },
       10.0));
   for (const auto& o : odometry) odomPub.publish(o);
   REQUIRE(waitFor([&] { return daemon.odometrySamples() == static_cast<size_t>(kFrames); }, 10.0));
@@ -151,7 +153,8 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
   for (int k = 0; k < kFrames; ++k) {
     INFO("frame " << k << " (" << state(k) << ")");
     const ros::Time stamp(kStartS + kPeriodS * k);
-    const Eigen::Isometry3d mapToOdom = toIsometry(watch.buffer.lookupTransform("map", "odom", stamp).transform);
+    const Eigen::Isometry3d mapToOdom =
+        toIsometry(watch.buffer.lookupTransform("map", "odom", stamp).transform);
     const Eigen::Isometry3d expected = k < 7 ? A : B;  // lost frames 5-6 hold A
     CHECK(translationError(mapToOdom, expected) < kTol);
     CHECK(rotationError(mapToOdom, expected) < kTol);
@@ -160,7 +163,8 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
     CHECK(translationError(odomToBase, baseInOdom(k)) < kTol);  // the base's own, untouched by the jump
     CHECK(rotationError(odomToBase, baseInOdom(k)) < kTol);
     if (state(k) != "lost") {
-      const Eigen::Isometry3d base = toIsometry(watch.buffer.lookupTransform("map", "base_link", stamp).transform);
+      const Eigen::Isometry3d base =
+          toIsometry(watch.buffer.lookupTransform("map", "base_link", stamp).transform);
       CHECK(translationError(base, daemonPoses[size_t(k)] * mount.inverse()) < kTol);
       CHECK(rotationError(base, daemonPoses[size_t(k)] * mount.inverse()) < kTol);
     }

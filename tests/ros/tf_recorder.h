@@ -1,7 +1,7 @@
 #pragma once
 // For the TF tree tests (issue 57): every edge seen on /tf and /tf_static with who published it, so a test
-// can say that no frame has two parents and which node publishes which edge; the bridge's tracking diagnostics by
-// frame; the whole watching side of a TF test in one object (TfWatch); and small pose helpers.
+// can say that no frame has two parents and which node publishes which edge; the bridge's tracking
+// diagnostics by frame; the whole watching side of a TF test in one object (TfWatch); and small pose helpers.
 
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/Transform.h>
@@ -51,8 +51,8 @@ class TrackingDiagnostics {
 // A status' value for `key`, or "(no KEY)".
 std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& status, const std::string& key);
 
-// What a TF test watches, set up in one place: the tracking diagnostics, every TF edge with its publisher, a tf2
-// buffer of 600 s with its listener, and one spinner thread serving them, started on construction.
+// What a TF test watches, set up in one place: the tracking diagnostics, every TF edge with its publisher, a
+// tf2 buffer of 600 s with its listener, and one spinner thread serving them, started on construction.
 struct TfWatch {
   explicit TfWatch(ros::NodeHandle& node);
   TrackingDiagnostics diagnostics;

@@ -1,11 +1,12 @@
 // `slambooster eval-map`: the navigation grid of a run (map.pgm, map.yaml, map_frame.json; navmap/) against
 // the true occupancy of the synthetic corridor it ran in (synth/corridor_scene.h, regenerated from its seed and
 // length), brought into the scene's frame by the rigid transform fitted on the run's whole poses against the
-// ground truth (eval/trajectory_eval.h alignFrames: positions and orientations; the ATE's fit on positions alone
-// leaves a straight drive's frame free to roll about the corridor, which tilts the grid's band through the
-// walls), or with --frame-of by the frame fitted on another run (a run in a kept map: its grid is in the frame of
-// the run that made the store, as `eval --frame-of`). Precision: occupied cells within one cell of a truly occupied one; recall: truly
-// occupied cells in the map's known area with an occupied cell within one cell.
+// ground truth (eval/trajectory_eval.h alignFrames: positions and orientations; the ATE's fit on positions
+// alone leaves a straight drive's frame free to roll about the corridor, which tilts the grid's band through
+// the walls), or with --frame-of by the frame fitted on another run (a run in a kept map: its grid is in the
+// frame of the run that made the store, as `eval --frame-of`). Precision: occupied cells within one cell of a
+// truly occupied one; recall: truly occupied cells in the map's known area with an occupied cell within one
+// cell.
 
 #include <cmath>
 #include <fstream>
@@ -91,9 +92,9 @@ void evalMap(const EvalMapOptions& o) {
   const Trajectory estimate = readTumTrajectory(o.run + "/trajectory.tum");
   const Trajectory truthPath = readTumTrajectory(o.sequence + "/groundtruth.txt");
   const AteResult ate = computeAte(estimate, truthPath);
-  const Eigen::Isometry3d worldToScene = o.frameOf.size() == 2
-                                             ? alignFrames(readTumTrajectory(o.frameOf[0]), readTumTrajectory(o.frameOf[1]))
-                                             : alignFrames(estimate, truthPath);
+  const Eigen::Isometry3d worldToScene =
+      o.frameOf.size() == 2 ? alignFrames(readTumTrajectory(o.frameOf[0]), readTumTrajectory(o.frameOf[1]))
+                            : alignFrames(estimate, truthPath);
   const Eigen::Isometry3d mapToScene = worldToScene * worldToMap.inverse();
   const Eigen::Isometry3d sceneToMap = mapToScene.inverse();
 
