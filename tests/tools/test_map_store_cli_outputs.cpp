@@ -145,7 +145,7 @@ std::pair<double, double> gridScore(const std::string& args) {
 // first run's part, to the corridor's start, which the first run never saw behind it); its map.pgm, everything the
 // store holds in the first run's frame, scored against the corridor's true occupancy aligned by the first run's
 // frame (eval-map --frame-of: no refit on run 2). Measured (2026-12-08, scripts/map_store_grid.sh): run 1 alone
-// precision 0.985, recall 1.000; both runs 0.965-0.977 and 0.992-0.994. Run 1's own score is the regression test
+// precision 0.985, recall 1.000; both runs 0.977 and 0.992. Run 1's own score is the regression test
 // of eval-map's alignment: fitted on positions alone (before 2026-12-08) the first run's straight 9 m let the frame
 // roll about the corridor and the same grid scored 0.554 and 0.504.
 TEST_CASE("the grid of a restart in a kept map: both runs' map against the corridor's true occupancy",
