@@ -6,16 +6,10 @@
 // localised frame on. (With odometry the localising frames are lost, so map -> odom is not sent before the
 // localised frame, whose jump goes into it: ros/map_to_odom.h, test_ros_tf_relocalisation.cpp.)
 
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <signal.h>
 #include <tf2/exceptions.h>
-#include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
 
-#include <map>
-#include <mutex>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "tests/daemon/daemon_e2e.h"
 #include "tests/ros/fake_daemon.h"
@@ -39,28 +33,6 @@ Eigen::Isometry3d inStore(int k) {
   return T;
 }
 
-struct DiagnosticsLog {
-  std::mutex mutex;
-  std::map<std::string, std::string> tfByFrame;  // frame -> the "tf" value
-  void on(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
-    std::lock_guard lock(mutex);
-    for (const auto& s : m->status) {
-      if (s.name != "slambooster: tracking") continue;
-      std::string frame, tf = "(no tf)";
-      for (const auto& kv : s.values) {
-        if (kv.key == "frame") frame = kv.value;
-        if (kv.key == "tf") tf = kv.value;
-      }
-      if (!frame.empty()) tfByFrame[frame] = tf;
-    }
-  }
-  std::optional<std::string> of(int frame) {
-    std::lock_guard lock(mutex);
-    const auto it = tfByFrame.find(std::to_string(frame));
-    return it == tfByFrame.end() ? std::nullopt : std::optional(it->second);
-  }
-};
-
 }  // namespace
 
 TEST_CASE("localising in a kept map sends no map -> camera edge; the localised frames do, in the store's frame",
@@ -71,17 +43,11 @@ TEST_CASE("localising in a kept map sends no map -> camera edge; the localised f
   RosMaster master(tmp.path);
   joinMaster(master, "test_tf_kept_map");
   ros::NodeHandle node;
-  DiagnosticsLog diagnostics;
-  auto diagnosticsSub = node.subscribe("/diagnostics", 100, &DiagnosticsLog::on, &diagnostics);
-  TfRecorder recorder(node);
-  tf2_ros::Buffer buffer(ros::Duration(600));
-  tf2_ros::TransformListener listener(buffer);
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
+  TfWatch watch(node);
   auto bridge = startBridge(master, {"socket:=" + socket, "reconnect_s:=0.05", "map_period_s:=0", "cloud_period_s:=0"},
                             tmp.path + "/bridge.log");
   INFO(bridge->log());
-  REQUIRE(waitFor([&] { return diagnosticsSub.getNumPublishers() >= 1 && daemon.watched(); }, 20.0));
+  REQUIRE(waitFor([&] { return watch.diagnosticsSub.getNumPublishers() >= 1 && daemon.watched(); }, 20.0));
 
   for (int k = 0; k < kFrames; ++k) {
     const bool localised = k >= kLocalisedAt;
@@ -102,26 +68,27 @@ TEST_CASE("localising in a kept map sends no map -> camera edge; the localised f
         {"class", "KNOBS"}, {"frame", k}, {"csr", 1}, {"icp", 1}, {"pd", {1, 1, 1}}, {"tr", 1}, {"ir", 1}}
                       .dump());
     INFO("frame " << k);
-    REQUIRE(waitFor([&] { return diagnostics.of(k).has_value(); }, 10.0));
+    REQUIRE(waitFor([&] { return watch.diagnostics.of(k).has_value(); }, 10.0));
   }
   const ros::Time last(kStartS + kPeriodS * (kFrames - 1));
-  REQUIRE(waitFor([&] { return buffer.canTransform("map", "slambooster_camera", last); }, 10.0));
+  REQUIRE(waitFor([&] { return watch.buffer.canTransform("map", "slambooster_camera", last); }, 10.0));
   for (int k = 0; k < kFrames; ++k) {
     INFO("frame " << k);
     const ros::Time stamp(kStartS + kPeriodS * k);
     if (k < kLocalisedAt) {
-      CHECK(*diagnostics.of(k) == "none: localising in the kept map");
-      CHECK_FALSE(buffer.canTransform("map", "slambooster_camera", stamp));
+      CHECK(diagnosticValue(*watch.diagnostics.of(k), "tf") == "none: localising in the kept map");
+      CHECK_FALSE(watch.buffer.canTransform("map", "slambooster_camera", stamp));
     } else {
-      CHECK(*diagnostics.of(k) == "map -> slambooster_camera");
-      const Eigen::Isometry3d camera = toIsometry(buffer.lookupTransform("map", "slambooster_camera", stamp).transform);
+      CHECK(diagnosticValue(*watch.diagnostics.of(k), "tf") == "map -> slambooster_camera");
+      const Eigen::Isometry3d camera =
+          toIsometry(watch.buffer.lookupTransform("map", "slambooster_camera", stamp).transform);
       CHECK(translationError(camera, inStore(k)) < kTol);
       CHECK(rotationError(camera, inStore(k)) < kTol);
     }
   }
-  CHECK(recorder.edgesOf("/slambooster") == std::set<std::string>{"map -> slambooster_camera"});
+  CHECK(watch.recorder.edgesOf("/slambooster") == std::set<std::string>{"map -> slambooster_camera"});
   bridge->signal(SIGINT);
   CHECK(bridge->wait(10.0) == 0);
-  spinner.stop();
+  watch.spinner.stop();
   ros::shutdown();
 }

@@ -8,17 +8,11 @@
 // tracked frames; the last map -> odom is also stamped ~transform_tolerance later (a lookup at "now" between
 // frames succeeds) and not beyond.
 
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <nav_msgs/Odometry.h>
 #include <signal.h>
 #include <tf2/exceptions.h>
-#include <tf2_ros/buffer.h>
-#include <tf2_ros/transform_listener.h>
 
-#include <map>
-#include <mutex>
 #include <nlohmann/json.hpp>
-#include <optional>
 
 #include "tests/daemon/daemon_e2e.h"
 #include "tests/ros/fake_daemon.h"
@@ -50,30 +44,6 @@ std::string state(int k) {
   return k == 5 || k == 6 ? "lost" : k == 7 ? "relocalised" : "good";
 }
 
-// The tracking diagnostics per frame.
-struct DiagnosticsLog {
-  std::mutex mutex;
-  std::map<std::string, diagnostic_msgs::DiagnosticStatus> byFrame;
-  void on(const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
-    std::lock_guard lock(mutex);
-    for (const auto& s : m->status)
-      if (s.name == "slambooster: tracking")
-        for (const auto& kv : s.values)
-          if (kv.key == "frame") byFrame[kv.value] = s;
-  }
-  std::optional<diagnostic_msgs::DiagnosticStatus> of(int frame) {
-    std::lock_guard lock(mutex);
-    const auto it = byFrame.find(std::to_string(frame));
-    return it == byFrame.end() ? std::nullopt : std::optional(it->second);
-  }
-};
-
-std::string value(const diagnostic_msgs::DiagnosticStatus& s, const std::string& key) {
-  for (const auto& kv : s.values)
-    if (kv.key == key) return kv.value;
-  return "(no " + key + ")";
-}
-
 }  // namespace
 
 TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost stretch holds map -> odom",
@@ -89,13 +59,7 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
   ros::Publisher odomPub = node.advertise<nav_msgs::Odometry>("/odom", 100);
   ros::Publisher tfPub = node.advertise<tf2_msgs::TFMessage>("/tf", 100);
   ros::Publisher tfStaticPub = node.advertise<tf2_msgs::TFMessage>("/tf_static", 1, /*latch=*/true);
-  DiagnosticsLog diagnostics;
-  auto diagnosticsSub = node.subscribe("/diagnostics", 100, &DiagnosticsLog::on, &diagnostics);
-  TfRecorder recorder(node);
-  tf2_ros::Buffer buffer(ros::Duration(600));
-  tf2_ros::TransformListener listener(buffer);
-  ros::AsyncSpinner spinner(1);
-  spinner.start();
+  TfWatch watch(node);
   tf2_msgs::TFMessage mountMessage;
   mountMessage.transforms.resize(1);
   mountMessage.transforms[0].header.frame_id = "base_link";
@@ -113,7 +77,7 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
   REQUIRE(waitFor(
       [&] {
         return odomPub.getNumSubscribers() >= 1 && tfStaticPub.getNumSubscribers() >= 2 &&
-               diagnosticsSub.getNumPublishers() >= 1 && daemon.watched();
+               watch.diagnosticsSub.getNumPublishers() >= 1 && daemon.watched();
       },
       20.0));
   std::this_thread::sleep_for(std::chrono::seconds(1));  // the latched mount reaches the bridge's tf2 buffer
@@ -136,8 +100,8 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
                       .dump());
   };
   sendFrame(99, kStartS - 1.0, mount, "good");
-  REQUIRE(waitFor([&] { return diagnostics.of(99).has_value(); }, 10.0));
-  CHECK(value(*diagnostics.of(99), "tf") ==
+  REQUIRE(waitFor([&] { return watch.diagnostics.of(99).has_value(); }, 10.0));
+  CHECK(diagnosticValue(*watch.diagnostics.of(99), "tf") ==
         "none: ~camera_frame 'camera_depth_optical_frame' has the parent 'base_link' in TF; leave "
         "~camera_frame at "
         "slambooster_camera");
@@ -164,7 +128,9 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
   }
   tfPub.publish(tf);
   REQUIRE(waitFor(
-      [&] { return buffer.canTransform("odom", "base_link", ros::Time(kStartS + kPeriodS * (kFrames - 1))); },
+      [&] {
+        return watch.buffer.canTransform("odom", "base_link", ros::Time(kStartS + kPeriodS * (kFrames - 1)));
+      },
       10.0));
   for (const auto& o : odometry) odomPub.publish(o);
   REQUIRE(waitFor([&] { return daemon.odometrySamples() == static_cast<size_t>(kFrames); }, 10.0));
@@ -179,36 +145,38 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
     daemonPoses.push_back(camera);
     sendFrame(k, kStartS + kPeriodS * k, camera, state(k));
     INFO("frame " << k);
-    REQUIRE(waitFor([&] { return diagnostics.of(k).has_value(); }, 10.0));
+    REQUIRE(waitFor([&] { return watch.diagnostics.of(k).has_value(); }, 10.0));
   }
   const ros::Time last(kStartS + kPeriodS * (kFrames - 1));
-  REQUIRE(waitFor([&] { return buffer.canTransform("map", "odom", last); }, 10.0));
+  REQUIRE(waitFor([&] { return watch.buffer.canTransform("map", "odom", last); }, 10.0));
 
   for (int k = 0; k < kFrames; ++k) {
     INFO("frame " << k << " (" << state(k) << ")");
     const ros::Time stamp(kStartS + kPeriodS * k);
-    const Eigen::Isometry3d mapToOdom = toIsometry(buffer.lookupTransform("map", "odom", stamp).transform);
+    const Eigen::Isometry3d mapToOdom =
+        toIsometry(watch.buffer.lookupTransform("map", "odom", stamp).transform);
     const Eigen::Isometry3d expected = k < 7 ? A : B;  // lost frames 5-6 hold A
     CHECK(translationError(mapToOdom, expected) < kTol);
     CHECK(rotationError(mapToOdom, expected) < kTol);
     const Eigen::Isometry3d odomToBase =
-        toIsometry(buffer.lookupTransform("odom", "base_link", stamp).transform);
+        toIsometry(watch.buffer.lookupTransform("odom", "base_link", stamp).transform);
     CHECK(translationError(odomToBase, baseInOdom(k)) < kTol);  // the base's own, untouched by the jump
     CHECK(rotationError(odomToBase, baseInOdom(k)) < kTol);
     if (state(k) != "lost") {
-      const Eigen::Isometry3d base = toIsometry(buffer.lookupTransform("map", "base_link", stamp).transform);
+      const Eigen::Isometry3d base =
+          toIsometry(watch.buffer.lookupTransform("map", "base_link", stamp).transform);
       CHECK(translationError(base, daemonPoses[size_t(k)] * mount.inverse()) < kTol);
       CHECK(rotationError(base, daemonPoses[size_t(k)] * mount.inverse()) < kTol);
     }
-    const auto d = diagnostics.of(k);
+    const auto d = watch.diagnostics.of(k);
     REQUIRE(d);
-    CHECK(value(*d, "tf") == "map -> odom");
+    CHECK(diagnosticValue(*d, "tf") == "map -> odom");
     if (state(k) == "lost") {
       CHECK(d->level == diagnostic_msgs::DiagnosticStatus::ERROR);
-      CHECK(value(*d, "map_to_odom") == "held since frame 4: lost");
+      CHECK(diagnosticValue(*d, "map_to_odom") == "held since frame 4: lost");
       CHECK(d->message.find("map -> odom held since frame 4: lost") != std::string::npos);
     } else {
-      CHECK(value(*d, "map_to_odom") == "updated");
+      CHECK(diagnosticValue(*d, "map_to_odom") == "updated");
     }
   }
   // The jump is in map -> odom, by what the relocalisation corrected.
@@ -218,22 +186,22 @@ TEST_CASE("a relocalisation moves map -> odom and not odom -> base_link; a lost 
   // none.
   for (const double after : {0.05, kToleranceS}) {
     INFO("last frame + " << after << " s");
-    const auto t = buffer.lookupTransform("map", "odom", last + ros::Duration(after));
+    const auto t = watch.buffer.lookupTransform("map", "odom", last + ros::Duration(after));
     CHECK(translationError(toIsometry(t.transform), B) < kTol);
   }
-  CHECK_THROWS_AS(buffer.lookupTransform("map", "odom", last + ros::Duration(kToleranceS + 0.05)),
+  CHECK_THROWS_AS(watch.buffer.lookupTransform("map", "odom", last + ros::Duration(kToleranceS + 0.05)),
                   tf2::ExtrapolationException);
 
-  for (const auto& [child, parents] : recorder.parents()) {
+  for (const auto& [child, parents] : watch.recorder.parents()) {
     INFO(child << " has " << parents.size() << " parents");
     CHECK(parents.size() == 1);
   }
-  const std::set<std::string> bridgeEdges = recorder.edgesOf("/slambooster");
+  const std::set<std::string> bridgeEdges = watch.recorder.edgesOf("/slambooster");
   CHECK(bridgeEdges == std::set<std::string>{"map -> odom"});
-  CHECK(recorder.edgesOf("/test_tf_base") ==
+  CHECK(watch.recorder.edgesOf("/test_tf_base") ==
         std::set<std::string>{"odom -> base_link", "base_link -> camera_depth_optical_frame"});
   bridge->signal(SIGINT);
   CHECK(bridge->wait(10.0) == 0);
-  spinner.stop();
+  watch.spinner.stop();
   ros::shutdown();
 }

@@ -29,6 +29,31 @@ std::set<std::string> TfRecorder::edgesOf(const std::string& publisher) const {
   return it == edges_.end() ? std::set<std::string>{} : it->second;
 }
 
+void TrackingDiagnostics::on(const diagnostic_msgs::DiagnosticArray::ConstPtr& message) {
+  std::lock_guard lock(mutex_);
+  for (const auto& s : message->status)
+    if (s.name == "slambooster: tracking")
+      for (const auto& kv : s.values)
+        if (kv.key == "frame") byFrame_[kv.value] = s;
+}
+
+std::optional<diagnostic_msgs::DiagnosticStatus> TrackingDiagnostics::of(int frame) const {
+  std::lock_guard lock(mutex_);
+  const auto it = byFrame_.find(std::to_string(frame));
+  return it == byFrame_.end() ? std::nullopt : std::optional(it->second);
+}
+
+std::string diagnosticValue(const diagnostic_msgs::DiagnosticStatus& status, const std::string& key) {
+  for (const auto& kv : status.values)
+    if (kv.key == key) return kv.value;
+  return "(no " + key + ")";
+}
+
+TfWatch::TfWatch(ros::NodeHandle& node)
+    : diagnosticsSub(node.subscribe("/diagnostics", 100, &TrackingDiagnostics::on, &diagnostics)), recorder(node) {
+  spinner.start();
+}
+
 Eigen::Isometry3d toIsometry(const geometry_msgs::Transform& t) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::Quaterniond(t.rotation.w, t.rotation.x, t.rotation.y, t.rotation.z)

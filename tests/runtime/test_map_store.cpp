@@ -147,6 +147,37 @@ TEST_CASE("map store slab files round-trip and refuse truncated, altered or fore
           CHECK(out[2 * j + 1] == 7);
         }
       }
+  // Into a box that cuts the slab on every axis (and reaches past it on z): only the voxels inside land.
+  SlabBox cut;
+  cut.first = {box.first[0] + 2, box.first[1] + 1, box.first[2] + 1};
+  cut.extent = {2, 2, 4};
+  std::vector<int16_t> cutOut(2 * cut.voxels(), int16_t(7));
+  sb::mapstore::mergeSlab(path, cut, cutOut.data());
+  size_t landed = 0;
+  for (int z = 0; z < cut.extent[2]; ++z)
+    for (int y = 0; y < cut.extent[1]; ++y)
+      for (int x = 0; x < cut.extent[0]; ++x) {
+        const size_t j = size_t(x) + size_t(cut.extent[0]) * (size_t(y) + size_t(cut.extent[1]) * size_t(z));
+        const int bx = x + 2, by = y + 1, bz = z + 1;
+        const bool inBox = bz < box.extent[2];
+        const size_t i = size_t(bx) + size_t(box.extent[0]) * (size_t(by) + size_t(box.extent[1]) * size_t(bz));
+        INFO("cut voxel " << x << " " << y << " " << z);
+        if (inBox && voxels[2 * i + 1] != 0) {
+          CHECK(cutOut[2 * j] == voxels[2 * i]);
+          CHECK(cutOut[2 * j + 1] == voxels[2 * i + 1]);
+          ++landed;
+        } else {
+          CHECK(cutOut[2 * j] == 7);
+          CHECK(cutOut[2 * j + 1] == 7);
+        }
+      }
+  CHECK(landed > 0);
+  // The payload's layout, as files already written hold it: per run skip and count (u32), then each voxel's
+  // TSDF and weight (i16), little-endian. Voxel 0 is observed alone (-1000, weight 1).
+  REQUIRE(bytes.size() > 64);
+  const std::vector<uint8_t> firstRun{0, 0, 0, 0, 1, 0, 0, 0, 0x18, 0xfc, 1, 0};
+  CHECK(std::vector<uint8_t>(bytes.begin() + 52, bytes.begin() + 64) == firstRun);
+
   // A box with nothing observed is not worth a file.
   std::vector<int16_t> empty(2 * box.voxels(), 0);
   CHECK(sb::mapstore::encodeSlab(box, empty.data()).empty());

@@ -1,8 +1,12 @@
 // `slambooster eval-map`: the navigation grid of a run (map.pgm, map.yaml, map_frame.json; navmap/) against
 // the true occupancy of the synthetic corridor it ran in (synth/corridor_scene.h, regenerated from its seed and
-// length), brought into the scene's frame by the rigid transform that aligns the run's trajectory with the
-// ground truth (the ATE's). Precision: occupied cells within one cell of a truly occupied one; recall: truly
-// occupied cells in the map's known area with an occupied cell within one cell.
+// length), brought into the scene's frame by the rigid transform fitted on the run's whole poses against the
+// ground truth (eval/trajectory_eval.h alignFrames: positions and orientations; the ATE's fit on positions
+// alone leaves a straight drive's frame free to roll about the corridor, which tilts the grid's band through
+// the walls), or with --frame-of by the frame fitted on another run (a run in a kept map: its grid is in the
+// frame of the run that made the store, as `eval --frame-of`). Precision: occupied cells within one cell of a
+// truly occupied one; recall: truly occupied cells in the map's known area with an occupied cell within one
+// cell.
 
 #include <cmath>
 #include <fstream>
@@ -27,6 +31,7 @@ struct EvalMapOptions {
   synth::CorridorParams corridor;
   double bandMin = 0.1, bandMax = 1.5;
   std::string picture;  // a PGM: the grid in the scene's frame above the truth (README's picture)
+  std::vector<std::string> frameOf;  // EST1 GT1: align by this run's frame (alignFrames), not the run's own ATE
 };
 
 struct Pgm {
@@ -84,9 +89,13 @@ void evalMap(const EvalMapOptions& o) {
   for (int r = 0; r < 4; ++r)
     for (int c = 0; c < 4; ++c) m(r, c) = frame["T_world_to_map"][size_t(r)][size_t(c)].get<double>();
   const Eigen::Isometry3d worldToMap(m);
-  const AteResult ate = computeAte(readTumTrajectory(o.run + "/trajectory.tum"),
-                                   readTumTrajectory(o.sequence + "/groundtruth.txt"));
-  const Eigen::Isometry3d mapToScene = ate.alignment * worldToMap.inverse();
+  const Trajectory estimate = readTumTrajectory(o.run + "/trajectory.tum");
+  const Trajectory truthPath = readTumTrajectory(o.sequence + "/groundtruth.txt");
+  const AteResult ate = computeAte(estimate, truthPath);
+  const Eigen::Isometry3d worldToScene =
+      o.frameOf.size() == 2 ? alignFrames(readTumTrajectory(o.frameOf[0]), readTumTrajectory(o.frameOf[1]))
+                            : alignFrames(estimate, truthPath);
+  const Eigen::Isometry3d mapToScene = worldToScene * worldToMap.inverse();
   const Eigen::Isometry3d sceneToMap = mapToScene.inverse();
 
   // The truth: scene cells (x, z) whose band column holds a solid; outside the room box everything is solid.
@@ -164,8 +173,9 @@ void evalMap(const EvalMapOptions& o) {
     if (!out) throw Error("cannot write '" + o.picture + "'");
   }
   std::cout << std::fixed << std::setprecision(3) << "map " << map.width << "x" << map.height << " cells of " << res
-            << " m (" << frame.value("source", "") << "), aligned by the trajectory (ATE rmse " << ate.rmse * 100
-            << " cm)\n"
+            << " m (" << frame.value("source", "") << "), aligned by "
+            << (o.frameOf.size() == 2 ? "the frame of " + o.frameOf[0] : std::string("the trajectory"))
+            << " (whole poses; the run's ATE rmse " << ate.rmse * 100 << " cm)\n"
             << "precision " << (occupied ? double(correct) / double(occupied) : 0.0) << " (" << correct << "/"
             << occupied << " occupied cells within one cell of a truly occupied one)\n"
             << "recall " << (trulyKnown ? double(found) / double(trulyKnown) : 0.0) << " (" << found << "/"
@@ -184,6 +194,10 @@ void addEvalMapCommand(CLI::App& app) {
   sub->add_option("--corridor-spacing", o->corridor.spacingScale, "synth --corridor-spacing")->capture_default_str();
   sub->add_option("--band-min", o->bandMin, "The robot's band (m), as the run's")->capture_default_str();
   sub->add_option("--band-max", o->bandMax)->capture_default_str();
+  sub->add_option("--frame-of", o->frameOf,
+                  "EST1 GT1: align the grid by the frame fitted on another run's whole poses (EST1 against GT1), not\n"
+                  "by the run's own trajectory: a run in a kept map (--map-store), whose grid is in the store's frame")
+      ->expected(2);
   sub->add_option("--picture", o->picture, "Also write a PGM: the grid in the scene's frame above the true occupancy");
   sub->callback([o] { evalMap(*o); });
 }
